@@ -1,0 +1,545 @@
+//! Hydrodynamic coefficients: SNAME names, units, the coefficient set every stage fills in,
+//! and the geometric symmetry relations of the spheroid paper (eq. 4).
+//!
+//! Names are SNAME symbols written in ASCII: `Xud` = X_udot, `Nrr` = N_r|r|,
+//! `Yuvl` = lift part of Y_uv, `Nuva` = Munk (added-mass) part of N_uv.
+
+use crate::ad::Scalar;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::fmt;
+
+/// What a coefficient means and its SI unit.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CoefInfo {
+    /// ASCII SNAME name.
+    pub name: &'static str,
+    /// SI unit.
+    pub unit: &'static str,
+    /// One-line meaning.
+    pub meaning: &'static str,
+}
+
+macro_rules! info {
+    ($n:literal, $u:literal, $m:literal) => {
+        CoefInfo {
+            name: $n,
+            unit: $u,
+            meaning: $m,
+        }
+    };
+}
+
+/// Every coefficient name hydroid knows, with its unit (kg, m, s; rates in rad/s count as 1/s).
+pub const CATALOG: &[CoefInfo] = &[
+    // added mass (Fossen 1994, section 2.4)
+    info!("Xud", "kg", "surge added mass X_udot"),
+    info!("Yvd", "kg", "sway added mass Y_vdot"),
+    info!("Yrd", "kg m", "sway force from yaw acceleration Y_rdot"),
+    info!("Nvd", "kg m", "yaw moment from sway acceleration N_vdot"),
+    info!("Nrd", "kg m^2", "yaw added inertia N_rdot"),
+    info!("Zwd", "kg", "heave added mass Z_wdot"),
+    info!("Zqd", "kg m", "heave force from pitch acceleration Z_qdot"),
+    info!("Mwd", "kg m", "pitch moment from heave acceleration M_wdot"),
+    info!("Mqd", "kg m^2", "pitch added inertia M_qdot"),
+    info!("Kpd", "kg m^2", "roll added inertia K_pdot"),
+    // surge (paper eq. 3)
+    info!("Xuu", "kg/m", "axial drag X_u|u|"),
+    info!("Xuv", "kg/m", "surge force from drift X_uv"),
+    info!("Xvv", "kg/m", "surge force from drift squared X_vv"),
+    info!("Xvr", "kg", "added-mass Coriolis X_vr"),
+    info!("Xrr", "kg m", "added-mass Coriolis X_rr"),
+    info!("Xww", "kg/m", "surge force from heave squared X_ww"),
+    info!("Xwq", "kg", "added-mass Coriolis X_wq"),
+    info!("Xqq", "kg m", "added-mass Coriolis X_qq"),
+    // sway
+    info!("Yvv", "kg/m", "sway cross-flow drag Y_v|v|"),
+    info!("Yrr", "kg m", "sway force from yaw rate Y_r|r|"),
+    info!("Yur", "kg", "sway force Y_ur (added-mass Coriolis)"),
+    info!("Yuv", "kg/m", "sway force Y_uv (body lift and drag)"),
+    info!("Yuvd", "kg/m", "drag part of Y_uv"),
+    info!("Yuvl", "kg/m", "lift part of Y_uv"),
+    // yaw
+    info!("Nvv", "kg", "yaw moment N_v|v|"),
+    info!("Nrr", "kg m^2", "yaw damping N_r|r|"),
+    info!("Nur", "kg m", "yaw moment N_ur (added-mass Coriolis)"),
+    info!("Nuv", "kg", "yaw moment N_uv (Munk moment and lift)"),
+    info!("Nuva", "kg", "Munk moment part of N_uv"),
+    info!("Nuvl", "kg", "lift part of N_uv"),
+    // heave and pitch (axisymmetric mirror of sway and yaw)
+    info!("Zww", "kg/m", "heave cross-flow drag Z_w|w|"),
+    info!("Zqq", "kg m", "heave force from pitch rate Z_q|q|"),
+    info!("Zuq", "kg", "heave force Z_uq (added-mass Coriolis)"),
+    info!("Zuw", "kg/m", "heave force Z_uw (body lift and drag)"),
+    info!("Mww", "kg", "pitch moment M_w|w|"),
+    info!("Mqq", "kg m^2", "pitch damping M_q|q|"),
+    info!("Muq", "kg m", "pitch moment M_uq (added-mass Coriolis)"),
+    info!("Muw", "kg", "pitch moment M_uw (Munk moment and lift)"),
+    // roll
+    info!("Kpp", "kg m^2", "roll damping K_p|p|"),
+];
+
+/// Looks up a coefficient's unit and meaning.
+pub fn info(name: &str) -> Option<&'static CoefInfo> {
+    CATALOG.iter().find(|c| c.name == name)
+}
+
+/// The closest known coefficient name, for "did you mean" messages.
+pub fn nearest_name(name: &str) -> Option<&'static str> {
+    crate::suggest::nearest(name, CATALOG.iter().map(|c| c.name))
+}
+
+/// Where a coefficient value came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, PartialOrd, Ord)]
+#[serde(rename_all = "snake_case")]
+pub enum Source {
+    /// Static polar fit (paper eq. 5).
+    Polar,
+    /// Surge acceleration run (paper eq. 21).
+    Surge,
+    /// Hybrid EKF on motion histories (paper eq. 9-19).
+    Hekf,
+    /// A symmetry relation (paper eq. 4).
+    Symmetry,
+    /// Fossen's analytic added mass (Lamb's k-factors).
+    Analytic,
+    /// Given in the configuration.
+    Config,
+}
+
+impl fmt::Display for Source {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let s = match self {
+            Source::Polar => "polar",
+            Source::Surge => "surge",
+            Source::Hekf => "hekf",
+            Source::Symmetry => "symmetry",
+            Source::Analytic => "analytic",
+            Source::Config => "config",
+        };
+        f.write_str(s)
+    }
+}
+
+/// One coefficient with its uncertainty and provenance.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Coefficient {
+    /// ASCII SNAME name.
+    pub name: String,
+    /// Value in SI.
+    pub value: f64,
+    /// One standard deviation, when known.
+    pub sigma: Option<f64>,
+    /// SI unit.
+    pub unit: String,
+    /// Where the value came from.
+    pub source: Source,
+    /// How it was obtained, e.g. the relation used.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub note: Option<String>,
+}
+
+impl Coefficient {
+    /// A coefficient with the catalogue unit of `name` (or `-` when unknown).
+    pub fn new(name: &str, value: f64, sigma: Option<f64>, source: Source) -> Self {
+        Coefficient {
+            name: name.to_string(),
+            value,
+            sigma,
+            unit: info(name).map_or("-", |i| i.unit).to_string(),
+            source,
+            note: None,
+        }
+    }
+
+    /// Adds a note.
+    pub fn with_note(mut self, note: impl Into<String>) -> Self {
+        self.note = Some(note.into());
+        self
+    }
+}
+
+/// A linear relation `target = sum(c_i * term_i)` between coefficients.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Relation {
+    /// The coefficient the relation defines.
+    pub target: &'static str,
+    /// (factor, coefficient) terms.
+    pub terms: &'static [(f64, &'static str)],
+    /// Where the relation comes from.
+    pub cite: &'static str,
+}
+
+/// The geometric symmetry relations of the spheroid paper, eq. 4 (Fossen's added-mass
+/// Coriolis terms for a body symmetric about its x-z plane), plus the splits of Y_uv and N_uv
+/// into their drag/lift and Munk/lift parts. Order matters: Nuva precedes Nuv.
+pub const SYMMETRY: &[Relation] = &[
+    Relation {
+        target: "Nvd",
+        terms: &[(1.0, "Yrd")],
+        cite: "paper eq. 4: Nvd = Yrd",
+    },
+    Relation {
+        target: "Xrr",
+        terms: &[(-1.0, "Yrd")],
+        cite: "paper eq. 4: Xrr = -Yrd",
+    },
+    Relation {
+        target: "Xvr",
+        terms: &[(-1.0, "Yvd")],
+        cite: "paper eq. 4: Xvr = -Yvd",
+    },
+    Relation {
+        target: "Yur",
+        terms: &[(1.0, "Xud")],
+        cite: "paper eq. 4: Yur = Xud",
+    },
+    Relation {
+        target: "Nur",
+        terms: &[(1.0, "Yrd")],
+        cite: "paper eq. 4: Nur = Yrd",
+    },
+    Relation {
+        target: "Nuva",
+        terms: &[(-1.0, "Xud"), (1.0, "Yvd")],
+        cite: "paper eq. 4: Nuva = -(Xud - Yvd)",
+    },
+    Relation {
+        target: "Yuv",
+        terms: &[(1.0, "Yuvd"), (1.0, "Yuvl")],
+        cite: "paper eq. 2: Yuv = Yuvd + Yuvl",
+    },
+    Relation {
+        target: "Nuv",
+        terms: &[(1.0, "Nuva"), (1.0, "Nuvl")],
+        cite: "paper eq. 2: Nuv = Nuva + Nuvl",
+    },
+];
+
+/// Axial symmetry of a body of revolution (Fossen 1994, section 2.4.1): the heave/pitch
+/// coefficients mirror sway/yaw. With z down and pitch nose-up positive, a heave velocity w
+/// plays the role of v and a pitch rate q that of -r.
+pub const AXISYMMETRY: &[Relation] = &[
+    Relation {
+        target: "Zwd",
+        terms: &[(1.0, "Yvd")],
+        cite: "axisymmetry: Zwd = Yvd",
+    },
+    Relation {
+        target: "Mqd",
+        terms: &[(1.0, "Nrd")],
+        cite: "axisymmetry: Mqd = Nrd",
+    },
+    Relation {
+        target: "Zqd",
+        terms: &[(-1.0, "Yrd")],
+        cite: "axisymmetry: Zqd = -Yrd",
+    },
+    Relation {
+        target: "Mwd",
+        terms: &[(-1.0, "Nvd")],
+        cite: "axisymmetry: Mwd = -Nvd",
+    },
+    Relation {
+        target: "Zww",
+        terms: &[(1.0, "Yvv")],
+        cite: "axisymmetry: Zww = Yvv",
+    },
+    Relation {
+        target: "Zqq",
+        terms: &[(-1.0, "Yrr")],
+        cite: "axisymmetry: Zqq = -Yrr",
+    },
+    Relation {
+        target: "Zuq",
+        terms: &[(-1.0, "Yur")],
+        cite: "axisymmetry: Zuq = -Yur",
+    },
+    Relation {
+        target: "Zuw",
+        terms: &[(1.0, "Yuv")],
+        cite: "axisymmetry: Zuw = Yuv",
+    },
+    Relation {
+        target: "Mww",
+        terms: &[(-1.0, "Nvv")],
+        cite: "axisymmetry: Mww = -Nvv",
+    },
+    Relation {
+        target: "Mqq",
+        terms: &[(1.0, "Nrr")],
+        cite: "axisymmetry: Mqq = Nrr",
+    },
+    Relation {
+        target: "Muq",
+        terms: &[(1.0, "Nur")],
+        cite: "axisymmetry: Muq = Nur",
+    },
+    Relation {
+        target: "Muw",
+        terms: &[(-1.0, "Nuv")],
+        cite: "axisymmetry: Muw = -Nuv",
+    },
+    Relation {
+        target: "Xww",
+        terms: &[(1.0, "Xvv")],
+        cite: "axisymmetry: Xww = Xvv",
+    },
+    Relation {
+        target: "Xwq",
+        terms: &[(1.0, "Zwd")],
+        cite: "Fossen added-mass Coriolis: Xwq = Zwd",
+    },
+    Relation {
+        target: "Xqq",
+        terms: &[(1.0, "Zqd")],
+        cite: "Fossen added-mass Coriolis: Xqq = Zqd",
+    },
+];
+
+/// Correlation matrix between estimated coefficients.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Correlation {
+    /// Coefficient names, in matrix order.
+    pub names: Vec<String>,
+    /// Row-major correlation matrix.
+    pub matrix: Vec<Vec<f64>>,
+}
+
+impl Correlation {
+    /// Correlation between two named coefficients, if both are in the matrix.
+    pub fn get(&self, a: &str, b: &str) -> Option<f64> {
+        let i = self.names.iter().position(|n| n == a)?;
+        let j = self.names.iter().position(|n| n == b)?;
+        Some(self.matrix[i][j])
+    }
+}
+
+/// The coefficients known so far, each with value, sigma, unit and source.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct CoefficientSet {
+    coefficients: BTreeMap<String, Coefficient>,
+    /// Correlations between the coefficients estimated together (the HEKF's), if any.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub correlation: Option<Correlation>,
+}
+
+impl CoefficientSet {
+    /// An empty set.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Adds or replaces a coefficient.
+    pub fn insert(&mut self, c: Coefficient) {
+        self.coefficients.insert(c.name.clone(), c);
+    }
+
+    /// Looks a coefficient up.
+    pub fn get(&self, name: &str) -> Option<&Coefficient> {
+        self.coefficients.get(name)
+    }
+
+    /// The value of a coefficient.
+    pub fn value(&self, name: &str) -> Option<f64> {
+        self.get(name).map(|c| c.value)
+    }
+
+    /// Whether the set holds `name`.
+    pub fn contains(&self, name: &str) -> bool {
+        self.coefficients.contains_key(name)
+    }
+
+    /// All coefficients, sorted by name.
+    pub fn iter(&self) -> impl Iterator<Item = &Coefficient> {
+        self.coefficients.values()
+    }
+
+    /// Number of coefficients.
+    pub fn len(&self) -> usize {
+        self.coefficients.len()
+    }
+
+    /// True when empty.
+    pub fn is_empty(&self) -> bool {
+        self.coefficients.is_empty()
+    }
+
+    /// Applies `relations` in order wherever all terms are known, so that derived coefficients
+    /// follow the ones they depend on. A derived value replaces any earlier value of its target
+    /// (the relation is the definition), except that a target estimated by a stage directly is
+    /// kept and reported in the returned list of conflicts. Standard deviations are propagated
+    /// linearly, using the correlation matrix where both terms are in it.
+    pub fn complete(&mut self, relations: &[Relation]) -> Vec<String> {
+        let mut conflicts = Vec::new();
+        for rel in relations {
+            let Some(terms) = rel
+                .terms
+                .iter()
+                .map(|(f, n)| self.get(n).map(|c| (*f, c.clone())))
+                .collect::<Option<Vec<_>>>()
+            else {
+                continue;
+            };
+            let value: f64 = terms.iter().map(|(f, c)| f * c.value).sum();
+            let sigma = self.combined_sigma(&terms);
+            if let Some(existing) = self.get(rel.target) {
+                if matches!(
+                    existing.source,
+                    Source::Polar | Source::Surge | Source::Hekf
+                ) {
+                    if (existing.value - value).abs() > 1e-9 * value.abs().max(1.0) {
+                        conflicts.push(format!(
+                            "{} = {:.6} from the {} stage differs from {} = {:.6}; kept the \
+                             stage's value",
+                            rel.target, existing.value, existing.source, rel.cite, value
+                        ));
+                    }
+                    continue;
+                }
+            }
+            self.insert(
+                Coefficient::new(rel.target, value, sigma, Source::Symmetry).with_note(rel.cite),
+            );
+        }
+        conflicts
+    }
+
+    fn combined_sigma(&self, terms: &[(f64, Coefficient)]) -> Option<f64> {
+        let mut var = 0.0;
+        for (i, (fi, ci)) in terms.iter().enumerate() {
+            let si = ci.sigma?;
+            var += fi * fi * si * si;
+            for (fj, cj) in terms.iter().skip(i + 1) {
+                let sj = cj.sigma?;
+                let rho = self
+                    .correlation
+                    .as_ref()
+                    .and_then(|c| c.get(&ci.name, &cj.name))
+                    .unwrap_or(0.0);
+                var += 2.0 * fi * fj * rho * si * sj;
+            }
+        }
+        Some(var.max(0.0).sqrt())
+    }
+}
+
+/// Relations resolved to indices into a model's coefficient vector, applied on any scalar
+/// type so that automatic differentiation sees derived coefficients move with their terms.
+#[derive(Debug, Clone, Default)]
+pub struct CompiledRelations {
+    ops: Vec<(usize, Vec<(f64, usize)>)>,
+}
+
+impl CompiledRelations {
+    /// Keeps the relations whose target and terms are all in `names`, in order.
+    pub fn compile(relations: &[&[Relation]], names: &[&str]) -> Self {
+        let idx = |n: &str| names.iter().position(|x| *x == n);
+        let mut ops = Vec::new();
+        for rel in relations.iter().flat_map(|r| r.iter()) {
+            let Some(t) = idx(rel.target) else { continue };
+            let Some(terms) = rel
+                .terms
+                .iter()
+                .map(|(f, n)| idx(n).map(|i| (*f, i)))
+                .collect::<Option<Vec<_>>>()
+            else {
+                continue;
+            };
+            ops.push((t, terms));
+        }
+        CompiledRelations { ops }
+    }
+
+    /// Indices of the coefficients that relations define (not free parameters).
+    pub fn targets(&self) -> impl Iterator<Item = usize> + '_ {
+        self.ops.iter().map(|(t, _)| *t)
+    }
+
+    /// Overwrites every derived coefficient in `values` from its terms.
+    pub fn apply<T: Scalar>(&self, values: &mut [T]) {
+        for (t, terms) in &self.ops {
+            let mut acc = T::from(0.0);
+            for (f, i) in terms {
+                acc += values[*i] * *f;
+            }
+            values[*t] = acc;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn catalogue_names_are_unique() {
+        for (i, a) in CATALOG.iter().enumerate() {
+            for b in &CATALOG[i + 1..] {
+                assert_ne!(a.name, b.name);
+            }
+        }
+    }
+
+    #[test]
+    fn every_relation_names_known_coefficients() {
+        for rel in SYMMETRY.iter().chain(AXISYMMETRY) {
+            assert!(info(rel.target).is_some(), "{}", rel.target);
+            for (_, n) in rel.terms {
+                assert!(info(n).is_some(), "{n}");
+            }
+        }
+    }
+
+    #[test]
+    fn symmetry_completes_the_paper_set() {
+        let mut set = CoefficientSet::new();
+        set.insert(Coefficient::new("Xud", -1.164, Some(0.01), Source::Surge));
+        set.insert(Coefficient::new("Yvd", -23.626, Some(0.2), Source::Hekf));
+        set.insert(Coefficient::new("Yrd", 0.0, Some(0.01), Source::Hekf));
+        set.insert(Coefficient::new("Yuvd", 1.33, None, Source::Polar));
+        set.insert(Coefficient::new("Yuvl", -16.31, None, Source::Polar));
+        set.insert(Coefficient::new("Nuvl", 13.43, None, Source::Polar));
+        let conflicts = set.complete(SYMMETRY);
+        assert!(conflicts.is_empty());
+        assert_eq!(set.value("Xvr"), Some(23.626));
+        assert_eq!(set.value("Yur"), Some(-1.164));
+        let nuva = set.value("Nuva").unwrap();
+        assert!((nuva - (-23.626 + 1.164)).abs() < 1e-12);
+        let nuv = set.value("Nuv").unwrap();
+        assert!((nuv - (nuva + 13.43)).abs() < 1e-12);
+        // Nuva sigma from independent Xud and Yvd
+        let s = set.get("Nuva").unwrap().sigma.unwrap();
+        assert!((s - (0.01f64.powi(2) + 0.2f64.powi(2)).sqrt()).abs() < 1e-12);
+        assert_eq!(set.get("Xvr").unwrap().source, Source::Symmetry);
+        // Nuv has no sigma because the polar gave none for Nuvl
+        assert_eq!(set.get("Nuv").unwrap().sigma, None);
+    }
+
+    #[test]
+    fn correlated_terms_change_the_sigma() {
+        let mut set = CoefficientSet::new();
+        set.insert(Coefficient::new("Xud", -1.0, Some(0.1), Source::Hekf));
+        set.insert(Coefficient::new("Yvd", -20.0, Some(0.1), Source::Hekf));
+        set.correlation = Some(Correlation {
+            names: vec!["Xud".into(), "Yvd".into()],
+            matrix: vec![vec![1.0, 0.9], vec![0.9, 1.0]],
+        });
+        set.complete(SYMMETRY);
+        // Nuva = -Xud + Yvd: var = 0.01 + 0.01 - 2*0.9*0.01
+        let s = set.get("Nuva").unwrap().sigma.unwrap();
+        assert!((s - (0.002f64).sqrt()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn compiled_relations_follow_their_terms() {
+        let names = ["Xud", "Yvd", "Xvr", "Nuva", "Nuvl", "Nuv"];
+        let rel = CompiledRelations::compile(&[SYMMETRY], &names);
+        let mut v = [-1.0, -20.0, 0.0, 0.0, 13.0, 0.0];
+        rel.apply(&mut v);
+        assert_eq!(v[2], 20.0);
+        assert_eq!(v[3], -19.0);
+        assert_eq!(v[5], -6.0);
+        assert_eq!(rel.targets().count(), 3);
+    }
+}

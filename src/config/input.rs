@@ -1,0 +1,288 @@
+//! How a configuration names an input file: path, format, column map, constants.
+
+use crate::formats::{Format, FormatChoice};
+use crate::quantity::Quantity;
+use crate::units::Unit;
+use serde::de::{self, Deserializer, MapAccess, Visitor};
+use serde::{Deserialize, Serialize, Serializer};
+use std::collections::BTreeMap;
+use std::fmt;
+use std::path::PathBuf;
+
+/// One input file and how to read it.
+///
+/// ```toml
+/// file = "../cfd_exports/turn.csv"   # relative to the configuration file
+/// format = "auto"                    # or cfx, starccm, fluent, delimited, openfoam-...
+/// velocity_frame = "body"            # or "earth" (then u, v, w, p, q, r are rotated)
+/// [columns]
+/// time = "Time"
+/// yaw = { column = "Heading", unit = "deg" }
+/// [constants]
+/// thrust = "22 N"
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InputSpec {
+    /// A name for reports (defaults to the file name).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    /// The file, relative to the configuration file.
+    pub file: PathBuf,
+    /// The layout, or `auto` to detect it from the content.
+    #[serde(default)]
+    pub format: FormatSetting,
+    /// Column names for a file without a header line, in file order.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub names: Option<Vec<String>>,
+    /// Which file column holds each quantity, with its unit if the header does not say it.
+    #[serde(default, deserialize_with = "column_map")]
+    pub columns: BTreeMap<Quantity, ColumnSpec>,
+    /// Quantities that are constant over the run and not in the file (e.g. `thrust = "22 N"`).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub constants: BTreeMap<Quantity, Constant>,
+    /// Frame of the velocity columns: `body` (default) or `earth`.
+    #[serde(default)]
+    pub velocity_frame: VelocityFrame,
+}
+
+impl InputSpec {
+    /// The name for reports: the configured one, or the file name.
+    pub fn display_name(&self) -> String {
+        self.name.clone().unwrap_or_else(|| {
+            self.file
+                .file_name()
+                .map_or_else(|| self.file.display().to_string(), |f| f.to_string_lossy().into_owned())
+        })
+    }
+}
+
+/// The frame in which a file gives linear and angular velocities.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum VelocityFrame {
+    /// Body-fixed (u, v, w, p, q, r): used as is.
+    #[default]
+    Body,
+    /// Earth-fixed (x_dot, y_dot, z_dot and earth angular velocity): rotated into the body
+    /// frame with the roll, pitch and yaw columns.
+    Earth,
+}
+
+/// A format setting: `auto` or a format name.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct FormatSetting(pub FormatChoice);
+
+impl Serialize for FormatSetting {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self.0 {
+            FormatChoice::Auto => s.serialize_str("auto"),
+            FormatChoice::Fixed(f) => s.serialize_str(f.name()),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for FormatSetting {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let s = String::deserialize(d)?;
+        FormatChoice::parse(&s).map(FormatSetting).ok_or_else(|| {
+            let names: Vec<String> = std::iter::once("auto")
+                .chain(Format::ALL.iter().map(|f| f.name()))
+                .map(|n| format!("`{n}`"))
+                .collect();
+            de::Error::custom(format!(
+                "unknown format `{s}`, expected one of {}",
+                names.join(", ")
+            ))
+        })
+    }
+}
+
+/// Where a quantity is in the file: a column name, or a table with details.
+///
+/// `u = "Velocity u"` or `yaw = { column = "Heading", unit = "deg" }` or
+/// `u = { index = 3, unit = "m/s" }` (1-based) or `fx = { column = "Drag", scale = -1 }`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ColumnSpec {
+    /// Column name as in the header.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub column: Option<String>,
+    /// 1-based column number, for files without usable names.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub index: Option<usize>,
+    /// Unit of the values, needed when the header does not state one (overrides it if it does).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub unit: Option<String>,
+    /// Factor applied after unit conversion (e.g. -1 when the file gives drag, not force).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scale: Option<f64>,
+}
+
+impl ColumnSpec {
+    /// A spec naming a column only.
+    pub fn named(name: &str) -> Self {
+        ColumnSpec {
+            column: Some(name.to_string()),
+            index: None,
+            unit: None,
+            scale: None,
+        }
+    }
+
+    /// How the spec refers to its column, for messages.
+    pub fn describe(&self) -> String {
+        match (&self.column, self.index) {
+            (Some(c), _) => format!("'{c}'"),
+            (None, Some(i)) => format!("number {i}"),
+            (None, None) => "(none given)".to_string(),
+        }
+    }
+}
+
+/// Deserializes either a plain string (the column name) or the full table.
+pub(crate) fn column_map<'de, D: Deserializer<'de>>(
+    d: D,
+) -> Result<BTreeMap<Quantity, ColumnSpec>, D::Error> {
+    let raw: BTreeMap<Quantity, ColumnSpecRepr> = BTreeMap::deserialize(d)?;
+    Ok(raw.into_iter().map(|(k, v)| (k, v.0)).collect())
+}
+
+struct ColumnSpecRepr(ColumnSpec);
+
+impl<'de> Deserialize<'de> for ColumnSpecRepr {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = ColumnSpecRepr;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a column name or a table { column, index, unit, scale }")
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<Self::Value, E> {
+                Ok(ColumnSpecRepr(ColumnSpec::named(v)))
+            }
+            fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<Self::Value, A::Error> {
+                ColumnSpec::deserialize(de::value::MapAccessDeserializer::new(map))
+                    .map(ColumnSpecRepr)
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+/// A constant value, given as a number in SI or as a string with a unit (`"4 deg"`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Constant {
+    /// The value as written.
+    pub text: String,
+    /// The value in SI (radians for angles).
+    pub si: f64,
+    /// The unit written, if any.
+    pub unit: Option<Unit>,
+}
+
+impl Constant {
+    /// A constant given in SI.
+    pub fn si(value: f64) -> Self {
+        Constant {
+            text: format!("{value}"),
+            si: value,
+            unit: None,
+        }
+    }
+
+    /// Parses `"22 N"`, `"4 deg"` or `"3.0"`.
+    pub fn parse(text: &str) -> Result<Self, String> {
+        let t = text.trim();
+        let split = t
+            .find(|c: char| c.is_whitespace() || (c.is_alphabetic() && c != 'e' && c != 'E'))
+            .unwrap_or(t.len());
+        let (num, unit) = t.split_at(split);
+        let value: f64 = num
+            .trim()
+            .parse()
+            .map_err(|_| format!("'{t}' is not a number with an optional unit, like \"4 deg\""))?;
+        let unit = unit.trim();
+        if unit.is_empty() {
+            return Ok(Constant {
+                text: t.to_string(),
+                si: value,
+                unit: None,
+            });
+        }
+        let u = Unit::parse(unit).map_err(|e| e.to_string())?;
+        Ok(Constant {
+            text: t.to_string(),
+            si: u.to_si(value),
+            unit: Some(u),
+        })
+    }
+}
+
+impl Serialize for Constant {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match &self.unit {
+            Some(_) => s.serialize_str(&self.text),
+            None => s.serialize_f64(self.si),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for Constant {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl Visitor<'_> for V {
+            type Value = Constant;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a number in SI units or a string with a unit, like \"4 deg\"")
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<Constant, E> {
+                Ok(Constant::si(v))
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<Constant, E> {
+                Ok(Constant::si(v as f64))
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<Constant, E> {
+                Ok(Constant::si(v as f64))
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<Constant, E> {
+                Constant::parse(v).map_err(E::custom)
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn constants_with_units() {
+        assert!((Constant::parse("4 deg").unwrap().si - 4f64.to_radians()).abs() < 1e-15);
+        assert_eq!(Constant::parse("22 N").unwrap().si, 22.0);
+        assert_eq!(Constant::parse("1.5e-3").unwrap().si, 1.5e-3);
+        assert!((Constant::parse("3kn").unwrap().si - 3.0 * 1852.0 / 3600.0).abs() < 1e-12);
+        assert!(Constant::parse("fast").is_err());
+        assert!(Constant::parse("4 parsecs").is_err());
+    }
+
+    #[test]
+    fn column_specs_in_both_forms() {
+        #[derive(Deserialize)]
+        struct T {
+            #[serde(deserialize_with = "column_map")]
+            columns: BTreeMap<Quantity, ColumnSpec>,
+        }
+        let t: T = toml::from_str(
+            "[columns]\ntime = \"Time\"\nyaw = { column = \"Heading\", unit = \"deg\" }\n",
+        )
+        .unwrap();
+        assert_eq!(t.columns[&Quantity::Time], ColumnSpec::named("Time"));
+        assert_eq!(t.columns[&Quantity::Yaw].unit.as_deref(), Some("deg"));
+        let e = toml::from_str::<T>("[columns]\nyawn = \"Heading\"\n")
+            .err()
+            .unwrap();
+        assert!(e.message().contains("yawn"), "{}", e.message());
+    }
+}

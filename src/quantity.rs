@@ -1,0 +1,231 @@
+//! The physical quantities hydroid reads from CFD exports, with their SI units.
+//!
+//! Configuration column maps use the keys below (`time`, `u`, `yaw`, `cd`, ...). Body frame:
+//! x forward, y starboard, z down (SNAME); Euler angles roll, pitch, yaw (zyx order).
+
+use crate::units::{Dim, Unit};
+use serde::{Deserialize, Serialize};
+use std::f64::consts::PI;
+use std::fmt;
+
+/// A quantity hydroid knows how to use.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Quantity {
+    /// Time, s.
+    Time,
+    /// Earth-frame position north (x), m.
+    X,
+    /// Earth-frame position east (y), m.
+    Y,
+    /// Earth-frame position down (z), m.
+    Z,
+    /// Roll angle phi, rad.
+    Roll,
+    /// Pitch angle theta, rad.
+    Pitch,
+    /// Yaw (heading) angle psi, rad.
+    Yaw,
+    /// Surge velocity, m/s.
+    U,
+    /// Sway velocity, m/s.
+    V,
+    /// Heave velocity, m/s.
+    W,
+    /// Roll rate, rad/s.
+    P,
+    /// Pitch rate, rad/s.
+    Q,
+    /// Yaw rate, rad/s.
+    R,
+    /// Surge acceleration, m/s^2.
+    UDot,
+    /// Force along body x, N.
+    Fx,
+    /// Force along body y, N.
+    Fy,
+    /// Force along body z, N.
+    Fz,
+    /// Moment about body x (roll), N m.
+    Mx,
+    /// Moment about body y (pitch), N m.
+    My,
+    /// Moment about body z (yaw), N m.
+    Mz,
+    /// Drag coefficient, -.
+    Cd,
+    /// Lift (side-force) coefficient, -.
+    Cl,
+    /// Moment coefficient, -.
+    Cm,
+    /// Side-force coefficient, -.
+    Cs,
+    /// Angle of attack (drift angle in the horizontal plane), rad.
+    Alpha,
+    /// Flow speed, m/s.
+    Speed,
+    /// Propulsive thrust along body x, N.
+    Thrust,
+    /// Rudder angle, rad.
+    Rudder,
+    /// Propeller speed, rev/s (configured as rpm or rps).
+    Rpm,
+}
+
+const ANGLE: Dim = [0, 0, 0, 1];
+const LENGTH: Dim = [0, 1, 0, 0];
+const SPEED: Dim = [0, 1, -1, 0];
+const RATE: Dim = [0, 0, -1, 1];
+const FORCE: Dim = [1, 1, -2, 0];
+const MOMENT: Dim = [1, 2, -2, 0];
+const NONE: Dim = [0, 0, 0, 0];
+
+impl Quantity {
+    /// Every quantity, in the order the documentation lists them.
+    pub const ALL: [Quantity; 29] = [
+        Quantity::Time,
+        Quantity::X,
+        Quantity::Y,
+        Quantity::Z,
+        Quantity::Roll,
+        Quantity::Pitch,
+        Quantity::Yaw,
+        Quantity::U,
+        Quantity::V,
+        Quantity::W,
+        Quantity::P,
+        Quantity::Q,
+        Quantity::R,
+        Quantity::UDot,
+        Quantity::Fx,
+        Quantity::Fy,
+        Quantity::Fz,
+        Quantity::Mx,
+        Quantity::My,
+        Quantity::Mz,
+        Quantity::Cd,
+        Quantity::Cl,
+        Quantity::Cm,
+        Quantity::Cs,
+        Quantity::Alpha,
+        Quantity::Speed,
+        Quantity::Thrust,
+        Quantity::Rudder,
+        Quantity::Rpm,
+    ];
+
+    /// The configuration key of this quantity.
+    pub fn key(self) -> &'static str {
+        match self {
+            Quantity::Time => "time",
+            Quantity::X => "x",
+            Quantity::Y => "y",
+            Quantity::Z => "z",
+            Quantity::Roll => "roll",
+            Quantity::Pitch => "pitch",
+            Quantity::Yaw => "yaw",
+            Quantity::U => "u",
+            Quantity::V => "v",
+            Quantity::W => "w",
+            Quantity::P => "p",
+            Quantity::Q => "q",
+            Quantity::R => "r",
+            Quantity::UDot => "u_dot",
+            Quantity::Fx => "fx",
+            Quantity::Fy => "fy",
+            Quantity::Fz => "fz",
+            Quantity::Mx => "mx",
+            Quantity::My => "my",
+            Quantity::Mz => "mz",
+            Quantity::Cd => "cd",
+            Quantity::Cl => "cl",
+            Quantity::Cm => "cm",
+            Quantity::Cs => "cs",
+            Quantity::Alpha => "alpha",
+            Quantity::Speed => "speed",
+            Quantity::Thrust => "thrust",
+            Quantity::Rudder => "rudder",
+            Quantity::Rpm => "rpm",
+        }
+    }
+
+    /// Looks a quantity up by its configuration key.
+    pub fn from_key(key: &str) -> Option<Quantity> {
+        Quantity::ALL.iter().copied().find(|q| q.key() == key)
+    }
+
+    /// The dimension a column of this quantity must have.
+    pub fn dim(self) -> Dim {
+        match self {
+            Quantity::Time => [0, 0, 1, 0],
+            Quantity::X | Quantity::Y | Quantity::Z => LENGTH,
+            Quantity::Roll | Quantity::Pitch | Quantity::Yaw => ANGLE,
+            Quantity::Alpha | Quantity::Rudder => ANGLE,
+            Quantity::U | Quantity::V | Quantity::W | Quantity::Speed => SPEED,
+            Quantity::P | Quantity::Q | Quantity::R | Quantity::Rpm => RATE,
+            Quantity::UDot => [0, 1, -2, 0],
+            Quantity::Fx | Quantity::Fy | Quantity::Fz | Quantity::Thrust => FORCE,
+            Quantity::Mx | Quantity::My | Quantity::Mz => MOMENT,
+            Quantity::Cd | Quantity::Cl | Quantity::Cm | Quantity::Cs => NONE,
+        }
+    }
+
+    /// Hydroid's internal unit for this quantity (SI; propeller speed in rev/s).
+    pub fn internal_unit(self) -> Unit {
+        match self {
+            Quantity::Rpm => Unit {
+                text: "rev/s".into(),
+                factor: 2.0 * PI,
+                dim: RATE,
+            },
+            q => Unit::si(q.si_symbol(), q.dim()),
+        }
+    }
+
+    /// The symbol of the internal unit, for tables and reports.
+    pub fn si_symbol(self) -> &'static str {
+        match self.dim() {
+            d if d == [0, 0, 1, 0] => "s",
+            LENGTH => "m",
+            ANGLE => "rad",
+            SPEED => "m/s",
+            RATE if self == Quantity::Rpm => "rev/s",
+            RATE => "rad/s",
+            d if d == [0, 1, -2, 0] => "m/s^2",
+            FORCE => "N",
+            MOMENT => "N m",
+            _ => "-",
+        }
+    }
+
+    /// Euler angles, which are unwrapped after reading.
+    pub fn is_euler_angle(self) -> bool {
+        matches!(self, Quantity::Roll | Quantity::Pitch | Quantity::Yaw)
+    }
+}
+
+impl fmt::Display for Quantity {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.key())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn keys_round_trip() {
+        for q in Quantity::ALL {
+            assert_eq!(Quantity::from_key(q.key()), Some(q));
+        }
+        assert_eq!(Quantity::from_key("speedy"), None);
+    }
+
+    #[test]
+    fn rpm_is_revolutions_per_second() {
+        let rpm = Unit::parse("rpm").unwrap();
+        let internal = Quantity::Rpm.internal_unit();
+        assert!((600.0 * rpm.factor / internal.factor - 10.0).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,506 @@
+//! A CFD record: the quantities a stage needs, in SI, picked from a table by the
+//! configuration's column map, with the checks every stage relies on.
+
+use crate::config::{InputSpec, VelocityFrame};
+use crate::error::{InputError, Place};
+use crate::formats::{self, Format, ReadOptions};
+use crate::quantity::Quantity;
+use crate::table::Table;
+use crate::units::{dim_to_string, unwrap_angles, Unit};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// Quantities in SI from one input file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Record {
+    /// Name for reports.
+    pub name: String,
+    /// The file.
+    pub source: PathBuf,
+    /// The layout it was read as.
+    pub format: Format,
+    /// Sampled quantities, each as long as `lines`. Time, when present, is `Quantity::Time`.
+    pub channels: BTreeMap<Quantity, Vec<f64>>,
+    /// Quantities constant over the run, from the configuration.
+    pub constants: BTreeMap<Quantity, f64>,
+    /// The unit each channel was read in (for reports: "deg" when converted from degrees).
+    pub units: BTreeMap<Quantity, String>,
+    /// 1-based file line of each row.
+    pub lines: Vec<usize>,
+    /// Header metadata of the file.
+    pub meta: Vec<(String, String)>,
+    /// Things fixed or noticed while reading.
+    pub warnings: Vec<String>,
+}
+
+/// What a stage needs from a record.
+#[derive(Debug, Clone, Copy)]
+pub struct Needs<'a> {
+    /// Quantities that must be present (as a column or a constant).
+    pub required: &'a [Quantity],
+    /// Quantities used when present.
+    pub optional: &'a [Quantity],
+    /// Fewest rows that make sense.
+    pub min_rows: usize,
+}
+
+impl Record {
+    /// Number of rows.
+    pub fn rows(&self) -> usize {
+        self.lines.len()
+    }
+
+    /// A sampled quantity.
+    pub fn channel(&self, q: Quantity) -> Option<&[f64]> {
+        self.channels.get(&q).map(Vec::as_slice)
+    }
+
+    /// The time axis, if the record has one.
+    pub fn time(&self) -> Option<&[f64]> {
+        self.channel(Quantity::Time)
+    }
+
+    /// A quantity at row `i`: the sample if it is a column, else the constant.
+    pub fn value_at(&self, q: Quantity, i: usize) -> Option<f64> {
+        match self.channels.get(&q) {
+            Some(v) => v.get(i).copied(),
+            None => self.constants.get(&q).copied(),
+        }
+    }
+
+    /// True when the record has `q` as a column or a constant.
+    pub fn has(&self, q: Quantity) -> bool {
+        self.channels.contains_key(&q) || self.constants.contains_key(&q)
+    }
+}
+
+/// Reads the file `spec` names (relative to `base`) and picks the quantities `needs` asks for.
+pub fn load(spec: &InputSpec, base: &Path, needs: &Needs) -> Result<Record, InputError> {
+    let path = base.join(&spec.file);
+    if !path.exists() {
+        return Err(InputError::new(Place::file(&path), "file does not exist"));
+    }
+    let options = ReadOptions {
+        names: spec.names.clone(),
+    };
+    let table = formats::read(&path, spec.format.0, &options)?;
+    from_table(table, spec, needs)
+}
+
+/// Picks the quantities `needs` asks for from an already read table.
+pub fn from_table(mut table: Table, spec: &InputSpec, needs: &Needs) -> Result<Record, InputError> {
+    let file_place = Place::file(&table.source);
+    let mut constants = BTreeMap::new();
+    for (q, c) in &spec.constants {
+        if spec.columns.contains_key(q) {
+            return Err(InputError::new(
+                file_place.clone(),
+                format!("{q} is given both as a column and as a constant"),
+            ));
+        }
+        constants.insert(*q, c.si / q.internal_unit().factor);
+    }
+
+    // Resolve every wanted quantity to a column (explicit map first, then by name).
+    let mut picks: Vec<(Quantity, usize, Option<Unit>, f64)> = Vec::new();
+    let wanted = needs.required.iter().chain(needs.optional).copied();
+    let mut seen = Vec::new();
+    for q in wanted.chain(spec.columns.keys().copied()) {
+        if seen.contains(&q) || constants.contains_key(&q) {
+            continue;
+        }
+        seen.push(q);
+        let (idx, unit_text, scale) = match spec.columns.get(&q) {
+            Some(cs) => {
+                let idx = match (&cs.column, cs.index) {
+                    (Some(name), _) => table.column_index(name).ok_or_else(|| {
+                        missing_column(&table, q, &format!("'{name}'"), Some(name))
+                    })?,
+                    (None, Some(i)) if i >= 1 && i <= table.columns.len() => i - 1,
+                    (None, Some(i)) => {
+                        return Err(InputError::new(
+                            file_place.clone(),
+                            format!(
+                                "{q} is mapped to column number {i}, but the file has {} columns",
+                                table.columns.len()
+                            ),
+                        ))
+                    }
+                    (None, None) => {
+                        return Err(InputError::new(
+                            file_place.clone(),
+                            format!("the column map for {q} gives neither `column` nor `index`"),
+                        ))
+                    }
+                };
+                (idx, cs.unit.clone(), cs.scale.unwrap_or(1.0))
+            }
+            None => match implicit_column(&table, q) {
+                Some(i) => (i, None, 1.0),
+                None if needs.required.contains(&q) => {
+                    return Err(missing_column(&table, q, "not mapped", None));
+                }
+                None => continue,
+            },
+        };
+        let unit = column_unit(&table, idx, q, unit_text.as_deref())?;
+        picks.push((q, idx, unit, scale));
+    }
+
+    // Time first: dedupe restarts and check order on the mapped time column.
+    if let Some(&(_, t_idx, ref t_unit, _)) = picks.iter().find(|p| p.0 == Quantity::Time) {
+        if let Some(u) = t_unit {
+            rescale_column(&mut table, t_idx, u);
+        }
+        table.drop_repeated_times(t_idx)?;
+    }
+
+    let mut channels = BTreeMap::new();
+    let mut units = BTreeMap::new();
+    for (q, idx, unit, scale) in &picks {
+        if *q != Quantity::Time {
+            if let Some(u) = unit {
+                rescale_column(&mut table, *idx, u);
+            }
+        }
+        let col = &table.columns[*idx];
+        let internal = q.internal_unit().factor;
+        let mut values: Vec<f64> = col.values.iter().map(|v| v / internal * scale).collect();
+        if let Some(row) = values.iter().position(|v| !v.is_finite()) {
+            let missing = table.missing.iter().any(|&(r, c)| r == row && c == *idx);
+            return Err(InputError::new(
+                table
+                    .place(row)
+                    .with_column(*idx + 1)
+                    .with_column_name(col.name.clone()),
+                if missing {
+                    format!("missing or non-numeric value for {q}")
+                } else {
+                    format!("non-finite value ({}) for {q}", values[row])
+                },
+            )
+            .expected("a finite number"));
+        }
+        if q.is_euler_angle() {
+            unwrap_angles(&mut values);
+        }
+        units.insert(
+            *q,
+            unit.as_ref()
+                .map_or_else(|| q.si_symbol().to_string(), |u| u.to_string()),
+        );
+        channels.insert(*q, values);
+    }
+
+    let rows = table.rows();
+    if rows < needs.min_rows {
+        return Err(InputError::new(
+            file_place,
+            format!("only {rows} data row{} after the header", if rows == 1 { "" } else { "s" }),
+        )
+        .expected(format!("at least {} rows", needs.min_rows)));
+    }
+    if let Some(t) = channels.get(&Quantity::Time) {
+        if let Some(i) = (1..t.len()).find(|&i| t[i] <= t[i - 1]) {
+            return Err(InputError::new(
+                table.place(i),
+                format!("time does not increase ({} then {})", t[i - 1], t[i]),
+            ));
+        }
+    }
+
+    let mut warnings = table.warnings.clone();
+    if spec.velocity_frame == VelocityFrame::Earth {
+        rotate_to_body(&mut channels, &constants, &table.source)?;
+        warnings.push("velocities rotated from the earth frame into the body frame".into());
+    }
+
+    Ok(Record {
+        name: spec.display_name(),
+        source: table.source.clone(),
+        format: table.format,
+        channels,
+        constants,
+        units,
+        lines: table.lines.clone(),
+        meta: table.meta.clone(),
+        warnings,
+    })
+}
+
+/// A column named exactly like the quantity key (or the table's declared time column).
+fn implicit_column(table: &Table, q: Quantity) -> Option<usize> {
+    if q == Quantity::Time {
+        if let Some(t) = table.time {
+            return Some(t);
+        }
+    }
+    table
+        .columns
+        .iter()
+        .position(|c| c.name.eq_ignore_ascii_case(q.key()))
+}
+
+fn missing_column(table: &Table, q: Quantity, how: &str, asked: Option<&str>) -> InputError {
+    let names = table.names();
+    let hint = asked
+        .or(Some(q.key()))
+        .and_then(|a| crate::suggest::nearest(a, names.iter().copied()))
+        .map(|c| format!("; closest: '{c}'"))
+        .unwrap_or_default();
+    InputError::new(
+        Place::file(&table.source),
+        format!(
+            "no column for {q} ({how}); the file has columns: {}{hint}",
+            names
+                .iter()
+                .map(|n| format!("'{n}'"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+    )
+    .expected(format!("a column map entry such as `{q} = \"<column name>\"`"))
+}
+
+/// The unit of column `idx` for quantity `q`: the configured one, else the header's.
+fn column_unit(
+    table: &Table,
+    idx: usize,
+    q: Quantity,
+    configured: Option<&str>,
+) -> Result<Option<Unit>, InputError> {
+    let col = &table.columns[idx];
+    let place = || {
+        Place::file(&table.source)
+            .with_column(idx + 1)
+            .with_column_name(col.name.clone())
+    };
+    let unit = match configured {
+        Some(text) => Some(Unit::parse(text).map_err(|e| InputError::new(place(), e.to_string()))?),
+        None => col.unit.clone(),
+    };
+    match &unit {
+        None if q.dim() != crate::units::DIMENSIONLESS => {
+            return Err(InputError::new(
+                place(),
+                format!("the header gives no unit for {q}"),
+            )
+            .expected(format!(
+                "a unit in the configuration, e.g. `{q} = {{ column = \"{}\", unit = \"{}\" }}`",
+                col.name,
+                q.si_symbol()
+            )))
+        }
+        Some(u) if u.dim != q.dim() => {
+            return Err(InputError::new(
+                place(),
+                format!(
+                    "unit '{u}' ({}) does not fit {q}",
+                    dim_to_string(u.dim)
+                ),
+            )
+            .expected(format!("a unit of {}", dim_to_string(q.dim()))))
+        }
+        _ => {}
+    }
+    Ok(unit)
+}
+
+/// Makes column `idx` hold `unit`-converted SI values, undoing the header's conversion when
+/// the configuration overrides the header unit.
+fn rescale_column(table: &mut Table, idx: usize, unit: &Unit) {
+    let col = &mut table.columns[idx];
+    let header_factor = col.unit.as_ref().map_or(1.0, |u| u.factor);
+    let f = unit.factor / header_factor;
+    if f != 1.0 {
+        for v in &mut col.values {
+            *v *= f;
+        }
+        if unit.is_angle() {
+            unwrap_angles(&mut col.values);
+        }
+    }
+    col.unit = Some(unit.clone());
+}
+
+/// Rotates earth-frame linear and angular velocities into the body frame (Fossen 2011,
+/// eq. 2.18 and 2.29 with the zyx Euler angles): nu1 = R^T eta1_dot, omega_b = R^T omega_e.
+fn rotate_to_body(
+    ch: &mut BTreeMap<Quantity, Vec<f64>>,
+    constants: &BTreeMap<Quantity, f64>,
+    source: &Path,
+) -> Result<(), InputError> {
+    let n = ch.values().next().map_or(0, Vec::len);
+    let angle = |q: Quantity, i: usize| -> Option<f64> {
+        ch.get(&q).map(|v| v[i]).or_else(|| constants.get(&q).copied())
+    };
+    if angle(Quantity::Yaw, 0).is_none() && n > 0 {
+        return Err(InputError::new(
+            Place::file(source),
+            "velocity_frame = \"earth\" needs a yaw column to rotate velocities into the body frame",
+        ));
+    }
+    let mut rotated: Vec<(Quantity, Vec<f64>)> = Vec::new();
+    for (qs, label) in [
+        ([Quantity::U, Quantity::V, Quantity::W], "linear"),
+        ([Quantity::P, Quantity::Q, Quantity::R], "angular"),
+    ] {
+        if !qs.iter().any(|q| ch.contains_key(q)) {
+            continue;
+        }
+        let _ = label;
+        let mut out = [vec![0.0; n], vec![0.0; n], vec![0.0; n]];
+        for i in 0..n {
+            let phi = angle(Quantity::Roll, i).unwrap_or(0.0);
+            let th = angle(Quantity::Pitch, i).unwrap_or(0.0);
+            let psi = angle(Quantity::Yaw, i).unwrap_or(0.0);
+            let e = [0, 1, 2].map(|k| ch.get(&qs[k]).map_or(0.0, |v| v[i]));
+            let r = rotation_zyx(phi, th, psi);
+            for (row, o) in out.iter_mut().enumerate() {
+                // body = R^T e
+                o[i] = r[0][row] * e[0] + r[1][row] * e[1] + r[2][row] * e[2];
+            }
+        }
+        for (k, q) in qs.iter().enumerate() {
+            rotated.push((*q, std::mem::take(&mut out[k])));
+        }
+    }
+    for (q, v) in rotated {
+        ch.insert(q, v);
+    }
+    Ok(())
+}
+
+/// Body-to-earth rotation matrix R(phi, theta, psi), zyx convention (Fossen 2011, eq. 2.18).
+pub fn rotation_zyx(phi: f64, theta: f64, psi: f64) -> [[f64; 3]; 3] {
+    let (sf, cf) = phi.sin_cos();
+    let (st, ct) = theta.sin_cos();
+    let (sp, cp) = psi.sin_cos();
+    [
+        [cp * ct, -sp * cf + cp * st * sf, sp * sf + cp * cf * st],
+        [sp * ct, cp * cf + sf * st * sp, -cp * sf + st * sp * cf],
+        [-st, ct * sf, ct * cf],
+    ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::ColumnSpec;
+    use crate::table::Column;
+
+    fn spec(cols: &[(Quantity, ColumnSpec)]) -> InputSpec {
+        InputSpec {
+            name: None,
+            file: "run.csv".into(),
+            format: Default::default(),
+            names: None,
+            columns: cols.iter().cloned().collect(),
+            constants: BTreeMap::new(),
+            velocity_frame: VelocityFrame::Body,
+        }
+    }
+
+    fn table() -> Table {
+        let mut t = Table::new("run.csv", Format::Delimited);
+        let mut time = Column::new("Time", vec![0.0, 0.1, 0.2]);
+        time.unit = Some(Unit::parse("s").unwrap());
+        t.columns.push(time);
+        t.columns.push(Column::new("Heading", vec![179.0, -179.0, -178.0]));
+        let mut u = Column::new("Velocity u", vec![1.0, 1.1, 1.2]);
+        u.unit = Some(Unit::parse("m/s").unwrap());
+        t.columns.push(u);
+        t.lines = vec![3, 4, 5];
+        t.time = Some(0);
+        t
+    }
+
+    const NEEDS: Needs = Needs {
+        required: &[Quantity::Time, Quantity::U, Quantity::Yaw],
+        optional: &[Quantity::V],
+        min_rows: 2,
+    };
+
+    #[test]
+    fn maps_converts_and_unwraps() {
+        let s = spec(&[
+            (Quantity::U, ColumnSpec::named("Velocity u")),
+            (
+                Quantity::Yaw,
+                ColumnSpec {
+                    unit: Some("deg".into()),
+                    ..ColumnSpec::named("Heading")
+                },
+            ),
+        ]);
+        let r = from_table(table(), &s, &NEEDS).unwrap();
+        let yaw = r.channel(Quantity::Yaw).unwrap();
+        assert!((yaw[1].to_degrees() - 181.0).abs() < 1e-9);
+        assert_eq!(r.channel(Quantity::U).unwrap(), &[1.0, 1.1, 1.2]);
+        assert_eq!(r.units[&Quantity::Yaw], "deg");
+        assert!(!r.has(Quantity::V));
+    }
+
+    #[test]
+    fn missing_unit_is_an_error_naming_the_column() {
+        let s = spec(&[
+            (Quantity::U, ColumnSpec::named("Velocity u")),
+            (Quantity::Yaw, ColumnSpec::named("Heading")),
+        ]);
+        let e = from_table(table(), &s, &NEEDS).unwrap_err();
+        assert_eq!(e.place.column_name.as_deref(), Some("Heading"));
+        assert!(e.to_string().contains("no unit"), "{e}");
+    }
+
+    #[test]
+    fn missing_column_lists_the_columns_and_the_closest() {
+        let s = spec(&[
+            (Quantity::U, ColumnSpec::named("Velocity U ")),
+            (Quantity::Yaw, ColumnSpec::named("Headng")),
+        ]);
+        let e = from_table(table(), &s, &NEEDS).unwrap_err().to_string();
+        assert!(e.contains("'Velocity u'") && e.contains("closest: 'Heading'"), "{e}");
+    }
+
+    #[test]
+    fn wrong_dimension_is_an_error() {
+        let s = spec(&[
+            (
+                Quantity::U,
+                ColumnSpec {
+                    unit: Some("deg".into()),
+                    ..ColumnSpec::named("Velocity u")
+                },
+            ),
+            (Quantity::Yaw, ColumnSpec::named("Heading")),
+        ]);
+        let e = from_table(table(), &s, &NEEDS).unwrap_err().to_string();
+        assert!(e.contains("does not fit u"), "{e}");
+    }
+
+    #[test]
+    fn earth_velocities_rotate_into_the_body_frame() {
+        let mut t = table();
+        t.columns[1].values = vec![90.0, 90.0, 90.0];
+        let mut s = spec(&[
+            (Quantity::U, ColumnSpec::named("Velocity u")),
+            (
+                Quantity::Yaw,
+                ColumnSpec {
+                    unit: Some("deg".into()),
+                    ..ColumnSpec::named("Heading")
+                },
+            ),
+        ]);
+        s.velocity_frame = VelocityFrame::Earth;
+        let needs = Needs {
+            required: &[Quantity::U, Quantity::Yaw],
+            optional: &[Quantity::V],
+            min_rows: 1,
+        };
+        let r = from_table(t, &s, &needs).unwrap();
+        // heading east, earth velocity north 1 m/s: body u = 0, v = -1
+        assert!(r.channel(Quantity::U).unwrap()[0].abs() < 1e-12);
+        assert!((r.channel(Quantity::V).unwrap()[0] + 1.0).abs() < 1e-12);
+    }
+}
