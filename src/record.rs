@@ -196,7 +196,10 @@ pub fn from_table(mut table: Table, spec: &InputSpec, needs: &Needs) -> Result<R
     if rows < needs.min_rows {
         return Err(InputError::new(
             file_place,
-            format!("only {rows} data row{} after the header", if rows == 1 { "" } else { "s" }),
+            format!(
+                "only {rows} data row{} after the header",
+                if rows == 1 { "" } else { "s" }
+            ),
         )
         .expected(format!("at least {} rows", needs.min_rows)));
     }
@@ -259,7 +262,9 @@ fn missing_column(table: &Table, q: Quantity, how: &str, asked: Option<&str>) ->
                 .join(", ")
         ),
     )
-    .expected(format!("a column map entry such as `{q} = \"<column name>\"`"))
+    .expected(format!(
+        "a column map entry such as `{q} = \"<column name>\"`"
+    ))
 }
 
 /// The unit of column `idx` for quantity `q`: the configured one, else the header's.
@@ -281,23 +286,20 @@ fn column_unit(
     };
     match &unit {
         None if q.dim() != crate::units::DIMENSIONLESS => {
-            return Err(InputError::new(
-                place(),
-                format!("the header gives no unit for {q}"),
-            )
-            .expected(format!(
+            return Err(
+                InputError::new(place(), format!("the header gives no unit for {q}")).expected(
+                    format!(
                 "a unit in the configuration, e.g. `{q} = {{ column = \"{}\", unit = \"{}\" }}`",
                 col.name,
                 q.si_symbol()
-            )))
+            ),
+                ),
+            )
         }
         Some(u) if u.dim != q.dim() => {
             return Err(InputError::new(
                 place(),
-                format!(
-                    "unit '{u}' ({}) does not fit {q}",
-                    dim_to_string(u.dim)
-                ),
+                format!("unit '{u}' ({}) does not fit {q}", dim_to_string(u.dim)),
             )
             .expected(format!("a unit of {}", dim_to_string(q.dim()))))
         }
@@ -332,7 +334,9 @@ fn rotate_to_body(
 ) -> Result<(), InputError> {
     let n = ch.values().next().map_or(0, Vec::len);
     let angle = |q: Quantity, i: usize| -> Option<f64> {
-        ch.get(&q).map(|v| v[i]).or_else(|| constants.get(&q).copied())
+        ch.get(&q)
+            .map(|v| v[i])
+            .or_else(|| constants.get(&q).copied())
     };
     if angle(Quantity::Yaw, 0).is_none() && n > 0 {
         return Err(InputError::new(
@@ -406,7 +410,8 @@ mod tests {
         let mut time = Column::new("Time", vec![0.0, 0.1, 0.2]);
         time.unit = Some(Unit::parse("s").unwrap());
         t.columns.push(time);
-        t.columns.push(Column::new("Heading", vec![179.0, -179.0, -178.0]));
+        t.columns
+            .push(Column::new("Heading", vec![179.0, -179.0, -178.0]));
         let mut u = Column::new("Velocity u", vec![1.0, 1.1, 1.2]);
         u.unit = Some(Unit::parse("m/s").unwrap());
         t.columns.push(u);
@@ -459,7 +464,10 @@ mod tests {
             (Quantity::Yaw, ColumnSpec::named("Headng")),
         ]);
         let e = from_table(table(), &s, &NEEDS).unwrap_err().to_string();
-        assert!(e.contains("'Velocity u'") && e.contains("closest: 'Heading'"), "{e}");
+        assert!(
+            e.contains("'Velocity u'") && e.contains("closest: 'Heading'"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -44,6 +44,9 @@ mod tests {
         assert_eq!(nearest("lenght", keys), Some("length"));
         assert_eq!(nearest("ref_area", keys), Some("reference_area"));
         assert_eq!(nearest("zzzzzzzz", keys), None);
-        assert_eq!(nearest("Velocity U", ["Velocity u [ m s^-1 ]", "Time"]), Some("Velocity u [ m s^-1 ]"));
+        assert_eq!(
+            nearest("Velocity U", ["Velocity u [ m s^-1 ]", "Time"]),
+            Some("Velocity u [ m s^-1 ]")
+        );
     }
 }

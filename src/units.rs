@@ -61,7 +61,11 @@ impl std::error::Error for UnitError {}
 
 /// (symbols, factor to SI, dimension) of every base symbol the parser knows.
 const SYMBOLS: &[(&[&str], f64, Dim)] = &[
-    (&["m", "meter", "meters", "metre", "metres"], 1.0, [0, 1, 0, 0]),
+    (
+        &["m", "meter", "meters", "metre", "metres"],
+        1.0,
+        [0, 1, 0, 0],
+    ),
     (&["mm"], 1e-3, [0, 1, 0, 0]),
     (&["cm"], 1e-2, [0, 1, 0, 0]),
     (&["km"], 1e3, [0, 1, 0, 0]),
@@ -70,17 +74,21 @@ const SYMBOLS: &[(&[&str], f64, Dim)] = &[
     (&["kg"], 1.0, [1, 0, 0, 0]),
     (&["g"], 1e-3, [1, 0, 0, 0]),
     (&["t", "tonne", "tonnes"], 1e3, [1, 0, 0, 0]),
-    (&["s", "sec", "secs", "second", "seconds"], 1.0, [0, 0, 1, 0]),
+    (
+        &["s", "sec", "secs", "second", "seconds"],
+        1.0,
+        [0, 0, 1, 0],
+    ),
     (&["ms"], 1e-3, [0, 0, 1, 0]),
     (&["min"], 60.0, [0, 0, 1, 0]),
     (&["h", "hr", "hour", "hours"], 3600.0, [0, 0, 1, 0]),
     (&["rad", "radian", "radians"], 1.0, [0, 0, 0, 1]),
+    (&["deg", "degree", "degrees", "°"], PI / 180.0, [0, 0, 0, 1]),
     (
-        &["deg", "degree", "degrees", "°"],
-        PI / 180.0,
+        &["rev", "revolution", "revolutions", "r"],
+        2.0 * PI,
         [0, 0, 0, 1],
     ),
-    (&["rev", "revolution", "revolutions", "r"], 2.0 * PI, [0, 0, 0, 1]),
     (&["N", "newton", "newtons"], 1.0, [1, 1, -2, 0]),
     (&["kN"], 1e3, [1, 1, -2, 0]),
     (&["mN"], 1e-3, [1, 1, -2, 0]),
@@ -94,7 +102,11 @@ const SYMBOLS: &[(&[&str], f64, Dim)] = &[
     (&["Hz"], 1.0, [0, 0, -1, 0]),
     (&["rpm"], 2.0 * PI / 60.0, [0, 0, -1, 1]),
     (&["rps"], 2.0 * PI, [0, 0, -1, 1]),
-    (&["kn", "kt", "kts", "knot", "knots"], 1852.0 / 3600.0, [0, 1, -1, 0]),
+    (
+        &["kn", "kt", "kts", "knot", "knots"],
+        1852.0 / 3600.0,
+        [0, 1, -1, 0],
+    ),
     (&["1", "-", "", "none", "dimensionless"], 1.0, DIMENSIONLESS),
     (&["%", "percent"], 0.01, DIMENSIONLESS),
 ];
@@ -315,7 +327,10 @@ fn lookup(sym: &str) -> Option<(f64, Dim)> {
     if sym.len() > 2 {
         let lower = sym.to_lowercase();
         for (names, factor, dim) in SYMBOLS {
-            if names.iter().any(|n| n.len() > 2 && n.to_lowercase() == lower) {
+            if names
+                .iter()
+                .any(|n| n.len() > 2 && n.to_lowercase() == lower)
+            {
                 return Some((*factor, *dim));
             }
         }

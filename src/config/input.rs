@@ -50,9 +50,10 @@ impl InputSpec {
     /// The name for reports: the configured one, or the file name.
     pub fn display_name(&self) -> String {
         self.name.clone().unwrap_or_else(|| {
-            self.file
-                .file_name()
-                .map_or_else(|| self.file.display().to_string(), |f| f.to_string_lossy().into_owned())
+            self.file.file_name().map_or_else(
+                || self.file.display().to_string(),
+                |f| f.to_string_lossy().into_owned(),
+            )
         })
     }
 }

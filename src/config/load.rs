@@ -288,8 +288,9 @@ mod tests {
 
     #[test]
     fn sets_nested_keys() {
-        let mut doc: toml_edit::DocumentMut =
-            "[hekf]\npasses = 1\n[[hekf.runs]]\nfile = \"a\"\n".parse().unwrap();
+        let mut doc: toml_edit::DocumentMut = "[hekf]\npasses = 1\n[[hekf.runs]]\nfile = \"a\"\n"
+            .parse()
+            .unwrap();
         set_one(&mut doc, "hekf.passes=3").unwrap();
         set_one(&mut doc, "hekf.runs[0].file=b.csv").unwrap();
         set_one(&mut doc, "output.dir=\"x\"").unwrap();

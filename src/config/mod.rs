@@ -156,7 +156,10 @@ impl Config {
             if d >= v.length && v.length > 0.0 {
                 p.add(
                     "vehicle.diameter",
-                    format!("diameter {d} m is not smaller than the length {} m", v.length),
+                    format!(
+                        "diameter {d} m is not smaller than the length {} m",
+                        v.length
+                    ),
                 );
             }
         }

@@ -17,10 +17,7 @@ impl Problems {
     pub fn new(file: &Path, text: &str) -> Self {
         Problems {
             file: file.to_path_buf(),
-            base_dir: file
-                .parent()
-                .map(Path::to_path_buf)
-                .unwrap_or_default(),
+            base_dir: file.parent().map(Path::to_path_buf).unwrap_or_default(),
             doc: toml_edit::Document::parse(text.to_string()).ok(),
             list: Vec::new(),
         }
@@ -160,7 +157,8 @@ mod tests {
 
     #[test]
     fn lines_of_keys() {
-        let text = "[vehicle]\nmass = 50\n\n[[hekf.runs]]\nfile = \"a\"\n[[hekf.runs]]\nfile = \"b\"\n";
+        let text =
+            "[vehicle]\nmass = 50\n\n[[hekf.runs]]\nfile = \"a\"\n[[hekf.runs]]\nfile = \"b\"\n";
         let p = Problems::new(Path::new("c.toml"), text);
         assert_eq!(p.line_of("vehicle.mass"), Some(2));
         assert_eq!(p.line_of("hekf.runs[1].file"), Some(7));

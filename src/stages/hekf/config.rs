@@ -99,7 +99,10 @@ impl HekfConfig {
         for (name, prior) in &self.prior {
             let key = format!("hekf.prior.{name}");
             if !self.estimate.contains(name) {
-                p.add(&key, format!("'{name}' has a prior but is not in hekf.estimate"));
+                p.add(
+                    &key,
+                    format!("'{name}' has a prior but is not in hekf.estimate"),
+                );
             }
             if let Some(s) = prior.sigma {
                 p.positive(&format!("{key}.sigma"), s, "SI");
