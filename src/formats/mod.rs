@@ -3,7 +3,15 @@
 //! Layouts are described in docs/formats.md; samples of real exports are under
 //! tests/fixtures/formats/.
 
-use crate::error::InputError;
+mod cfx;
+mod delimited;
+pub mod detect;
+mod fluent;
+mod openfoam;
+mod starccm;
+mod text;
+
+use crate::error::{InputError, Place};
 use crate::table::Table;
 use serde::{Deserialize, Serialize};
 use std::fmt;
@@ -111,7 +119,54 @@ pub struct ReadOptions {
 }
 
 /// Reads `path` as `choice`, converting columns with stated units to SI.
+///
+/// This is [`read_raw`] followed by [`Table::finish`]: values in SI, angle columns
+/// unwrapped, repeated time stamps of a restart reduced to their last row, and a decreasing
+/// time axis rejected.
 pub fn read(path: &Path, choice: FormatChoice, options: &ReadOptions) -> Result<Table, InputError> {
-    let _ = (path, choice, options);
-    todo!("format readers")
+    let mut table = read_raw(path, choice, options)?;
+    table.finish()?;
+    Ok(table)
+}
+
+/// Reads `path` as `choice` without [`Table::finish`]: values as written in the file, every
+/// row kept. Column units, the time column, metadata and warnings are set.
+pub fn read_raw(
+    path: &Path,
+    choice: FormatChoice,
+    options: &ReadOptions,
+) -> Result<Table, InputError> {
+    let bytes = std::fs::read(path).map_err(|e| {
+        let what = match e.kind() {
+            std::io::ErrorKind::NotFound => "file does not exist".to_string(),
+            _ if path.is_dir() => "is a directory, not a file".to_string(),
+            _ => format!("cannot read the file: {e}"),
+        };
+        InputError::new(Place::file(path), what)
+    })?;
+    let decoded = text::decode(path, &bytes)?;
+    let src = text::Source::new(path, &decoded);
+    let format = match choice {
+        FormatChoice::Fixed(f) => f,
+        FormatChoice::Auto => detect::detect_source(&src)?,
+    };
+    let table = match format {
+        Format::Delimited => delimited::read(&src, options, delimited::GENERIC)?,
+        Format::Cfx => cfx::read(&src, options)?,
+        Format::StarCcm => starccm::read(&src, options)?,
+        Format::Fluent => fluent::read(&src, options)?,
+        Format::OpenFoamForceCoeffs | Format::OpenFoamCoefficient | Format::OpenFoamForce => {
+            openfoam::read_scalar(&src, options, format)?
+        }
+        Format::OpenFoamForcesLegacy => openfoam::read_forces(&src, options)?,
+        Format::OpenFoamSixDof => openfoam::read_sixdof(&src, options)?,
+    };
+    if table.rows() == 0 {
+        return Err(InputError::new(
+            Place::file(path),
+            format!("no data rows (read as {format})"),
+        )
+        .expected("rows of numbers after the header"));
+    }
+    Ok(table)
 }

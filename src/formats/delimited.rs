@@ -1,0 +1,624 @@
+//! Delimited tables: the generic reader, and the engine under the CFX and STAR-CCM+ readers.
+//!
+//! A light pre-scan finds the layout (delimiter, header line, preamble, comment lines, a
+//! trailing delimiter); polars parses the data lines of single-character-delimited files.
+//! Whitespace-separated files, and any file polars rejects, are read line by line, which is
+//! also what gives an exact error (line, column, offending text).
+
+use super::text::{
+    comment, count_error, interpret_unit, parse_number, split_fields, split_unit_suffix,
+    whitespace_rows, Delim, Field, Head, HeaderUnit, Rows, Source,
+};
+use super::{Format, ReadOptions};
+use crate::error::InputError;
+use crate::table::Table;
+use polars::prelude::{CsvReadOptions, DataType, Schema, SerReader};
+use std::io::Cursor;
+use std::sync::Arc;
+
+/// Where things are in a delimited file.
+#[derive(Debug, Clone)]
+pub(crate) struct Layout {
+    /// The cell separator.
+    pub delim: Delim,
+    /// Numbers use a decimal comma (`1,5;2,25`).
+    pub decimal_comma: bool,
+    /// Number of columns.
+    pub ncols: usize,
+    /// Every line ends with one extra delimiter, which is dropped.
+    pub trailing_delim: bool,
+    /// The header line, when there is one.
+    pub header: Option<HeaderLine>,
+    /// Lines before the header (or the data), comments included (0-based).
+    pub preamble: Vec<usize>,
+    /// Data lines (0-based), comments, blank lines and repeated headers excluded.
+    pub data: Vec<usize>,
+    /// Lines that repeat the header further down (a concatenated file).
+    pub repeated_headers: Vec<usize>,
+}
+
+/// The header line of a delimited file.
+#[derive(Debug, Clone)]
+pub(crate) struct HeaderLine {
+    /// 0-based line index.
+    pub index: usize,
+    /// Its cells.
+    pub fields: Vec<Field>,
+    /// True when the header is written as a comment (`# time u v`).
+    pub commented: bool,
+}
+
+/// How a dialect writes units in header cells.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum UnitStyle {
+    /// `name (unit)` or `name [unit]` when the bracket holds a known unit; else part of the name.
+    Loose,
+    /// `name [ unit ]` (CFX); an unknown unit is an error.
+    Square,
+    /// `name (unit)` (STAR-CCM+); an unknown unit is an error.
+    Round,
+}
+
+/// The variations of the delimited readers.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Dialect {
+    /// The format the table is labelled with.
+    pub format: Format,
+    /// How header cells carry units.
+    pub units: UnitStyle,
+}
+
+/// The generic reader: units in `(..)` or `[..]` when they parse, otherwise part of the name.
+pub(crate) const GENERIC: Dialect = Dialect {
+    format: Format::Delimited,
+    units: UnitStyle::Loose,
+};
+
+const CANDIDATES: [(Delim, bool); 6] = [
+    (Delim::Char(b','), false),
+    (Delim::Char(b';'), false),
+    (Delim::Char(b'\t'), false),
+    (Delim::Whitespace, false),
+    (Delim::Char(b';'), true),
+    (Delim::Char(b'\t'), true),
+];
+
+fn number(text: &str, decimal_comma: bool) -> Option<f64> {
+    if decimal_comma && text.contains(',') {
+        parse_number(&text.replace(',', "."))
+    } else {
+        parse_number(text)
+    }
+}
+
+/// Cells of `line` if every cell is a number or empty and at least one is a number.
+fn numeric_cells(line: &str, delim: Delim, dc: bool) -> Option<usize> {
+    let f = split_fields(line, delim);
+    let ok = f
+        .iter()
+        .all(|c| c.text.is_empty() || number(&c.text, dc).is_some())
+        && f.iter().any(|c| !c.text.is_empty());
+    ok.then_some(f.len())
+}
+
+fn is_header_like(fields: &[Field], dc: bool) -> bool {
+    !fields.is_empty()
+        && fields
+            .iter()
+            .all(|c| !c.text.is_empty() && number(&c.text, dc).is_none())
+}
+
+fn has_number(fields: &[Field], dc: bool) -> bool {
+    fields.iter().any(|c| number(&c.text, dc).is_some())
+}
+
+fn is_section(line: &str) -> bool {
+    let t = line.trim();
+    t.starts_with('[') && t.ends_with(']') && !t[1..].contains('[')
+}
+
+/// Finds the layout of a delimited file.
+pub(crate) fn scan(src: &Source) -> Result<Layout, InputError> {
+    let cand: Vec<usize> = src
+        .content()
+        .filter(|(_, l)| comment(l).is_none())
+        .map(|(i, _)| i)
+        .collect();
+    let mut found = None;
+    'lines: for (k, &i) in cand.iter().enumerate() {
+        for (delim, dc) in CANDIDATES {
+            let Some(n) = numeric_cells(src.lines[i], delim, dc) else {
+                continue;
+            };
+            let confirmed = cand[k + 1..]
+                .iter()
+                .take(2)
+                .all(|&j| numeric_cells(src.lines[j], delim, dc) == Some(n));
+            if confirmed {
+                found = Some((k, delim, dc, n));
+                break 'lines;
+            }
+        }
+    }
+    let Some((k0, delim, dc, mut ncols)) = found else {
+        return Err(no_data(src, &cand));
+    };
+
+    // The header: the nearest line above the data whose cells are all names. Lines with
+    // numbers between it and the confirmed data are data rows (with a problem to report).
+    let fits = |f: &[Field]| {
+        let named =
+            f.len() - usize::from(f.len() > ncols && f.last().is_some_and(|c| c.text.is_empty()));
+        (named == ncols || (named + 1 == ncols && ncols > 1)) && is_header_like(&f[..named], dc)
+    };
+    let mut header = None;
+    let mut data_start = cand[k0];
+    let mut absorbing = true;
+    for i in (0..cand[k0]).rev() {
+        let line = src.lines[i];
+        if line.trim().is_empty() {
+            continue;
+        }
+        if let Some(text) = comment(line) {
+            if absorbing {
+                let found = [delim, Delim::Whitespace].into_iter().find_map(|d| {
+                    let f = split_fields(text, d);
+                    (f.len() == ncols && is_header_like(&f, dc)).then_some(f)
+                });
+                if let Some(fields) = found {
+                    header = Some(HeaderLine {
+                        index: i,
+                        fields,
+                        commented: true,
+                    });
+                    break;
+                }
+            }
+            continue;
+        }
+        if is_section(line) {
+            absorbing = false;
+            continue;
+        }
+        let f = split_fields(line, delim);
+        if fits(&f) {
+            header = Some(HeaderLine {
+                index: i,
+                fields: f,
+                commented: false,
+            });
+            break;
+        }
+        if absorbing && has_number(&f, dc) {
+            data_start = i;
+        } else {
+            absorbing = false;
+        }
+    }
+    if let Some(h) = &header {
+        data_start = h.index + 1;
+    }
+
+    // A delimiter at the end of every line makes an extra empty column.
+    let first_fields = split_fields(src.lines[cand[k0]], delim);
+    let mut trailing_delim = false;
+    if let (Delim::Char(_), Some(last)) = (delim, first_fields.last()) {
+        if last.text.is_empty() && !last.quoted && ncols > 1 {
+            let hn = header.as_ref().map(|h| {
+                let f = &h.fields;
+                f.len() - usize::from(f.last().is_some_and(|c| c.text.is_empty()))
+            });
+            if hn.is_none_or(|n| n == ncols - 1) {
+                trailing_delim = true;
+                ncols -= 1;
+            }
+        }
+    }
+    if let Some(h) = &mut header {
+        if h.fields.len() > ncols {
+            h.fields.truncate(ncols);
+        }
+    }
+
+    let header_text = header.as_ref().map(|h| src.lines[h.index].trim());
+    let mut data = Vec::new();
+    let mut repeated_headers = Vec::new();
+    for &i in cand.iter().filter(|&&i| i >= data_start) {
+        if !header.as_ref().is_some_and(|h| h.commented) && Some(src.lines[i].trim()) == header_text
+        {
+            repeated_headers.push(i);
+        } else {
+            data.push(i);
+        }
+    }
+    let preamble_end = header.as_ref().map_or(data_start, |h| h.index);
+    let preamble = (0..preamble_end)
+        .filter(|&i| !src.lines[i].trim().is_empty())
+        .collect();
+    Ok(Layout {
+        delim,
+        decimal_comma: dc,
+        ncols,
+        trailing_delim,
+        header,
+        preamble,
+        data,
+        repeated_headers,
+    })
+}
+
+fn no_data(src: &Source, cand: &[usize]) -> InputError {
+    let expected = "rows of numbers separated by commas, semicolons, tabs or spaces, under an \
+                    optional header line (or name the format with --format)";
+    match cand.first() {
+        Some(&i) if cand.len() <= 3 => InputError::new(
+            src.at(i),
+            format!(
+                "no rows of numbers: the file has only {} line{} of text ('{}'), like a \
+                 header without data",
+                cand.len(),
+                if cand.len() == 1 { "" } else { "s" },
+                shorten(src.lines[i].trim(), 60)
+            ),
+        )
+        .expected(expected),
+        Some(&i) => InputError::new(
+            src.at(i),
+            format!(
+                "no rows of numbers anywhere in the file; it starts with '{}'",
+                shorten(src.lines[i].trim(), 60)
+            ),
+        )
+        .expected(expected),
+        None => InputError::new(src.file(), "the file holds only comment lines").expected(expected),
+    }
+}
+
+pub(crate) fn shorten(s: &str, n: usize) -> String {
+    if s.chars().count() > n {
+        format!("{}...", s.chars().take(n).collect::<String>())
+    } else {
+        s.to_string()
+    }
+}
+
+/// Reads a delimited file in `dialect`.
+pub(crate) fn read(
+    src: &Source,
+    options: &ReadOptions,
+    dialect: Dialect,
+) -> Result<Table, InputError> {
+    let layout = scan(src)?;
+    let mut warnings = Vec::new();
+    let heads = heads(src, &layout, options, dialect, &mut warnings)?;
+    let names: Vec<String> = heads.iter().map(|h| h.name.clone()).collect();
+    let rows = match layout.delim {
+        Delim::Char(d) => polars_rows(src, &layout, d, &names)?,
+        Delim::Whitespace => whitespace_rows(src, layout.data.iter().copied(), &names)?,
+    };
+    if rows.lines.is_empty() {
+        return Err(InputError::new(src.file(), "no data rows").expected("rows of numbers"));
+    }
+    if let Some(&first) = layout.repeated_headers.first() {
+        warnings.push(format!(
+            "the header line is repeated {} time{} further down (first at line {}); skipped",
+            layout.repeated_headers.len(),
+            if layout.repeated_headers.len() == 1 {
+                ""
+            } else {
+                "s"
+            },
+            first + 1
+        ));
+    }
+    let meta = preamble_meta(src, &layout.preamble, layout.delim);
+    Ok(super::text::assemble(
+        src.path,
+        dialect.format,
+        heads,
+        rows,
+        meta,
+        warnings,
+    ))
+}
+
+/// Column heads from the header (or the configured names, or `col1..colN`).
+fn heads(
+    src: &Source,
+    layout: &Layout,
+    options: &ReadOptions,
+    dialect: Dialect,
+    warnings: &mut Vec<String>,
+) -> Result<Vec<Head>, InputError> {
+    let n = layout.ncols;
+    let mut heads: Vec<Head> = match &layout.header {
+        Some(h) => {
+            let mut heads = Vec::with_capacity(n);
+            for j in 0..n {
+                let text = h.fields.get(j).map_or("", |f| f.text.as_str());
+                if text.is_empty() {
+                    warnings.push(format!(
+                        "column {} has no name in the header (line {}); called it col{}",
+                        j + 1,
+                        h.index + 1,
+                        j + 1
+                    ));
+                    heads.push(Head::plain(format!("col{}", j + 1)));
+                } else {
+                    heads.push(head(src, h.index, j, text, dialect.units, warnings)?);
+                }
+            }
+            heads
+        }
+        None => (1..=n).map(|j| Head::plain(format!("col{j}"))).collect(),
+    };
+    let at = layout.data.first().map_or(src.file(), |&i| src.at(i));
+    super::text::apply_names(&mut heads, options, at)?;
+    Ok(heads)
+}
+
+/// One header cell: name and unit according to the dialect.
+fn head(
+    src: &Source,
+    line: usize,
+    col: usize,
+    text: &str,
+    style: UnitStyle,
+    warnings: &mut Vec<String>,
+) -> Result<Head, InputError> {
+    let split = match style {
+        UnitStyle::Square => split_unit_suffix(text, '[', ']', false),
+        UnitStyle::Round => split_unit_suffix(text, '(', ')', true),
+        UnitStyle::Loose => split_unit_suffix(text, '[', ']', true)
+            .or_else(|| split_unit_suffix(text, '(', ')', true)),
+    };
+    let mut head = Head::plain(text.trim());
+    let Some((name, unit_text)) = split else {
+        return Ok(head);
+    };
+    match interpret_unit(unit_text) {
+        HeaderUnit::Known(u) => {
+            head.name = name.to_string();
+            head.unit = Some(u);
+        }
+        HeaderUnit::Foreign(u) => {
+            head.name = name.to_string();
+            warnings.push(format!(
+                "column {} '{name}': unit '{u}' is not converted (hydroid converts mass, \
+                 length, time and angle units); values kept as written",
+                col + 1
+            ));
+        }
+        HeaderUnit::Unknown(u) if style == UnitStyle::Loose => {
+            warnings.push(format!(
+                "column {} '{}': '{u}' is not a unit hydroid knows; kept as part of the name",
+                col + 1,
+                text.trim()
+            ));
+        }
+        HeaderUnit::Unknown(u) => {
+            let e = crate::units::Unit::parse(&u)
+                .err()
+                .map_or_else(String::new, |e| e.to_string());
+            return Err(InputError::new(
+                src.at(line).with_column(col + 1).with_column_name(name),
+                format!("unknown unit in the header: {e}"),
+            )
+            .expected("a unit such as s, m, m s^-1, deg, rad/s, N, N m or kg m^2"));
+        }
+    }
+    Ok(head)
+}
+
+/// Title lines, `key: value` lines and `[Section]` blocks before the header.
+pub(crate) fn preamble_meta(src: &Source, lines: &[usize], delim: Delim) -> Vec<(String, String)> {
+    let mut meta = Vec::new();
+    let mut section: Option<String> = None;
+    for &i in lines {
+        let (text, is_comment) = match comment(src.lines[i]) {
+            Some(c) => (c.trim(), true),
+            None => (src.lines[i].trim(), false),
+        };
+        if text.is_empty() {
+            continue;
+        }
+        if is_section(text) {
+            section = Some(text[1..text.len() - 1].trim().to_string());
+            continue;
+        }
+        if let Some(s) = section.take() {
+            meta.push((s, text.to_string()));
+            continue;
+        }
+        if let Some(kv) = key_value(text, delim) {
+            meta.push(kv);
+        } else {
+            let key = if is_comment { "comment" } else { "title" };
+            meta.push((key.to_string(), text.trim_matches('"').to_string()));
+        }
+    }
+    meta
+}
+
+/// `key: value`, `key = value` or `key<delim>value`.
+pub(crate) fn key_value(text: &str, delim: Delim) -> Option<(String, String)> {
+    let split = text.find([':', '=']).map(|p| (&text[..p], &text[p + 1..]));
+    let split = split.or_else(|| match delim {
+        Delim::Char(d) => {
+            let f = split_fields(text, Delim::Char(d));
+            (f.len() == 2).then(|| {
+                let p = text.find(d as char).unwrap_or(text.len());
+                (&text[..p], text.get(p + 1..).unwrap_or(""))
+            })
+        }
+        Delim::Whitespace => None,
+    })?;
+    let key = split.0.trim().trim_matches('"').trim();
+    let value = split.1.trim().trim_matches('"').trim();
+    let plausible = !key.is_empty()
+        && key.chars().count() <= 40
+        && key.starts_with(|c: char| c.is_alphabetic())
+        && !value.is_empty();
+    plausible.then(|| (key.to_string(), value.to_string()))
+}
+
+/// Parses the data lines with polars; on any failure, reads them line by line instead,
+/// which either succeeds or names the offending cell.
+fn polars_rows(src: &Source, layout: &Layout, d: u8, names: &[String]) -> Result<Rows, InputError> {
+    let n = names.len();
+    let delim = Delim::Char(d);
+    let mut buf: Vec<u8> = Vec::with_capacity(layout.data.len() * (n * 12 + 1));
+    for &i in &layout.data {
+        let mut line = src.lines[i].trim_end_matches(|c| c == ' ' || (c == '\t' && d != b'\t'));
+        if layout.trailing_delim {
+            line = line.strip_suffix(d as char).unwrap_or(line);
+        }
+        let needs_split =
+            line.contains('"') || line.bytes().any(|b| (b == b' ' || b == b'\t') && b != d);
+        if needs_split {
+            let f = split_fields(line, delim);
+            if f.len() != n {
+                return Err(count_error(src, i, f.len(), names, delim));
+            }
+            for (j, c) in f.iter().enumerate() {
+                if j > 0 {
+                    buf.push(d);
+                }
+                buf.extend_from_slice(c.text.as_bytes());
+            }
+        } else {
+            let count = 1 + line.bytes().filter(|&b| b == d).count();
+            if count != n {
+                return Err(count_error(src, i, count, names, delim));
+            }
+            buf.extend_from_slice(line.as_bytes());
+        }
+        buf.push(b'\n');
+    }
+    if layout.data.is_empty() {
+        return Ok(Rows::new(n));
+    }
+    let mut schema = Schema::default();
+    for j in 0..n {
+        schema.with_column(format!("c{j}").into(), DataType::Float64);
+    }
+    let dc = layout.decimal_comma;
+    let parsed = CsvReadOptions::default()
+        .with_has_header(false)
+        .with_schema(Some(Arc::new(schema)))
+        .map_parse_options(|p| p.with_separator(d).with_decimal_comma(dc))
+        .into_reader_with_file_handle(Cursor::new(buf))
+        .finish();
+    let df = match parsed {
+        Ok(df) if df.height() == layout.data.len() => df,
+        _ => return hand_rows(src, layout, delim, names),
+    };
+    let mut rows = Rows::new(n);
+    rows.lines = layout.data.iter().map(|i| i + 1).collect();
+    for (j, col) in df.columns().iter().enumerate() {
+        let Ok(ca) = col.f64() else {
+            return hand_rows(src, layout, delim, names);
+        };
+        let out = &mut rows.columns[j];
+        out.reserve(layout.data.len());
+        if ca.null_count() == 0 {
+            for arr in ca.downcast_iter() {
+                out.extend_from_slice(arr.values());
+            }
+            if out.iter().any(|v| !v.is_finite()) {
+                return hand_rows(src, layout, delim, names);
+            }
+            continue;
+        }
+        for (r, v) in ca.iter().enumerate() {
+            match v {
+                Some(v) if v.is_finite() => out.push(v),
+                Some(_) => return hand_rows(src, layout, delim, names),
+                None => {
+                    out.push(f64::NAN);
+                    rows.missing.push((r, j));
+                }
+            }
+        }
+    }
+    rows.missing.sort_unstable();
+    Ok(rows)
+}
+
+/// Reads the data lines cell by cell: the exact error, or the rows.
+fn hand_rows(
+    src: &Source,
+    layout: &Layout,
+    delim: Delim,
+    names: &[String],
+) -> Result<Rows, InputError> {
+    let n = names.len();
+    let mut rows = Rows::new(n);
+    for &i in &layout.data {
+        let mut f = split_fields(src.lines[i], delim);
+        if layout.trailing_delim && f.len() == n + 1 && f.last().is_some_and(|c| c.text.is_empty())
+        {
+            f.pop();
+        }
+        if f.len() != n {
+            return Err(count_error(src, i, f.len(), names, delim));
+        }
+        let r = rows.lines.len();
+        for (j, cell) in f.iter().enumerate() {
+            if cell.text.is_empty() {
+                rows.columns[j].push(f64::NAN);
+                rows.missing.push((r, j));
+                continue;
+            }
+            match number(&cell.text, layout.decimal_comma) {
+                Some(v) if v.is_finite() => rows.columns[j].push(v),
+                _ => {
+                    return Err(super::text::cell_error(src, i, j, &names[j], &cell.text));
+                }
+            }
+        }
+        rows.lines.push(i + 1);
+    }
+    Ok(rows)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    fn layout(text: &str) -> Layout {
+        scan(&Source::new(Path::new("t.csv"), text)).unwrap()
+    }
+
+    #[test]
+    fn finds_header_preamble_and_delimiter() {
+        let l = layout("Run 12\n# comment\ntime;u\n0;1\n1;2\n");
+        assert_eq!(l.delim, Delim::Char(b';'));
+        assert_eq!(l.header.as_ref().map(|h| h.index), Some(2));
+        assert_eq!(l.preamble, vec![0, 1]);
+        assert_eq!(l.data, vec![3, 4]);
+    }
+
+    #[test]
+    fn decimal_comma_and_trailing_delimiter() {
+        let l = layout("a;b\n1,5;2\n3;4,25\n");
+        assert!(l.decimal_comma);
+        let l = layout("a,b\n1,2,\n3,4,\n");
+        assert!(l.trailing_delim);
+        assert_eq!(l.ncols, 2);
+    }
+
+    #[test]
+    fn bad_first_row_is_data_not_header() {
+        let l = layout("t,u\n1,x\n2,3\n3,4\n4,5\n");
+        assert_eq!(l.header.as_ref().map(|h| h.index), Some(0));
+        assert_eq!(l.data, vec![1, 2, 3, 4]);
+    }
+
+    #[test]
+    fn commented_header() {
+        let l = layout("# time u v\n0 1 2\n1 2 3\n");
+        assert!(l.header.as_ref().is_some_and(|h| h.commented));
+    }
+}

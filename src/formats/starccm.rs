@@ -1,0 +1,75 @@
+//! Siemens STAR-CCM+ CSV exports: table exports and monitor/plot exports.
+//!
+//! Comma-separated with every header cell quoted and units in parentheses after a space:
+//! `"Position[X] (m)"`, `"Physical Time: Physical Time (s)"`,
+//! `"Moment 1 Monitor: Moment (N-m)"`, `"rotation Monitor: Expression (deg)"`. The square
+//! brackets of `Position[X]` belong to the name. Units that are real but outside mechanics
+//! (`K`, `A/m^2`) are kept as written with a warning; anything else in the parentheses is an
+//! error naming the column.
+
+use super::delimited::{self, Dialect, Layout, UnitStyle};
+use super::text::{interpret_unit, split_unit_suffix, Delim, HeaderUnit, Source};
+use super::{Format, ReadOptions};
+use crate::error::InputError;
+use crate::table::Table;
+
+/// STAR-CCM+: units in `( ... )`, unknown units are errors.
+pub(crate) const DIALECT: Dialect = Dialect {
+    format: Format::StarCcm,
+    units: UnitStyle::Round,
+};
+
+/// Reads a STAR-CCM+ CSV export.
+pub(crate) fn read(src: &Source, options: &ReadOptions) -> Result<Table, InputError> {
+    delimited::read(src, options, DIALECT)
+}
+
+/// True when a delimited layout looks like STAR-CCM+: comma-separated, every header cell
+/// quoted, and at least one cell ending in ` (unit)` or naming a monitor (`... Monitor: ...`).
+pub(crate) fn looks_like(_src: &Source, layout: &Layout) -> bool {
+    let Some(h) = &layout.header else {
+        return false;
+    };
+    layout.delim == Delim::Char(b',')
+        && !h.commented
+        && h.fields.iter().all(|f| f.quoted)
+        && h.fields.iter().any(|f| {
+            f.text.contains("Monitor:")
+                || split_unit_suffix(&f.text, '(', ')', true)
+                    .is_some_and(|(_, u)| !matches!(interpret_unit(u), HeaderUnit::Unknown(_)))
+        })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    #[test]
+    fn monitor_names_and_units() {
+        let text = "\"Physical Time: Physical Time (s)\",\"Moment 1 Monitor: Moment (N-m)\",\
+                    \"Position[X] (m)\"\n0.0,1.0,2.0\n0.1,1.5,2.5\n";
+        let src = Source::new(Path::new("s.csv"), text);
+        assert!(looks_like(&src, &delimited::scan(&src).unwrap()));
+        let t = read(&src, &ReadOptions::default()).unwrap();
+        assert_eq!(
+            t.names(),
+            [
+                "Physical Time: Physical Time",
+                "Moment 1 Monitor: Moment",
+                "Position[X]"
+            ]
+        );
+        assert_eq!(
+            t.columns[1].unit.as_ref().map(|u| u.dim),
+            Some([1, 2, -2, 0])
+        );
+        assert_eq!(t.time, Some(0));
+    }
+
+    #[test]
+    fn unquoted_header_is_not_starccm() {
+        let src = Source::new(Path::new("s.csv"), "t (s),u (m/s)\n0,1\n1,2\n");
+        assert!(!looks_like(&src, &delimited::scan(&src).unwrap()));
+    }
+}
