@@ -9,6 +9,7 @@ pub mod coefficients;
 pub mod config;
 pub mod error;
 pub mod formats;
+pub mod inspect;
 pub mod quantity;
 pub mod record;
 pub mod stages;

@@ -1,6 +1,8 @@
 //! `hydroid inspect FILE`: what hydroid reads from one export.
 
-use super::CmdResult;
+use super::{note, CmdResult};
+use hydroid::formats::{Format, FormatChoice};
+use hydroid::Error;
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -21,6 +23,27 @@ pub struct Args {
 
 /// Runs the command.
 pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
-    let _ = (args, out);
-    Err(hydroid::Error::Usage("inspect is not built yet".into()).into())
+    let choice = FormatChoice::parse(&args.format).ok_or_else(|| {
+        let names: Vec<&str> = std::iter::once("auto")
+            .chain(Format::ALL.iter().map(|f| f.name()))
+            .collect();
+        Error::Usage(format!(
+            "unknown format '{}'; expected one of {}{}",
+            args.format,
+            names.join(", "),
+            hydroid::suggest::did_you_mean(&args.format, names.iter().copied())
+        ))
+    })?;
+    let report = hydroid::inspect::inspect(&args.file, choice).map_err(Error::Input)?;
+    if args.json {
+        let text = serde_json::to_string_pretty(&report)
+            .map_err(|e| Error::Usage(format!("cannot write the report as JSON: {e}")))?;
+        writeln!(out, "{text}")?;
+        for w in &report.warnings {
+            note(&format!("warning: {w}"));
+        }
+    } else {
+        report.write_text(out)?;
+    }
+    Ok(0)
 }

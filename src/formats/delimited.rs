@@ -430,6 +430,7 @@ pub(crate) fn preamble_meta(src: &Source, lines: &[usize], delim: Delim) -> Vec<
             meta.push((s, text.to_string()));
             continue;
         }
+        let delim = if is_comment { Delim::Whitespace } else { delim };
         if let Some(kv) = key_value(text, delim) {
             meta.push(kv);
         } else {
@@ -442,7 +443,10 @@ pub(crate) fn preamble_meta(src: &Source, lines: &[usize], delim: Delim) -> Vec<
 
 /// `key: value`, `key = value` or `key<delim>value`.
 pub(crate) fn key_value(text: &str, delim: Delim) -> Option<(String, String)> {
-    let split = text.find([':', '=']).map(|p| (&text[..p], &text[p + 1..]));
+    let split = text
+        .find([':', '='])
+        .map(|p| (&text[..p], &text[p + 1..]))
+        .filter(|(k, _)| !matches!(delim, Delim::Char(d) if k.contains(d as char)));
     let split = split.or_else(|| match delim {
         Delim::Char(d) => {
             let f = split_fields(text, Delim::Char(d));

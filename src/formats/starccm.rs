@@ -24,14 +24,20 @@ pub(crate) fn read(src: &Source, options: &ReadOptions) -> Result<Table, InputEr
     delimited::read(src, options, DIALECT)
 }
 
-/// True when a delimited layout looks like STAR-CCM+: comma-separated, every header cell
-/// quoted, and at least one cell ending in ` (unit)` or naming a monitor (`... Monitor: ...`).
+/// True when a delimited layout looks like STAR-CCM+: the header is the first line,
+/// comma-separated, every cell quoted, none with a `[unit]`, and at least one ending in
+/// ` (unit)` or naming a monitor (`... Monitor: ...`).
 pub(crate) fn looks_like(_src: &Source, layout: &Layout) -> bool {
     let Some(h) = &layout.header else {
         return false;
     };
     layout.delim == Delim::Char(b',')
         && !h.commented
+        && layout.preamble.is_empty()
+        && !h
+            .fields
+            .iter()
+            .any(|f| split_unit_suffix(&f.text, '[', ']', true).is_some())
         && h.fields.iter().all(|f| f.quoted)
         && h.fields.iter().any(|f| {
             f.text.contains("Monitor:")
@@ -68,8 +74,14 @@ mod tests {
     }
 
     #[test]
-    fn unquoted_header_is_not_starccm() {
-        let src = Source::new(Path::new("s.csv"), "t (s),u (m/s)\n0,1\n1,2\n");
-        assert!(!looks_like(&src, &delimited::scan(&src).unwrap()));
+    fn unquoted_header_or_a_preamble_is_not_starccm() {
+        for text in [
+            "t (s),u (m/s)\n0,1\n1,2\n",
+            "Run 3\n\"t (s)\",\"u (m/s)\"\n0,1\n1,2\n",
+            "\"t (s)\",\"x [m]\"\n0,1\n1,2\n",
+        ] {
+            let src = Source::new(Path::new("s.csv"), text);
+            assert!(!looks_like(&src, &delimited::scan(&src).unwrap()), "{text}");
+        }
     }
 }

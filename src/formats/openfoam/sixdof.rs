@@ -45,10 +45,10 @@ fn kind(name: &str) -> Kind {
         Kind::Acceleration
     } else if has("velocity") || n == "v" || n == "u" {
         Kind::Velocity
-    } else if has("rotation") || has("orientation") || has("angle") || has("euler") {
-        Kind::Angles
     } else if has("centre") || has("center") || has("position") || has("displacement") {
         Kind::Position
+    } else if has("rotation") || has("orientation") || has("angle") || has("euler") {
+        Kind::Angles
     } else {
         Kind::Other
     }
@@ -140,6 +140,7 @@ mod tests {
     #[test]
     fn kinds() {
         assert_eq!(kind("centreOfMass"), Kind::Position);
+        assert_eq!(kind("centreOfRotation"), Kind::Position);
         assert_eq!(kind("rotation"), Kind::Angles);
         assert_eq!(kind("velocity"), Kind::Velocity);
         assert_eq!(kind("omega"), Kind::AngularVelocity);
