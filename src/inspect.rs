@@ -299,6 +299,14 @@ pub fn guess_quantity(name: &str, unit: Option<&Unit>) -> Option<Quantity> {
     let dim = unit.map(|u| u.dim);
     let axis = ["x", "y", "z"].iter().position(|a| has(a));
     let pick = |qs: [Quantity; 3]| axis.map(|a| qs[a]);
+    // `total_x` (ESI force.dat and moment.dat): force or moment by the unit.
+    if words(name).iter().any(|x| x == "total") && axis.is_some() {
+        return match dim {
+            Some(d) if d == Fx.dim() => pick([Fx, Fy, Fz]),
+            Some(d) if d == Mx.dim() => pick([Mx, My, Mz]),
+            _ => None,
+        };
+    }
     let single = if w.len() == 1 { w[0].as_str() } else { "" };
     let guess = match single {
         "time" | "t" => Some(Time),
@@ -372,12 +380,6 @@ pub fn guess_quantity(name: &str, unit: Option<&Unit>) -> Option<Quantity> {
             Some(Rudder)
         } else if only(&["propeller", "speed"]) {
             Some(Rpm)
-        } else if axis.is_some() && w.len() == 1 {
-            None
-        } else if axis.is_some() && dim == Some(Fx.dim()) && name.to_lowercase().contains("total") {
-            pick([Fx, Fy, Fz])
-        } else if axis.is_some() && dim == Some(Mx.dim()) && name.to_lowercase().contains("total") {
-            pick([Mx, My, Mz])
         } else {
             None
         }

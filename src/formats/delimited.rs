@@ -124,8 +124,11 @@ pub(crate) fn scan(src: &Source) -> Result<Layout, InputError> {
         .filter(|(_, l)| comment(l).is_none())
         .map(|(i, _)| i)
         .collect();
+    // The first line that is all numbers, confirmed by the next two, with the delimiter
+    // that gives the most cells (a tab-separated row with an empty cell is still two cells).
     let mut found = None;
-    'lines: for (k, &i) in cand.iter().enumerate() {
+    for (k, &i) in cand.iter().enumerate() {
+        let mut best: Option<(Delim, bool, usize)> = None;
         for (delim, dc) in CANDIDATES {
             let Some(n) = numeric_cells(src.lines[i], delim, dc) else {
                 continue;
@@ -134,10 +137,13 @@ pub(crate) fn scan(src: &Source) -> Result<Layout, InputError> {
                 .iter()
                 .take(2)
                 .all(|&j| numeric_cells(src.lines[j], delim, dc) == Some(n));
-            if confirmed {
-                found = Some((k, delim, dc, n));
-                break 'lines;
+            if confirmed && best.is_none_or(|b| n > b.2) {
+                best = Some((delim, dc, n));
             }
+        }
+        if let Some((delim, dc, n)) = best {
+            found = Some((k, delim, dc, n));
+            break;
         }
     }
     let Some((k0, delim, dc, mut ncols)) = found else {
@@ -469,6 +475,21 @@ pub(crate) fn key_value(text: &str, delim: Delim) -> Option<(String, String)> {
 /// Parses the data lines with polars; on any failure, reads them line by line instead,
 /// which either succeeds or names the offending cell.
 fn polars_rows(src: &Source, layout: &Layout, d: u8, names: &[String]) -> Result<Rows, InputError> {
+    match polars_parse(src, layout, d, names)? {
+        Some(rows) => Ok(rows),
+        None => hand_rows(src, layout, Delim::Char(d), names),
+    }
+}
+
+/// The polars pass: the rows, or `None` when polars rejects the data (a cell that is not a
+/// number, a stray quote) or a value is not finite. Rows with the wrong number of cells are
+/// found while the lines are collected, and are an error at once.
+fn polars_parse(
+    src: &Source,
+    layout: &Layout,
+    d: u8,
+    names: &[String],
+) -> Result<Option<Rows>, InputError> {
     let n = names.len();
     let delim = Delim::Char(d);
     let mut buf: Vec<u8> = Vec::with_capacity(layout.data.len() * (n * 12 + 1));
@@ -500,7 +521,7 @@ fn polars_rows(src: &Source, layout: &Layout, d: u8, names: &[String]) -> Result
         buf.push(b'\n');
     }
     if layout.data.is_empty() {
-        return Ok(Rows::new(n));
+        return Ok(Some(Rows::new(n)));
     }
     let mut schema = Schema::default();
     for j in 0..n {
@@ -515,13 +536,13 @@ fn polars_rows(src: &Source, layout: &Layout, d: u8, names: &[String]) -> Result
         .finish();
     let df = match parsed {
         Ok(df) if df.height() == layout.data.len() => df,
-        _ => return hand_rows(src, layout, delim, names),
+        _ => return Ok(None),
     };
     let mut rows = Rows::new(n);
     rows.lines = layout.data.iter().map(|i| i + 1).collect();
     for (j, col) in df.columns().iter().enumerate() {
         let Ok(ca) = col.f64() else {
-            return hand_rows(src, layout, delim, names);
+            return Ok(None);
         };
         let out = &mut rows.columns[j];
         out.reserve(layout.data.len());
@@ -530,14 +551,14 @@ fn polars_rows(src: &Source, layout: &Layout, d: u8, names: &[String]) -> Result
                 out.extend_from_slice(arr.values());
             }
             if out.iter().any(|v| !v.is_finite()) {
-                return hand_rows(src, layout, delim, names);
+                return Ok(None);
             }
             continue;
         }
         for (r, v) in ca.iter().enumerate() {
             match v {
                 Some(v) if v.is_finite() => out.push(v),
-                Some(_) => return hand_rows(src, layout, delim, names),
+                Some(_) => return Ok(None),
                 None => {
                     out.push(f64::NAN);
                     rows.missing.push((r, j));
@@ -546,7 +567,7 @@ fn polars_rows(src: &Source, layout: &Layout, d: u8, names: &[String]) -> Result
         }
     }
     rows.missing.sort_unstable();
-    Ok(rows)
+    Ok(Some(rows))
 }
 
 /// Reads the data lines cell by cell: the exact error, or the rows.
@@ -618,6 +639,41 @@ mod tests {
         let l = layout("t,u\n1,x\n2,3\n3,4\n4,5\n");
         assert_eq!(l.header.as_ref().map(|h| h.index), Some(0));
         assert_eq!(l.data, vec![1, 2, 3, 4]);
+    }
+
+    /// polars does the parsing for every ordinary single-character-delimited layout; only
+    /// bad cells and non-finite values fall back to the line-by-line reader.
+    #[test]
+    fn polars_parses_ordinary_layouts() {
+        let parse = |text: &str| {
+            let src = Source::new(Path::new("t.csv"), text);
+            let l = scan(&src).unwrap();
+            let Delim::Char(d) = l.delim else {
+                panic!("not single-character delimited: {text}")
+            };
+            let names: Vec<String> = (0..l.ncols).map(|j| format!("c{j}")).collect();
+            polars_parse(&src, &l, d, &names).unwrap()
+        };
+        for text in [
+            "a,b\n1,2\n3,4\n",
+            "a, b\n 1 , 2\n3 ,4 \n",
+            "\"a\",\"b\"\n\"1\",2\n3,4\n",
+            "a;b\n1,5;2\n3;4,25\n",
+            "a\tb\n1\t\n\t4\n",
+            "a,b,\n1,2,\n3,4,\n",
+            "a,b\r\n1e-3,-2.5E+02\r\n+3.,.4\r\n",
+        ] {
+            let rows = parse(text).unwrap_or_else(|| panic!("polars rejected {text:?}"));
+            assert_eq!(rows.lines, [2, 3], "{text:?}");
+        }
+        let rows = parse("a\tb\n1\t\n\t4\n").unwrap();
+        assert_eq!(rows.missing, [(0, 1), (1, 0)]);
+        assert_eq!(
+            parse("a;b\n1,5;2\n3;4,25\n").unwrap().columns[1],
+            [2.0, 4.25]
+        );
+        assert!(parse("a,b\n1,2\n3,x\n4,5\n").is_none());
+        assert!(parse("a,b\n1,2\n3,nan\n4,5\n").is_none());
     }
 
     #[test]
