@@ -157,7 +157,10 @@ pub(crate) fn scan(src: &Source) -> Result<Layout, InputError> {
             f.len() - usize::from(f.len() > ncols && f.last().is_some_and(|c| c.text.is_empty()));
         (named == ncols || (named + 1 == ncols && ncols > 1)) && is_header_like(&f[..named], dc)
     };
+    // A header written as a comment (`# time u v`) right above the data is used only when
+    // no bare header line is found above it.
     let mut header = None;
+    let mut commented = None;
     let mut data_start = cand[k0];
     let mut absorbing = true;
     for i in (0..cand[k0]).rev() {
@@ -166,19 +169,15 @@ pub(crate) fn scan(src: &Source) -> Result<Layout, InputError> {
             continue;
         }
         if let Some(text) = comment(line) {
-            if absorbing {
-                let found = [delim, Delim::Whitespace].into_iter().find_map(|d| {
+            if absorbing && commented.is_none() {
+                commented = [delim, Delim::Whitespace].into_iter().find_map(|d| {
                     let f = split_fields(text, d);
-                    (f.len() == ncols && is_header_like(&f, dc)).then_some(f)
-                });
-                if let Some(fields) = found {
-                    header = Some(HeaderLine {
+                    (f.len() == ncols && is_header_like(&f, dc)).then_some(HeaderLine {
                         index: i,
-                        fields,
+                        fields: f,
                         commented: true,
-                    });
-                    break;
-                }
+                    })
+                });
             }
             continue;
         }
@@ -195,12 +194,13 @@ pub(crate) fn scan(src: &Source) -> Result<Layout, InputError> {
             });
             break;
         }
-        if absorbing && has_number(&f, dc) {
+        if absorbing && commented.is_none() && has_number(&f, dc) {
             data_start = i;
         } else {
             absorbing = false;
         }
     }
+    let mut header = header.or(commented);
     if let Some(h) = &header {
         data_start = h.index + 1;
     }
@@ -405,10 +405,10 @@ fn head(
         HeaderUnit::Unknown(u) => {
             let e = crate::units::Unit::parse(&u)
                 .err()
-                .map_or_else(String::new, |e| e.to_string());
+                .map_or_else(|| format!("unknown unit '{u}'"), |e| e.to_string());
             return Err(InputError::new(
                 src.at(line).with_column(col + 1).with_column_name(name),
-                format!("unknown unit in the header: {e}"),
+                format!("header: {e}"),
             )
             .expected("a unit such as s, m, m s^-1, deg, rad/s, N, N m or kg m^2"));
         }

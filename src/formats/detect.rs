@@ -38,8 +38,8 @@ pub(crate) fn detect_source(src: &Source) -> Result<Format, InputError> {
     let layout = delimited::scan(src).map_err(|mut e| {
         e.message = format!("cannot tell the format: {}", e.message);
         e.expected = Some(format!(
-            "one of the layouts in docs/formats.md ({}), or a --format / `format = ` that \
-             names the layout",
+            "{}; the layouts hydroid reads are {} (docs/formats.md)",
+            e.expected.as_deref().unwrap_or("a supported layout"),
             Format::ALL
                 .iter()
                 .map(|f| f.name())

@@ -258,11 +258,16 @@ pub(crate) fn count_error(
     delim: Delim,
 ) -> InputError {
     let n = names.len();
+    let quote = if src.lines[index].matches('"').count() % 2 == 1 {
+        "; a '\"' on this line opens a quote that never closes"
+    } else {
+        ""
+    };
     InputError::new(
         src.at(index)
             .with_column(found.min(n) + 1 - usize::from(found > n)),
         format!(
-            "{found} value{} on this line, but the table has {n} column{}{}",
+            "{found} value{} on this line, but the table has {n} column{}{quote}{}",
             if found == 1 { "" } else { "s" },
             if n == 1 { "" } else { "s" },
             src.truncation_hint(index)
@@ -525,7 +530,10 @@ pub(crate) fn parse_brackets(line: &str) -> Result<Vec<Node<'_>>, (usize, String
             ')' => {
                 flush(line, &mut stack, &mut start, b);
                 if stack.len() == 1 {
-                    return Err((pos, "')' closes a bracket that was never opened".into()));
+                    return Err((
+                        pos,
+                        format!("')' at character {pos} closes a bracket that was never opened"),
+                    ));
                 }
                 if let Some((items, open)) = stack.pop() {
                     if let Some(top) = stack.last_mut() {

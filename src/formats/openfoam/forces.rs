@@ -139,12 +139,9 @@ fn groups_from_row(src: &Source, data: &[usize]) -> Result<Vec<Group>, InputErro
     let Some(&i) = data.first() else {
         return Ok(Vec::new());
     };
-    let nodes = parse_brackets(src.lines[i]).map_err(|(pos, msg)| {
-        InputError::new(
-            src.at(i),
-            format!("unbalanced brackets at character {pos}: {msg}"),
-        )
-        .expected("a row 't ((px py pz) (vx vy vz)) ((mx my mz) (...))'")
+    let nodes = parse_brackets(src.lines[i]).map_err(|(_, msg)| {
+        InputError::new(src.at(i), format!("unbalanced brackets: {msg}"))
+            .expected("a row 't ((px py pz) (vx vy vz)) ((mx my mz) (...))'")
     })?;
     let mut groups = Vec::new();
     for (k, node) in nodes.iter().skip(1).enumerate() {

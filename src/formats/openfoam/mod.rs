@@ -192,13 +192,10 @@ pub(crate) fn vector_rows(
     );
     for &i in data {
         let line = src.lines[i];
-        let nodes = parse_brackets(line).map_err(|(pos, msg)| {
+        let nodes = parse_brackets(line).map_err(|(_, msg)| {
             InputError::new(
                 src.at(i),
-                format!(
-                    "unbalanced brackets at character {pos}: {msg}{}",
-                    src.truncation_hint(i)
-                ),
+                format!("unbalanced brackets: {msg}{}", src.truncation_hint(i)),
             )
             .expected(expected_row.clone())
         })?;
