@@ -4,7 +4,7 @@
 //! `cargo run --release --example twin_experiment`
 
 use hydroid::coefficients::{Coefficient, CoefficientSet, Source};
-use hydroid::models::{Model, Scales, Spheroid3};
+use hydroid::models::{AddedMass, Model, Scales, Spheroid3};
 use hydroid::sim::{complete_coefficients, simulate, InputSeries};
 use hydroid::stages::hekf::identify::{identify, RunData, Setup};
 use rand::{rngs::StdRng, SeedableRng};
@@ -17,7 +17,11 @@ fn main() {
         Scales {
             q: 16.1,
             length: 1.2,
-            added: Some((-23.626, -1.4532)),
+            added: Some(AddedMass {
+                xud: -1.164,
+                yvd: -23.626,
+                nrd: -1.4532,
+            }),
         },
     );
     let truth = [

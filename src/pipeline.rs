@@ -4,7 +4,7 @@
 use crate::coefficients::{Coefficient, CoefficientSet, Source, AXISYMMETRY, SYMMETRY};
 use crate::config::{InputSpec, LoadedConfig};
 use crate::error::{Error, Result};
-use crate::models::{ModelSpec, Scales};
+use crate::models::{AddedMass, ModelSpec, Scales};
 use crate::record::{self, Needs, Record};
 use crate::report::results::{compare, InputSummary, RunResult, StageResults};
 use crate::resim::{resimulate, ResimTrace};
@@ -151,7 +151,7 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn FnMut(&str)) -> Result<RunO
             }
         }
         for_filter.complete(SYMMETRY);
-        let added = added_pair(&analytic);
+        let added = added_mass(&analytic);
         let stage_inputs = hekf::StageInputs {
             vehicle: &cfg.vehicle,
             fluid: &cfg.fluid,
@@ -230,7 +230,11 @@ fn complete_for(set: &mut CoefficientSet, model: ModelName) {
     }
 }
 
-fn added_pair(analytic: &[Coefficient]) -> Option<(f64, f64)> {
+fn added_mass(analytic: &[Coefficient]) -> Option<AddedMass> {
     let get = |n: &str| analytic.iter().find(|c| c.name == n).map(|c| c.value);
-    Some((get("Yvd")?, get("Nrd")?))
+    Some(AddedMass {
+        xud: get("Xud")?,
+        yvd: get("Yvd")?,
+        nrd: get("Nrd")?,
+    })
 }

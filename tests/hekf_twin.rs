@@ -5,6 +5,7 @@
 use hydroid::coefficients::{Coefficient, CoefficientSet, Source, SYMMETRY};
 use hydroid::config::{Constant, FluidConfig, VehicleConfig};
 use hydroid::formats::Format;
+use hydroid::models::AddedMass;
 use hydroid::quantity::Quantity;
 use hydroid::record::Record;
 use hydroid::sim::config::{ExportColumn, ExportConfig, Manoeuvre, NoiseConfig, SimConfig, Step};
@@ -213,7 +214,11 @@ fn identify(cfg: &HekfConfig, runs: &[Record]) -> hydroid::Result<HekfResult> {
             vehicle: &v,
             fluid: &f,
             known: &known,
-            analytic_added_mass: Some((-23.626, -1.4532)),
+            analytic_added_mass: Some(AddedMass {
+                xud: -1.164,
+                yvd: -23.626,
+                nrd: -1.4532,
+            }),
             runs,
         },
     )

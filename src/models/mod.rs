@@ -76,6 +76,17 @@ pub trait Model: Send + Sync {
     }
 }
 
+/// Analytic added mass of a vehicle (Lamb's k-factors for a spheroid, Fossen 1994).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AddedMass {
+    /// Surge added mass X_udot, kg.
+    pub xud: f64,
+    /// Sway added mass Y_vdot, kg.
+    pub yvd: f64,
+    /// Yaw added inertia N_rdot, kg m^2.
+    pub nrd: f64,
+}
+
 /// Typical coefficient sizes for the vehicle, used to scale priors (see
 /// [`Model::typical_magnitude`]).
 #[derive(Debug, Clone, Copy)]
@@ -84,23 +95,23 @@ pub struct Scales {
     pub q: f64,
     /// Length, m.
     pub length: f64,
-    /// Analytic (Lamb) added mass in sway, kg, and added inertia in yaw, kg m^2, when the
-    /// geometry is known.
-    pub added: Option<(f64, f64)>,
+    /// Analytic (Lamb) added masses when the geometry gives them.
+    pub added: Option<AddedMass>,
 }
 
 impl Scales {
     /// Size of a coefficient from its unit: damping terms from the prime system
     /// (q, q L, q L^2, q L^3 for kg/m, kg, kg m, kg m^2), added-mass terms from the
     /// analytic values where known (Yrd from the geometric mean of Yvd and Nrd, which has
-    /// its unit kg m).
+    /// its unit kg m; Kpd, zero for a spheroid, from Nrd).
     pub fn of(&self, name: &str) -> f64 {
         let (q, l) = (self.q, self.length);
-        if let Some((ya, na)) = self.added {
+        if let Some(a) = self.added {
             match name {
-                "Xud" | "Yvd" | "Zwd" => return ya.abs(),
-                "Nrd" | "Mqd" | "Kpd" => return na.abs(),
-                "Yrd" | "Nvd" | "Zqd" | "Mwd" => return (ya * na).abs().sqrt(),
+                "Xud" => return a.xud.abs(),
+                "Yvd" | "Zwd" => return a.yvd.abs(),
+                "Nrd" | "Mqd" | "Kpd" => return a.nrd.abs(),
+                "Yrd" | "Nvd" | "Zqd" | "Mwd" => return (a.yvd * a.nrd).abs().sqrt(),
                 _ => {}
             }
         }
@@ -115,12 +126,12 @@ impl Scales {
 }
 
 impl Scales {
-    /// Scales for a vehicle: q = 0.5 rho A_ref and its length; `added` = (Yvd, Nrd) from an
-    /// analytic added-mass estimate when the geometry gives one.
+    /// Scales for a vehicle: q = 0.5 rho A_ref and its length, and the analytic added mass
+    /// when the geometry gives one.
     pub fn for_vehicle(
         vehicle: &crate::config::VehicleConfig,
         fluid: &crate::config::FluidConfig,
-        added: Option<(f64, f64)>,
+        added: Option<AddedMass>,
     ) -> Self {
         Scales {
             q: 0.5 * fluid.rho * vehicle.reference_area,

@@ -14,7 +14,7 @@ pub use result::{HekfResult, PassSummary, RunSummary, RunTraces};
 use crate::coefficients::CoefficientSet;
 use crate::config::{FluidConfig, VehicleConfig};
 use crate::error::{Error, Result};
-use crate::models::{with_model, Model, ModelSpec, ModelVisitor, Scales};
+use crate::models::{with_model, AddedMass, Model, ModelSpec, ModelVisitor, Scales};
 use crate::quantity::Quantity;
 use crate::record::{Needs, Record};
 use identify::{identify, IdentifyError};
@@ -54,8 +54,8 @@ pub struct StageInputs<'a> {
     pub fluid: &'a FluidConfig,
     /// Coefficients known from earlier stages, the configuration and analytic estimates.
     pub known: &'a CoefficientSet,
-    /// Analytic (Yvd, Nrd) used to scale priors, when the geometry gives them.
-    pub analytic_added_mass: Option<(f64, f64)>,
+    /// Analytic added mass used to scale priors, when the geometry gives it.
+    pub analytic_added_mass: Option<AddedMass>,
     /// The identification runs.
     pub runs: &'a [Record],
 }
