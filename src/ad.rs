@@ -117,9 +117,9 @@ mod tests {
         let x: Vec<f64> = (0..10).map(|i| 0.3 * i as f64 - 1.1).collect();
         let mut val = [0.0; 2];
         let mut ja = vec![0.0; 20];
-        jacobian(&x, 2, |xd, yd| g(xd, yd), &mut val, &mut ja);
+        jacobian(&x, 2, g, &mut val, &mut ja);
         let mut jf = vec![0.0; 20];
-        jacobian_fd(&x, 2, |xs, ys| g(xs, ys), &mut jf);
+        jacobian_fd(&x, 2, g, &mut jf);
         for (a, b) in ja.iter().zip(&jf) {
             assert!((a - b).abs() < 1e-7, "{a} vs {b}");
         }

@@ -50,8 +50,6 @@ pub const CATALOG: &[CoefInfo] = &[
     info!("Xvr", "kg", "added-mass Coriolis X_vr"),
     info!("Xrr", "kg m", "added-mass Coriolis X_rr"),
     info!("Xww", "kg/m", "surge force from heave squared X_ww"),
-    info!("Xwq", "kg", "added-mass Coriolis X_wq"),
-    info!("Xqq", "kg m", "added-mass Coriolis X_qq"),
     // sway
     info!("Yvv", "kg/m", "sway cross-flow drag Y_v|v|"),
     info!("Yrr", "kg m", "sway force from yaw rate Y_r|r|"),
@@ -67,14 +65,13 @@ pub const CATALOG: &[CoefInfo] = &[
     info!("Nuva", "kg", "Munk moment part of N_uv"),
     info!("Nuvl", "kg", "lift part of N_uv"),
     // heave and pitch (axisymmetric mirror of sway and yaw)
+    info!("Xuw", "kg/m", "surge force from heave X_uw"),
     info!("Zww", "kg/m", "heave cross-flow drag Z_w|w|"),
     info!("Zqq", "kg m", "heave force from pitch rate Z_q|q|"),
-    info!("Zuq", "kg", "heave force Z_uq (added-mass Coriolis)"),
     info!("Zuw", "kg/m", "heave force Z_uw (body lift and drag)"),
     info!("Mww", "kg", "pitch moment M_w|w|"),
     info!("Mqq", "kg m^2", "pitch damping M_q|q|"),
-    info!("Muq", "kg m", "pitch moment M_uq (added-mass Coriolis)"),
-    info!("Muw", "kg", "pitch moment M_uw (Munk moment and lift)"),
+    info!("Muwl", "kg", "lift part of the pitch moment M_uw"),
     // roll
     info!("Kpp", "kg m^2", "roll damping K_p|p|"),
 ];
@@ -217,8 +214,9 @@ pub const SYMMETRY: &[Relation] = &[
 ];
 
 /// Axial symmetry of a body of revolution (Fossen 1994, section 2.4.1): the heave/pitch
-/// coefficients mirror sway/yaw. With z down and pitch nose-up positive, a heave velocity w
-/// plays the role of v and a pitch rate q that of -r.
+/// coefficients mirror sway/yaw. Rotating the body 90 deg about x maps v to w, r to -q, Y to
+/// Z and N to -M. Only the viscous and added-mass terms are listed: the added-mass Coriolis
+/// terms of the 6-DOF model follow from the added-mass matrix itself (Fossen 2011, eq. 6.43).
 pub const AXISYMMETRY: &[Relation] = &[
     Relation {
         target: "Zwd",
@@ -241,6 +239,16 @@ pub const AXISYMMETRY: &[Relation] = &[
         cite: "axisymmetry: Mwd = -Nvd",
     },
     Relation {
+        target: "Xww",
+        terms: &[(1.0, "Xvv")],
+        cite: "axisymmetry: Xww = Xvv",
+    },
+    Relation {
+        target: "Xuw",
+        terms: &[(1.0, "Xuv")],
+        cite: "axisymmetry: Xuw = Xuv",
+    },
+    Relation {
         target: "Zww",
         terms: &[(1.0, "Yvv")],
         cite: "axisymmetry: Zww = Yvv",
@@ -249,11 +257,6 @@ pub const AXISYMMETRY: &[Relation] = &[
         target: "Zqq",
         terms: &[(-1.0, "Yrr")],
         cite: "axisymmetry: Zqq = -Yrr",
-    },
-    Relation {
-        target: "Zuq",
-        terms: &[(-1.0, "Yur")],
-        cite: "axisymmetry: Zuq = -Yur",
     },
     Relation {
         target: "Zuw",
@@ -271,29 +274,9 @@ pub const AXISYMMETRY: &[Relation] = &[
         cite: "axisymmetry: Mqq = Nrr",
     },
     Relation {
-        target: "Muq",
-        terms: &[(1.0, "Nur")],
-        cite: "axisymmetry: Muq = Nur",
-    },
-    Relation {
-        target: "Muw",
-        terms: &[(-1.0, "Nuv")],
-        cite: "axisymmetry: Muw = -Nuv",
-    },
-    Relation {
-        target: "Xww",
-        terms: &[(1.0, "Xvv")],
-        cite: "axisymmetry: Xww = Xvv",
-    },
-    Relation {
-        target: "Xwq",
-        terms: &[(1.0, "Zwd")],
-        cite: "Fossen added-mass Coriolis: Xwq = Zwd",
-    },
-    Relation {
-        target: "Xqq",
-        terms: &[(1.0, "Zqd")],
-        cite: "Fossen added-mass Coriolis: Xqq = Zqd",
+        target: "Muwl",
+        terms: &[(-1.0, "Nuvl")],
+        cite: "axisymmetry: Muwl = -Nuvl",
     },
 ];
 

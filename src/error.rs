@@ -68,8 +68,8 @@ impl fmt::Display for Place {
 /// A problem with one input file.
 #[derive(Debug, Clone, PartialEq)]
 pub struct InputError {
-    /// Where.
-    pub place: Place,
+    /// Where (boxed to keep `Result<_, InputError>` small).
+    pub place: Box<Place>,
     /// What is wrong.
     pub message: String,
     /// What was expected instead, when that can be said.
@@ -80,7 +80,7 @@ impl InputError {
     /// A new input error at `place`.
     pub fn new(place: Place, message: impl Into<String>) -> Self {
         InputError {
-            place,
+            place: Box::new(place),
             message: message.into(),
             expected: None,
         }
@@ -136,7 +136,7 @@ impl fmt::Display for ConfigProblem {
 pub enum Error {
     /// An input file is missing, unreadable or malformed.
     #[error("{0}")]
-    Input(#[from] InputError),
+    Input(Box<InputError>),
     /// The configuration has one or more problems (all are listed).
     #[error("{}", list_problems(.0))]
     Config(Vec<ConfigProblem>),
@@ -172,6 +172,12 @@ fn list_problems(problems: &[ConfigProblem]) -> String {
         s.push_str(&p.to_string());
     }
     s
+}
+
+impl From<InputError> for Error {
+    fn from(e: InputError) -> Self {
+        Error::Input(Box::new(e))
+    }
 }
 
 impl Error {

@@ -4,14 +4,24 @@
 //! [`record::Record`] -> stages (polar, surge, hekf) -> [`coefficients::CoefficientSet`] ->
 //! reports. The command-line program `hydroid` is a thin shell over this library.
 
+// Numerical kernels index several arrays with one loop variable; iterator chains would hide
+// the linear algebra.
+#![allow(clippy::needless_range_loop)]
+
 pub mod ad;
 pub mod coefficients;
 pub mod config;
 pub mod error;
+pub mod estimation;
 pub mod formats;
 pub mod inspect;
+pub mod linalg;
+pub mod models;
+pub mod output;
 pub mod quantity;
 pub mod record;
+pub mod resim;
+pub mod sim;
 pub mod stages;
 pub mod suggest;
 pub mod table;

@@ -185,13 +185,13 @@ impl Quantity {
     /// The symbol of the internal unit, for tables and reports.
     pub fn si_symbol(self) -> &'static str {
         match self.dim() {
-            d if d == [0, 0, 1, 0] => "s",
+            [0, 0, 1, 0] => "s",
             LENGTH => "m",
             ANGLE => "rad",
             SPEED => "m/s",
             RATE if self == Quantity::Rpm => "rev/s",
             RATE => "rad/s",
-            d if d == [0, 1, -2, 0] => "m/s^2",
+            [0, 1, -2, 0] => "m/s^2",
             FORCE => "N",
             MOMENT => "N m",
             _ => "-",

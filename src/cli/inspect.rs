@@ -34,7 +34,7 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
             hydroid::suggest::did_you_mean(&args.format, names.iter().copied())
         ))
     })?;
-    let report = hydroid::inspect::inspect(&args.file, choice).map_err(Error::Input)?;
+    let report = hydroid::inspect::inspect(&args.file, choice).map_err(Error::from)?;
     if args.json {
         let text = serde_json::to_string_pretty(&report)
             .map_err(|e| Error::Usage(format!("cannot write the report as JSON: {e}")))?;

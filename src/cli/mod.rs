@@ -3,6 +3,7 @@
 mod check;
 mod inspect;
 mod run;
+mod simulate;
 
 use clap::{Parser, Subcommand};
 use hydroid::Error;
@@ -26,6 +27,7 @@ enum Command {
     Run(run::Args),
     Check(check::Args),
     Inspect(inspect::Args),
+    Simulate(simulate::Args),
 }
 
 /// Parses the command line, runs the command and returns the exit code.
@@ -44,6 +46,7 @@ pub fn main() -> i32 {
         Command::Run(a) => run::run(a, &mut out),
         Command::Check(a) => check::run(a, &mut out),
         Command::Inspect(a) => inspect::run(a, &mut out),
+        Command::Simulate(a) => simulate::run(a, &mut out),
     };
     let _ = out.flush();
     match result {

@@ -33,22 +33,39 @@ impl LoadedConfig {
 
 /// Reads and validates the configuration at `path`, applying `overrides` (`KEY=VALUE`).
 pub fn load(path: &Path, overrides: &[String]) -> Result<LoadedConfig> {
-    let text = std::fs::read_to_string(path).map_err(|e| {
+    load_str(path, &read(path)?, overrides)
+}
+
+/// The text of a configuration file, or the problem reading it.
+pub fn read(path: &Path) -> Result<String> {
+    std::fs::read_to_string(path).map_err(|e| {
         Error::Config(vec![ConfigProblem {
             file: path.to_path_buf(),
             line: None,
             key: None,
             message: format!("cannot read the configuration: {e}"),
         }])
-    })?;
-    load_str(path, &text, overrides)
+    })
 }
 
 /// Like [`load`], from text already read (`path` places messages and resolves relative paths).
 pub fn load_str(path: &Path, text: &str, overrides: &[String]) -> Result<LoadedConfig> {
+    match load_lenient(path, text, overrides) {
+        (Some(c), p) if p.is_empty() => Ok(c),
+        (_, p) => Err(Error::Config(p)),
+    }
+}
+
+/// Reads the configuration and returns it whenever it could be deserialised, together with
+/// every problem found (so that `hydroid check` can go on to check the input files).
+pub fn load_lenient(
+    path: &Path,
+    text: &str,
+    overrides: &[String],
+) -> (Option<LoadedConfig>, Vec<ConfigProblem>) {
     let (config, mut problems) = deserialize_collecting(path, text);
     let Some(mut config) = config else {
-        return Err(Error::Config(problems));
+        return (None, problems);
     };
     if !overrides.is_empty() && problems.is_empty() {
         match apply_overrides(path, text, overrides) {
@@ -59,16 +76,16 @@ pub fn load_str(path: &Path, text: &str, overrides: &[String]) -> Result<LoadedC
     let mut checks = Problems::new(path, text);
     config.validate(&mut checks);
     problems.extend(checks.list);
-    if !problems.is_empty() {
-        return Err(Error::Config(problems));
-    }
     let base_dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
-    Ok(LoadedConfig {
-        config,
-        path: path.to_path_buf(),
-        base_dir,
-        overrides: overrides.to_vec(),
-    })
+    (
+        Some(LoadedConfig {
+            config,
+            path: path.to_path_buf(),
+            base_dir,
+            overrides: overrides.to_vec(),
+        }),
+        problems,
+    )
 }
 
 /// Deserializes, and after each schema error comments out the offending line (or table) and

@@ -6,7 +6,7 @@ mod load;
 mod problems;
 
 pub use input::{ColumnSpec, Constant, FormatSetting, InputSpec, VelocityFrame};
-pub use load::{load, load_str, LoadedConfig};
+pub use load::{load, load_lenient, load_str, read, LoadedConfig};
 pub use problems::Problems;
 
 use crate::coefficients;

@@ -89,7 +89,17 @@ pub struct HekfConfig {
 
 impl HekfConfig {
     /// Adds every problem with this section to `p`.
-    pub fn validate(&self, _config: &Config, p: &mut Problems) {
+    pub fn validate(&self, config: &Config, p: &mut Problems) {
+        if self.model == ModelName::Spheroid6 {
+            for (key, v) in [("ixx", config.vehicle.ixx), ("iyy", config.vehicle.iyy)] {
+                if v.is_none() {
+                    p.add(
+                        &format!("vehicle.{key}"),
+                        format!("the spheroid6 model needs vehicle.{key} (kg m^2)"),
+                    );
+                }
+            }
+        }
         if self.estimate.is_empty() {
             p.add("hekf.estimate", "lists no coefficient to estimate");
         }

@@ -1,6 +1,114 @@
 //! Hybrid EKF stage (paper section 4, eq. 9-19 and 22): coefficients appended to the state of
-//! a vehicle model and estimated from CFD motion histories.
+//! a vehicle model and estimated from CFD motion histories, the rest held fixed.
 
 mod config;
+pub mod identify;
+mod prepare;
+mod result;
+pub mod system;
+pub mod tuning;
 
 pub use config::{HekfConfig, ModelName, Preset, Prior};
+pub use result::{HekfResult, PassSummary, RunSummary, RunTraces};
+
+use crate::coefficients::CoefficientSet;
+use crate::config::{FluidConfig, VehicleConfig};
+use crate::error::{Error, Result};
+use crate::models::{with_model, AddedMass, Model, ModelSpec, ModelVisitor, Scales};
+use crate::quantity::Quantity;
+use crate::record::{Needs, Record};
+use identify::{identify, IdentifyError};
+
+/// Quantities the stage reads from a run: time, every state the model could measure, and its
+/// inputs. (The 6-DOF quantities are read when present, to warn when a 3-DOF model ignores
+/// out-of-plane motion.)
+pub fn needs(_cfg: &HekfConfig) -> Needs<'static> {
+    Needs {
+        required: &[Quantity::Time],
+        optional: &[
+            Quantity::U,
+            Quantity::V,
+            Quantity::W,
+            Quantity::P,
+            Quantity::Q,
+            Quantity::R,
+            Quantity::X,
+            Quantity::Y,
+            Quantity::Z,
+            Quantity::Roll,
+            Quantity::Pitch,
+            Quantity::Yaw,
+            Quantity::Thrust,
+            Quantity::Rudder,
+            Quantity::Rpm,
+        ],
+        min_rows: 10,
+    }
+}
+
+/// Everything the stage needs besides its configuration.
+pub struct StageInputs<'a> {
+    /// The vehicle.
+    pub vehicle: &'a VehicleConfig,
+    /// The fluid.
+    pub fluid: &'a FluidConfig,
+    /// Coefficients known from earlier stages, the configuration and analytic estimates.
+    pub known: &'a CoefficientSet,
+    /// Analytic added mass used to scale priors, when the geometry gives it.
+    pub analytic_added_mass: Option<AddedMass>,
+    /// The identification runs.
+    pub runs: &'a [Record],
+}
+
+/// Runs the stage.
+pub fn run(cfg: &HekfConfig, inputs: &StageInputs) -> Result<HekfResult> {
+    let spec = ModelSpec {
+        name: cfg.model,
+        vehicle: inputs.vehicle,
+        scales: Scales::for_vehicle(inputs.vehicle, inputs.fluid, inputs.analytic_added_mass),
+    };
+    with_model(&spec, Identify { cfg, inputs })
+}
+
+struct Identify<'a> {
+    cfg: &'a HekfConfig,
+    inputs: &'a StageInputs<'a>,
+}
+
+impl ModelVisitor for Identify<'_> {
+    type Output = Result<HekfResult>;
+
+    fn visit<M: Model>(self, model: &M) -> Result<HekfResult> {
+        let (cfg, inputs) = (self.cfg, self.inputs);
+        let tuning = tuning::Resolved::from_config(cfg);
+        let plan = prepare::plan(model, cfg, &tuning, inputs.known)?;
+        let mut runs = Vec::new();
+        let mut summaries = Vec::new();
+        for rec in inputs.runs {
+            let (data, summary) = prepare::run_data(model, cfg, &tuning, rec)?;
+            runs.push(data);
+            summaries.push(summary);
+        }
+        let setup = prepare::setup(model, cfg, &plan, &tuning, &runs)?;
+        let id = identify(model, &setup, &runs).map_err(|e| divergence_error(model, &plan, e))?;
+        Ok(result::build(
+            model, cfg, &plan, &setup, &runs, summaries, id,
+        ))
+    }
+}
+
+fn divergence_error<M: Model>(model: &M, plan: &prepare::Plan, e: IdentifyError) -> Error {
+    Error::numerical(
+        "hekf",
+        format!(
+            "run '{}', pass {}: {} (estimating {} with the {} model). Check the priors of \
+             the estimated coefficients (hekf.prior), the measurement noise (hekf.noise) and \
+             the fixed coefficients.",
+            e.run,
+            e.pass,
+            e.divergence,
+            plan.describe_estimates(),
+            model.name()
+        ),
+    )
+}

@@ -1,0 +1,142 @@
+//! One hybrid-EKF pass over 2000 samples of the paper's manoeuvre with 6 estimated
+//! coefficients (12 augmented states), and the model Jacobian alone.
+//!
+//! `cargo bench --bench hekf`; numbers are recorded in docs/performance.md.
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use hydroid::coefficients::{Coefficient, CoefficientSet, Source};
+use hydroid::estimation::System;
+use hydroid::models::{AddedMass, Model, Scales, Spheroid3};
+use hydroid::sim::{complete_coefficients, simulate, InputSeries};
+use hydroid::stages::hekf::identify::{identify, RunData, Setup};
+use hydroid::stages::hekf::system::ModelSystem;
+use rand::{rngs::StdRng, SeedableRng};
+use rand_distr::{Distribution, Normal};
+use std::hint::black_box;
+
+const TRUTH: &[(&str, f64)] = &[
+    ("Xud", -1.164),
+    ("Yvd", -23.626),
+    ("Yrd", 0.0),
+    ("Nrd", -1.4532),
+    ("Xuu", -1.33),
+    ("Xuv", 0.44),
+    ("Xvv", -5.38),
+    ("Yvv", -0.44),
+    ("Yrr", 0.5),
+    ("Yuvd", 1.33),
+    ("Yuvl", -16.31),
+    ("Nvv", 10.0),
+    ("Nrr", -5.0),
+    ("Nuvl", 13.43),
+];
+const ESTIMATED: [&str; 6] = ["Yvd", "Yrd", "Nrd", "Nvv", "Nrr", "Yrr"];
+
+fn model() -> Spheroid3 {
+    Spheroid3::new(
+        50.0,
+        3.7,
+        Scales {
+            q: 16.1,
+            length: 1.2,
+            added: Some(AddedMass {
+                xud: -1.164,
+                yvd: -23.626,
+                nrd: -1.4532,
+            }),
+        },
+    )
+}
+
+fn truth(m: &Spheroid3) -> Vec<f64> {
+    let mut set = CoefficientSet::new();
+    for (n, v) in TRUTH {
+        set.insert(Coefficient::new(n, *v, None, Source::Config));
+    }
+    complete_coefficients(m, &set).unwrap()
+}
+
+fn run_data(m: &Spheroid3, c: &[f64]) -> RunData {
+    let times: Vec<f64> = (0..2000).map(|k| k as f64 * 0.01).collect();
+    let inputs = InputSeries::constant(&[22.0]);
+    let xs = simulate(m, c, &[3.0, 1.0, 0.0, 0.0, 0.0, 0.0], &inputs, &times, 4).unwrap();
+    let sig = [
+        1e-3,
+        1e-3,
+        0.05f64.to_radians(),
+        1e-3,
+        1e-3,
+        0.05f64.to_radians(),
+    ];
+    let mut rng = StdRng::seed_from_u64(1);
+    let mut y = Vec::new();
+    for x in &xs {
+        for i in 0..6 {
+            y.push(x[i] + Normal::new(0.0, sig[i]).unwrap().sample(&mut rng));
+        }
+    }
+    let r: Vec<f64> = sig.iter().map(|s| s * s).collect();
+    let mut p0 = vec![0.0; 36];
+    for i in 0..6 {
+        p0[i * 6 + i] = r[i];
+    }
+    RunData {
+        name: "bench".into(),
+        times,
+        measured: (0..6).collect(),
+        x0: y[..6].to_vec(),
+        y,
+        r,
+        inputs,
+        p0,
+    }
+}
+
+fn bench(c: &mut Criterion) {
+    let m = model();
+    let truth = truth(&m);
+    let run = run_data(&m, &truth);
+    let est: Vec<usize> = ESTIMATED
+        .iter()
+        .map(|n| m.coefficient_index(n).unwrap())
+        .collect();
+    let scale: Vec<f64> = ESTIMATED.iter().map(|n| m.typical_magnitude(n)).collect();
+    let mut base = truth.clone();
+    for &i in &est {
+        base[i] = 0.0;
+    }
+    let mut q = vec![1e-10; 6];
+    q.extend([0.0; 6]);
+    let setup = Setup {
+        base: base.clone(),
+        est: est.clone(),
+        scale: scale.clone(),
+        initial: vec![0.0; 6],
+        prior_sigma: scale.clone(),
+        q,
+        passes: 1,
+        substeps: 1,
+        smoother: false,
+        repeat_prior_factor: Some(100.0),
+    };
+    let mut g = c.benchmark_group("hekf");
+    g.throughput(Throughput::Elements(run.times.len() as u64));
+    g.bench_function("filter pass, 2000 samples, 12 states", |b| {
+        b.iter(|| identify(black_box(&m), &setup, std::slice::from_ref(&run)).unwrap())
+    });
+    g.finish();
+    let inputs = InputSeries::constant(&[22.0]);
+    let measured: Vec<usize> = (0..6).collect();
+    let mut sys = ModelSystem::new(&m, base, &est, &scale, &inputs, &measured);
+    let x = [
+        3.0, 1.0, -0.2, 1.0, 2.0, 0.4, -0.9, 0.0, -0.06, 0.5, -0.2, 0.02,
+    ];
+    let mut dx = [0.0; 6];
+    let mut f = [0.0; 72];
+    c.bench_function("augmented Jacobian (AD), 6 x 12", |b| {
+        b.iter(|| sys.jacobian(0.0, black_box(&x), &mut dx, &mut f))
+    });
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

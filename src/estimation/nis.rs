@@ -1,0 +1,92 @@
+//! Normalised innovation squared (NIS) and its chi-square consistency bounds
+//! (Bar-Shalom, Li & Kirubarajan 2001, section 5.4).
+
+use serde::Serialize;
+use statrs::distribution::{ChiSquared, ContinuousCDF};
+
+/// NIS statistics of one filter pass.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct NisSummary {
+    /// Measurements per sample (degrees of freedom of one NIS value).
+    pub dof: usize,
+    /// Number of samples.
+    pub samples: usize,
+    /// Mean NIS; a consistent filter gives about `dof`.
+    pub mean: f64,
+    /// Two-sided 95 % bounds on the mean NIS for a consistent filter.
+    pub mean_bounds: [f64; 2],
+    /// Two-sided 95 % bounds on a single NIS value.
+    pub sample_bounds: [f64; 2],
+    /// Fraction of samples outside `sample_bounds` (about 0.05 when consistent).
+    pub fraction_outside: f64,
+    /// Whether the mean lies within its bounds.
+    pub consistent: bool,
+}
+
+/// Two-sided 95 % interval of a chi-square variable with `dof` degrees of freedom.
+pub fn chi2_bounds(dof: f64) -> [f64; 2] {
+    match ChiSquared::new(dof) {
+        Ok(c) => [c.inverse_cdf(0.025), c.inverse_cdf(0.975)],
+        Err(_) => [f64::NAN, f64::NAN],
+    }
+}
+
+/// Summarises per-sample NIS values, each with `dof` degrees of freedom.
+pub fn summarize(nis: &[f64], dof: usize) -> Option<NisSummary> {
+    if nis.is_empty() || dof == 0 {
+        return None;
+    }
+    let k = nis.len();
+    let mean = nis.iter().sum::<f64>() / k as f64;
+    let total = chi2_bounds((k * dof) as f64);
+    let mean_bounds = [total[0] / k as f64, total[1] / k as f64];
+    let sample_bounds = chi2_bounds(dof as f64);
+    let outside = nis
+        .iter()
+        .filter(|v| **v < sample_bounds[0] || **v > sample_bounds[1])
+        .count();
+    Some(NisSummary {
+        dof,
+        samples: k,
+        mean,
+        mean_bounds,
+        sample_bounds,
+        fraction_outside: outside as f64 / k as f64,
+        consistent: mean >= mean_bounds[0] && mean <= mean_bounds[1],
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{rngs::StdRng, SeedableRng};
+    use rand_distr::{Distribution, StandardNormal};
+
+    #[test]
+    fn chi2_quantiles() {
+        // tables: chi2_1(0.975) = 5.0239, chi2_6(0.025) = 1.2373, chi2_6(0.975) = 14.4494
+        assert!((chi2_bounds(1.0)[1] - 5.0239).abs() < 1e-3);
+        let b = chi2_bounds(6.0);
+        assert!((b[0] - 1.2373).abs() < 1e-3 && (b[1] - 14.4494).abs() < 1e-3);
+    }
+
+    #[test]
+    fn consistent_innovations_pass_and_inflated_ones_fail() {
+        let mut rng = StdRng::seed_from_u64(7);
+        let nis: Vec<f64> = (0..2000)
+            .map(|_| {
+                (0..3)
+                    .map(|_| {
+                        let z: f64 = StandardNormal.sample(&mut rng);
+                        z * z
+                    })
+                    .sum()
+            })
+            .collect();
+        let s = summarize(&nis, 3).unwrap();
+        assert!(s.consistent, "{s:?}");
+        assert!((s.fraction_outside - 0.05).abs() < 0.02);
+        let inflated: Vec<f64> = nis.iter().map(|v| 1.5 * v).collect();
+        assert!(!summarize(&inflated, 3).unwrap().consistent);
+    }
+}

@@ -1,0 +1,144 @@
+//! Small dense linear algebra on row-major `f64` slices for the filter's inner loop.
+//!
+//! The filter works on a few dozen states at most; these loops are written so the compiler
+//! vectorises the innermost one, and nothing allocates.
+
+/// out (r x c) = a (r x k) * b (k x c).
+pub fn matmul(a: &[f64], b: &[f64], r: usize, k: usize, c: usize, out: &mut [f64]) {
+    out[..r * c].fill(0.0);
+    for i in 0..r {
+        let row = &mut out[i * c..(i + 1) * c];
+        for (l, &ail) in a[i * k..(i + 1) * k].iter().enumerate() {
+            if ail != 0.0 {
+                for (o, &blj) in row.iter_mut().zip(&b[l * c..(l + 1) * c]) {
+                    *o += ail * blj;
+                }
+            }
+        }
+    }
+}
+
+/// out (r x c) = a (r x k) * b^T where b is (c x k).
+pub fn matmul_bt(a: &[f64], b: &[f64], r: usize, k: usize, c: usize, out: &mut [f64]) {
+    for i in 0..r {
+        let ai = &a[i * k..(i + 1) * k];
+        for j in 0..c {
+            let bj = &b[j * k..(j + 1) * k];
+            out[i * c + j] = ai.iter().zip(bj).map(|(x, y)| x * y).sum();
+        }
+    }
+}
+
+/// In-place Cholesky factorisation of a symmetric positive-definite n x n matrix: the lower
+/// triangle becomes L (A = L L^T), the strict upper triangle is zeroed. Returns the index of
+/// the first pivot that is not positive, if any.
+pub fn cholesky(a: &mut [f64], n: usize) -> Result<(), usize> {
+    for j in 0..n {
+        let mut d = a[j * n + j];
+        for k in 0..j {
+            d -= a[j * n + k] * a[j * n + k];
+        }
+        if !(d > 0.0 && d.is_finite()) {
+            return Err(j);
+        }
+        let d = d.sqrt();
+        a[j * n + j] = d;
+        for i in j + 1..n {
+            let mut s = a[i * n + j];
+            for k in 0..j {
+                s -= a[i * n + k] * a[j * n + k];
+            }
+            a[i * n + j] = s / d;
+        }
+        for k in j + 1..n {
+            a[j * n + k] = 0.0;
+        }
+    }
+    Ok(())
+}
+
+/// Solves L L^T x = b in place for one right-hand side, with `l` from [`cholesky`].
+pub fn cholesky_solve(l: &[f64], n: usize, b: &mut [f64]) {
+    for i in 0..n {
+        let mut s = b[i];
+        for k in 0..i {
+            s -= l[i * n + k] * b[k];
+        }
+        b[i] = s / l[i * n + i];
+    }
+    for i in (0..n).rev() {
+        let mut s = b[i];
+        for k in i + 1..n {
+            s -= l[k * n + i] * b[k];
+        }
+        b[i] = s / l[i * n + i];
+    }
+}
+
+/// Inverse of a symmetric positive-definite matrix from its Cholesky factor.
+pub fn cholesky_inverse(l: &[f64], n: usize, out: &mut [f64]) {
+    let mut col = vec![0.0; n];
+    for j in 0..n {
+        col.fill(0.0);
+        col[j] = 1.0;
+        cholesky_solve(l, n, &mut col);
+        for i in 0..n {
+            out[i * n + j] = col[i];
+        }
+    }
+}
+
+/// Replaces a square matrix by its symmetric part (P + P^T) / 2.
+pub fn symmetrize(p: &mut [f64], n: usize) {
+    for i in 0..n {
+        for j in i + 1..n {
+            let m = 0.5 * (p[i * n + j] + p[j * n + i]);
+            p[i * n + j] = m;
+            p[j * n + i] = m;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cholesky_solves_and_inverts() {
+        let a = [4.0, 2.0, 0.6, 2.0, 5.0, 1.0, 0.6, 1.0, 3.0];
+        let mut l = a;
+        cholesky(&mut l, 3).unwrap();
+        let mut x = [1.0, 2.0, 3.0];
+        cholesky_solve(&l, 3, &mut x);
+        let mut back = [0.0; 3];
+        matmul(&a, &x, 3, 3, 1, &mut back);
+        for (b, w) in back.iter().zip([1.0, 2.0, 3.0]) {
+            assert!((b - w).abs() < 1e-12);
+        }
+        let mut inv = [0.0; 9];
+        cholesky_inverse(&l, 3, &mut inv);
+        let mut id = [0.0; 9];
+        matmul(&a, &inv, 3, 3, 3, &mut id);
+        for i in 0..3 {
+            for j in 0..3 {
+                let w = if i == j { 1.0 } else { 0.0 };
+                assert!((id[i * 3 + j] - w).abs() < 1e-12);
+            }
+        }
+    }
+
+    #[test]
+    fn cholesky_reports_an_indefinite_matrix() {
+        let mut a = [1.0, 2.0, 2.0, 1.0];
+        assert_eq!(cholesky(&mut a, 2), Err(1));
+    }
+
+    #[test]
+    fn matmul_bt_is_a_times_b_transposed() {
+        let a = [1.0, 2.0, 3.0, 4.0, 5.0, 6.0]; // 2x3
+        let b = [1.0, 0.0, 1.0, 0.0, 1.0, 0.0]; // 2x3, b^T is 3x2
+        let mut out = [0.0; 4];
+        matmul_bt(&a, &b, 2, 3, 2, &mut out);
+        assert_eq!(out, [4.0, 2.0, 10.0, 5.0]);
+    }
+}

@@ -1,0 +1,255 @@
+//! The paper's horizontal-plane spheroid model (Rasekh & Mahdi 2020, eq. 2-4).
+//!
+//! States [u, v, r, x, y, psi]; input [thrust]. Origin at the centre of buoyancy, which is
+//! also the centre of gravity (x_G = 0).
+
+use super::{positive_inertia, Model, Scales, StateDef};
+use crate::ad::Scalar;
+use crate::coefficients::{CompiledRelations, SYMMETRY};
+use crate::quantity::Quantity;
+
+/// The 3-DOF spheroid: surge, sway, yaw with nonlinear damping and added mass.
+#[derive(Debug, Clone)]
+pub struct Spheroid3 {
+    /// Mass, kg.
+    pub mass: f64,
+    /// Yaw inertia about the origin, kg m^2.
+    pub izz: f64,
+    scales: Scales,
+    relations: CompiledRelations,
+}
+
+const STATES: &[StateDef] = &[
+    StateDef {
+        name: "u",
+        quantity: Quantity::U,
+    },
+    StateDef {
+        name: "v",
+        quantity: Quantity::V,
+    },
+    StateDef {
+        name: "r",
+        quantity: Quantity::R,
+    },
+    StateDef {
+        name: "x",
+        quantity: Quantity::X,
+    },
+    StateDef {
+        name: "y",
+        quantity: Quantity::Y,
+    },
+    StateDef {
+        name: "psi",
+        quantity: Quantity::Yaw,
+    },
+];
+
+/// Coefficient vector layout; derived ones (paper eq. 4) are filled by the relations.
+const COEFFICIENTS: &[&str] = &[
+    "Xud", "Yvd", "Yrd", "Nvd", "Nrd", // added mass
+    "Xuu", "Xuv", "Xvv", "Xvr", "Xrr", // surge
+    "Yvv", "Yrr", "Yur", "Yuv", "Yuvd", "Yuvl", // sway
+    "Nvv", "Nrr", "Nur", "Nuv", "Nuva", "Nuvl", // yaw
+];
+
+mod idx {
+    pub const XUD: usize = 0;
+    pub const YVD: usize = 1;
+    pub const YRD: usize = 2;
+    pub const NVD: usize = 3;
+    pub const NRD: usize = 4;
+    pub const XUU: usize = 5;
+    pub const XUV: usize = 6;
+    pub const XVV: usize = 7;
+    pub const XVR: usize = 8;
+    pub const XRR: usize = 9;
+    pub const YVV: usize = 10;
+    pub const YRR: usize = 11;
+    pub const YUR: usize = 12;
+    pub const YUV: usize = 13;
+    pub const NVV: usize = 16;
+    pub const NRR: usize = 17;
+    pub const NUR: usize = 18;
+    pub const NUV: usize = 19;
+}
+
+impl Spheroid3 {
+    /// A model for mass `mass` (kg) and yaw inertia `izz` (kg m^2).
+    pub fn new(mass: f64, izz: f64, scales: Scales) -> Self {
+        Spheroid3 {
+            mass,
+            izz,
+            scales,
+            relations: CompiledRelations::compile(&[SYMMETRY], COEFFICIENTS),
+        }
+    }
+}
+
+impl Model for Spheroid3 {
+    fn name(&self) -> &'static str {
+        "spheroid3"
+    }
+
+    fn states(&self) -> &'static [StateDef] {
+        STATES
+    }
+
+    fn inputs(&self) -> &'static [Quantity] {
+        &[Quantity::Thrust]
+    }
+
+    fn coefficient_names(&self) -> &'static [&'static str] {
+        COEFFICIENTS
+    }
+
+    fn relations(&self) -> &CompiledRelations {
+        &self.relations
+    }
+
+    fn typical_magnitude(&self, name: &str) -> f64 {
+        self.scales.of(name)
+    }
+
+    fn derivatives<T: Scalar>(&self, x: &[T], u: &[f64], c: &[T], dx: &mut [T]) {
+        use idx::*;
+        let (uu, v, r, psi) = (x[0], x[1], x[2], x[5]);
+        let m = self.mass;
+        let thrust = u[0];
+        // paper eq. 3: external forces
+        let fx = v * r * m
+            + c[XUU] * uu * uu.abs()
+            + c[XUV] * uu * v
+            + c[XVV] * v * v
+            + c[XVR] * v * r
+            + c[XRR] * r * r
+            + thrust;
+        let fy = -(uu * r * m)
+            + c[YVV] * v * v.abs()
+            + c[YRR] * r * r.abs()
+            + c[YUR] * uu * r
+            + c[YUV] * uu * v;
+        let fn_ = c[NVV] * v * v.abs() + c[NRR] * r * r.abs() + c[NUR] * uu * r + c[NUV] * uu * v;
+        // paper eq. 2: mass matrix [[m - Yvd, -Yrd], [-Nvd, Izz - Nrd]] for (v_dot, r_dot)
+        let m11 = -c[YVD] + m;
+        let m12 = -c[YRD];
+        let m21 = -c[NVD];
+        let m22 = -c[NRD] + self.izz;
+        let det = m11 * m22 - m12 * m21;
+        dx[0] = fx / (-c[XUD] + m);
+        dx[1] = (fy * m22 - fn_ * m12) / det;
+        dx[2] = (fn_ * m11 - fy * m21) / det;
+        // kinematics (paper eq. 2, last line)
+        let (s, co) = (psi.sin(), psi.cos());
+        dx[3] = uu * co - v * s;
+        dx[4] = uu * s + v * co;
+        dx[5] = r;
+    }
+
+    fn check(&self, x: &[f64], c: &[f64]) -> Result<(), String> {
+        use idx::*;
+        positive_inertia("m - Xud", self.mass - c[XUD])?;
+        positive_inertia("m - Yvd", self.mass - c[YVD])?;
+        positive_inertia("Izz - Nrd", self.izz - c[NRD])?;
+        let det = (self.mass - c[YVD]) * (self.izz - c[NRD]) - c[YRD] * c[NVD];
+        positive_inertia("det of the sway-yaw mass matrix", det)?;
+        if x.iter().any(|v| !v.is_finite()) {
+            return Err("the state is not finite".into());
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ad;
+
+    pub(crate) fn paper_coefficients(model: &Spheroid3) -> Vec<f64> {
+        let mut c = vec![0.0; COEFFICIENTS.len()];
+        let set = [
+            ("Xud", -1.164),
+            ("Yvd", -23.626),
+            ("Yrd", 0.0),
+            ("Nrd", -1.4532),
+            ("Xuu", -1.33),
+            ("Xuv", 0.44),
+            ("Xvv", -5.38),
+            ("Yvv", -0.44),
+            ("Yrr", 0.5),
+            ("Yuvd", 1.33),
+            ("Yuvl", -16.31),
+            ("Nvv", 10.0),
+            ("Nrr", -5.0),
+            ("Nuvl", 13.43),
+        ];
+        for (n, v) in set {
+            c[model.coefficient_index(n).unwrap()] = v;
+        }
+        model.relations().apply(&mut c);
+        c
+    }
+
+    fn model() -> Spheroid3 {
+        Spheroid3::new(
+            50.0,
+            3.7,
+            Scales {
+                q: 16.1,
+                length: 1.2,
+                added: None,
+            },
+        )
+    }
+
+    #[test]
+    fn relations_fill_the_coriolis_terms() {
+        let m = model();
+        let c = paper_coefficients(&m);
+        assert_eq!(c[idx::XVR], 23.626);
+        assert_eq!(c[idx::YUR], -1.164);
+        assert!((c[idx::NUV] - (-23.626 + 1.164 + 13.43)).abs() < 1e-12);
+        assert!(m.is_derived("Xvr") && !m.is_derived("Yvd"));
+    }
+
+    #[test]
+    fn straight_run_has_no_sway() {
+        let m = model();
+        let c = paper_coefficients(&m);
+        let mut dx = [0.0; 6];
+        m.derivatives(&[2.0, 0.0, 0.0, 0.0, 0.0, 0.0], &[22.0], &c, &mut dx);
+        assert!((dx[0] - (22.0 - 1.33 * 4.0) / 51.164).abs() < 1e-12);
+        assert_eq!(dx[1], 0.0);
+        assert_eq!(dx[2], 0.0);
+    }
+
+    #[test]
+    fn ad_jacobian_matches_finite_differences() {
+        let m = model();
+        let c = paper_coefficients(&m);
+        let x = [3.0, 1.0, -0.2, 1.0, 2.0, 0.4];
+        let mut val = [0.0; 6];
+        let mut ja = [0.0; 36];
+        ad::jacobian(
+            &x,
+            6,
+            |xd, out| {
+                let cd: Vec<ad::Dual> = c.iter().map(|&v| ad::constant(v)).collect();
+                m.derivatives(xd, &[22.0], &cd, out)
+            },
+            &mut val,
+            &mut ja,
+        );
+        let mut jf = [0.0; 36];
+        ad::jacobian_fd(
+            &x,
+            6,
+            |xs, out| m.derivatives(xs, &[22.0], &c, out),
+            &mut jf,
+        );
+        for (a, b) in ja.iter().zip(&jf) {
+            assert!((a - b).abs() < 1e-6 * (1.0 + b.abs()), "{a} vs {b}");
+        }
+    }
+}

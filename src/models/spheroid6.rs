@@ -1,0 +1,336 @@
+//! Axisymmetric 6-DOF spheroid: heave and pitch mirror sway and yaw, Munk moments from the
+//! added-mass matrix, weight, buoyancy and BG restoring.
+//!
+//! States [u, v, w, p, q, r, x, y, z, phi, theta, psi]; input [thrust]. Origin at the centre
+//! of buoyancy, centre of gravity BG below it. Equations: M nu_dot + C_RB(nu) nu +
+//! C_A(nu) nu + g(eta) = tau_visc + tau_prop (Fossen 2011, eq. 7.190), eta_dot = J(eta) nu.
+//! In the horizontal plane (w = p = q = 0, phi = theta = 0) it reduces to the paper's eq. 2.
+
+use super::rigid_body::{
+    added_mass_coriolis, kinematics, restoring, rigid_body_coriolis, rigid_body_mass, solve,
+};
+use super::{positive_inertia, Model, Scales, StateDef};
+use crate::ad::Scalar;
+use crate::coefficients::{CompiledRelations, AXISYMMETRY, SYMMETRY};
+use crate::quantity::Quantity;
+
+/// Standard gravity, m/s^2.
+pub const G: f64 = 9.80665;
+
+/// The 6-DOF axisymmetric spheroid.
+#[derive(Debug, Clone)]
+pub struct Spheroid6 {
+    /// Mass, kg.
+    pub mass: f64,
+    /// Principal inertias about the origin (Ixx, Iyy, Izz), kg m^2.
+    pub inertia: [f64; 3],
+    /// Buoyancy, N.
+    pub buoyancy: f64,
+    /// Distance of the centre of gravity below the centre of buoyancy (BG), m.
+    pub zg: f64,
+    scales: Scales,
+    relations: CompiledRelations,
+}
+
+macro_rules! state {
+    ($n:literal, $q:ident) => {
+        StateDef {
+            name: $n,
+            quantity: Quantity::$q,
+        }
+    };
+}
+
+const STATES: &[StateDef] = &[
+    state!("u", U),
+    state!("v", V),
+    state!("w", W),
+    state!("p", P),
+    state!("q", Q),
+    state!("r", R),
+    state!("x", X),
+    state!("y", Y),
+    state!("z", Z),
+    state!("phi", Roll),
+    state!("theta", Pitch),
+    state!("psi", Yaw),
+];
+
+const COEFFICIENTS: &[&str] = &[
+    // added mass (Fossen 2011, section 6.3)
+    "Xud", "Yvd", "Yrd", "Nvd", "Nrd", "Zwd", "Zqd", "Mwd", "Mqd", "Kpd", // viscous
+    "Xuu", "Xuv", "Xvv", "Xuw", "Xww", "Yvv", "Yrr", "Yuv", "Yuvd", "Yuvl", "Nvv", "Nrr", "Nuvl",
+    "Zww", "Zqq", "Zuw", "Mww", "Mqq", "Muwl", "Kpp",
+];
+
+// Indices into COEFFICIENTS (checked by a test).
+const XUD: usize = 0;
+const YVD: usize = 1;
+const YRD: usize = 2;
+const NVD: usize = 3;
+const NRD: usize = 4;
+const ZWD: usize = 5;
+const ZQD: usize = 6;
+const MWD: usize = 7;
+const MQD: usize = 8;
+const KPD: usize = 9;
+const XUU: usize = 10;
+const XUV: usize = 11;
+const XVV: usize = 12;
+const XUW: usize = 13;
+const XWW: usize = 14;
+const YVV: usize = 15;
+const YRR: usize = 16;
+const YUV: usize = 17;
+const NVV: usize = 20;
+const NRR: usize = 21;
+const NUVL: usize = 22;
+const ZWW: usize = 23;
+const ZQQ: usize = 24;
+const ZUW: usize = 25;
+const MWW: usize = 26;
+const MQQ: usize = 27;
+const MUWL: usize = 28;
+const KPP: usize = 29;
+
+impl Spheroid6 {
+    /// A model for the given mass (kg), inertias (kg m^2), buoyancy (N) and BG (m).
+    pub fn new(mass: f64, inertia: [f64; 3], buoyancy: f64, bg: f64, scales: Scales) -> Self {
+        Spheroid6 {
+            mass,
+            inertia,
+            buoyancy,
+            zg: bg,
+            scales,
+            relations: CompiledRelations::compile(&[SYMMETRY, AXISYMMETRY], COEFFICIENTS),
+        }
+    }
+
+    /// The added-mass matrix M_A = -[X_udot ...] (Fossen 2011, eq. 6.27), symmetric.
+    fn added_mass<T: Scalar>(c: &[T]) -> [[T; 6]; 6] {
+        let z = T::from(0.0);
+        let mut ma = [[z; 6]; 6];
+        ma[0][0] = -c[XUD];
+        ma[1][1] = -c[YVD];
+        ma[2][2] = -c[ZWD];
+        ma[3][3] = -c[KPD];
+        ma[4][4] = -c[MQD];
+        ma[5][5] = -c[NRD];
+        ma[1][5] = -c[YRD];
+        ma[5][1] = -c[NVD];
+        ma[2][4] = -c[ZQD];
+        ma[4][2] = -c[MWD];
+        ma
+    }
+}
+
+impl Model for Spheroid6 {
+    fn name(&self) -> &'static str {
+        "spheroid6"
+    }
+
+    fn states(&self) -> &'static [StateDef] {
+        STATES
+    }
+
+    fn inputs(&self) -> &'static [Quantity] {
+        &[Quantity::Thrust]
+    }
+
+    fn coefficient_names(&self) -> &'static [&'static str] {
+        COEFFICIENTS
+    }
+
+    fn relations(&self) -> &CompiledRelations {
+        &self.relations
+    }
+
+    fn typical_magnitude(&self, name: &str) -> f64 {
+        self.scales.of(name)
+    }
+
+    fn derivatives<T: Scalar>(&self, x: &[T], u: &[f64], c: &[T], dx: &mut [T]) {
+        let nu = [x[0], x[1], x[2], x[3], x[4], x[5]];
+        let (uu, v, w, p, q, r) = (x[0], x[1], x[2], x[3], x[4], x[5]);
+        let (phi, theta, psi) = (x[9], x[10], x[11]);
+        // viscous forces: paper eq. 3 in the horizontal plane, mirrored by axisymmetry
+        let tau = [
+            c[XUU] * uu * uu.abs()
+                + c[XUV] * uu * v
+                + c[XVV] * v * v
+                + c[XUW] * uu * w
+                + c[XWW] * w * w
+                + u[0],
+            c[YVV] * v * v.abs() + c[YRR] * r * r.abs() + c[YUV] * uu * v,
+            c[ZWW] * w * w.abs() + c[ZQQ] * q * q.abs() + c[ZUW] * uu * w,
+            c[KPP] * p * p.abs(),
+            c[MWW] * w * w.abs() + c[MQQ] * q * q.abs() + c[MUWL] * uu * w,
+            c[NVV] * v * v.abs() + c[NRR] * r * r.abs() + c[NUVL] * uu * v,
+        ];
+        let ma = Self::added_mass(c);
+        let crb = rigid_body_coriolis(self.mass, self.zg, self.inertia, &nu);
+        let ca = added_mass_coriolis(&ma, &nu);
+        let g = restoring(self.mass * G, self.buoyancy, self.zg, phi, theta);
+        let mut rhs = [T::from(0.0); 6];
+        for i in 0..6 {
+            rhs[i] = tau[i] + crb[i] + ca[i] + g[i];
+        }
+        let mrb = rigid_body_mass(self.mass, self.zg, self.inertia);
+        let mut mm = [T::from(0.0); 36];
+        for i in 0..6 {
+            for j in 0..6 {
+                mm[i * 6 + j] = ma[i][j] + mrb[i][j];
+            }
+        }
+        if !solve(&mut mm, &mut rhs, 6) {
+            // A singular mass matrix: report non-finite rates; `check` names the cause.
+            rhs = [T::from(f64::NAN); 6];
+        }
+        dx[..6].copy_from_slice(&rhs);
+        let eta_dot = kinematics(&nu, phi, theta, psi);
+        dx[6..12].copy_from_slice(&eta_dot);
+    }
+
+    fn check(&self, x: &[f64], c: &[f64]) -> Result<(), String> {
+        positive_inertia("m - Xud", self.mass - c[XUD])?;
+        positive_inertia("m - Yvd", self.mass - c[YVD])?;
+        positive_inertia("m - Zwd", self.mass - c[ZWD])?;
+        positive_inertia("Ixx - Kpd", self.inertia[0] - c[KPD])?;
+        positive_inertia("Iyy - Mqd", self.inertia[1] - c[MQD])?;
+        positive_inertia("Izz - Nrd", self.inertia[2] - c[NRD])?;
+        if x.iter().any(|v| !v.is_finite()) {
+            return Err("the state is not finite".into());
+        }
+        if x[10].abs() > 85f64.to_radians() {
+            return Err(format!(
+                "pitch {:.1} deg is too close to 90 deg for Euler angles",
+                x[10].to_degrees()
+            ));
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::models::Spheroid3;
+
+    fn scales() -> Scales {
+        Scales {
+            q: 16.1,
+            length: 1.2,
+            added: None,
+        }
+    }
+
+    fn fill<M: Model>(m: &M, values: &[(&str, f64)]) -> Vec<f64> {
+        let mut c = vec![0.0; m.coefficient_names().len()];
+        for (n, v) in values {
+            if let Some(i) = m.coefficient_index(n) {
+                c[i] = *v;
+            }
+        }
+        m.relations().apply(&mut c);
+        c
+    }
+
+    const PAPER: &[(&str, f64)] = &[
+        ("Xud", -1.164),
+        ("Yvd", -23.626),
+        ("Yrd", 0.1),
+        ("Nrd", -1.4532),
+        ("Xuu", -1.33),
+        ("Xuv", 0.44),
+        ("Xvv", -5.38),
+        ("Yvv", -0.44),
+        ("Yrr", 0.5),
+        ("Yuvd", 1.33),
+        ("Yuvl", -16.31),
+        ("Nvv", 10.0),
+        ("Nrr", -5.0),
+        ("Nuvl", 13.43),
+        ("Kpp", -0.1),
+    ];
+
+    #[test]
+    fn index_constants_match_the_list() {
+        let m6 = Spheroid6::new(50.0, [0.5, 3.7, 3.7], 50.0 * G, 0.0, scales());
+        for (i, n) in [
+            (XUD, "Xud"),
+            (KPD, "Kpd"),
+            (XUU, "Xuu"),
+            (NUVL, "Nuvl"),
+            (KPP, "Kpp"),
+        ] {
+            assert_eq!(m6.coefficient_index(n), Some(i));
+        }
+        assert_eq!(COEFFICIENTS.len(), KPP + 1);
+    }
+
+    #[test]
+    fn reduces_to_the_paper_model_in_the_plane() {
+        let m6 = Spheroid6::new(50.0, [0.5, 3.7, 3.7], 50.0 * G, 0.0, scales());
+        let m3 = Spheroid3::new(50.0, 3.7, scales());
+        let c6 = fill(&m6, PAPER);
+        let c3 = fill(&m3, PAPER);
+        let (u, v, r, psi) = (2.5, 0.7, -0.3, 0.4);
+        let mut d6 = [0.0; 12];
+        m6.derivatives(
+            &[u, v, 0.0, 0.0, 0.0, r, 1.0, 2.0, 0.0, 0.0, 0.0, psi],
+            &[22.0],
+            &c6,
+            &mut d6,
+        );
+        let mut d3 = [0.0; 6];
+        m3.derivatives(&[u, v, r, 1.0, 2.0, psi], &[22.0], &c3, &mut d3);
+        let pairs = [(0, 0), (1, 1), (5, 2), (6, 3), (7, 4), (11, 5)];
+        for (i6, i3) in pairs {
+            assert!(
+                (d6[i6] - d3[i3]).abs() < 1e-12,
+                "{i6}: {} vs {}",
+                d6[i6],
+                d3[i3]
+            );
+        }
+        for i in [2, 3, 4, 8, 9, 10] {
+            assert!(d6[i].abs() < 1e-12, "out-of-plane rate {i} = {}", d6[i]);
+        }
+    }
+
+    #[test]
+    fn heave_and_pitch_mirror_sway_and_yaw() {
+        // A body of revolution rotated 90 deg about x: (v, r) -> (w, -q) gives (Y, N) -> (Z, -M).
+        let m6 = Spheroid6::new(50.0, [0.5, 3.7, 3.7], 50.0 * G, 0.0, scales());
+        let c = fill(&m6, PAPER);
+        let (u, s, t) = (2.0, 0.6, 0.25);
+        let mut dy = [0.0; 12];
+        m6.derivatives(
+            &[u, s, 0.0, 0.0, 0.0, t, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            &[0.0],
+            &c,
+            &mut dy,
+        );
+        let mut dz = [0.0; 12];
+        m6.derivatives(
+            &[u, 0.0, s, 0.0, -t, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            &[0.0],
+            &c,
+            &mut dz,
+        );
+        assert!((dy[0] - dz[0]).abs() < 1e-12);
+        assert!((dy[1] - dz[2]).abs() < 1e-12, "{} vs {}", dy[1], dz[2]);
+        assert!((dy[5] + dz[4]).abs() < 1e-12, "{} vs {}", dy[5], dz[4]);
+    }
+
+    #[test]
+    fn bottom_heavy_body_rights_itself_in_roll() {
+        let m6 = Spheroid6::new(50.0, [0.5, 3.7, 3.7], 50.0 * G, 0.02, scales());
+        let c = fill(&m6, PAPER);
+        let mut d = [0.0; 12];
+        let mut x = [0.0; 12];
+        x[9] = 0.2;
+        m6.derivatives(&x, &[0.0], &c, &mut d);
+        assert!(d[3] < 0.0, "roll acceleration {}", d[3]);
+    }
+}

@@ -1,0 +1,240 @@
+//! The pipeline: configuration -> inputs -> polar -> surge -> hekf -> completed coefficient
+//! set -> re-simulation -> comparison. Each step is a plain function of data to data.
+
+use crate::coefficients::{Coefficient, CoefficientSet, Source, AXISYMMETRY, SYMMETRY};
+use crate::config::{InputSpec, LoadedConfig};
+use crate::error::{Error, Result};
+use crate::models::{AddedMass, ModelSpec, Scales};
+use crate::record::{self, Needs, Record};
+use crate::report::results::{compare, InputSummary, RunResult, StageResults};
+use crate::resim::{resimulate, ResimTrace};
+use crate::stages::hekf::{self, ModelName};
+use sha2::{Digest, Sha256};
+use std::path::Path;
+
+/// Everything a run produced: the serialisable result and the traces plots need.
+#[derive(Debug, Clone)]
+pub struct RunOutput {
+    /// What goes into results.json.
+    pub result: RunResult,
+    /// Re-simulated trajectories, per run (fit runs first, then validation runs).
+    pub resim_traces: Vec<(Record, ResimTrace)>,
+}
+
+/// A loaded input with its key path and hash.
+#[derive(Debug, Clone)]
+pub struct LoadedInput {
+    /// Configuration key of the input (`hekf.runs[0]`).
+    pub key: String,
+    /// The record.
+    pub record: Record,
+    /// SHA-256 of the file, hex.
+    pub sha256: String,
+}
+
+/// Every input of every enabled stage with its key and what the stage needs from it.
+pub fn stage_inputs(cfg: &crate::config::Config) -> Vec<(String, &InputSpec, Needs<'static>)> {
+    let mut v = Vec::new();
+    if let Some(c) = cfg.polar.as_ref().filter(|c| c.enabled) {
+        let n = crate::stages::polar::needs(c);
+        v.extend(c.inputs().into_iter().map(|(k, s)| (k, s, n)));
+    }
+    if let Some(c) = cfg.surge.as_ref().filter(|c| c.enabled) {
+        let n = crate::stages::surge::needs(c);
+        v.extend(c.inputs().into_iter().map(|(k, s)| (k, s, n)));
+    }
+    if let Some(c) = cfg.hekf.as_ref().filter(|c| c.enabled) {
+        let n = hekf::needs(c);
+        v.extend(c.inputs().into_iter().map(|(k, s)| (k, s, n)));
+    }
+    v
+}
+
+/// Loads one input file for a stage.
+pub fn load_input(loaded: &LoadedConfig, key: &str, spec: &InputSpec, needs: &Needs) -> Result<LoadedInput> {
+    let record = record::load(spec, &loaded.base_dir, needs)?;
+    let sha256 = file_sha256(&record.source)?;
+    Ok(LoadedInput {
+        key: key.to_string(),
+        record,
+        sha256,
+    })
+}
+
+/// SHA-256 of a file, hex.
+pub fn file_sha256(path: &Path) -> Result<String> {
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    Ok(format!("{:x}", Sha256::digest(&bytes)))
+}
+
+/// Analytic added mass of the vehicle when its geometry is a prolate spheroid (length and
+/// diameter given): Lamb's k-factors (Fossen 1994).
+pub fn analytic_added_mass(loaded: &LoadedConfig) -> Result<Vec<Coefficient>> {
+    let v = &loaded.config.vehicle;
+    match v.diameter {
+        Some(d) => Ok(crate::analytic::Spheroid::from_length_diameter(v.length, d, loaded.config.fluid.rho)?.coefficients()),
+        None => Ok(Vec::new()),
+    }
+}
+
+/// Runs every enabled stage. `progress` receives one line per step.
+pub fn run(loaded: &LoadedConfig, progress: &mut dyn FnMut(&str)) -> Result<RunOutput> {
+    let cfg = &loaded.config;
+    let mut inputs: Vec<LoadedInput> = Vec::new();
+    let mut warnings = Vec::new();
+    let mut known = CoefficientSet::new();
+    for (name, v) in &cfg.coefficients {
+        known.insert(Coefficient::new(name, *v, None, Source::Config));
+    }
+    let analytic = analytic_added_mass(loaded)?;
+    let mut stages = StageResults::default();
+
+    if let Some(pc) = cfg.polar.as_ref().filter(|c| c.enabled) {
+        let needs = crate::stages::polar::needs(pc);
+        let mut recs = Vec::new();
+        for (key, spec) in pc.inputs() {
+            let li = load_input(loaded, &key, spec, &needs)?;
+            recs.push(li.record.clone());
+            inputs.push(li);
+        }
+        let r = crate::stages::polar::run(pc, &cfg.vehicle, &cfg.fluid, &recs)?;
+        for c in r.coefficients() {
+            known.insert(c);
+        }
+        progress(&format!("polar: fitted {} steady runs", recs.len()));
+        stages.polar = Some(r);
+    }
+    if let Some(sc) = cfg.surge.as_ref().filter(|c| c.enabled) {
+        let needs = crate::stages::surge::needs(sc);
+        let mut recs = Vec::new();
+        for (key, spec) in sc.inputs() {
+            let li = load_input(loaded, &key, spec, &needs)?;
+            recs.push(li.record.clone());
+            inputs.push(li);
+        }
+        known.complete(SYMMETRY);
+        let r = crate::stages::surge::run(sc, &cfg.vehicle, &known, &recs)?;
+        for c in r.coefficients() {
+            known.insert(c);
+        }
+        progress("surge: added mass from the acceleration run");
+        stages.surge = Some(r);
+    }
+    let mut resim_traces = Vec::new();
+    let mut resim_metrics = Vec::new();
+    let mut model_name = None;
+    if let Some(hc) = cfg.hekf.as_ref().filter(|c| c.enabled) {
+        let needs = hekf::needs(hc);
+        let mut fit = Vec::new();
+        for (key, spec) in hc.runs.iter().enumerate().map(|(i, s)| (format!("hekf.runs[{i}]"), s)) {
+            let li = load_input(loaded, &key, spec, &needs)?;
+            fit.push(li.record.clone());
+            inputs.push(li);
+        }
+        let mut validation = Vec::new();
+        for (key, spec) in hc
+            .validation
+            .iter()
+            .enumerate()
+            .map(|(i, s)| (format!("hekf.validation[{i}]"), s))
+        {
+            let li = load_input(loaded, &key, spec, &needs)?;
+            validation.push(li.record.clone());
+            inputs.push(li);
+        }
+        // fixed coefficients: stages and configuration first, analytic values where nothing
+        // else gives one
+        let mut for_filter = known.clone();
+        for c in &analytic {
+            if !for_filter.contains(&c.name) {
+                for_filter.insert(c.clone());
+            }
+        }
+        for_filter.complete(SYMMETRY);
+        let added = added_mass(&analytic);
+        let stage_inputs = hekf::StageInputs {
+            vehicle: &cfg.vehicle,
+            fluid: &cfg.fluid,
+            known: &for_filter,
+            analytic_added_mass: added,
+            runs: &fit,
+        };
+        let r = hekf::run(hc, &stage_inputs)?;
+        progress(&format!(
+            "hekf: {} coefficients from {} run{} ({} passes)",
+            r.estimated.len(),
+            fit.len(),
+            if fit.len() == 1 { "" } else { "s" },
+            r.settings.passes
+        ));
+        let mut final_set = for_filter.clone();
+        for c in r.coefficients() {
+            final_set.insert(c);
+        }
+        final_set.correlation = Some(r.correlation.clone());
+        complete_for(&mut final_set, hc.model);
+        let spec = ModelSpec {
+            name: hc.model,
+            vehicle: &cfg.vehicle,
+            scales: Scales::for_vehicle(&cfg.vehicle, &cfg.fluid, added),
+        };
+        for (rec, used) in fit.iter().map(|r| (r, true)).chain(validation.iter().map(|r| (r, false))) {
+            let (m, t) = resimulate(&spec, &final_set, rec, used)?;
+            if let Some(s) = &m.stopped {
+                warnings.push(format!("re-simulation of '{}' stopped early: {s}", rec.name));
+            }
+            resim_metrics.push(m);
+            resim_traces.push((rec.clone(), t));
+        }
+        for c in r.coefficients() {
+            known.insert(c);
+        }
+        known.correlation = Some(r.correlation.clone());
+        model_name = Some(hc.model);
+        stages.hekf = Some(r);
+    }
+    // the reported set: what the stages and the configuration gave, completed by symmetry
+    match model_name {
+        Some(m) => complete_for(&mut known, m),
+        None => warnings.extend(known.complete(SYMMETRY)),
+    }
+    for i in &inputs {
+        for w in &i.record.warnings {
+            warnings.push(format!("{}: {w}", i.record.name));
+        }
+    }
+    let comparison = compare(&known, &analytic, cfg.reference.as_ref());
+    let result = RunResult::new(
+        loaded,
+        inputs
+            .iter()
+            .map(|i| InputSummary::from_loaded(i, &loaded.base_dir))
+            .collect(),
+        known,
+        analytic,
+        comparison,
+        stages,
+        resim_metrics,
+        warnings,
+    );
+    Ok(RunOutput {
+        result,
+        resim_traces,
+    })
+}
+
+fn complete_for(set: &mut CoefficientSet, model: ModelName) {
+    set.complete(SYMMETRY);
+    if model == ModelName::Spheroid6 {
+        set.complete(AXISYMMETRY);
+    }
+}
+
+fn added_mass(analytic: &[Coefficient]) -> Option<AddedMass> {
+    let get = |n: &str| analytic.iter().find(|c| c.name == n).map(|c| c.value);
+    Some(AddedMass {
+        xud: get("Xud")?,
+        yvd: get("Yvd")?,
+        nrd: get("Nrd")?,
+    })
+}

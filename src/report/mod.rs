@@ -1,0 +1,109 @@
+//! Everything written to the output folder: results.json, coefficients.csv, the effective
+//! configuration, and (with plots enabled) figures and the Markdown/HTML reports.
+
+pub mod results;
+pub mod table;
+
+use crate::config::LoadedConfig;
+use crate::error::{Error, Result};
+use crate::output::Staging;
+use crate::pipeline::RunOutput;
+use results::RunResult;
+
+/// Files every run writes.
+pub const RESULTS_JSON: &str = "results.json";
+/// The coefficient table.
+pub const COEFFICIENTS_CSV: &str = "coefficients.csv";
+/// The effective configuration.
+pub const CONFIG_TOML: &str = "config.toml";
+/// The inputs and their hashes.
+pub const INPUTS_JSON: &str = "inputs.json";
+
+/// Writes the run's outputs into the staging folder.
+pub fn write(staging: &Staging, loaded: &LoadedConfig, out: &RunOutput) -> Result<()> {
+    check_finite(&out.result)?;
+    staging.write(RESULTS_JSON, &to_json(&out.result)?)?;
+    staging.write(INPUTS_JSON, &to_json(&out.result.inputs)?)?;
+    staging.write(COEFFICIENTS_CSV, &coefficients_csv(&out.result)?)?;
+    staging.write(CONFIG_TOML, effective_config(loaded).as_bytes())?;
+    Ok(())
+}
+
+/// Pretty JSON with a final newline.
+pub fn to_json<T: serde::Serialize>(value: &T) -> Result<Vec<u8>> {
+    let mut v = serde_json::to_vec_pretty(value)
+        .map_err(|e| Error::Usage(format!("cannot serialise the results: {e}")))?;
+    v.push(b'\n');
+    Ok(v)
+}
+
+/// The effective configuration with a header saying where it came from.
+pub fn effective_config(loaded: &LoadedConfig) -> String {
+    let mut s = format!(
+        "# Effective configuration of this run (defaults and --set overrides applied).\n\
+         # Source: {}\n",
+        loaded.path.display()
+    );
+    for o in &loaded.overrides {
+        s.push_str(&format!("# --set {o}\n"));
+    }
+    s.push_str(&loaded.effective_toml());
+    s
+}
+
+/// coefficients.csv: one row per coefficient with sigma, unit, source and the comparisons.
+pub fn coefficients_csv(r: &RunResult) -> Result<Vec<u8>> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    let err = |e: csv::Error| Error::Usage(format!("cannot write coefficients.csv: {e}"));
+    w.write_record([
+        "name",
+        "value",
+        "sigma",
+        "unit",
+        "source",
+        "analytic",
+        "error_vs_analytic_pct",
+        "reference",
+        "error_vs_reference_pct",
+        "note",
+    ])
+    .map_err(err)?;
+    let opt = |v: Option<f64>| v.map(|x| x.to_string()).unwrap_or_default();
+    for row in &r.comparison {
+        let note = r
+            .coefficients
+            .iter()
+            .find(|c| c.name == row.name)
+            .and_then(|c| c.note.clone())
+            .unwrap_or_default();
+        w.write_record([
+            row.name.clone(),
+            row.value.to_string(),
+            opt(row.sigma),
+            row.unit.clone(),
+            row.source.clone(),
+            opt(row.analytic),
+            opt(row.error_vs_analytic_pct),
+            opt(row.reference),
+            opt(row.error_vs_reference_pct),
+            note,
+        ])
+        .map_err(err)?;
+    }
+    w.into_inner()
+        .map_err(|e| Error::Usage(format!("cannot write coefficients.csv: {e}")))
+}
+
+/// Refuses to write a report with a non-finite coefficient (serde_json would turn it into
+/// null silently).
+fn check_finite(r: &RunResult) -> Result<()> {
+    for c in &r.coefficients {
+        if !c.value.is_finite() || c.sigma.is_some_and(|s| !s.is_finite()) {
+            return Err(Error::numerical(
+                "report",
+                format!("coefficient {} is not finite ({} +- {:?})", c.name, c.value, c.sigma),
+            ));
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,151 @@
+//! Re-simulation: the identified model run open loop from a CFD run's initial state with its
+//! inputs, compared with the CFD trajectory (RMS errors of u, v, r and heading, and the final
+//! position error as a share of the distance travelled).
+
+use crate::coefficients::CoefficientSet;
+use crate::error::{Error, Result};
+use crate::models::{with_model, Model, ModelSpec, ModelVisitor};
+use crate::quantity::Quantity;
+use crate::record::Record;
+use crate::sim::{complete_coefficients, simulate, InputSeries};
+use serde::Serialize;
+use std::collections::BTreeMap;
+
+/// How well the model reproduces one run.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ResimMetrics {
+    /// Run name.
+    pub run: String,
+    /// Whether the run was used for identification (false: validation only).
+    pub used_for_fit: bool,
+    /// RMS error per compared quantity (SI).
+    pub rms: BTreeMap<Quantity, f64>,
+    /// Final position error divided by the distance travelled, percent (when x and y are
+    /// measured).
+    pub final_position_error_pct: Option<f64>,
+    /// Distance travelled in the CFD run, m.
+    pub distance: Option<f64>,
+    /// Set when the simulation stopped early (it then covers part of the run).
+    pub stopped: Option<String>,
+}
+
+/// The simulated trajectory of one run, for plots.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ResimTrace {
+    /// Sample times.
+    pub times: Vec<f64>,
+    /// Simulated states per sample (K x nx); shorter than `times` if it stopped.
+    pub states: Vec<Vec<f64>>,
+    /// State quantities, in state order.
+    pub quantities: Vec<Quantity>,
+}
+
+/// Re-simulates `rec` with the model of `spec` and the coefficients of `set`.
+pub fn resimulate(
+    spec: &ModelSpec,
+    set: &CoefficientSet,
+    rec: &Record,
+    used_for_fit: bool,
+) -> Result<(ResimMetrics, ResimTrace)> {
+    with_model(
+        spec,
+        Resim {
+            set,
+            rec,
+            used_for_fit,
+        },
+    )
+}
+
+struct Resim<'a> {
+    set: &'a CoefficientSet,
+    rec: &'a Record,
+    used_for_fit: bool,
+}
+
+impl ModelVisitor for Resim<'_> {
+    type Output = Result<(ResimMetrics, ResimTrace)>;
+
+    fn visit<M: Model>(self, model: &M) -> Self::Output {
+        let rec = self.rec;
+        let fail = |m: String| Error::numerical("resimulation", format!("run '{}': {m}", rec.name));
+        let times = rec
+            .time()
+            .ok_or_else(|| fail("no time column".into()))?
+            .to_vec();
+        let c = complete_coefficients(model, self.set)
+            .map_err(|missing| fail(format!("no value for {}", missing.join(", "))))?;
+        let inputs = InputSeries::from_record(model.inputs(), rec)
+            .map_err(|q| fail(format!("the model needs {q}, which the run does not give")))?;
+        let states = model.states();
+        let mut x0 = vec![0.0; states.len()];
+        for (i, s) in states.iter().enumerate() {
+            if let Some(v) = rec.channel(s.quantity) {
+                x0[i] = v[0];
+            }
+        }
+        // integrate sample by sample so that a divergence keeps the part before it
+        let mut xs = vec![x0.clone()];
+        let mut stopped = None;
+        for k in 1..times.len() {
+            match simulate(model, &c, &xs[k - 1], &inputs, &times[k - 1..=k], 1) {
+                Ok(step) => xs.push(step[1].clone()),
+                Err(e) => {
+                    stopped = Some(e.to_string());
+                    break;
+                }
+            }
+        }
+        let quantities: Vec<Quantity> = states.iter().map(|s| s.quantity).collect();
+        let mut rms = BTreeMap::new();
+        for q in [
+            Quantity::U,
+            Quantity::V,
+            Quantity::W,
+            Quantity::P,
+            Quantity::Q,
+            Quantity::R,
+            Quantity::Yaw,
+        ] {
+            let (Some(i), Some(meas)) = (model.state_index(q), rec.channel(q)) else {
+                continue;
+            };
+            let n = xs.len();
+            let s: f64 = (0..n).map(|k| (xs[k][i] - meas[k]).powi(2)).sum();
+            rms.insert(q, (s / n as f64).sqrt());
+        }
+        let (mut final_err, mut distance) = (None, None);
+        if let (Some(ix), Some(iy), Some(mx), Some(my)) = (
+            model.state_index(Quantity::X),
+            model.state_index(Quantity::Y),
+            rec.channel(Quantity::X),
+            rec.channel(Quantity::Y),
+        ) {
+            let n = xs.len();
+            let d: f64 = (1..n)
+                .map(|k| ((mx[k] - mx[k - 1]).powi(2) + (my[k] - my[k - 1]).powi(2)).sqrt())
+                .sum();
+            let e =
+                ((xs[n - 1][ix] - mx[n - 1]).powi(2) + (xs[n - 1][iy] - my[n - 1]).powi(2)).sqrt();
+            if d > 0.0 {
+                final_err = Some(100.0 * e / d);
+                distance = Some(d);
+            }
+        }
+        Ok((
+            ResimMetrics {
+                run: rec.name.clone(),
+                used_for_fit: self.used_for_fit,
+                rms,
+                final_position_error_pct: final_err,
+                distance,
+                stopped,
+            },
+            ResimTrace {
+                times,
+                states: xs,
+                quantities,
+            },
+        ))
+    }
+}

@@ -1,0 +1,34 @@
+//! Simulation of vehicle models: fixed-step RK4 integration, input time series, and
+//! synthetic CFD exports (`hydroid simulate`).
+
+pub mod config;
+pub mod export;
+pub mod inputs;
+pub mod integrate;
+pub mod synth;
+
+pub use inputs::InputSeries;
+pub use integrate::{complete_coefficients, simulate, SimError};
+
+use crate::error::Result;
+use crate::output::write_atomic;
+use std::path::{Path, PathBuf};
+
+/// Runs a simulation configuration and writes its export; returns the file and row count.
+pub fn run_file(config_path: &Path, out: Option<&Path>) -> Result<(PathBuf, usize)> {
+    let loaded = config::load(config_path)?;
+    let cols = synth::synthesize(&loaded.config)?;
+    let title = loaded
+        .config
+        .title
+        .clone()
+        .unwrap_or_else(|| "hydroid simulate".into());
+    let text = export::render(loaded.layout, &loaded.config.export, &cols, &title)?;
+    let path = match out {
+        Some(p) => p.to_path_buf(),
+        None => loaded.base_dir.join(&loaded.config.export.file),
+    };
+    write_atomic(&path, text.as_bytes())?;
+    let rows = cols.values().next().map_or(0, Vec::len);
+    Ok((path, rows))
+}

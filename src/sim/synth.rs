@@ -1,0 +1,197 @@
+//! Synthetic CFD runs: a manoeuvre simulated with a model (or the steady polar its
+//! coefficients imply), with seeded measurement noise, as SI columns ready to export.
+
+use super::config::{Manoeuvre, SimConfig};
+use super::inputs::{Input, InputSeries};
+use super::integrate::{complete_coefficients, simulate};
+use crate::coefficients::{Coefficient, CoefficientSet, Source};
+use crate::error::{Error, Result};
+use crate::models::{with_model, Model, ModelSpec, ModelVisitor, Scales};
+use crate::quantity::Quantity;
+use rand::{rngs::StdRng, SeedableRng};
+use rand_distr::{Distribution, Normal};
+use std::collections::BTreeMap;
+
+/// Simulated quantities in SI, all of the same length.
+pub type Columns = BTreeMap<Quantity, Vec<f64>>;
+
+/// Runs the configured manoeuvre and adds the configured noise.
+pub fn synthesize(cfg: &SimConfig) -> Result<Columns> {
+    let mut set = CoefficientSet::new();
+    for (n, v) in &cfg.coefficients {
+        set.insert(Coefficient::new(n, *v, None, Source::Config));
+    }
+    let mut cols = match &cfg.manoeuvre {
+        Manoeuvre::TimeHistory { .. } => {
+            let spec = ModelSpec {
+                name: cfg.model,
+                vehicle: &cfg.vehicle,
+                scales: Scales::for_vehicle(&cfg.vehicle, &cfg.fluid, None),
+            };
+            with_model(&spec, History { cfg, set: &set })?
+        }
+        Manoeuvre::PolarSweep {
+            alpha_deg,
+            speeds,
+            moment_reference_length,
+            cubic,
+        } => polar_sweep(
+            cfg,
+            &set,
+            alpha_deg,
+            speeds,
+            *moment_reference_length,
+            cubic,
+        )?,
+    };
+    let mut rng = StdRng::seed_from_u64(cfg.noise.seed);
+    for (q, sigma) in &cfg.noise.sigma {
+        let Some(col) = cols.get_mut(q) else {
+            return Err(Error::Usage(format!(
+                "noise is given for {q}, which this manoeuvre does not produce"
+            )));
+        };
+        let dist = Normal::new(0.0, sigma.si.abs())
+            .map_err(|e| Error::Usage(format!("noise.{q}: {e}")))?;
+        for v in col.iter_mut() {
+            *v += dist.sample(&mut rng);
+        }
+    }
+    Ok(cols)
+}
+
+struct History<'a> {
+    cfg: &'a SimConfig,
+    set: &'a CoefficientSet,
+}
+
+impl ModelVisitor for History<'_> {
+    type Output = Result<Columns>;
+
+    fn visit<M: Model>(self, model: &M) -> Result<Columns> {
+        let Manoeuvre::TimeHistory {
+            duration,
+            dt,
+            substeps,
+            initial,
+            inputs,
+            steps,
+        } = &self.cfg.manoeuvre
+        else {
+            unreachable!("called for time histories only")
+        };
+        let c = complete_coefficients(model, self.set).map_err(|missing| {
+            Error::Usage(format!(
+                "the {} model needs values for {} in [coefficients]",
+                model.name(),
+                missing.join(", ")
+            ))
+        })?;
+        let mut x0 = vec![0.0; model.nx()];
+        for (q, v) in initial {
+            let i = model.state_index(*q).ok_or_else(|| {
+                Error::Usage(format!(
+                    "initial {q} is not a state of the {} model",
+                    model.name()
+                ))
+            })?;
+            x0[i] = v.si;
+        }
+        let n = (duration / dt).round() as usize + 1;
+        let times: Vec<f64> = (0..n).map(|k| k as f64 * dt).collect();
+        // inputs: start values, then steps (held between steps)
+        let mut series = Vec::new();
+        for q in model.inputs() {
+            let start = inputs.get(q).map_or(0.0, |c| c.si);
+            let mut v = vec![start; n];
+            let mut sorted: Vec<_> = steps.iter().filter(|s| s.values.contains_key(q)).collect();
+            sorted.sort_by(|a, b| a.time.total_cmp(&b.time));
+            for s in sorted {
+                let val = s.values[q].si;
+                for (k, t) in times.iter().enumerate() {
+                    if *t >= s.time - 1e-12 {
+                        v[k] = val;
+                    }
+                }
+            }
+            series.push(v);
+        }
+        for q in inputs
+            .keys()
+            .chain(steps.iter().flat_map(|s| s.values.keys()))
+        {
+            if !model.inputs().contains(q) {
+                return Err(Error::Usage(format!(
+                    "{q} is not an input of the {} model (inputs: {})",
+                    model.name(),
+                    model
+                        .inputs()
+                        .iter()
+                        .map(|q| q.key())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                )));
+            }
+        }
+        let input_series = InputSeries {
+            t: times.clone(),
+            inputs: series.iter().map(|v| Input::Series(v.clone())).collect(),
+        };
+        // inputs are linear between samples, as the filter and re-simulation read them: a
+        // step at a sample time ramps over the interval before it
+        let xs = simulate(model, &c, &x0, &input_series, &times, *substeps)
+            .map_err(|e| Error::numerical("simulate", e.to_string()))?;
+        let mut cols = Columns::new();
+        cols.insert(Quantity::Time, times);
+        for (i, s) in model.states().iter().enumerate() {
+            cols.insert(s.quantity, xs.iter().map(|x| x[i]).collect());
+        }
+        for (q, v) in model.inputs().iter().zip(series) {
+            cols.insert(*q, v);
+        }
+        Ok(cols)
+    }
+}
+
+/// The steady polar implied by the coefficients: paper eq. 5 inverted with q = 0.5 rho A_ref,
+/// C_D = a alpha^2 + b alpha + c with c = -Xuu/q, b = -Xuv/q, a = -Xvv/q - c/2,
+/// C_L = (Yuvl/q) alpha + c3 alpha^3, C_M = (Nuvl/(q L_ref)) alpha + c3 alpha^3.
+fn polar_sweep(
+    cfg: &SimConfig,
+    set: &CoefficientSet,
+    alpha_deg: &[f64],
+    speeds: &[f64],
+    l_ref: f64,
+    cubic: &BTreeMap<Quantity, f64>,
+) -> Result<Columns> {
+    let q = 0.5 * cfg.fluid.rho * cfg.vehicle.reference_area;
+    let get = |n: &str| {
+        set.value(n)
+            .ok_or_else(|| Error::Usage(format!("a polar sweep needs {n} in [coefficients]")))
+    };
+    let c = -get("Xuu")? / q;
+    let b = -get("Xuv")? / q;
+    let a = -get("Xvv")? / q - c / 2.0;
+    let cla = get("Yuvl")? / q;
+    let cma = get("Nuvl")? / (q * l_ref);
+    let c3l = cubic.get(&Quantity::Cl).copied().unwrap_or(0.0);
+    let c3m = cubic.get(&Quantity::Cm).copied().unwrap_or(0.0);
+    let mut cols = Columns::new();
+    for &u in speeds {
+        for &ad in alpha_deg {
+            let al = ad.to_radians();
+            cols.entry(Quantity::Speed).or_default().push(u);
+            cols.entry(Quantity::Alpha).or_default().push(al);
+            cols.entry(Quantity::Cd)
+                .or_default()
+                .push(a * al * al + b * al + c);
+            cols.entry(Quantity::Cl)
+                .or_default()
+                .push(cla * al + c3l * al.powi(3));
+            cols.entry(Quantity::Cm)
+                .or_default()
+                .push(cma * al + c3m * al.powi(3));
+        }
+    }
+    Ok(cols)
+}

@@ -1,0 +1,390 @@
+//! From configuration and records to what the filter needs: which coefficients are estimated
+//! and which are held fixed (and from where), priors, noise, initial states, inputs.
+
+use super::config::HekfConfig;
+use super::identify::{RunData, Setup};
+use super::result::RunSummary;
+use super::tuning::{noise_floor, noise_sigma, NoiseChoice, Resolved};
+use crate::coefficients::{Coefficient, CoefficientSet};
+use crate::error::{Error, Result};
+use crate::models::Model;
+use crate::quantity::Quantity;
+use crate::record::Record;
+use crate::sim::inputs::InputSeries;
+
+/// Which coefficients the filter estimates, which it holds fixed, and their priors.
+#[derive(Debug, Clone)]
+pub struct Plan {
+    /// Estimated coefficient names.
+    pub est_names: Vec<String>,
+    /// Their indices in the model's coefficient vector.
+    pub est: Vec<usize>,
+    /// The model's coefficient vector with the fixed values.
+    pub base: Vec<f64>,
+    /// The fixed coefficients as used, with their sources.
+    pub fixed: Vec<Coefficient>,
+    /// Initial values (SI).
+    pub initial: Vec<f64>,
+    /// Prior standard deviations (SI).
+    pub prior_sigma: Vec<f64>,
+    /// Internal scales (SI).
+    pub scale: Vec<f64>,
+    /// The tuning choices made, in words, for the report and the terminal.
+    pub notes: Vec<String>,
+}
+
+/// Resolves estimated and fixed coefficients and the priors.
+pub fn plan<M: Model>(
+    model: &M,
+    cfg: &HekfConfig,
+    tuning: &Resolved,
+    known: &CoefficientSet,
+) -> Result<Plan> {
+    let names = model.coefficient_names();
+    let mut problems = Vec::new();
+    let mut est = Vec::new();
+    for n in &cfg.estimate {
+        match model.coefficient_index(n) {
+            None => problems.push(format!(
+                "'{n}' is not a coefficient of the {} model (its coefficients: {})",
+                model.name(),
+                names.join(", ")
+            )),
+            Some(_) if model.is_derived(n) => problems.push(format!(
+                "'{n}' follows from other coefficients by a symmetry relation (paper eq. 4); \
+                 estimate the coefficient it is derived from instead"
+            )),
+            Some(i) => est.push(i),
+        }
+    }
+    let mut base = vec![0.0; names.len()];
+    let mut fixed = Vec::new();
+    let mut missing = Vec::new();
+    for (i, n) in names.iter().enumerate() {
+        if est.contains(&i) || model.is_derived(n) {
+            continue;
+        }
+        match known.get(n) {
+            Some(c) => {
+                base[i] = c.value;
+                fixed.push(c.clone());
+            }
+            None => missing.push(n.to_string()),
+        }
+    }
+    if !missing.is_empty() {
+        problems.push(format!(
+            "no value for {} (held fixed by the filter): give {} in [coefficients] or enable \
+             the stage that provides {}",
+            missing.join(", "),
+            if missing.len() == 1 { "it" } else { "them" },
+            if missing.len() == 1 { "it" } else { "them" },
+        ));
+    }
+    if !problems.is_empty() {
+        return Err(Error::numerical("hekf", problems.join("; ")));
+    }
+    let mut notes = Vec::new();
+    let mut initial = Vec::new();
+    let mut prior_sigma = Vec::new();
+    let mut scale = Vec::new();
+    for (&i, n) in est.iter().zip(&cfg.estimate) {
+        let typical = model.typical_magnitude(names[i]);
+        let p = cfg.prior.get(n);
+        let init = p.and_then(|p| p.initial).unwrap_or(0.0);
+        let (sigma, why) = match (p.and_then(|p| p.sigma), tuning.prior_sigma) {
+            (Some(s), _) => (s, "configured"),
+            (None, Some(s)) => (s, "paper preset"),
+            (None, None) => (typical, "the coefficient's expected size"),
+        };
+        let unit = crate::coefficients::info(n).map_or("", |c| c.unit);
+        notes.push(format!(
+            "{n}: starts at {init} {unit}, prior sigma {} {unit} ({why})",
+            sig(sigma)
+        ));
+        initial.push(init);
+        prior_sigma.push(sigma);
+        scale.push(typical.max(f64::MIN_POSITIVE));
+    }
+    Ok(Plan {
+        est_names: cfg.estimate.clone(),
+        est,
+        base,
+        fixed,
+        initial,
+        prior_sigma,
+        scale,
+        notes,
+    })
+}
+
+impl Plan {
+    /// The estimated coefficients, for messages.
+    pub fn describe_estimates(&self) -> String {
+        self.est_names.join(", ")
+    }
+}
+
+fn sig(v: f64) -> String {
+    format!("{v:.4}")
+        .trim_end_matches('0')
+        .trim_end_matches('.')
+        .to_string()
+}
+
+/// The filter's view of one run: measurements, noise, inputs, initial state.
+pub fn run_data<M: Model>(
+    model: &M,
+    cfg: &HekfConfig,
+    tuning: &Resolved,
+    rec: &Record,
+) -> Result<(RunData, RunSummary)> {
+    let fail = |msg: String| {
+        Error::numerical(
+            "hekf",
+            format!("run '{}' ({}): {msg}", rec.name, rec.source.display()),
+        )
+    };
+    let times = rec
+        .time()
+        .ok_or_else(|| fail("the run has no time column".into()))?
+        .to_vec();
+    let states = model.states();
+    let measured_q: Vec<Quantity> = match &cfg.measure {
+        Some(list) => {
+            for q in list {
+                if model.state_index(*q).is_none() {
+                    return Err(fail(format!(
+                        "hekf.measure lists {q}, which is not a state of the {} model",
+                        model.name()
+                    )));
+                }
+                if rec.channel(*q).is_none() {
+                    return Err(fail(format!(
+                        "hekf.measure lists {q}, but the run has no {q} column"
+                    )));
+                }
+            }
+            list.clone()
+        }
+        None => states
+            .iter()
+            .map(|s| s.quantity)
+            .filter(|q| rec.channel(*q).is_some())
+            .collect(),
+    };
+    if measured_q.is_empty() {
+        return Err(fail(format!(
+            "none of the model's states ({}) is in the run",
+            states
+                .iter()
+                .map(|s| s.quantity.key())
+                .collect::<Vec<_>>()
+                .join(", ")
+        )));
+    }
+    let measured: Vec<usize> = measured_q
+        .iter()
+        .map(|q| model.state_index(*q).expect("checked"))
+        .collect();
+    let k_len = times.len();
+    let m = measured.len();
+    let mut y = Vec::with_capacity(k_len * m);
+    for k in 0..k_len {
+        for q in &measured_q {
+            y.push(rec.channel(*q).expect("checked")[k]);
+        }
+    }
+    // measurement noise
+    let mut noise = Vec::new();
+    let mut r = Vec::new();
+    for q in &measured_q {
+        let values = rec.channel(*q).expect("checked");
+        let floor = noise_floor(values);
+        let (sigma, source) = match (tuning.fixed_r, cfg.noise.get(q)) {
+            (Some(rv), _) => (rv.sqrt(), "paper preset".to_string()),
+            (None, Some(c)) => (c.si, "configured".to_string()),
+            (None, None) => match noise_sigma(values) {
+                Some(s) if s >= floor => (s, "estimated from the data".to_string()),
+                _ => (floor, "floor (the data look noise-free)".to_string()),
+            },
+        };
+        r.push(sigma * sigma);
+        noise.push(NoiseChoice {
+            quantity: *q,
+            sigma,
+            source,
+        });
+    }
+    let inputs = InputSeries::from_record(model.inputs(), rec).map_err(|q| {
+        fail(format!(
+            "the {} model needs {q}: map a {q} column or give `constants = {{ {q} = ... }}`",
+            model.name()
+        ))
+    })?;
+    // initial state: first measurement where measured, zero elsewhere
+    let nx = model.nx();
+    let mut x0 = vec![0.0; nx];
+    let mut p0 = vec![0.0; nx * nx];
+    for i in 0..nx {
+        p0[i * nx + i] = 1.0;
+    }
+    for (k, &i) in measured.iter().enumerate() {
+        x0[i] = y[k];
+        p0[i * nx + i] = tuning.p0_measured.unwrap_or(r[k]);
+    }
+    let mut warnings = rec.warnings.clone();
+    if nx < 12 {
+        warnings.extend(out_of_plane_warnings(rec));
+    }
+    let unmeasured: Vec<&str> = states
+        .iter()
+        .filter(|s| !measured_q.contains(&s.quantity))
+        .map(|s| s.name)
+        .collect();
+    if !unmeasured.is_empty() {
+        warnings.push(format!(
+            "not measured: {} (start at 0 with sigma 1 SI unit)",
+            unmeasured.join(", ")
+        ));
+    }
+    let dt = if k_len > 1 {
+        (times[k_len - 1] - times[0]) / (k_len - 1) as f64
+    } else {
+        0.0
+    };
+    let summary = RunSummary {
+        name: rec.name.clone(),
+        file: rec.source.display().to_string(),
+        samples: k_len,
+        duration: times.last().copied().unwrap_or(0.0) - times.first().copied().unwrap_or(0.0),
+        mean_dt: dt,
+        measured: measured_q.iter().map(|q| q.key().to_string()).collect(),
+        noise,
+        nis: None,
+        innovation_rms: Vec::new(),
+        warnings,
+    };
+    Ok((
+        RunData {
+            name: rec.name.clone(),
+            times,
+            measured,
+            y,
+            r,
+            inputs,
+            x0,
+            p0,
+        },
+        summary,
+    ))
+}
+
+/// Warns when a 3-DOF model is fed a run with out-of-plane motion that is not small.
+fn out_of_plane_warnings(rec: &Record) -> Vec<String> {
+    let peak = |q: Quantity| {
+        rec.channel(q)
+            .map(|v| v.iter().fold(0.0f64, |a, x| a.max(x.abs())))
+    };
+    let speed = peak(Quantity::U)
+        .unwrap_or(0.0)
+        .max(peak(Quantity::V).unwrap_or(0.0));
+    let mut w = Vec::new();
+    for (q, limit, what) in [
+        (Quantity::Roll, 3f64.to_radians(), "3 deg"),
+        (Quantity::Pitch, 3f64.to_radians(), "3 deg"),
+        (Quantity::P, 2f64.to_radians(), "2 deg/s"),
+        (Quantity::Q, 2f64.to_radians(), "2 deg/s"),
+        (Quantity::W, 0.05 * speed, "5 % of the speed"),
+    ] {
+        if let Some(p) = peak(q) {
+            if p > limit {
+                w.push(format!(
+                    "{q} reaches {:.3} (more than {what}): the 3-DOF model ignores it; \
+                     consider model = \"spheroid6\"",
+                    if q.dim() == [0, 0, 0, 1] || q.dim() == [0, 0, -1, 1] {
+                        p.to_degrees()
+                    } else {
+                        p
+                    }
+                ));
+            }
+        }
+    }
+    w
+}
+
+/// The filter set-up from the plan, the tuning and the runs; `hekf.process_noise` entries
+/// (by state or coefficient name) override the preset.
+pub fn setup<M: Model>(
+    model: &M,
+    cfg: &HekfConfig,
+    plan: &Plan,
+    tuning: &Resolved,
+    runs: &[RunData],
+) -> Result<Setup> {
+    let nx = model.nx();
+    let nb = plan.est.len();
+    let dt = runs
+        .iter()
+        .filter(|r| r.len() > 1)
+        .map(|r| (r.times[r.len() - 1] - r.times[0]) / (r.len() - 1) as f64)
+        .fold(0.0f64, f64::max);
+    let mut q = vec![tuning.q_states; nx];
+    if let Some(j) = tuning.state_jitter {
+        for (i, qi) in q.iter_mut().enumerate() {
+            // the smallest measurement variance per sample interval over the runs
+            let per_second = runs
+                .iter()
+                .filter(|r| r.len() > 1)
+                .map(|r| {
+                    let dt = (r.times[r.len() - 1] - r.times[0]) / (r.len() - 1) as f64;
+                    let var = r
+                        .measured
+                        .iter()
+                        .position(|&s| s == i)
+                        .map_or(1.0, |k| r.r[k]);
+                    var / dt
+                })
+                .fold(f64::INFINITY, f64::min);
+            if per_second.is_finite() {
+                *qi += j * per_second;
+            }
+        }
+    }
+    q.extend(std::iter::repeat_n(tuning.q_coefficients, nb));
+    for (name, v) in &cfg.process_noise {
+        if let Some(i) = model.states().iter().position(|s| s.name == name.as_str()) {
+            q[i] = *v;
+        } else if let Some(j) = plan.est_names.iter().position(|e| e == name) {
+            q[nx + j] = *v;
+        } else {
+            return Err(Error::numerical(
+                "hekf",
+                format!(
+                    "hekf.process_noise.{name}: not a state of the {} model ({}) nor an \
+                     estimated coefficient",
+                    model.name(),
+                    model
+                        .states()
+                        .iter()
+                        .map(|s| s.name)
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            ));
+        }
+    }
+    Ok(Setup {
+        base: plan.base.clone(),
+        est: plan.est.clone(),
+        scale: plan.scale.clone(),
+        initial: plan.initial.clone(),
+        prior_sigma: plan.prior_sigma.clone(),
+        q,
+        passes: tuning.passes,
+        substeps: tuning.substeps_for(dt),
+        smoother: tuning.smoother,
+        repeat_prior_factor: tuning.repeat_prior_factor,
+    })
+}
