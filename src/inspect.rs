@@ -129,7 +129,7 @@ pub fn report(mut table: Table) -> Result<InspectReport, InputError> {
                 name: c.name.clone(),
                 header: c.header.clone(),
                 unit: c.unit.as_ref().map(ToString::to_string),
-                si_unit: c.unit.as_ref().map(|u| si_symbol(u)),
+                si_unit: c.unit.as_ref().map(si_symbol),
                 quantity,
                 missing: c.values.iter().filter(|v| !v.is_finite()).count(),
                 min,
@@ -272,6 +272,16 @@ fn words(name: &str) -> Vec<String> {
 /// A guess for `hydroid inspect`, never used to map columns silently: the configuration
 /// maps columns. The unit, when given, must have the quantity's dimension.
 pub fn guess_quantity(name: &str, unit: Option<&Unit>) -> Option<Quantity> {
+    // Monitor names (`Drag Coefficient Monitor: Cd`): the quantity after the colon first.
+    if let Some((_, last)) = name.rsplit_once(':') {
+        if let Some(q) = guess_words(last, unit) {
+            return Some(q);
+        }
+    }
+    guess_words(name, unit)
+}
+
+fn guess_words(name: &str, unit: Option<&Unit>) -> Option<Quantity> {
     use Quantity::*;
     const NOISE: &[&str] = &[
         "monitor",
@@ -357,8 +367,10 @@ pub fn guess_quantity(name: &str, unit: Option<&Unit>) -> Option<Quantity> {
                 },
                 _ => None,
             }
+        } else if has("thrust") {
+            Some(Thrust)
         } else if has("velocity") || has("vel") {
-            if has("magnitude") {
+            if has("magnitude") || has("inlet") || has("freestream") || has("inflow") {
                 Some(Speed)
             } else if let Some(a) = axis {
                 Some([U, V, W][a])
@@ -559,6 +571,11 @@ mod tests {
             "a wrong dimension rules a guess out"
         );
         assert_eq!(g("Temperature", None), None);
+        assert_eq!(g("Drag Coefficient Monitor: Cd", Some("-")), Some(Quantity::Cd));
+        assert_eq!(g("Thrust Monitor: Force", Some("N")), Some(Quantity::Thrust));
+        assert_eq!(g("Inlet Velocity", Some("m/s")), Some(Quantity::Speed));
+        assert_eq!(g("yaw rate Monitor: Expression", Some("deg/s")), Some(Quantity::R));
+        assert_eq!(g("Angle of Attack", Some("deg")), Some(Quantity::Alpha));
     }
 
     #[test]
