@@ -571,10 +571,19 @@ mod tests {
             "a wrong dimension rules a guess out"
         );
         assert_eq!(g("Temperature", None), None);
-        assert_eq!(g("Drag Coefficient Monitor: Cd", Some("-")), Some(Quantity::Cd));
-        assert_eq!(g("Thrust Monitor: Force", Some("N")), Some(Quantity::Thrust));
+        assert_eq!(
+            g("Drag Coefficient Monitor: Cd", Some("-")),
+            Some(Quantity::Cd)
+        );
+        assert_eq!(
+            g("Thrust Monitor: Force", Some("N")),
+            Some(Quantity::Thrust)
+        );
         assert_eq!(g("Inlet Velocity", Some("m/s")), Some(Quantity::Speed));
-        assert_eq!(g("yaw rate Monitor: Expression", Some("deg/s")), Some(Quantity::R));
+        assert_eq!(
+            g("yaw rate Monitor: Expression", Some("deg/s")),
+            Some(Quantity::R)
+        );
         assert_eq!(g("Angle of Attack", Some("deg")), Some(Quantity::Alpha));
     }
 

@@ -510,7 +510,11 @@ fn the_synthetic_exports_of_hydroid_simulate_read_back() {
         let p = e.unwrap().path();
         let t = formats::read(&p, FormatChoice::Auto, &ReadOptions::default())
             .unwrap_or_else(|e| panic!("{e}"));
-        assert!(matches!(t.format, Format::Cfx | Format::StarCcm), "{}", p.display());
+        assert!(
+            matches!(t.format, Format::Cfx | Format::StarCcm),
+            "{}",
+            p.display()
+        );
         assert!(t.rows() > 10, "{}", p.display());
         assert!(t.warnings.is_empty(), "{}: {:?}", p.display(), t.warnings);
         for c in &t.columns {

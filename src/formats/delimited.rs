@@ -498,8 +498,16 @@ fn polars_parse(
         if layout.trailing_delim {
             line = line.strip_suffix(d as char).unwrap_or(line);
         }
-        let needs_split =
-            line.contains('"') || line.bytes().any(|b| (b == b' ' || b == b'\t') && b != d);
+        // One pass over the bytes: count delimiters, look for quotes and padding.
+        let mut count = 1;
+        let mut needs_split = false;
+        for &b in line.as_bytes() {
+            if b == d {
+                count += 1;
+            } else if b == b'"' || b == b' ' || b == b'\t' {
+                needs_split = true;
+            }
+        }
         if needs_split {
             let f = split_fields(line, delim);
             if f.len() != n {
@@ -512,7 +520,6 @@ fn polars_parse(
                 buf.extend_from_slice(c.text.as_bytes());
             }
         } else {
-            let count = 1 + line.bytes().filter(|&b| b == d).count();
             if count != n {
                 return Err(count_error(src, i, count, names, delim));
             }

@@ -23,7 +23,7 @@ use std::path::Path;
 pub fn detect(path: &Path) -> Result<Format, InputError> {
     let bytes = std::fs::read(path)
         .map_err(|e| InputError::new(Place::file(path), format!("cannot read the file: {e}")))?;
-    let text = decode(path, &bytes)?;
+    let text = decode(path, bytes)?;
     detect_source(&Source::new(path, &text))
 }
 

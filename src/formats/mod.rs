@@ -144,7 +144,7 @@ pub fn read_raw(
         };
         InputError::new(Place::file(path), what)
     })?;
-    let decoded = text::decode(path, &bytes)?;
+    let decoded = text::decode(path, bytes)?;
     let src = text::Source::new(path, &decoded);
     let format = match choice {
         FormatChoice::Fixed(f) => f,

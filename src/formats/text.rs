@@ -71,7 +71,7 @@ impl<'a> Source<'a> {
 
 /// Decodes file bytes to text: UTF-8 (with or without BOM), else Latin-1 as older Windows
 /// tools write it. Binary files, UTF-16 and empty files are errors.
-pub(crate) fn decode(path: &Path, bytes: &[u8]) -> Result<String, InputError> {
+pub(crate) fn decode(path: &Path, mut bytes: Vec<u8>) -> Result<String, InputError> {
     let place = || Place::file(path);
     let expected = "a text export (CSV, .dat, .out), UTF-8 or Latin-1";
     if bytes.iter().all(|b| b.is_ascii_whitespace()) {
@@ -93,23 +93,29 @@ pub(crate) fn decode(path: &Path, bytes: &[u8]) -> Result<String, InputError> {
         )
         .expected(expected));
     }
-    let bytes = bytes.strip_prefix(&[0xEF, 0xBB, 0xBF]).unwrap_or(bytes);
-    let text = match std::str::from_utf8(bytes) {
-        Ok(s) => s.to_string(),
-        Err(_) => bytes.iter().map(|&b| b as char).collect(),
-    };
-    let control = text
-        .chars()
-        .filter(|c| c.is_control() && !matches!(c, '\n' | '\r' | '\t' | '\x0c'))
+    // Binary data without zero bytes: many control characters near the start.
+    let head = &bytes[..bytes.len().min(65536)];
+    let control = head
+        .iter()
+        .filter(|&&b| b < 0x20 && !matches!(b, b'\n' | b'\r' | b'\t' | 0x0c))
         .count();
-    if control * 20 > text.chars().count() {
+    if control * 20 > head.len() {
         return Err(InputError::new(
             place(),
-            format!("not a text file: {control} control characters"),
+            format!(
+                "not a text file: {control} control characters in the first {} bytes",
+                head.len()
+            ),
         )
         .expected(expected));
     }
-    Ok(text)
+    if bytes.starts_with(&[0xEF, 0xBB, 0xBF]) {
+        bytes.drain(..3);
+    }
+    Ok(match String::from_utf8(bytes) {
+        Ok(s) => s,
+        Err(e) => e.into_bytes().iter().map(|&b| b as char).collect(),
+    })
 }
 
 /// The text after a comment marker (`#`, `%`, `//`), or `None` for other lines.
