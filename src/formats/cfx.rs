@@ -7,8 +7,9 @@
 //! reader is tolerant: any preamble above the header is kept as metadata, names are trimmed,
 //! and a bracket that is not a unit is an error naming the column.
 
+use super::columns::split_unit_suffix;
 use super::delimited::{self, Dialect, Layout, UnitStyle};
-use super::text::{split_unit_suffix, Source};
+use super::text::Source;
 use super::{Format, ReadOptions};
 use crate::error::InputError;
 use crate::table::Table;

@@ -5,48 +5,16 @@
 //! Whitespace-separated files, and any file polars rejects, are read line by line, which is
 //! also what gives an exact error (line, column, offending text).
 
-use super::text::{
-    comment, count_error, interpret_unit, parse_number, split_fields, split_unit_suffix,
-    whitespace_rows, Delim, Field, Head, HeaderUnit, Rows, Source,
-};
+use super::columns::{assemble, interpret_unit, split_unit_suffix, Head, HeaderUnit, Rows};
+use super::layout::{is_section, number};
+pub(crate) use super::layout::{scan, Layout};
+use super::text::{comment, count_error, split_fields, whitespace_rows, Delim, Source};
 use super::{Format, ReadOptions};
 use crate::error::InputError;
 use crate::table::Table;
 use polars::prelude::{CsvReadOptions, DataType, Schema, SerReader};
 use std::io::Cursor;
 use std::sync::Arc;
-
-/// Where things are in a delimited file.
-#[derive(Debug, Clone)]
-pub(crate) struct Layout {
-    /// The cell separator.
-    pub delim: Delim,
-    /// Numbers use a decimal comma (`1,5;2,25`).
-    pub decimal_comma: bool,
-    /// Number of columns.
-    pub ncols: usize,
-    /// Every line ends with one extra delimiter, which is dropped.
-    pub trailing_delim: bool,
-    /// The header line, when there is one.
-    pub header: Option<HeaderLine>,
-    /// Lines before the header (or the data), comments included (0-based).
-    pub preamble: Vec<usize>,
-    /// Data lines (0-based), comments, blank lines and repeated headers excluded.
-    pub data: Vec<usize>,
-    /// Lines that repeat the header further down (a concatenated file).
-    pub repeated_headers: Vec<usize>,
-}
-
-/// The header line of a delimited file.
-#[derive(Debug, Clone)]
-pub(crate) struct HeaderLine {
-    /// 0-based line index.
-    pub index: usize,
-    /// Its cells.
-    pub fields: Vec<Field>,
-    /// True when the header is written as a comment (`# time u v`).
-    pub commented: bool,
-}
 
 /// How a dialect writes units in header cells.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -73,220 +41,6 @@ pub(crate) const GENERIC: Dialect = Dialect {
     format: Format::Delimited,
     units: UnitStyle::Loose,
 };
-
-const CANDIDATES: [(Delim, bool); 6] = [
-    (Delim::Char(b','), false),
-    (Delim::Char(b';'), false),
-    (Delim::Char(b'\t'), false),
-    (Delim::Whitespace, false),
-    (Delim::Char(b';'), true),
-    (Delim::Char(b'\t'), true),
-];
-
-fn number(text: &str, decimal_comma: bool) -> Option<f64> {
-    if decimal_comma && text.contains(',') {
-        parse_number(&text.replace(',', "."))
-    } else {
-        parse_number(text)
-    }
-}
-
-/// Cells of `line` if every cell is a number or empty and at least one is a number.
-fn numeric_cells(line: &str, delim: Delim, dc: bool) -> Option<usize> {
-    let f = split_fields(line, delim);
-    let ok = f
-        .iter()
-        .all(|c| c.text.is_empty() || number(&c.text, dc).is_some())
-        && f.iter().any(|c| !c.text.is_empty());
-    ok.then_some(f.len())
-}
-
-fn is_header_like(fields: &[Field], dc: bool) -> bool {
-    !fields.is_empty()
-        && fields
-            .iter()
-            .all(|c| !c.text.is_empty() && number(&c.text, dc).is_none())
-}
-
-fn has_number(fields: &[Field], dc: bool) -> bool {
-    fields.iter().any(|c| number(&c.text, dc).is_some())
-}
-
-fn is_section(line: &str) -> bool {
-    let t = line.trim();
-    t.starts_with('[') && t.ends_with(']') && !t[1..].contains('[')
-}
-
-/// Finds the layout of a delimited file.
-pub(crate) fn scan(src: &Source) -> Result<Layout, InputError> {
-    let cand: Vec<usize> = src
-        .content()
-        .filter(|(_, l)| comment(l).is_none())
-        .map(|(i, _)| i)
-        .collect();
-    // The first line that is all numbers, confirmed by the next two, with the delimiter
-    // that gives the most cells (a tab-separated row with an empty cell is still two cells).
-    let mut found = None;
-    for (k, &i) in cand.iter().enumerate() {
-        let mut best: Option<(Delim, bool, usize)> = None;
-        for (delim, dc) in CANDIDATES {
-            let Some(n) = numeric_cells(src.lines[i], delim, dc) else {
-                continue;
-            };
-            let confirmed = cand[k + 1..]
-                .iter()
-                .take(2)
-                .all(|&j| numeric_cells(src.lines[j], delim, dc) == Some(n));
-            if confirmed && best.is_none_or(|b| n > b.2) {
-                best = Some((delim, dc, n));
-            }
-        }
-        if let Some((delim, dc, n)) = best {
-            found = Some((k, delim, dc, n));
-            break;
-        }
-    }
-    let Some((k0, delim, dc, mut ncols)) = found else {
-        return Err(no_data(src, &cand));
-    };
-
-    // The header: the nearest line above the data whose cells are all names. Lines with
-    // numbers between it and the confirmed data are data rows (with a problem to report).
-    let fits = |f: &[Field]| {
-        let named =
-            f.len() - usize::from(f.len() > ncols && f.last().is_some_and(|c| c.text.is_empty()));
-        (named == ncols || (named + 1 == ncols && ncols > 1)) && is_header_like(&f[..named], dc)
-    };
-    // A header written as a comment (`# time u v`) right above the data is used only when
-    // no bare header line is found above it.
-    let mut header = None;
-    let mut commented = None;
-    let mut data_start = cand[k0];
-    let mut absorbing = true;
-    for i in (0..cand[k0]).rev() {
-        let line = src.lines[i];
-        if line.trim().is_empty() {
-            continue;
-        }
-        if let Some(text) = comment(line) {
-            if absorbing && commented.is_none() {
-                commented = [delim, Delim::Whitespace].into_iter().find_map(|d| {
-                    let f = split_fields(text, d);
-                    (f.len() == ncols && is_header_like(&f, dc)).then_some(HeaderLine {
-                        index: i,
-                        fields: f,
-                        commented: true,
-                    })
-                });
-            }
-            continue;
-        }
-        if is_section(line) {
-            absorbing = false;
-            continue;
-        }
-        let f = split_fields(line, delim);
-        if fits(&f) {
-            header = Some(HeaderLine {
-                index: i,
-                fields: f,
-                commented: false,
-            });
-            break;
-        }
-        if absorbing && commented.is_none() && has_number(&f, dc) {
-            data_start = i;
-        } else {
-            absorbing = false;
-        }
-    }
-    let mut header = header.or(commented);
-    if let Some(h) = &header {
-        data_start = h.index + 1;
-    }
-
-    // A delimiter at the end of every line makes an extra empty column.
-    let first_fields = split_fields(src.lines[cand[k0]], delim);
-    let mut trailing_delim = false;
-    if let (Delim::Char(_), Some(last)) = (delim, first_fields.last()) {
-        if last.text.is_empty() && !last.quoted && ncols > 1 {
-            let hn = header.as_ref().map(|h| {
-                let f = &h.fields;
-                f.len() - usize::from(f.last().is_some_and(|c| c.text.is_empty()))
-            });
-            if hn.is_none_or(|n| n == ncols - 1) {
-                trailing_delim = true;
-                ncols -= 1;
-            }
-        }
-    }
-    if let Some(h) = &mut header {
-        if h.fields.len() > ncols {
-            h.fields.truncate(ncols);
-        }
-    }
-
-    let header_text = header.as_ref().map(|h| src.lines[h.index].trim());
-    let mut data = Vec::new();
-    let mut repeated_headers = Vec::new();
-    for &i in cand.iter().filter(|&&i| i >= data_start) {
-        if !header.as_ref().is_some_and(|h| h.commented) && Some(src.lines[i].trim()) == header_text
-        {
-            repeated_headers.push(i);
-        } else {
-            data.push(i);
-        }
-    }
-    let preamble_end = header.as_ref().map_or(data_start, |h| h.index);
-    let preamble = (0..preamble_end)
-        .filter(|&i| !src.lines[i].trim().is_empty())
-        .collect();
-    Ok(Layout {
-        delim,
-        decimal_comma: dc,
-        ncols,
-        trailing_delim,
-        header,
-        preamble,
-        data,
-        repeated_headers,
-    })
-}
-
-fn no_data(src: &Source, cand: &[usize]) -> InputError {
-    let expected = "rows of numbers separated by commas, semicolons, tabs or spaces, under an \
-                    optional header line (or name the format with --format)";
-    match cand.first() {
-        Some(&i) if cand.len() <= 3 => InputError::new(
-            src.at(i),
-            format!(
-                "no rows of numbers: the file has only {} line{} of text ('{}'), like a \
-                 header without data",
-                cand.len(),
-                if cand.len() == 1 { "" } else { "s" },
-                shorten(src.lines[i].trim(), 60)
-            ),
-        )
-        .expected(expected),
-        Some(&i) => InputError::new(
-            src.at(i),
-            format!(
-                "no rows of numbers anywhere in the file; it starts with '{}'",
-                shorten(src.lines[i].trim(), 60)
-            ),
-        )
-        .expected(expected),
-        None => InputError::new(src.file(), "the file holds only comment lines").expected(expected),
-    }
-}
-
-pub(crate) fn shorten(s: &str, n: usize) -> String {
-    if s.chars().count() > n {
-        format!("{}...", s.chars().take(n).collect::<String>())
-    } else {
-        s.to_string()
-    }
-}
 
 /// Reads a delimited file in `dialect`.
 pub(crate) fn read(
@@ -318,7 +72,7 @@ pub(crate) fn read(
         ));
     }
     let meta = preamble_meta(src, &layout.preamble, layout.delim);
-    Ok(super::text::assemble(
+    Ok(assemble(
         src.path,
         dialect.format,
         heads,
@@ -359,7 +113,7 @@ fn heads(
         None => (1..=n).map(|j| Head::plain(format!("col{j}"))).collect(),
     };
     let at = layout.data.first().map_or(src.file(), |&i| src.at(i));
-    super::text::apply_names(&mut heads, options, at)?;
+    super::columns::apply_names(&mut heads, options, at)?;
     Ok(heads)
 }
 
@@ -619,35 +373,6 @@ mod tests {
     use super::*;
     use std::path::Path;
 
-    fn layout(text: &str) -> Layout {
-        scan(&Source::new(Path::new("t.csv"), text)).unwrap()
-    }
-
-    #[test]
-    fn finds_header_preamble_and_delimiter() {
-        let l = layout("Run 12\n# comment\ntime;u\n0;1\n1;2\n");
-        assert_eq!(l.delim, Delim::Char(b';'));
-        assert_eq!(l.header.as_ref().map(|h| h.index), Some(2));
-        assert_eq!(l.preamble, vec![0, 1]);
-        assert_eq!(l.data, vec![3, 4]);
-    }
-
-    #[test]
-    fn decimal_comma_and_trailing_delimiter() {
-        let l = layout("a;b\n1,5;2\n3;4,25\n");
-        assert!(l.decimal_comma);
-        let l = layout("a,b\n1,2,\n3,4,\n");
-        assert!(l.trailing_delim);
-        assert_eq!(l.ncols, 2);
-    }
-
-    #[test]
-    fn bad_first_row_is_data_not_header() {
-        let l = layout("t,u\n1,x\n2,3\n3,4\n4,5\n");
-        assert_eq!(l.header.as_ref().map(|h| h.index), Some(0));
-        assert_eq!(l.data, vec![1, 2, 3, 4]);
-    }
-
     /// polars does the parsing for every ordinary single-character-delimited layout; only
     /// bad cells and non-finite values fall back to the line-by-line reader.
     #[test]
@@ -681,11 +406,5 @@ mod tests {
         );
         assert!(parse("a,b\n1,2\n3,x\n4,5\n").is_none());
         assert!(parse("a,b\n1,2\n3,nan\n4,5\n").is_none());
-    }
-
-    #[test]
-    fn commented_header() {
-        let l = layout("# time u v\n0 1 2\n1 2 3\n");
-        assert!(l.header.as_ref().is_some_and(|h| h.commented));
     }
 }

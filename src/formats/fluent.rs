@@ -6,7 +6,8 @@
 //! line ends. Rows are whitespace-separated numbers. The time column is `flow-time` or
 //! `Flow Time`, in seconds; iteration and time-step counters have no unit.
 
-use super::text::{apply_names, assemble, split_fields, whitespace_rows, Delim, Head, Source};
+use super::columns::{apply_names, assemble, normalise, Head};
+use super::text::{split_fields, whitespace_rows, Delim, Source};
 use super::{Format, ReadOptions};
 use crate::error::InputError;
 use crate::table::Table;
@@ -63,7 +64,7 @@ pub(crate) fn read(src: &Source, options: &ReadOptions) -> Result<Table, InputEr
     let mut heads: Vec<Head> = names
         .iter()
         .map(|n| {
-            let norm = super::text::normalise(n);
+            let norm = normalise(n);
             if norm == "flowtime" {
                 Head::si(n.clone(), "s")
             } else {

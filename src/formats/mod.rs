@@ -4,9 +4,11 @@
 //! tests/fixtures/formats/.
 
 mod cfx;
+mod columns;
 mod delimited;
 pub mod detect;
 mod fluent;
+mod layout;
 mod openfoam;
 mod starccm;
 mod text;

@@ -7,8 +7,9 @@
 //! (`K`, `A/m^2`) are kept as written with a warning; anything else in the parentheses is an
 //! error naming the column.
 
+use super::columns::{interpret_unit, split_unit_suffix, HeaderUnit};
 use super::delimited::{self, Dialect, Layout, UnitStyle};
-use super::text::{interpret_unit, split_unit_suffix, Delim, HeaderUnit, Source};
+use super::text::{Delim, Source};
 use super::{Format, ReadOptions};
 use crate::error::InputError;
 use crate::table::Table;

@@ -8,7 +8,8 @@
 
 use super::{header, vector_rows, Shape};
 use crate::error::InputError;
-use crate::formats::text::{apply_names, assemble, parse_brackets, Head, Node, Source};
+use crate::formats::columns::{apply_names, assemble, Head};
+use crate::formats::text::{parse_brackets, Node, Source};
 use crate::formats::{Format, ReadOptions};
 use crate::table::Table;
 
@@ -137,7 +138,8 @@ fn group(token: &str) -> Option<Group> {
 /// Groups from the first row when the column line is missing.
 fn groups_from_row(src: &Source, data: &[usize]) -> Result<Vec<Group>, InputError> {
     let Some(&i) = data.first() else {
-        return Ok(Vec::new());
+        return Err(InputError::new(src.file(), "no data rows")
+            .expected("rows 't ((px py pz) (vx vy vz)) ((mx my mz) (...))'"));
     };
     let nodes = parse_brackets(src.lines[i]).map_err(|(_, msg)| {
         InputError::new(src.at(i), format!("unbalanced brackets: {msg}"))
@@ -164,6 +166,12 @@ fn groups_from_row(src: &Source, data: &[usize]) -> Result<Vec<Group>, InputErro
             name,
             parts,
         });
+    }
+    if groups.is_empty() {
+        return Err(
+            InputError::new(src.at(i), "no bracketed vectors after the time")
+                .expected("a row 't ((px py pz) (vx vy vz)) ((mx my mz) (...))'"),
+        );
     }
     Ok(groups)
 }

@@ -18,7 +18,8 @@ pub(crate) use forces::read as read_forces;
 pub(crate) use scalar::read as read_scalar;
 pub(crate) use sixdof::read as read_sixdof;
 
-use super::text::{bracketed_tokens, cell_error, parse_brackets, Node, Rows, Source};
+use super::columns::Rows;
+use super::text::{bracketed_tokens, cell_error, parse_brackets, Node, Source};
 use super::Format;
 use crate::error::InputError;
 
@@ -38,11 +39,11 @@ pub(crate) struct Header {
 impl Header {
     /// The value of a metadata key, ignoring case and spaces, with its line.
     pub fn get(&self, key: &str) -> Option<(&str, usize)> {
-        let want = super::text::normalise(key);
+        let want = super::columns::normalise(key);
         self.meta
             .iter()
             .zip(&self.meta_lines)
-            .find(|((k, _), _)| super::text::normalise(k) == want)
+            .find(|((k, _), _)| super::columns::normalise(k) == want)
             .map(|((_, v), &l)| (v.as_str(), l))
     }
 

@@ -3,7 +3,8 @@
 
 use super::header;
 use crate::error::InputError;
-use crate::formats::text::{apply_names, assemble, whitespace_rows, Head, Source};
+use crate::formats::columns::{apply_names, assemble, Head};
+use crate::formats::text::{whitespace_rows, Source};
 use crate::formats::{Format, ReadOptions};
 use crate::table::Table;
 

@@ -9,7 +9,8 @@
 
 use super::{header, vector_rows, Shape};
 use crate::error::InputError;
-use crate::formats::text::{apply_names, assemble, normalise, Head, Source};
+use crate::formats::columns::{apply_names, assemble, normalise, Head};
+use crate::formats::text::Source;
 use crate::formats::{Format, ReadOptions};
 use crate::table::Table;
 
@@ -76,6 +77,12 @@ pub(crate) fn read(src: &Source, options: &ReadOptions) -> Result<Table, InputEr
         }
     };
     let groups: Vec<String> = match &h.columns {
+        Some((i, tokens)) if tokens.len() < 2 => {
+            return Err(
+                InputError::new(src.at(*i), "the column line names no vectors")
+                    .expected(format!("'# Time {}'", USUAL.join(" "))),
+            )
+        }
         Some((_, tokens)) => tokens[1..].to_vec(),
         None => {
             warnings.push(format!(
