@@ -440,6 +440,19 @@ fn generic_without_header_uses_configured_or_default_names() {
 }
 
 #[test]
+fn generic_latin1_with_cr_line_ends() {
+    // `Heading (°)` in Latin-1, old Mac line ends, semicolons.
+    let t = read("generic_latin1_cr.csv", Format::Delimited);
+    assert_eq!(t.names(), ["time", "Heading"]);
+    assert_eq!(t.columns[1].header, "Heading (°)");
+    assert_eq!(t.lines, [2, 3, 4]);
+    let deg: Vec<f64> = col(&t, "Heading").iter().map(|r| r.to_degrees()).collect();
+    for (got, want) in deg.iter().zip([179.0, 181.0, 190.0]) {
+        assert!((got - want).abs() < 1e-9, "{deg:?}");
+    }
+}
+
+#[test]
 fn generic_restart_keeps_the_last_row_of_each_time_and_warns() {
     let t = read("generic_restart.csv", Format::Delimited);
     assert_eq!(col(&t, "time"), [0.0, 0.1, 0.2, 0.3, 0.4]);

@@ -305,7 +305,7 @@ impl InspectReport {
         }
         writeln!(out)?;
         let head = [
-            "#", "name", "header", "unit", "SI", "quantity", "missing", "min", "max",
+            "#", "name", "header", "unit", "SI", "quantity", "missing", "min (SI)", "max (SI)",
         ];
         let rows: Vec<[String; 9]> = self
             .columns
