@@ -68,11 +68,19 @@ pub(crate) fn read(src: &Source, options: &ReadOptions) -> Result<Table, InputEr
                 label: format!("{} {p}", g.name),
             });
             for a in AXES {
-                heads.push(head(format!("{}_{p}_{a}", g.name), unit));
+                heads.push(head(
+                    format!("{}_{p}_{a}", g.name),
+                    format!("{} {p} {a}", g.label),
+                    unit,
+                ));
             }
         }
         for a in AXES {
-            heads.push(head(format!("{}_total_{a}", g.name), unit));
+            heads.push(head(
+                format!("{}_total_{a}", g.name),
+                format!("{} sum of the parts {a}", g.label),
+                unit,
+            ));
         }
         shapes.push(Shape::Group {
             parts,
@@ -106,11 +114,14 @@ pub(crate) fn read(src: &Source, options: &ReadOptions) -> Result<Table, InputEr
     ))
 }
 
-fn head(name: String, unit: Option<&str>) -> Head {
-    match unit {
+/// A flattened column; `header` says where in the row it came from.
+fn head(name: String, header: String, unit: Option<&str>) -> Head {
+    let mut h = match unit {
         Some(u) => Head::si(name, u),
         None => Head::plain(name),
-    }
+    };
+    h.header = header;
+    h
 }
 
 /// `forces(pressure viscous porous)` or `moment(pressure, viscous)`.

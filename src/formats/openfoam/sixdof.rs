@@ -119,11 +119,13 @@ pub(crate) fn read(src: &Source, options: &ReadOptions) -> Result<Table, InputEr
         } else {
             ["x", "y", "z"].map(|a| format!("{g}_{a}"))
         };
-        for n in names {
-            heads.push(match &unit {
+        for (n, a) in names.into_iter().zip(["x", "y", "z"]) {
+            let mut h = match &unit {
                 Some(u) => Head::si(n, u),
                 None => Head::plain(n),
-            });
+            };
+            h.header = format!("{g} {a}");
+            heads.push(h);
         }
     }
     let at = h.columns.as_ref().map_or(src.file(), |(i, _)| src.at(*i));
