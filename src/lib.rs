@@ -5,6 +5,7 @@
 //! reports. The command-line program `hydroid` is a thin shell over this library.
 
 pub mod ad;
+pub mod analytic;
 pub mod coefficients;
 pub mod config;
 pub mod error;

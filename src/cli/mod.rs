@@ -1,5 +1,6 @@
 //! Command definitions (clap) and dispatch. Each command lives in its own file.
 
+mod analytic;
 mod check;
 mod inspect;
 mod run;
@@ -26,6 +27,7 @@ enum Command {
     Run(run::Args),
     Check(check::Args),
     Inspect(inspect::Args),
+    Analytic(analytic::Args),
 }
 
 /// Parses the command line, runs the command and returns the exit code.
@@ -44,6 +46,7 @@ pub fn main() -> i32 {
         Command::Run(a) => run::run(a, &mut out),
         Command::Check(a) => check::run(a, &mut out),
         Command::Inspect(a) => inspect::run(a, &mut out),
+        Command::Analytic(a) => analytic::run(a, &mut out),
     };
     let _ = out.flush();
     match result {
