@@ -89,6 +89,7 @@ fn exact_table3_polars_give_table3() {
     assert_eq!(r.pooled.drag.residuals.len(), 25);
     // No constraint binds on the paper's polar (b = 0 is not imposed by default).
     assert!(r.pooled.drag.binding_inequalities.is_empty());
+    assert!(r.warnings.is_empty(), "{:?}", r.warnings);
     for c in r.coefficients() {
         assert_eq!(c.source, hydroid::coefficients::Source::Polar);
     }
@@ -623,4 +624,41 @@ fn result_serialises_to_json() {
     assert!(v["pooled"]["drag"]["covariance"].is_array());
     assert_eq!(v["coefficients"][0]["name"], "Xuu");
     assert_eq!(v["reference"]["data"], "coefficients");
+}
+
+#[test]
+fn configuration_problems_have_key_paths() {
+    let text = "[vehicle]\nmass = 50\nlength = 1.2\nizz = 3.7\nreference_area = 0.0314\n\
+                reference_length = 1\n[fluid]\nrho = 1025\nmu = 0.0009\n[polar]\nruns = []\n\
+                alpha_max_deg = 120\nsteady_fraction = 0\nspeed_tolerance = 2\n\
+                [polar.moment]\ncubic = false\n[polar.moment.bounds]\ncubic = { max = 1 }\n";
+    let cfg: Config = toml::from_str(text).unwrap();
+    let mut p = Problems::new(Path::new("c.toml"), text);
+    cfg.validate(&mut p);
+    let keys: Vec<&str> = p.list.iter().filter_map(|x| x.key.as_deref()).collect();
+    for k in [
+        "polar.runs",
+        "polar.alpha_max_deg",
+        "polar.steady_fraction",
+        "polar.speed_tolerance",
+        "polar.moment.bounds.cubic",
+    ] {
+        assert!(keys.contains(&k), "{k} not in {keys:?}");
+    }
+    let a = p
+        .list
+        .iter()
+        .find(|x| x.key.as_deref() == Some("polar.alpha_max_deg"));
+    assert_eq!(a.unwrap().line, Some(12));
+}
+
+#[test]
+fn needs_follow_the_data_kind() {
+    let n = polar::needs(&config(""));
+    assert_eq!(
+        n.required,
+        &[Quantity::Alpha, Quantity::Cd, Quantity::Cl, Quantity::Cm]
+    );
+    let n = polar::needs(&config("data = \"forces\"\n"));
+    assert!(n.required.contains(&Quantity::Fx) && n.required.contains(&Quantity::Speed));
 }

@@ -93,8 +93,13 @@ fn integral_form_recovers_xud_from_a_noisy_run() {
         "{} +- {s}",
         r.xud.value
     );
-    // The residuals are the measurement noise.
+    // The residuals are the measurement noise: the right size, and white.
     assert!((r.residual_std - 1e-3).abs() < 1e-4, "{}", r.residual_std);
+    assert!(
+        r.residual_lag1.unwrap().abs() < 0.1,
+        "{:?}",
+        r.residual_lag1
+    );
     let c = &r.coefficients()[0];
     assert_eq!((c.name.as_str(), c.source), ("Xud", Source::Surge));
     assert!((r.inertia.value - (M - r.xud.value)).abs() < 1e-12);
@@ -158,6 +163,9 @@ fn a_wrong_xuu_shows_up_as_a_spread_between_speed_bins() {
         .warnings
         .iter()
         .any(|w| w.contains("differs between speed bins")));
+    // The whole-run residuals show the misfit as well.
+    assert!(r.residual_lag1.unwrap() > 0.5);
+    assert!(r.warnings.iter().any(|w| w.contains("autocorrelated")));
 }
 
 #[test]
@@ -305,6 +313,7 @@ fn force_column_gives_xuu_and_xud_without_mass_or_thrust() {
     assert!((r.xud.value - XUD).abs() < 3.0 * r.xud.sigma.unwrap());
     let names: Vec<String> = r.coefficients().into_iter().map(|c| c.name).collect();
     assert_eq!(names, ["Xud", "Xuu"]);
+    assert!(r.warnings.is_empty(), "{:?}", r.warnings);
     // Force and thrust account for the motion with the right mass.
     assert!(r.momentum[0].relative < 0.01, "{:?}", r.momentum);
 }
@@ -427,4 +436,48 @@ fn xud_standard_errors_are_calibrated() {
     let (zc, zf) = (z2_coef / n as f64, z2_force / n as f64);
     assert!((0.75..1.3).contains(&zc), "coefficients: mean z^2 = {zc}");
     assert!((0.75..1.4).contains(&zf), "force: mean z^2 = {zf}");
+}
+
+const VEHICLE_AND_FLUID: &str = "[vehicle]\nmass = 50\nlength = 1.2\nizz = 3.7\n\
+    reference_area = 0.0314\nreference_length = 1\n[fluid]\nrho = 1025\nmu = 0.0009\n";
+
+#[test]
+fn configuration_problems_have_key_paths() {
+    let text = format!(
+        "{VEHICLE_AND_FLUID}[surge]\nruns = []\nt_start = 5\nt_end = 1\nspeed_bins = 3\n\
+         speed_bin_edges = [1.0, 0.5]\nwindow = -1\nmin_bin_samples = 1\n"
+    );
+    let cfg: hydroid::config::Config = toml::from_str(&text).unwrap();
+    let mut p = hydroid::config::Problems::new(std::path::Path::new("c.toml"), &text);
+    cfg.validate(&mut p);
+    let keys: Vec<&str> = p.list.iter().filter_map(|x| x.key.as_deref()).collect();
+    for k in [
+        "surge.runs",
+        "surge.t_end",
+        "surge.speed_bins",
+        "surge.speed_bin_edges",
+        "surge.window",
+        "surge.min_bin_samples",
+    ] {
+        assert!(keys.contains(&k), "{k} not in {keys:?}");
+    }
+    // Lines point into the file.
+    let t_end = p
+        .list
+        .iter()
+        .find(|x| x.key.as_deref() == Some("surge.t_end"));
+    assert_eq!(t_end.unwrap().line, Some(13));
+    // Unknown keys are refused when the file is read.
+    let bad = format!("{VEHICLE_AND_FLUID}[surge]\nruns = []\nspeed_bin = 3\n");
+    let e = toml::from_str::<hydroid::config::Config>(&bad).unwrap_err();
+    assert!(e.message().contains("speed_bin"), "{}", e.message());
+}
+
+#[test]
+fn needs_follow_the_drag_source() {
+    let n = surge::needs(&config(""));
+    assert_eq!(n.required, &[Quantity::Time, Quantity::U, Quantity::Thrust]);
+    let n = surge::needs(&config("drag_from = \"force\"\n"));
+    assert_eq!(n.required, &[Quantity::Time, Quantity::U, Quantity::Fx]);
+    assert!(n.optional.contains(&Quantity::Thrust));
 }

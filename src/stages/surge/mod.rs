@@ -202,6 +202,10 @@ pub struct SurgeResult {
     pub residual_std: f64,
     /// Coefficient of determination of u.
     pub r_squared: Option<f64>,
+    /// Lag-1 autocorrelation of the residuals of u (near 0 when the model explains the run and
+    /// the rest is measurement noise; near 1 when a systematic misfit remains, and then the
+    /// standard deviations are too small). Whole-integral fits only.
+    pub residual_lag1: Option<f64>,
     /// Each run alone.
     pub runs: Vec<RunFit>,
     /// Each speed bin.
@@ -455,7 +459,7 @@ pub fn run(
         ));
     }
 
-    let residuals = stack
+    let residuals: Vec<RunResiduals> = stack
         .runs
         .iter()
         .zip(&fit_all.fitted)
@@ -473,6 +477,17 @@ pub fn run(
         })
         .collect();
 
+    // With windows the level residuals carry the integrated force noise (a random walk) by
+    // design, so their autocorrelation says nothing about the fit.
+    let residual_lag1 = stack.window.map_or_else(|| lag1(&residuals), |_| None);
+    if let Some(r1) = residual_lag1 {
+        if r1 > 0.5 {
+            warnings.push(format!(
+                "the residuals of u are strongly autocorrelated (lag-1 correlation {r1:.2}): a \
+                 systematic misfit remains and the standard deviations understate the error"
+            ));
+        }
+    }
     let inertia = Estimate {
         value: mass - whole.xud.value,
         ..whole.xud
@@ -555,6 +570,7 @@ pub fn run(
         n_samples: fit_all.n,
         residual_std: whole.residual_std,
         r_squared: whole.r_squared,
+        residual_lag1,
         runs,
         bins,
         bin_spread,
@@ -563,6 +579,17 @@ pub fn run(
         coefficients,
         warnings,
     })
+}
+
+/// Lag-1 autocorrelation of the residuals, pooled over runs.
+fn lag1(runs: &[RunResiduals]) -> Option<f64> {
+    let (mut num, mut den) = (0.0, 0.0);
+    for r in runs {
+        let e = &r.residual;
+        num += e.windows(2).map(|w| w[0] * w[1]).sum::<f64>();
+        den += e.iter().map(|v| v * v).sum::<f64>();
+    }
+    (den > 0.0).then(|| num / den)
 }
 
 fn list_names(names: &[String], r: Range<usize>) -> String {
