@@ -51,7 +51,12 @@ pub fn stage_inputs(cfg: &crate::config::Config) -> Vec<(String, &InputSpec, Nee
 }
 
 /// Loads one input file for a stage.
-pub fn load_input(loaded: &LoadedConfig, key: &str, spec: &InputSpec, needs: &Needs) -> Result<LoadedInput> {
+pub fn load_input(
+    loaded: &LoadedConfig,
+    key: &str,
+    spec: &InputSpec,
+    needs: &Needs,
+) -> Result<LoadedInput> {
     let record = record::load(spec, &loaded.base_dir, needs)?;
     let sha256 = file_sha256(&record.source)?;
     Ok(LoadedInput {
@@ -64,7 +69,10 @@ pub fn load_input(loaded: &LoadedConfig, key: &str, spec: &InputSpec, needs: &Ne
 /// SHA-256 of a file, hex.
 pub fn file_sha256(path: &Path) -> Result<String> {
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    Ok(format!("{:x}", Sha256::digest(&bytes)))
+    Ok(Sha256::digest(&bytes)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect())
 }
 
 /// Analytic added mass of the vehicle when its geometry is a prolate spheroid (length and
@@ -72,7 +80,12 @@ pub fn file_sha256(path: &Path) -> Result<String> {
 pub fn analytic_added_mass(loaded: &LoadedConfig) -> Result<Vec<Coefficient>> {
     let v = &loaded.config.vehicle;
     match v.diameter {
-        Some(d) => Ok(crate::analytic::Spheroid::from_length_diameter(v.length, d, loaded.config.fluid.rho)?.coefficients()),
+        Some(d) => Ok(crate::analytic::Spheroid::from_length_diameter(
+            v.length,
+            d,
+            loaded.config.fluid.rho,
+        )?
+        .coefficients()),
         None => Ok(Vec::new()),
     }
 }
@@ -126,7 +139,12 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn FnMut(&str)) -> Result<RunO
     if let Some(hc) = cfg.hekf.as_ref().filter(|c| c.enabled) {
         let needs = hekf::needs(hc);
         let mut fit = Vec::new();
-        for (key, spec) in hc.runs.iter().enumerate().map(|(i, s)| (format!("hekf.runs[{i}]"), s)) {
+        for (key, spec) in hc
+            .runs
+            .iter()
+            .enumerate()
+            .map(|(i, s)| (format!("hekf.runs[{i}]"), s))
+        {
             let li = load_input(loaded, &key, spec, &needs)?;
             fit.push(li.record.clone());
             inputs.push(li);
@@ -178,10 +196,17 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn FnMut(&str)) -> Result<RunO
             vehicle: &cfg.vehicle,
             scales: Scales::for_vehicle(&cfg.vehicle, &cfg.fluid, added),
         };
-        for (rec, used) in fit.iter().map(|r| (r, true)).chain(validation.iter().map(|r| (r, false))) {
+        for (rec, used) in fit
+            .iter()
+            .map(|r| (r, true))
+            .chain(validation.iter().map(|r| (r, false)))
+        {
             let (m, t) = resimulate(&spec, &final_set, rec, used)?;
             if let Some(s) = &m.stopped {
-                warnings.push(format!("re-simulation of '{}' stopped early: {s}", rec.name));
+                warnings.push(format!(
+                    "re-simulation of '{}' stopped early: {s}",
+                    rec.name
+                ));
             }
             resim_metrics.push(m);
             resim_traces.push((rec.clone(), t));

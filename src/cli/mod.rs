@@ -1,5 +1,6 @@
 //! Command definitions (clap) and dispatch. Each command lives in its own file.
 
+mod analytic;
 mod check;
 mod inspect;
 mod run;
@@ -28,6 +29,7 @@ enum Command {
     Check(check::Args),
     Inspect(inspect::Args),
     Simulate(simulate::Args),
+    Analytic(analytic::Args),
 }
 
 /// Parses the command line, runs the command and returns the exit code.
@@ -47,6 +49,7 @@ pub fn main() -> i32 {
         Command::Check(a) => check::run(a, &mut out),
         Command::Inspect(a) => inspect::run(a, &mut out),
         Command::Simulate(a) => simulate::run(a, &mut out),
+        Command::Analytic(a) => analytic::run(a, &mut out),
     };
     let _ = out.flush();
     match result {

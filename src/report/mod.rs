@@ -101,7 +101,10 @@ fn check_finite(r: &RunResult) -> Result<()> {
         if !c.value.is_finite() || c.sigma.is_some_and(|s| !s.is_finite()) {
             return Err(Error::numerical(
                 "report",
-                format!("coefficient {} is not finite ({} +- {:?})", c.name, c.value, c.sigma),
+                format!(
+                    "coefficient {} is not finite ({} +- {:?})",
+                    c.name, c.value, c.sigma
+                ),
             ));
         }
     }
