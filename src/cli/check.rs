@@ -52,7 +52,7 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
         if let Some(h) = c.hekf.as_ref().filter(|h| h.enabled) {
             writeln!(
                 out,
-                "hekf: {:?} model, {:?} preset, estimating {}",
+                "hekf: {} model, {} preset, estimating {}",
                 h.model,
                 h.preset,
                 h.estimate.join(", ")
