@@ -19,6 +19,7 @@ pub mod linalg;
 pub mod models;
 pub mod output;
 pub mod pipeline;
+pub mod progress;
 pub mod quantity;
 pub mod record;
 pub mod report;

@@ -5,6 +5,7 @@ use crate::coefficients::{Coefficient, CoefficientSet, Source, AXISYMMETRY, SYMM
 use crate::config::{InputSpec, LoadedConfig};
 use crate::error::{Error, Result};
 use crate::models::{AddedMass, ModelSpec, Scales};
+use crate::progress::Progress;
 use crate::record::{self, Needs, Record};
 use crate::report::results::{compare, InputSummary, RunResult, StageResults};
 use crate::resim::{resimulate, ResimTrace};
@@ -90,8 +91,8 @@ pub fn analytic_added_mass(loaded: &LoadedConfig) -> Result<Vec<Coefficient>> {
     }
 }
 
-/// Runs every enabled stage. `progress` receives one line per step.
-pub fn run(loaded: &LoadedConfig, progress: &mut dyn FnMut(&str)) -> Result<RunOutput> {
+/// Runs every enabled stage, telling `progress` how it goes.
+pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutput> {
     let cfg = &loaded.config;
     let mut inputs: Vec<LoadedInput> = Vec::new();
     let mut warnings = Vec::new();
@@ -114,7 +115,7 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn FnMut(&str)) -> Result<RunO
         for c in r.coefficients() {
             known.insert(c);
         }
-        progress(&format!("polar: fitted {} steady runs", recs.len()));
+        progress.stage(&format!("polar: fitted {} steady runs", recs.len()));
         stages.polar = Some(r);
     }
     if let Some(sc) = cfg.surge.as_ref().filter(|c| c.enabled) {
@@ -130,7 +131,7 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn FnMut(&str)) -> Result<RunO
         for c in r.coefficients() {
             known.insert(c);
         }
-        progress("surge: added mass from the acceleration run");
+        progress.stage("surge: added mass from the acceleration run");
         stages.surge = Some(r);
     }
     let mut resim_traces = Vec::new();
@@ -177,8 +178,8 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn FnMut(&str)) -> Result<RunO
             analytic_added_mass: added,
             runs: &fit,
         };
-        let r = hekf::run(hc, &stage_inputs)?;
-        progress(&format!(
+        let r = hekf::run(hc, &stage_inputs, progress)?;
+        progress.stage(&format!(
             "hekf: {} coefficients from {} run{} ({} passes)",
             r.estimated.len(),
             fit.len(),

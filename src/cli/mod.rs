@@ -2,7 +2,10 @@
 
 mod analytic;
 mod check;
+mod compare;
 mod inspect;
+mod progress;
+mod rerun;
 mod run;
 mod simulate;
 
@@ -30,6 +33,8 @@ enum Command {
     Inspect(inspect::Args),
     Simulate(simulate::Args),
     Analytic(analytic::Args),
+    Rerun(rerun::Args),
+    Compare(compare::Args),
 }
 
 /// Parses the command line, runs the command and returns the exit code.
@@ -50,6 +55,8 @@ pub fn main() -> i32 {
         Command::Inspect(a) => inspect::run(a, &mut out),
         Command::Simulate(a) => simulate::run(a, &mut out),
         Command::Analytic(a) => analytic::run(a, &mut out),
+        Command::Rerun(a) => rerun::run(a, &mut out),
+        Command::Compare(a) => compare::run(a, &mut out),
     };
     let _ = out.flush();
     match result {

@@ -1,6 +1,6 @@
 //! `hydroid run CONFIG`: run every enabled stage and write the output folder.
 
-use super::{note, CmdResult};
+use super::{note, progress, CmdResult};
 use hydroid::output::Staging;
 use hydroid::{config, pipeline, report};
 use std::io::Write;
@@ -27,7 +27,7 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
         .clone()
         .unwrap_or_else(|| loaded.resolve(&loaded.config.output.dir));
     let staging = Staging::new(&out_dir)?;
-    let output = pipeline::run(&loaded, &mut |line| note(line))?;
+    let output = pipeline::run(&loaded, &mut progress::Cli::new())?;
     report::write(&staging, &loaded, &output)?;
     let dir = staging.commit()?;
     for w in &output.result.warnings {
