@@ -7,6 +7,7 @@ use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use hydroid::coefficients::{Coefficient, CoefficientSet, Source};
 use hydroid::estimation::System;
 use hydroid::models::{AddedMass, Model, Scales, Spheroid3};
+use hydroid::progress::Silent;
 use hydroid::sim::{complete_coefficients, simulate, InputSeries};
 use hydroid::stages::hekf::identify::{identify, RunData, Setup};
 use hydroid::stages::hekf::system::ModelSystem;
@@ -122,7 +123,15 @@ fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("hekf");
     g.throughput(Throughput::Elements(run.times.len() as u64));
     g.bench_function("filter pass, 2000 samples, 12 states", |b| {
-        b.iter(|| identify(black_box(&m), &setup, std::slice::from_ref(&run)).unwrap())
+        b.iter(|| {
+            identify(
+                black_box(&m),
+                &setup,
+                std::slice::from_ref(&run),
+                &mut Silent,
+            )
+            .unwrap()
+        })
     });
     g.finish();
     let inputs = InputSeries::constant(&[22.0]);

@@ -5,6 +5,7 @@
 
 use hydroid::coefficients::{Coefficient, CoefficientSet, Source};
 use hydroid::models::{AddedMass, Model, Scales, Spheroid3};
+use hydroid::progress::Silent;
 use hydroid::sim::{complete_coefficients, simulate, InputSeries};
 use hydroid::stages::hekf::identify::{identify, RunData, Setup};
 use rand::{rngs::StdRng, SeedableRng};
@@ -122,7 +123,7 @@ fn main() {
         repeat_prior_factor: Some(100.0),
     };
     let t0 = std::time::Instant::now();
-    let id = identify(&model, &setup, &[run]).unwrap_or_else(|e| panic!("{:?}", e));
+    let id = identify(&model, &setup, &[run], &mut Silent).unwrap_or_else(|e| panic!("{:?}", e));
     println!(
         "elapsed {:?} for {} samples x {} passes",
         t0.elapsed(),

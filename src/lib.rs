@@ -9,6 +9,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod ad;
+pub mod analytic;
 pub mod coefficients;
 pub mod config;
 pub mod error;
@@ -18,8 +19,11 @@ pub mod inspect;
 pub mod linalg;
 pub mod models;
 pub mod output;
+pub mod pipeline;
+pub mod progress;
 pub mod quantity;
 pub mod record;
+pub mod report;
 pub mod resim;
 pub mod sim;
 pub mod stages;

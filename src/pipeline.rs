@@ -5,6 +5,7 @@ use crate::coefficients::{Coefficient, CoefficientSet, Source, AXISYMMETRY, SYMM
 use crate::config::{InputSpec, LoadedConfig};
 use crate::error::{Error, Result};
 use crate::models::{AddedMass, ModelSpec, Scales};
+use crate::progress::Progress;
 use crate::record::{self, Needs, Record};
 use crate::report::results::{compare, InputSummary, RunResult, StageResults};
 use crate::resim::{resimulate, ResimTrace};
@@ -51,7 +52,12 @@ pub fn stage_inputs(cfg: &crate::config::Config) -> Vec<(String, &InputSpec, Nee
 }
 
 /// Loads one input file for a stage.
-pub fn load_input(loaded: &LoadedConfig, key: &str, spec: &InputSpec, needs: &Needs) -> Result<LoadedInput> {
+pub fn load_input(
+    loaded: &LoadedConfig,
+    key: &str,
+    spec: &InputSpec,
+    needs: &Needs,
+) -> Result<LoadedInput> {
     let record = record::load(spec, &loaded.base_dir, needs)?;
     let sha256 = file_sha256(&record.source)?;
     Ok(LoadedInput {
@@ -64,7 +70,10 @@ pub fn load_input(loaded: &LoadedConfig, key: &str, spec: &InputSpec, needs: &Ne
 /// SHA-256 of a file, hex.
 pub fn file_sha256(path: &Path) -> Result<String> {
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    Ok(format!("{:x}", Sha256::digest(&bytes)))
+    Ok(Sha256::digest(&bytes)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect())
 }
 
 /// Analytic added mass of the vehicle when its geometry is a prolate spheroid (length and
@@ -72,13 +81,18 @@ pub fn file_sha256(path: &Path) -> Result<String> {
 pub fn analytic_added_mass(loaded: &LoadedConfig) -> Result<Vec<Coefficient>> {
     let v = &loaded.config.vehicle;
     match v.diameter {
-        Some(d) => Ok(crate::analytic::Spheroid::from_length_diameter(v.length, d, loaded.config.fluid.rho)?.coefficients()),
+        Some(d) => Ok(crate::analytic::Spheroid::from_length_diameter(
+            v.length,
+            d,
+            loaded.config.fluid.rho,
+        )?
+        .coefficients()),
         None => Ok(Vec::new()),
     }
 }
 
-/// Runs every enabled stage. `progress` receives one line per step.
-pub fn run(loaded: &LoadedConfig, progress: &mut dyn FnMut(&str)) -> Result<RunOutput> {
+/// Runs every enabled stage, telling `progress` how it goes.
+pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutput> {
     let cfg = &loaded.config;
     let mut inputs: Vec<LoadedInput> = Vec::new();
     let mut warnings = Vec::new();
@@ -101,7 +115,7 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn FnMut(&str)) -> Result<RunO
         for c in r.coefficients() {
             known.insert(c);
         }
-        progress(&format!("polar: fitted {} steady runs", recs.len()));
+        progress.stage(&format!("polar: fitted {} steady runs", recs.len()));
         stages.polar = Some(r);
     }
     if let Some(sc) = cfg.surge.as_ref().filter(|c| c.enabled) {
@@ -117,7 +131,7 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn FnMut(&str)) -> Result<RunO
         for c in r.coefficients() {
             known.insert(c);
         }
-        progress("surge: added mass from the acceleration run");
+        progress.stage("surge: added mass from the acceleration run");
         stages.surge = Some(r);
     }
     let mut resim_traces = Vec::new();
@@ -126,7 +140,12 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn FnMut(&str)) -> Result<RunO
     if let Some(hc) = cfg.hekf.as_ref().filter(|c| c.enabled) {
         let needs = hekf::needs(hc);
         let mut fit = Vec::new();
-        for (key, spec) in hc.runs.iter().enumerate().map(|(i, s)| (format!("hekf.runs[{i}]"), s)) {
+        for (key, spec) in hc
+            .runs
+            .iter()
+            .enumerate()
+            .map(|(i, s)| (format!("hekf.runs[{i}]"), s))
+        {
             let li = load_input(loaded, &key, spec, &needs)?;
             fit.push(li.record.clone());
             inputs.push(li);
@@ -159,8 +178,8 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn FnMut(&str)) -> Result<RunO
             analytic_added_mass: added,
             runs: &fit,
         };
-        let r = hekf::run(hc, &stage_inputs)?;
-        progress(&format!(
+        let r = hekf::run(hc, &stage_inputs, progress)?;
+        progress.stage(&format!(
             "hekf: {} coefficients from {} run{} ({} passes)",
             r.estimated.len(),
             fit.len(),
@@ -178,10 +197,17 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn FnMut(&str)) -> Result<RunO
             vehicle: &cfg.vehicle,
             scales: Scales::for_vehicle(&cfg.vehicle, &cfg.fluid, added),
         };
-        for (rec, used) in fit.iter().map(|r| (r, true)).chain(validation.iter().map(|r| (r, false))) {
+        for (rec, used) in fit
+            .iter()
+            .map(|r| (r, true))
+            .chain(validation.iter().map(|r| (r, false)))
+        {
             let (m, t) = resimulate(&spec, &final_set, rec, used)?;
             if let Some(s) = &m.stopped {
-                warnings.push(format!("re-simulation of '{}' stopped early: {s}", rec.name));
+                warnings.push(format!(
+                    "re-simulation of '{}' stopped early: {s}",
+                    rec.name
+                ));
             }
             resim_metrics.push(m);
             resim_traces.push((rec.clone(), t));

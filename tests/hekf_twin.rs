@@ -221,6 +221,7 @@ fn identify(cfg: &HekfConfig, runs: &[Record]) -> hydroid::Result<HekfResult> {
             }),
             runs,
         },
+        &mut hydroid::progress::Silent,
     )
 }
 

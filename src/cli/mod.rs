@@ -1,7 +1,11 @@
 //! Command definitions (clap) and dispatch. Each command lives in its own file.
 
+mod analytic;
 mod check;
+mod compare;
 mod inspect;
+mod progress;
+mod rerun;
 mod run;
 mod simulate;
 
@@ -28,6 +32,9 @@ enum Command {
     Check(check::Args),
     Inspect(inspect::Args),
     Simulate(simulate::Args),
+    Analytic(analytic::Args),
+    Rerun(rerun::Args),
+    Compare(compare::Args),
 }
 
 /// Parses the command line, runs the command and returns the exit code.
@@ -47,6 +54,9 @@ pub fn main() -> i32 {
         Command::Check(a) => check::run(a, &mut out),
         Command::Inspect(a) => inspect::run(a, &mut out),
         Command::Simulate(a) => simulate::run(a, &mut out),
+        Command::Analytic(a) => analytic::run(a, &mut out),
+        Command::Rerun(a) => rerun::run(a, &mut out),
+        Command::Compare(a) => compare::run(a, &mut out),
     };
     let _ = out.flush();
     match result {

@@ -1,6 +1,8 @@
 //! `hydroid run CONFIG`: run every enabled stage and write the output folder.
 
-use super::CmdResult;
+use super::{note, progress, CmdResult};
+use hydroid::output::Staging;
+use hydroid::{config, pipeline, report};
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -19,6 +21,19 @@ pub struct Args {
 
 /// Runs the command.
 pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
-    let _ = (args, out);
-    Err(hydroid::Error::Usage("run is not built yet".into()).into())
+    let loaded = config::load(&args.config, &args.set)?;
+    let out_dir = args
+        .out
+        .clone()
+        .unwrap_or_else(|| loaded.resolve(&loaded.config.output.dir));
+    let staging = Staging::new(&out_dir)?;
+    let output = pipeline::run(&loaded, &mut progress::Cli::new())?;
+    report::write(&staging, &loaded, &output)?;
+    let dir = staging.commit()?;
+    for w in &output.result.warnings {
+        note(&format!("warning: {w}"));
+    }
+    report::table::write_text(out, &output.result)?;
+    writeln!(out, "\nwrote {}", dir.display())?;
+    Ok(0)
 }

@@ -18,6 +18,19 @@ pub const COEFFICIENTS_CSV: &str = "coefficients.csv";
 pub const CONFIG_TOML: &str = "config.toml";
 /// The inputs and their hashes.
 pub const INPUTS_JSON: &str = "inputs.json";
+/// Where the configuration and its inputs live, for `hydroid rerun`.
+pub const RERUN_JSON: &str = "rerun.json";
+
+/// What `hydroid rerun` needs besides config.toml and inputs.json.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct RerunManifest {
+    /// The configuration file the run was made from.
+    pub config: std::path::PathBuf,
+    /// The absolute folder its relative paths were resolved against.
+    pub base_dir: std::path::PathBuf,
+    /// The `--set` overrides applied (already in config.toml).
+    pub overrides: Vec<String>,
+}
 
 /// Writes the run's outputs into the staging folder.
 pub fn write(staging: &Staging, loaded: &LoadedConfig, out: &RunOutput) -> Result<()> {
@@ -26,6 +39,18 @@ pub fn write(staging: &Staging, loaded: &LoadedConfig, out: &RunOutput) -> Resul
     staging.write(INPUTS_JSON, &to_json(&out.result.inputs)?)?;
     staging.write(COEFFICIENTS_CSV, &coefficients_csv(&out.result)?)?;
     staging.write(CONFIG_TOML, effective_config(loaded).as_bytes())?;
+    let base_dir = std::fs::canonicalize(if loaded.base_dir.as_os_str().is_empty() {
+        std::path::Path::new(".")
+    } else {
+        &loaded.base_dir
+    })
+    .map_err(|e| Error::io(&loaded.base_dir, e))?;
+    let manifest = RerunManifest {
+        config: loaded.path.clone(),
+        base_dir,
+        overrides: loaded.overrides.clone(),
+    };
+    staging.write(RERUN_JSON, &to_json(&manifest)?)?;
     Ok(())
 }
 
@@ -101,7 +126,10 @@ fn check_finite(r: &RunResult) -> Result<()> {
         if !c.value.is_finite() || c.sigma.is_some_and(|s| !s.is_finite()) {
             return Err(Error::numerical(
                 "report",
-                format!("coefficient {} is not finite ({} +- {:?})", c.name, c.value, c.sigma),
+                format!(
+                    "coefficient {} is not finite ({} +- {:?})",
+                    c.name, c.value, c.sigma
+                ),
             ));
         }
     }

@@ -129,11 +129,17 @@ impl InputSummary {
             format: r.format.name().to_string(),
             rows: r.rows(),
             sha256: i.sha256.clone(),
-            time_span: r
-                .time()
-                .and_then(|t| Some([*t.first()?, *t.last()?])),
-            quantities: r.units.iter().map(|(q, u)| (q.key().to_string(), u.clone())).collect(),
-            constants: r.constants.iter().map(|(q, v)| (q.key().to_string(), *v)).collect(),
+            time_span: r.time().and_then(|t| Some([*t.first()?, *t.last()?])),
+            quantities: r
+                .units
+                .iter()
+                .map(|(q, u)| (q.key().to_string(), u.clone()))
+                .collect(),
+            constants: r
+                .constants
+                .iter()
+                .map(|(q, v)| (q.key().to_string(), *v))
+                .collect(),
         }
     }
 }
@@ -164,7 +170,11 @@ pub struct ComparisonRow {
 }
 
 /// Builds the comparison of every coefficient with the analytic and reference values.
-pub fn compare(set: &CoefficientSet, analytic: &[Coefficient], reference: Option<&ReferenceConfig>) -> Vec<ComparisonRow> {
+pub fn compare(
+    set: &CoefficientSet,
+    analytic: &[Coefficient],
+    reference: Option<&ReferenceConfig>,
+) -> Vec<ComparisonRow> {
     let pct = |v: f64, r: f64| (r != 0.0).then(|| 100.0 * (v - r) / r.abs());
     set.iter()
         .map(|c| {

@@ -87,7 +87,10 @@ pub fn write_text(out: &mut impl Write, r: &RunResult) -> io::Result<()> {
 
 /// The comparison table in Markdown, with the reference's name in its header.
 pub fn markdown(r: &RunResult) -> String {
-    let ref_name = r.reference.as_ref().map_or("reference", |x| x.name.as_str());
+    let ref_name = r
+        .reference
+        .as_ref()
+        .map_or("reference", |x| x.name.as_str());
     let mut s = format!(
         "| coefficient | hydroid ± σ | unit | source | Fossen analytic | vs Fossen | {ref_name} | vs {ref_name} | flags |\n\
          |---|---|---|---|---|---|---|---|---|\n"

@@ -4,4 +4,5 @@
 
 pub mod hekf;
 pub mod polar;
+pub mod spread;
 pub mod surge;

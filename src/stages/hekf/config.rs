@@ -16,6 +16,24 @@ pub enum ModelName {
     Spheroid6,
 }
 
+impl std::fmt::Display for ModelName {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            ModelName::Spheroid3 => "spheroid3",
+            ModelName::Spheroid6 => "spheroid6",
+        })
+    }
+}
+
+impl std::fmt::Display for Preset {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Preset::Hydroid => "hydroid",
+            Preset::Paper => "paper",
+        })
+    }
+}
+
 /// A tuning preset.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]

@@ -5,6 +5,7 @@ use super::system::ModelSystem;
 use crate::estimation::rts::Trace;
 use crate::estimation::{Divergence, HybridEkf};
 use crate::models::Model;
+use crate::progress::Progress;
 use crate::sim::InputSeries;
 
 /// One run, ready for the filter.
@@ -121,6 +122,7 @@ pub fn identify<M: Model>(
     model: &M,
     setup: &Setup,
     runs: &[RunData],
+    progress: &mut dyn Progress,
 ) -> Result<Identification, IdentifyError> {
     let nx = model.nx();
     let nb = setup.est.len();
@@ -144,8 +146,10 @@ pub fn identify<M: Model>(
     let mut passes = Vec::new();
     let mut traces = Vec::new();
     let mut covariance = vec![0.0; nb * nb];
+    let total: usize = runs.iter().map(RunData::len).sum();
     for pass in 0..setup.passes {
         let smooth = setup.smoother && pass + 1 == setup.passes;
+        let mut done = 0;
         let mut filter: Option<HybridEkf> = None;
         let mut pass_traces = Vec::new();
         for run in runs {
@@ -224,6 +228,10 @@ pub fn identify<M: Model>(
                 }
                 tr.innovations.extend_from_slice(f.innovation());
                 tr.nis.push(nis);
+                done += 1;
+                if done % 250 == 0 || done == total {
+                    progress.filter(pass + 1, setup.passes, done, total);
+                }
             }
             if let Some(s) = smoother {
                 let (xs, _) = s.smooth().map_err(|k| {

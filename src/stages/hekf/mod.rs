@@ -15,6 +15,7 @@ use crate::coefficients::CoefficientSet;
 use crate::config::{FluidConfig, VehicleConfig};
 use crate::error::{Error, Result};
 use crate::models::{with_model, AddedMass, Model, ModelSpec, ModelVisitor, Scales};
+use crate::progress::Progress;
 use crate::quantity::Quantity;
 use crate::record::{Needs, Record};
 use identify::{identify, IdentifyError};
@@ -61,18 +62,30 @@ pub struct StageInputs<'a> {
 }
 
 /// Runs the stage.
-pub fn run(cfg: &HekfConfig, inputs: &StageInputs) -> Result<HekfResult> {
+pub fn run(
+    cfg: &HekfConfig,
+    inputs: &StageInputs,
+    progress: &mut dyn Progress,
+) -> Result<HekfResult> {
     let spec = ModelSpec {
         name: cfg.model,
         vehicle: inputs.vehicle,
         scales: Scales::for_vehicle(inputs.vehicle, inputs.fluid, inputs.analytic_added_mass),
     };
-    with_model(&spec, Identify { cfg, inputs })
+    with_model(
+        &spec,
+        Identify {
+            cfg,
+            inputs,
+            progress,
+        },
+    )
 }
 
 struct Identify<'a> {
     cfg: &'a HekfConfig,
     inputs: &'a StageInputs<'a>,
+    progress: &'a mut dyn Progress,
 }
 
 impl ModelVisitor for Identify<'_> {
@@ -90,7 +103,8 @@ impl ModelVisitor for Identify<'_> {
             summaries.push(summary);
         }
         let setup = prepare::setup(model, cfg, &plan, &tuning, &runs)?;
-        let id = identify(model, &setup, &runs).map_err(|e| divergence_error(model, &plan, e))?;
+        let id = identify(model, &setup, &runs, self.progress)
+            .map_err(|e| divergence_error(model, &plan, e))?;
         Ok(result::build(
             model, cfg, &plan, &setup, &runs, summaries, id,
         ))

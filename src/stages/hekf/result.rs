@@ -194,7 +194,7 @@ pub fn build<M: Model>(
     }
     HekfResult {
         model: model.name().to_string(),
-        preset: format!("{:?}", cfg.preset).to_lowercase(),
+        preset: cfg.preset.to_string(),
         estimated: plan.est_names.clone(),
         coefficients,
         correlation: Correlation {

@@ -1,0 +1,102 @@
+//! `hydroid compare A/results.json B/results.json`: coefficient-by-coefficient differences.
+
+use super::CmdResult;
+use hydroid::coefficients::Coefficient;
+use hydroid::error::{Error, InputError, Place};
+use hydroid::report::table::num;
+use std::collections::BTreeSet;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// Compare the coefficients of two runs: value and sigma in each, the difference, and the
+/// difference in units of the combined sigma.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// results.json of the first run (or its output folder).
+    a: PathBuf,
+    /// results.json of the second run (or its output folder).
+    b: PathBuf,
+}
+
+#[derive(serde::Deserialize)]
+struct Results {
+    coefficients: Vec<Coefficient>,
+}
+
+fn read(path: &Path) -> hydroid::Result<Vec<Coefficient>> {
+    let file = if path.is_dir() {
+        path.join("results.json")
+    } else {
+        path.to_path_buf()
+    };
+    let text = std::fs::read_to_string(&file).map_err(|e| Error::io(&file, e))?;
+    let r: Results = serde_json::from_str(&text).map_err(|e| -> Error {
+        InputError::new(
+            Place::line(&file, e.line()),
+            format!("not a hydroid results.json: {e}"),
+        )
+        .into()
+    })?;
+    Ok(r.coefficients)
+}
+
+/// Runs the command.
+pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
+    let a = read(&args.a)?;
+    let b = read(&args.b)?;
+    let names: BTreeSet<&str> = a.iter().chain(&b).map(|c| c.name.as_str()).collect();
+    let find = |v: &[Coefficient], n: &str| v.iter().find(|c| c.name == n).cloned();
+    let cell = |c: &Option<Coefficient>| match c {
+        Some(c) => match c.sigma {
+            Some(s) => format!("{} ± {} ({})", num(c.value), num(s), c.source),
+            None => format!("{} ({})", num(c.value), c.source),
+        },
+        None => "-".into(),
+    };
+    let mut rows = vec![[
+        "coefficient".to_string(),
+        "A".into(),
+        "B".into(),
+        "B - A".into(),
+        "(B - A)/sigma".into(),
+        "unit".into(),
+    ]];
+    for n in names {
+        let (ca, cb) = (find(&a, n), find(&b, n));
+        let (diff, z) = match (&ca, &cb) {
+            (Some(x), Some(y)) => {
+                let d = y.value - x.value;
+                let s = (x.sigma.unwrap_or(0.0).powi(2) + y.sigma.unwrap_or(0.0).powi(2)).sqrt();
+                (
+                    num(d),
+                    if s > 0.0 {
+                        format!("{:+.2}", d / s)
+                    } else {
+                        "-".into()
+                    },
+                )
+            }
+            _ => ("-".into(), "-".into()),
+        };
+        let unit = ca
+            .as_ref()
+            .or(cb.as_ref())
+            .map_or(String::new(), |c| c.unit.clone());
+        rows.push([n.to_string(), cell(&ca), cell(&cb), diff, z, unit]);
+    }
+    let mut width = [0usize; 6];
+    for r in &rows {
+        for (w, c) in width.iter_mut().zip(r) {
+            *w = (*w).max(c.chars().count());
+        }
+    }
+    for r in &rows {
+        let line: Vec<String> = r
+            .iter()
+            .zip(width)
+            .map(|(c, w)| format!("{c:<w$}"))
+            .collect();
+        writeln!(out, "{}", line.join("  ").trim_end())?;
+    }
+    Ok(0)
+}

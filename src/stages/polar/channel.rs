@@ -1,0 +1,297 @@
+//! One channel's fit: design matrix, configured constraints, clarabel solve, standard errors.
+
+use super::fit::{self, Constraint, FitError, Kind};
+use super::{
+    ChannelFit, PolarConfig, PolarFit, PolarPoint, PolarWeights, Residual, SlopeSign, DRAG_NAMES,
+    SLOPE_NAMES, STAGE,
+};
+use crate::error::{Error, Result};
+
+/// A standard error below this fraction of |value| (or 1e-12) is raised to it before
+/// inverse-variance weighting, so that a perfectly steady history does not get infinite weight.
+const SE_FLOOR: f64 = 1e-9;
+
+pub(super) fn fit_all(
+    config: &PolarConfig,
+    pts: &[&PolarPoint],
+    context: &str,
+) -> Result<PolarFit> {
+    Ok(PolarFit {
+        n_points: pts.len(),
+        drag: fit_channel(config, Chan::Drag, pts, context)?,
+        lift: fit_channel(config, Chan::Lift, pts, context)?,
+        moment: fit_channel(config, Chan::Moment, pts, context)?,
+    })
+}
+
+#[derive(Clone, Copy, PartialEq)]
+enum Chan {
+    Drag,
+    Lift,
+    Moment,
+}
+
+impl Chan {
+    fn name(self) -> &'static str {
+        match self {
+            Chan::Drag => "drag",
+            Chan::Lift => "lift",
+            Chan::Moment => "moment",
+        }
+    }
+}
+
+fn fit_channel(
+    config: &PolarConfig,
+    chan: Chan,
+    pts: &[&PolarPoint],
+    context: &str,
+) -> Result<ChannelFit> {
+    let key = format!("polar.{}", chan.name());
+    let (names, units, model): (Vec<&str>, Vec<&str>, String) = match chan {
+        Chan::Drag => (
+            DRAG_NAMES.to_vec(),
+            vec!["1/rad^2", "1/rad", "-"],
+            "C_D = a alpha^2 + b alpha + c (paper eq. 6)".into(),
+        ),
+        Chan::Lift | Chan::Moment => {
+            let fit = if chan == Chan::Lift {
+                &config.lift
+            } else {
+                &config.moment
+            };
+            let sym = if chan == Chan::Lift { "C_L" } else { "C_M" };
+            if fit.cubic {
+                (
+                    SLOPE_NAMES.to_vec(),
+                    vec!["-", "1/rad", "1/rad^3"],
+                    format!("{sym} = intercept + slope alpha + cubic alpha^3"),
+                )
+            } else {
+                (
+                    SLOPE_NAMES[..2].to_vec(),
+                    vec!["-", "1/rad"],
+                    format!("{sym} = intercept + slope alpha"),
+                )
+            }
+        }
+    };
+    let p = names.len();
+    let row = |alpha: f64| -> Vec<f64> {
+        match chan {
+            Chan::Drag => vec![alpha * alpha, alpha, 1.0],
+            _ => [1.0, alpha, alpha.powi(3)][..p].to_vec(),
+        }
+    };
+    let a: Vec<Vec<f64>> = pts.iter().map(|pt| row(pt.alpha)).collect();
+    let (y, se): (Vec<f64>, Vec<Option<f64>>) = pts
+        .iter()
+        .map(|pt| match chan {
+            Chan::Drag => (pt.cd, pt.cd_se),
+            Chan::Lift => (pt.cl, pt.cl_se),
+            Chan::Moment => (pt.cm, pt.cm_se),
+        })
+        .unzip();
+    let w: Vec<f64> = match config.weights {
+        PolarWeights::Uniform => vec![1.0; pts.len()],
+        PolarWeights::InverseVariance => pts
+            .iter()
+            .zip(&y)
+            .zip(&se)
+            .map(|((pt, yi), s)| {
+                let s = s.ok_or_else(|| {
+                    Error::numerical(
+                        STAGE,
+                        format!(
+                            "polar.weights = \"inverse_variance\" needs the standard error of \
+                             each steady mean, which only steady-run histories give; the point \
+                             of '{}' at {:.3} deg has none",
+                            pt.record, pt.alpha_deg
+                        ),
+                    )
+                })?;
+                let floor = (SE_FLOOR * yi.abs()).max(1e-12);
+                Ok(1.0 / s.max(floor).powi(2))
+            })
+            .collect::<Result<_>>()?,
+    };
+
+    let constraints = constraints(config, chan, &names, &key);
+    let sol = fit::solve(&a, &y, &w, &constraints).map_err(|e| {
+        let what = format!("{} polar ({context})", chan.name());
+        match e {
+            FitError::Infeasible => Error::numerical(
+                STAGE,
+                format!(
+                    "the constraints on the {what} are infeasible: no {model} satisfies all of: \
+                     {}; relax one of them in [{key}]",
+                    constraints
+                        .iter()
+                        .map(|c| c.label.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            ),
+            FitError::Underdetermined { free, rank } => {
+                let mut angles: Vec<f64> = pts.iter().map(|p| p.alpha).collect();
+                angles.sort_by(|x, y| x.partial_cmp(y).expect("finite"));
+                angles.dedup_by(|x, y| (*x - *y).abs() < 1e-9);
+                Error::numerical(
+                    STAGE,
+                    format!(
+                        "the {what} has {} point(s) at {} distinct angle(s), which determine \
+                         only {rank} of the {free} free constants of {model}",
+                        pts.len(),
+                        angles.len()
+                    ),
+                )
+            }
+            FitError::Solver(s) => Error::numerical(
+                STAGE,
+                format!("the QP solver stopped without a solution for the {what}: {s}"),
+            ),
+        }
+    })?;
+    let std_errors: Vec<Option<f64>> = (0..p)
+        .map(|i| {
+            sol.covariance
+                .as_ref()
+                .map(|c| c[i][i].max(0.0).sqrt() + 0.0)
+        })
+        .collect();
+    let residuals = pts
+        .iter()
+        .zip(&y)
+        .zip(&sol.residuals)
+        .map(|((pt, yi), r)| Residual {
+            record: pt.record.clone(),
+            alpha: pt.alpha,
+            observed: *yi,
+            fitted: yi - r,
+            residual: *r,
+        })
+        .collect();
+    Ok(ChannelFit {
+        channel: chan.name().to_string(),
+        model,
+        names: names.iter().map(|s| s.to_string()).collect(),
+        units: units.iter().map(|s| s.to_string()).collect(),
+        values: sol.x.iter().map(|v| v + 0.0).collect(),
+        std_errors,
+        covariance: sol.covariance,
+        active_constraints: sol
+            .active
+            .iter()
+            .map(|&i| constraints[i].label.clone())
+            .collect(),
+        binding_inequalities: sol
+            .active
+            .iter()
+            .filter(|&&i| constraints[i].kind == Kind::Le)
+            .map(|&i| constraints[i].label.clone())
+            .collect(),
+        n_points: pts.len(),
+        dof: sol.dof,
+        rss: sol.rss,
+        residual_std: (sol.dof > 0).then(|| (sol.rss / sol.dof as f64).sqrt()),
+        r_squared: sol.r_squared,
+        residuals,
+    })
+}
+
+/// The configured constraints of one channel, each labelled with its key.
+fn constraints(config: &PolarConfig, chan: Chan, names: &[&str], key: &str) -> Vec<Constraint> {
+    let p = names.len();
+    let unit = |k: usize, sign: f64| -> Vec<f64> {
+        let mut g = vec![0.0; p];
+        g[k] = sign;
+        g
+    };
+    let mut out = Vec::new();
+    let mut push =
+        |g: Vec<f64>, kind: Kind, h: f64, label: String| out.push(Constraint { g, kind, h, label });
+    let bounds = match chan {
+        Chan::Drag => {
+            let d = &config.drag;
+            if d.a_nonnegative {
+                push(
+                    unit(0, -1.0),
+                    Kind::Le,
+                    0.0,
+                    format!("a >= 0 ({key}.a_nonnegative)"),
+                );
+            }
+            if d.c_nonnegative {
+                push(
+                    unit(2, -1.0),
+                    Kind::Le,
+                    0.0,
+                    format!("c >= 0 ({key}.c_nonnegative)"),
+                );
+            }
+            if d.symmetric {
+                push(
+                    unit(1, 1.0),
+                    Kind::Eq,
+                    0.0,
+                    format!("b = 0 ({key}.symmetric)"),
+                );
+            }
+            &d.bounds
+        }
+        Chan::Lift | Chan::Moment => {
+            let f = if chan == Chan::Lift {
+                &config.lift
+            } else {
+                &config.moment
+            };
+            let sym = if chan == Chan::Lift { "C_L" } else { "C_M" };
+            if f.through_origin {
+                push(
+                    unit(0, 1.0),
+                    Kind::Eq,
+                    0.0,
+                    format!("{sym}(0) = 0 ({key}.through_origin)"),
+                );
+            }
+            match f.slope {
+                SlopeSign::Free => {}
+                SlopeSign::Positive => push(
+                    unit(1, -1.0),
+                    Kind::Le,
+                    0.0,
+                    format!("slope >= 0 ({key}.slope = \"positive\")"),
+                ),
+                SlopeSign::Negative => push(
+                    unit(1, 1.0),
+                    Kind::Le,
+                    0.0,
+                    format!("slope <= 0 ({key}.slope = \"negative\")"),
+                ),
+            }
+            &f.bounds
+        }
+    };
+    for (name, b) in bounds {
+        let Some(k) = names.iter().position(|n| n == name) else {
+            continue;
+        };
+        if let Some(lo) = b.min {
+            push(
+                unit(k, -1.0),
+                Kind::Le,
+                -lo,
+                format!("{name} >= {lo} ({key}.bounds.{name}.min)"),
+            );
+        }
+        if let Some(hi) = b.max {
+            push(
+                unit(k, 1.0),
+                Kind::Le,
+                hi,
+                format!("{name} <= {hi} ({key}.bounds.{name}.max)"),
+            );
+        }
+    }
+    out
+}

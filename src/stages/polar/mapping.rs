@@ -1,0 +1,133 @@
+//! From fitted polar constants to manoeuvring coefficients (paper eq. 5, after Ridley, Fontan
+//! & Corke 2003), with standard deviations from the covariance of the constants.
+//!
+//! With q = 0.5 rho A_ref (kg/m) and L_ref the moment reference length:
+//!
+//! ```text
+//! Xuu = -q c          Xuv = -q b          Xvv = -q (a + c/2)      Yvv = q b
+//! Yuvd = q c          Yuvl = q C_La       Nuvl = q L_ref C_Ma
+//! ```
+//!
+//! The paper refers C_M to A_f alone (effective L_ref = 1 m). Every coefficient is a linear
+//! combination g'x of one channel's constants, so its variance is g' Cov g.
+
+use super::ChannelFit;
+use crate::coefficients::{Coefficient, Source};
+
+/// One coefficient of eq. 5 as a linear combination of a channel's constants.
+struct Map {
+    name: &'static str,
+    channel: Channel,
+    /// (factor, constant name); the coefficient is q * scale * sum(factor * constant).
+    terms: &'static [(f64, &'static str)],
+    /// Multiply by L_ref as well.
+    moment: bool,
+    relation: &'static str,
+}
+
+#[derive(Clone, Copy)]
+enum Channel {
+    Drag,
+    Lift,
+    Moment,
+}
+
+const MAPS: &[Map] = &[
+    Map {
+        name: "Xuu",
+        channel: Channel::Drag,
+        terms: &[(-1.0, "c")],
+        moment: false,
+        relation: "paper eq. 5: Xuu = -q c",
+    },
+    Map {
+        name: "Xuv",
+        channel: Channel::Drag,
+        terms: &[(-1.0, "b")],
+        moment: false,
+        relation: "paper eq. 5: Xuv = -q b",
+    },
+    Map {
+        name: "Xvv",
+        channel: Channel::Drag,
+        terms: &[(-1.0, "a"), (-0.5, "c")],
+        moment: false,
+        relation: "paper eq. 5: Xvv = -q (a + c/2)",
+    },
+    Map {
+        name: "Yvv",
+        channel: Channel::Drag,
+        terms: &[(1.0, "b")],
+        moment: false,
+        relation: "paper eq. 5: Yvv = q b",
+    },
+    Map {
+        name: "Yuvd",
+        channel: Channel::Drag,
+        terms: &[(1.0, "c")],
+        moment: false,
+        relation: "paper eq. 5: Yuvd = q c",
+    },
+    Map {
+        name: "Yuvl",
+        channel: Channel::Lift,
+        terms: &[(1.0, "slope")],
+        moment: false,
+        relation: "paper eq. 5: Yuvl = q C_La",
+    },
+    Map {
+        name: "Nuvl",
+        channel: Channel::Moment,
+        terms: &[(1.0, "slope")],
+        moment: true,
+        relation: "paper eq. 5: Nuvl = q L_ref C_Ma",
+    },
+];
+
+/// The coefficients of paper eq. 5 from the three channel fits; `q` = 0.5 rho A_ref, kg/m;
+/// `l_ref` = moment reference length, m.
+pub fn coefficients(
+    drag: &ChannelFit,
+    lift: &ChannelFit,
+    moment: &ChannelFit,
+    q: f64,
+    l_ref: f64,
+) -> Vec<Coefficient> {
+    MAPS.iter()
+        .map(|m| {
+            let fit = match m.channel {
+                Channel::Drag => drag,
+                Channel::Lift => lift,
+                Channel::Moment => moment,
+            };
+            let scale = if m.moment { q * l_ref } else { q };
+            let g: Vec<f64> = fit
+                .names
+                .iter()
+                .map(|n| {
+                    m.terms
+                        .iter()
+                        .filter(|(_, t)| t == n)
+                        .map(|(f, _)| f * scale)
+                        .sum()
+                })
+                .collect();
+            let value: f64 = g.iter().zip(&fit.values).map(|(g, x)| g * x).sum();
+            let sigma = fit.covariance.as_ref().map(|cov| {
+                let mut var = 0.0;
+                for (i, gi) in g.iter().enumerate() {
+                    for (j, gj) in g.iter().enumerate() {
+                        var += gi * cov[i][j] * gj;
+                    }
+                }
+                var.max(0.0).sqrt()
+            });
+            let note = if m.moment {
+                format!("{}, q = {q:.6} kg/m, L_ref = {l_ref} m", m.relation)
+            } else {
+                format!("{}, q = 0.5 rho A_ref = {q:.6} kg/m", m.relation)
+            };
+            Coefficient::new(m.name, value + 0.0, sigma, Source::Polar).with_note(note)
+        })
+        .collect()
+}

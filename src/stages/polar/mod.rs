@@ -1,0 +1,242 @@
+//! Static polar stage: C_D, C_L, C_M over angle of attack to X_uu, X_uv, X_vv, Y_vv, Y_uvd,
+//! Y_uvl, N_uvl (paper eq. 5-6, after Ridley, Fontan & Corke 2003).
+//!
+//! Each channel is a weighted least-squares fit under linear constraints, solved as a QP with
+//! clarabel ([`fit`]): C_D = a alpha^2 + b alpha + c (paper eq. 6), C_L and C_M as
+//! intercept + slope alpha (+ cubic alpha^3). The fit is made on all points together (pooled,
+//! in coefficient form) and on each speed separately; the pooled constants are mapped to
+//! coefficients by paper eq. 5 (`mapping.rs`). See docs/stages.md.
+
+// crate::Error is large (its InputError variant); boxing it is a crate-wide choice.
+
+mod channel;
+mod config;
+mod data;
+pub mod fit;
+mod mapping;
+mod result;
+
+pub use config::{
+    Bound, DragFit, PolarAxes, PolarConfig, PolarData, PolarWeights, SlopeFit, SlopeSign,
+    DRAG_NAMES, SLOPE_NAMES,
+};
+pub use data::{steady_mean, PolarPoint};
+pub use result::{ChannelFit, PolarFit, PolarResult, Reference, Residual, SpeedFit};
+
+use crate::config::{FluidConfig, VehicleConfig};
+use crate::error::{Error, Result};
+use crate::quantity::Quantity;
+use crate::record::{Needs, Record};
+use crate::stages::spread::{spread, Spread};
+use channel::fit_all;
+
+pub(crate) const STAGE: &str = "polar";
+
+/// What the stage reads from each record.
+pub fn needs(config: &PolarConfig) -> Needs<'static> {
+    match config.data {
+        PolarData::Coefficients => Needs {
+            required: &[Quantity::Alpha, Quantity::Cd, Quantity::Cl, Quantity::Cm],
+            optional: &[Quantity::Speed, Quantity::Time],
+            min_rows: 1,
+        },
+        PolarData::Forces => Needs {
+            required: &[
+                Quantity::Alpha,
+                Quantity::Fx,
+                Quantity::Fy,
+                Quantity::Mz,
+                Quantity::Speed,
+            ],
+            optional: &[Quantity::Time],
+            min_rows: 1,
+        },
+    }
+}
+
+/// Reads every run of `config` (paths relative to `base`) with what [`needs`] asks for.
+pub fn load(config: &PolarConfig, base: &std::path::Path) -> Result<Vec<Record>> {
+    let needs = needs(config);
+    config
+        .runs
+        .iter()
+        .map(|spec| crate::record::load(spec, base, &needs).map_err(Error::from))
+        .collect()
+}
+
+/// Runs the polar stage on records already read.
+pub fn run(
+    config: &PolarConfig,
+    vehicle: &VehicleConfig,
+    fluid: &FluidConfig,
+    records: &[Record],
+) -> Result<PolarResult> {
+    if records.is_empty() {
+        return Err(Error::numerical(STAGE, "no polar run to fit"));
+    }
+    let (points, mut warnings) = data::points(config, vehicle, fluid, records)?;
+    let used: Vec<&PolarPoint> = points.iter().filter(|p| p.used).collect();
+    let skipped = points.len() - used.len();
+    if skipped > 0 {
+        warnings.push(format!(
+            "{skipped} point(s) outside |alpha| <= {} deg were not fitted",
+            config.alpha_max_deg.unwrap_or(90.0)
+        ));
+    }
+    if used.is_empty() {
+        return Err(Error::numerical(
+            STAGE,
+            "no point lies within the fitting range polar.alpha_max_deg",
+        ));
+    }
+    let q = 0.5 * fluid.rho * vehicle.reference_area; // paper eq. 5: q = 0.5 rho A_f
+    let l_ref = vehicle.reference_length;
+
+    let pooled = fit_all(config, &used, "pooled fit")?;
+    let coefficients = mapping::coefficients(&pooled.drag, &pooled.lift, &pooled.moment, q, l_ref);
+    for ch in [&pooled.drag, &pooled.lift, &pooled.moment] {
+        for c in &ch.binding_inequalities {
+            warnings.push(format!(
+                "the {} constraint {c} binds in the pooled fit: the data pull the other way",
+                ch.channel
+            ));
+        }
+    }
+    let alpha_span = used.iter().map(|p| p.alpha.abs()).fold(0.0, f64::max);
+    for (name, fit) in [("lift", &config.lift), ("moment", &config.moment)] {
+        if alpha_span > 15f64.to_radians() && !fit.cubic {
+            warnings.push(format!(
+                "the fitted points reach {:.1} deg: a straight line through C_{} there is not the \
+                 slope at zero; set polar.{name}.cubic = true or polar.alpha_max_deg",
+                alpha_span.to_degrees(),
+                if name == "lift" { "L" } else { "M" }
+            ));
+        }
+    }
+
+    let mut per_speed = Vec::new();
+    if let Some(groups) = speed_groups(&used, config.speed_tolerance)? {
+        for (speed, members) in groups {
+            let pts: Vec<&PolarPoint> = members.iter().map(|&i| used[i]).collect();
+            let reynolds = fluid.rho * speed * vehicle.length / fluid.mu; // Re = rho U L / mu
+            let context = format!("fit at {speed:.4} m/s");
+            let (fit, error) = match fit_all(config, &pts, &context) {
+                Ok(f) => (Some(f), None),
+                Err(e) => (None, Some(e.to_string())),
+            };
+            let coefficients = fit.as_ref().map_or_else(Vec::new, |f| {
+                mapping::coefficients(&f.drag, &f.lift, &f.moment, q, l_ref)
+            });
+            if let Some(e) = &error {
+                warnings.push(format!("no separate fit at {speed:.4} m/s: {e}"));
+            }
+            per_speed.push(SpeedFit {
+                speed,
+                reynolds,
+                n_points: pts.len(),
+                fit,
+                coefficients,
+                error,
+            });
+        }
+    }
+    let fitted: Vec<&SpeedFit> = per_speed.iter().filter(|s| s.fit.is_some()).collect();
+    let spread: Vec<Spread> = coefficients
+        .iter()
+        .filter_map(|c| {
+            let est: Vec<(f64, Option<f64>)> = fitted
+                .iter()
+                .filter_map(|s| s.coefficients.iter().find(|k| k.name == c.name))
+                .map(|k| (k.value, k.sigma))
+                .collect();
+            spread(&c.name, &c.unit, &est)
+        })
+        .collect();
+
+    let statement = format!(
+        "C_D = -X / (0.5 rho U^2 A_ref), C_L = Y / (0.5 rho U^2 A_ref), C_M = N / (0.5 rho U^2 \
+         A_ref L_ref) in body axes (x forward, y starboard, alpha = atan(v/u)), with A_ref = {} \
+         m^2 and L_ref = {} m{}; q = 0.5 rho A_ref = {:.6} kg/m; Re = rho U L / mu with L = {} m",
+        vehicle.reference_area,
+        l_ref,
+        if (l_ref - 1.0).abs() < 1e-12 {
+            " (the paper's convention: C_M referred to A_f only)"
+        } else {
+            ""
+        },
+        q,
+        vehicle.length
+    );
+    Ok(PolarResult {
+        reference: Reference {
+            rho: fluid.rho,
+            mu: fluid.mu,
+            reference_area: vehicle.reference_area,
+            reference_length: l_ref,
+            q,
+            reynolds_length: vehicle.length,
+            data: config.data,
+            axes: config.axes,
+            alpha_max_deg: config.alpha_max_deg,
+            weights: config.weights,
+            statement,
+        },
+        pooled,
+        per_speed,
+        spread,
+        coefficients,
+        points,
+        warnings,
+    })
+}
+
+/// Speed groups: (mean speed, indices of the points at it).
+type SpeedGroups = Vec<(f64, Vec<usize>)>;
+
+/// Groups points by speed (relative tolerance); None when no point has a speed.
+fn speed_groups(points: &[&PolarPoint], tol: f64) -> Result<Option<SpeedGroups>> {
+    let with: Vec<usize> = (0..points.len())
+        .filter(|&i| points[i].speed.is_some())
+        .collect();
+    if with.is_empty() {
+        return Ok(None);
+    }
+    if with.len() < points.len() {
+        let missing = points.iter().find(|p| p.speed.is_none()).map(|p| &p.record);
+        return Err(Error::numerical(
+            STAGE,
+            format!(
+                "some polar runs give a speed and others do not (e.g. '{}'): give every run a \
+                 speed column or constant, or none",
+                missing.map_or("", |s| s.as_str())
+            ),
+        ));
+    }
+    let mut order = with;
+    order.sort_by(|&i, &j| {
+        points[i]
+            .speed
+            .partial_cmp(&points[j].speed)
+            .expect("finite")
+    });
+    let mut groups: Vec<(f64, Vec<usize>)> = Vec::new();
+    let mut first = f64::NAN;
+    for i in order {
+        let s = points[i].speed.expect("filtered");
+        match groups.last_mut() {
+            Some((_, members)) if s <= first * (1.0 + tol) => members.push(i),
+            _ => {
+                first = s;
+                groups.push((s, vec![i]));
+            }
+        }
+    }
+    for (speed, members) in &mut groups {
+        *speed = members
+            .iter()
+            .map(|&i| points[i].speed.expect("filtered"))
+            .sum::<f64>()
+            / members.len() as f64;
+    }
+    Ok(Some(groups))
+}
