@@ -298,13 +298,70 @@ impl Correlation {
     }
 }
 
+/// One independent source of uncertainty: the joint one-sigma change it causes in every
+/// coefficient it reaches. A stage's uncertainty is a set of such directions (the
+/// eigenvectors of its covariance scaled by the square roots of the eigenvalues), and a
+/// later stage adds the change its own estimates undergo along each, so that correlations
+/// between stages are carried through the pipeline (linear error propagation).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Direction {
+    /// What it is, starting with the stage: `polar drag 1`, `surge statistics`, `hekf 3`.
+    pub source: String,
+    /// One-sigma change of each coefficient it reaches, SI.
+    pub deltas: BTreeMap<String, f64>,
+}
+
+impl Direction {
+    /// The stage a direction comes from (the first word of its source).
+    pub fn stage(&self) -> &str {
+        self.source.split_whitespace().next().unwrap_or("")
+    }
+}
+
+/// The directions of a covariance matrix over `names`: eigenvectors scaled by the square
+/// roots of the (non-negative) eigenvalues, labelled `label 1`, `label 2`, ...
+pub fn directions_of(label: &str, names: &[&str], covariance: &[Vec<f64>]) -> Vec<Direction> {
+    let n = names.len();
+    if n == 0 {
+        return Vec::new();
+    }
+    let m = nalgebra::DMatrix::from_fn(n, n, |i, j| 0.5 * (covariance[i][j] + covariance[j][i]));
+    let top = (0..n).map(|i| m[(i, i)].abs()).fold(0.0f64, f64::max);
+    let eig = nalgebra::SymmetricEigen::new(m);
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by(|&a, &b| eig.eigenvalues[b].total_cmp(&eig.eigenvalues[a]));
+    let mut out = Vec::new();
+    for k in order {
+        let lambda = eig.eigenvalues[k];
+        if lambda.is_nan() || lambda <= 1e-14 * top {
+            continue;
+        }
+        let s = lambda.sqrt();
+        let deltas = names
+            .iter()
+            .enumerate()
+            .map(|(i, name)| (name.to_string(), s * eig.eigenvectors[(i, k)]))
+            .filter(|(_, d)| *d != 0.0)
+            .collect();
+        out.push(Direction {
+            source: format!("{label} {}", out.len() + 1),
+            deltas,
+        });
+    }
+    out
+}
+
 /// The coefficients known so far, each with value, sigma, unit and source.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct CoefficientSet {
     coefficients: BTreeMap<String, Coefficient>,
-    /// Correlations between the coefficients estimated together (the HEKF's), if any.
+    /// Correlations between the coefficients estimated together (the HEKF's): what the data
+    /// of one run can and cannot separate.
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub correlation: Option<Correlation>,
+    /// Independent sources of uncertainty and what each changes.
+    #[serde(skip_serializing_if = "Vec::is_empty", default)]
+    pub directions: Vec<Direction>,
 }
 
 impl CoefficientSet {
@@ -352,7 +409,9 @@ impl CoefficientSet {
     /// follow the ones they depend on. A derived value replaces any earlier value of its target
     /// (the relation is the definition), except that a target estimated by a stage directly is
     /// kept and reported in the returned list of conflicts. Standard deviations are propagated
-    /// linearly, using the correlation matrix where both terms are in it.
+    /// linearly along the uncertainty directions when those account for the terms' sigmas
+    /// (the derived coefficient joins each direction), else with the correlation matrix where
+    /// both terms are in it and as independent otherwise.
     pub fn complete(&mut self, relations: &[Relation]) -> Vec<String> {
         let mut conflicts = Vec::new();
         for rel in relations {
@@ -365,7 +424,24 @@ impl CoefficientSet {
                 continue;
             };
             let value: f64 = terms.iter().map(|(f, c)| f * c.value).sum();
-            let sigma = self.combined_sigma(&terms);
+            let by_directions = terms.iter().all(|(_, c)| self.covered(&c.name))
+                && terms.iter().any(|(_, c)| c.sigma.is_some());
+            let sigma = if by_directions {
+                let mut var = 0.0;
+                for d in &mut self.directions {
+                    let delta: f64 = terms
+                        .iter()
+                        .map(|(f, c)| f * d.deltas.get(&c.name).copied().unwrap_or(0.0))
+                        .sum();
+                    if delta != 0.0 {
+                        d.deltas.insert(rel.target.to_string(), delta);
+                    }
+                    var += delta * delta;
+                }
+                Some(var.sqrt())
+            } else {
+                self.combined_sigma(&terms)
+            };
             if let Some(existing) = self.get(rel.target) {
                 if matches!(
                     existing.source,
@@ -386,6 +462,59 @@ impl CoefficientSet {
             );
         }
         conflicts
+    }
+
+    /// Adds a stage's coefficients and uncertainty directions, replacing any earlier value of
+    /// the same coefficients (whose share in earlier directions no longer applies). A
+    /// direction whose source is already in the set adds its changes to it (how the stage's
+    /// estimates move along an upstream source of uncertainty); others are new sources.
+    pub fn merge_stage(&mut self, coefficients: Vec<Coefficient>, directions: Vec<Direction>) {
+        for c in coefficients {
+            for d in &mut self.directions {
+                d.deltas.remove(&c.name);
+            }
+            self.insert(c);
+        }
+        for d in directions {
+            match self.directions.iter_mut().find(|e| e.source == d.source) {
+                Some(e) => e.deltas.extend(d.deltas),
+                None => self.directions.push(d),
+            }
+        }
+        self.directions.retain(|d| !d.deltas.is_empty());
+    }
+
+    /// Covariance of two coefficients over the uncertainty directions.
+    pub fn covariance(&self, a: &str, b: &str) -> f64 {
+        self.directions
+            .iter()
+            .map(|d| {
+                d.deltas.get(a).copied().unwrap_or(0.0) * d.deltas.get(b).copied().unwrap_or(0.0)
+            })
+            .sum()
+    }
+
+    /// Whether the directions account for a coefficient's whole sigma.
+    pub fn covered(&self, name: &str) -> bool {
+        match self.get(name).and_then(|c| c.sigma) {
+            None => true,
+            Some(s) => {
+                let var = self.covariance(name, name);
+                (var.sqrt() - s).abs() <= 1e-6 * s.max(f64::MIN_POSITIVE)
+            }
+        }
+    }
+
+    /// A coefficient's uncertainty by stage: sqrt of the summed squared changes of the
+    /// directions from each stage (these add in quadrature to the sigma).
+    pub fn budget(&self, name: &str) -> BTreeMap<String, f64> {
+        let mut var: BTreeMap<String, f64> = BTreeMap::new();
+        for d in &self.directions {
+            if let Some(v) = d.deltas.get(name) {
+                *var.entry(d.stage().to_string()).or_default() += v * v;
+            }
+        }
+        var.into_iter().map(|(k, v)| (k, v.sqrt())).collect()
     }
 
     fn combined_sigma(&self, terms: &[(f64, Coefficient)]) -> Option<f64> {
@@ -512,6 +641,51 @@ mod tests {
         // Nuva = -Xud + Yvd: var = 0.01 + 0.01 - 2*0.9*0.01
         let s = set.get("Nuva").unwrap().sigma.unwrap();
         assert!((s - (0.002f64).sqrt()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn directions_carry_correlations_into_derived_coefficients() {
+        // Xud and Yvd perfectly correlated through one shared source: Nuva = -Xud + Yvd
+        // cancels it; an independent source on Yvd alone adds in full.
+        let mut set = CoefficientSet::new();
+        set.insert(Coefficient::new("Xud", -1.0, Some(0.1), Source::Surge));
+        set.insert(Coefficient::new(
+            "Yvd",
+            -20.0,
+            Some(0.5f64.hypot(0.1)),
+            Source::Hekf,
+        ));
+        set.directions.push(Direction {
+            source: "surge statistics".into(),
+            deltas: [("Xud".to_string(), 0.1), ("Yvd".to_string(), 0.1)]
+                .into_iter()
+                .collect(),
+        });
+        set.directions.push(Direction {
+            source: "hekf 1".into(),
+            deltas: [("Yvd".to_string(), 0.5)].into_iter().collect(),
+        });
+        assert!(set.covered("Xud") && set.covered("Yvd"));
+        set.complete(SYMMETRY);
+        let s = set.get("Nuva").unwrap().sigma.unwrap();
+        assert!((s - 0.5).abs() < 1e-12, "{s}");
+        let b = set.budget("Nuva");
+        assert!(b.get("surge").is_none_or(|v| v.abs() < 1e-12));
+        assert!((b["hekf"] - 0.5).abs() < 1e-12);
+        // Xvr = -Yvd joins both directions
+        assert!((set.covariance("Xvr", "Yvd") + set.covariance("Yvd", "Yvd")).abs() < 1e-12);
+    }
+
+    #[test]
+    fn directions_of_a_covariance_reproduce_it() {
+        let cov = vec![vec![4.0, 1.2], vec![1.2, 1.0]];
+        let d = directions_of("polar drag", &["Xuu", "Xvv"], &cov);
+        let mut set = CoefficientSet::new();
+        set.directions = d;
+        assert!((set.covariance("Xuu", "Xuu") - 4.0).abs() < 1e-12);
+        assert!((set.covariance("Xuu", "Xvv") - 1.2).abs() < 1e-12);
+        assert!((set.covariance("Xvv", "Xvv") - 1.0).abs() < 1e-12);
+        assert_eq!(set.directions[0].source, "polar drag 1");
     }
 
     #[test]

@@ -112,9 +112,7 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutp
             inputs.push(li);
         }
         let r = crate::stages::polar::run(pc, &cfg.vehicle, &cfg.fluid, &recs)?;
-        for c in r.coefficients() {
-            known.insert(c);
-        }
+        known.merge_stage(r.coefficients(), r.directions.clone());
         progress.stage(&format!("polar: fitted {} steady runs", recs.len()));
         stages.polar = Some(r);
     }
@@ -128,9 +126,7 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutp
         }
         known.complete(SYMMETRY);
         let r = crate::stages::surge::run(sc, &cfg.vehicle, &known, &recs)?;
-        for c in r.coefficients() {
-            known.insert(c);
-        }
+        r.merge_into(&mut known);
         progress.stage("surge: added mass from the acceleration run");
         stages.surge = Some(r);
     }
@@ -187,9 +183,7 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutp
             r.settings.passes
         ));
         let mut final_set = for_filter.clone();
-        for c in r.coefficients() {
-            final_set.insert(c);
-        }
+        final_set.merge_stage(r.coefficients(), r.directions.clone());
         final_set.correlation = Some(r.correlation.clone());
         complete_for(&mut final_set, hc.model);
         let spec = ModelSpec {
@@ -212,10 +206,9 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutp
             resim_metrics.push(m);
             resim_traces.push((rec.clone(), t));
         }
-        for c in r.coefficients() {
-            known.insert(c);
-        }
+        known.merge_stage(r.coefficients(), r.directions.clone());
         known.correlation = Some(r.correlation.clone());
+        warnings.extend(r.warnings.iter().map(|w| format!("hekf: {w}")));
         model_name = Some(hc.model);
         stages.hekf = Some(r);
     }

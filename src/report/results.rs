@@ -167,6 +167,9 @@ pub struct ComparisonRow {
     pub error_vs_reference_pct: Option<f64>,
     /// Warnings: large sigma, strong correlation.
     pub flags: Vec<String>,
+    /// The sigma by the stage its uncertainty comes from (they add in quadrature): `polar`,
+    /// `surge`, `hekf`; empty for values without uncertainty directions.
+    pub budget: BTreeMap<String, f64>,
 }
 
 /// Builds the comparison of every coefficient with the analytic and reference values.
@@ -212,6 +215,7 @@ pub fn compare(
                 reference: r,
                 error_vs_reference_pct: r.and_then(|r| pct(c.value, r)),
                 flags,
+                budget: set.budget(&c.name),
             }
         })
         .collect()

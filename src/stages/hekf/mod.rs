@@ -5,6 +5,7 @@ mod config;
 pub mod identify;
 mod prepare;
 mod result;
+mod sensitivity;
 pub mod system;
 pub mod tuning;
 
@@ -105,8 +106,28 @@ impl ModelVisitor for Identify<'_> {
         let setup = prepare::setup(model, cfg, &plan, &tuning, &runs)?;
         let id = identify(model, &setup, &runs, self.progress)
             .map_err(|e| divergence_error(model, &plan, e))?;
+        let last = id.passes.last().cloned().expect("at least one pass");
+        let (upstream, failed) = sensitivity::upstream(
+            model,
+            &setup,
+            &runs,
+            &last.values,
+            &last.sigmas,
+            &plan.est_names,
+            inputs.known,
+        );
         Ok(result::build(
-            model, cfg, &plan, &setup, &runs, summaries, id,
+            model,
+            cfg,
+            &plan,
+            &setup,
+            &runs,
+            summaries,
+            id,
+            result::Upstream {
+                directions: upstream,
+                failed,
+            },
         ))
     }
 }

@@ -5,7 +5,7 @@ use super::config::HekfConfig;
 use super::identify::{Identification, RunData, Setup};
 use super::prepare::Plan;
 use super::tuning::NoiseChoice;
-use crate::coefficients::{Coefficient, Correlation, Source};
+use crate::coefficients::{directions_of, Coefficient, Correlation, Direction, Source};
 use crate::estimation::nis::{summarize, NisSummary};
 use crate::models::Model;
 use serde::Serialize;
@@ -88,9 +88,19 @@ pub struct HekfResult {
     pub settings: Settings,
     /// The runs.
     pub runs: Vec<RunSummary>,
+    /// Standard deviations from the data alone (the filter's, with the fixed coefficients
+    /// taken as exact), in `estimated` order; the coefficients' sigmas add the uncertainty of
+    /// the fixed coefficients.
+    pub sigma_filter: Vec<f64>,
+    /// Things to know.
+    pub warnings: Vec<String>,
     /// Traces for plots.
     #[serde(skip)]
     pub traces: Vec<RunTraces>,
+    /// Uncertainty directions: the estimates' change along every upstream direction, and the
+    /// filter's own.
+    #[serde(skip)]
+    pub directions: Vec<Direction>,
 }
 
 /// Numerical settings used.
@@ -113,7 +123,16 @@ impl HekfResult {
     }
 }
 
+/// The estimates' sensitivity to the uncertainty of the fixed coefficients.
+pub struct Upstream {
+    /// Change of the estimates along each upstream direction (upstream labels).
+    pub directions: Vec<Direction>,
+    /// Directions whose repeated identification failed.
+    pub failed: Vec<String>,
+}
+
 /// Assembles the result from the identification.
+#[allow(clippy::too_many_arguments)]
 pub fn build<M: Model>(
     model: &M,
     cfg: &HekfConfig,
@@ -122,6 +141,7 @@ pub fn build<M: Model>(
     runs: &[RunData],
     mut summaries: Vec<RunSummary>,
     id: Identification,
+    upstream: Upstream,
 ) -> HekfResult {
     let nb = plan.est.len();
     let last = id
@@ -132,21 +152,46 @@ pub fn build<M: Model>(
             values: plan.initial.clone(),
             sigmas: plan.prior_sigma.clone(),
         });
+    // total covariance: the filter's plus each fixed coefficient's share (consider analysis)
+    let mut total = id.covariance.clone();
+    for d in &upstream.directions {
+        for (a, na) in plan.est_names.iter().enumerate() {
+            for (b, nb_) in plan.est_names.iter().enumerate() {
+                if let (Some(da), Some(db)) = (d.deltas.get(na), d.deltas.get(nb_)) {
+                    total[a * nb + b] += da * db;
+                }
+            }
+        }
+    }
     let coefficients: Vec<Coefficient> = plan
         .est_names
         .iter()
         .enumerate()
         .map(|(j, n)| {
-            Coefficient::new(n, last.values[j], Some(last.sigmas[j]), Source::Hekf).with_note(
-                format!(
-                    "{} model, {} pass{}",
-                    model.name(),
-                    setup.passes,
-                    if setup.passes == 1 { "" } else { "es" }
-                ),
-            )
+            let sigma = total[j * nb + j].max(0.0).sqrt();
+            Coefficient::new(n, last.values[j], Some(sigma), Source::Hekf).with_note(format!(
+                "{} model, {} pass{}; sigma {} from the data alone",
+                model.name(),
+                setup.passes,
+                if setup.passes == 1 { "" } else { "es" },
+                crate::report::table::num(last.sigmas[j])
+            ))
         })
         .collect();
+    let cov_rows: Vec<Vec<f64>> = (0..nb)
+        .map(|a| (0..nb).map(|b| id.covariance[a * nb + b]).collect())
+        .collect();
+    let est: Vec<&str> = plan.est_names.iter().map(String::as_str).collect();
+    let mut directions = upstream.directions.clone();
+    directions.extend(directions_of("hekf", &est, &cov_rows));
+    let mut warnings = Vec::new();
+    if !upstream.failed.is_empty() {
+        warnings.push(format!(
+            "the sensitivity to {} could not be computed (the filter failed with the fixed \
+             coefficients moved by one sigma); the sigmas leave it out",
+            upstream.failed.join(", ")
+        ));
+    }
     let mut matrix = vec![vec![0.0; nb]; nb];
     for a in 0..nb {
         for b in 0..nb {
@@ -220,6 +265,9 @@ pub fn build<M: Model>(
             process_noise: setup.q.clone(),
         },
         runs: summaries,
+        sigma_filter: last.sigmas.clone(),
+        warnings,
         traces,
+        directions,
     }
 }

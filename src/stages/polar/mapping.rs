@@ -12,7 +12,7 @@
 //! combination g'x of one channel's constants, so its variance is g' Cov g.
 
 use super::ChannelFit;
-use crate::coefficients::{Coefficient, Source};
+use crate::coefficients::{directions_of, Coefficient, Direction, Source};
 
 /// One coefficient of eq. 5 as a linear combination of a channel's constants.
 struct Map {
@@ -84,6 +84,35 @@ const MAPS: &[Map] = &[
     },
 ];
 
+/// The gradient g of a coefficient with respect to its channel's constants (in `fit.names`
+/// order): the coefficient is g'x.
+fn gradient(m: &Map, fit: &ChannelFit, q: f64, l_ref: f64) -> Vec<f64> {
+    let scale = if m.moment { q * l_ref } else { q };
+    fit.names
+        .iter()
+        .map(|n| {
+            m.terms
+                .iter()
+                .filter(|(_, t)| t == n)
+                .map(|(f, _)| f * scale)
+                .sum()
+        })
+        .collect()
+}
+
+fn channel_fit<'a>(
+    m: &Map,
+    drag: &'a ChannelFit,
+    lift: &'a ChannelFit,
+    moment: &'a ChannelFit,
+) -> &'a ChannelFit {
+    match m.channel {
+        Channel::Drag => drag,
+        Channel::Lift => lift,
+        Channel::Moment => moment,
+    }
+}
+
 /// The coefficients of paper eq. 5 from the three channel fits; `q` = 0.5 rho A_ref, kg/m;
 /// `l_ref` = moment reference length, m.
 pub fn coefficients(
@@ -95,23 +124,8 @@ pub fn coefficients(
 ) -> Vec<Coefficient> {
     MAPS.iter()
         .map(|m| {
-            let fit = match m.channel {
-                Channel::Drag => drag,
-                Channel::Lift => lift,
-                Channel::Moment => moment,
-            };
-            let scale = if m.moment { q * l_ref } else { q };
-            let g: Vec<f64> = fit
-                .names
-                .iter()
-                .map(|n| {
-                    m.terms
-                        .iter()
-                        .filter(|(_, t)| t == n)
-                        .map(|(f, _)| f * scale)
-                        .sum()
-                })
-                .collect();
+            let fit = channel_fit(m, drag, lift, moment);
+            let g = gradient(m, fit, q, l_ref);
             let value: f64 = g.iter().zip(&fit.values).map(|(g, x)| g * x).sum();
             let sigma = fit.covariance.as_ref().map(|cov| {
                 let mut var = 0.0;
@@ -130,4 +144,52 @@ pub fn coefficients(
             Coefficient::new(m.name, value + 0.0, sigma, Source::Polar).with_note(note)
         })
         .collect()
+}
+
+/// The uncertainty of the coefficients as independent directions: the eigen-directions of
+/// each channel's covariance of constants (the channels are fitted separately, so their
+/// errors are independent), each mapped through eq. 5 to every coefficient of that channel.
+/// Together they reproduce the coefficients' sigmas and their correlations (Xuu and Yuvd,
+/// both from c, move together).
+pub fn directions(
+    drag: &ChannelFit,
+    lift: &ChannelFit,
+    moment: &ChannelFit,
+    q: f64,
+    l_ref: f64,
+) -> Vec<Direction> {
+    let mut out = Vec::new();
+    for (label, fit) in [
+        ("polar drag", drag),
+        ("polar lift", lift),
+        ("polar moment", moment),
+    ] {
+        let Some(cov) = &fit.covariance else { continue };
+        let names: Vec<&str> = fit.names.iter().map(String::as_str).collect();
+        for d in directions_of(label, &names, cov) {
+            let mut deltas = std::collections::BTreeMap::new();
+            for m in MAPS
+                .iter()
+                .filter(|m| std::ptr::eq(channel_fit(m, drag, lift, moment), fit))
+            {
+                let g = gradient(m, fit, q, l_ref);
+                let delta: f64 = fit
+                    .names
+                    .iter()
+                    .zip(&g)
+                    .map(|(n, gi)| gi * d.deltas.get(n).copied().unwrap_or(0.0))
+                    .sum();
+                if delta != 0.0 {
+                    deltas.insert(m.name.to_string(), delta);
+                }
+            }
+            if !deltas.is_empty() {
+                out.push(Direction {
+                    source: d.source,
+                    deltas,
+                });
+            }
+        }
+    }
+    out
 }

@@ -94,6 +94,7 @@ pub fn run(
 
     let pooled = fit_all(config, &used, "pooled fit")?;
     let coefficients = mapping::coefficients(&pooled.drag, &pooled.lift, &pooled.moment, q, l_ref);
+    let directions = mapping::directions(&pooled.drag, &pooled.lift, &pooled.moment, q, l_ref);
     for ch in [&pooled.drag, &pooled.lift, &pooled.moment] {
         for c in &ch.binding_inequalities {
             warnings.push(format!(
@@ -168,6 +169,7 @@ pub fn run(
         vehicle.length
     );
     Ok(PolarResult {
+        directions,
         reference: Reference {
             rho: fluid.rho,
             mu: fluid.mu,

@@ -1,7 +1,7 @@
 //! The polar stage's result types (all `serde::Serialize`; see docs/stages.md).
 
 use super::{PolarAxes, PolarData, PolarPoint, PolarWeights};
-use crate::coefficients::Coefficient;
+use crate::coefficients::{Coefficient, Direction};
 use crate::stages::spread::Spread;
 use serde::Serialize;
 
@@ -146,6 +146,10 @@ pub struct PolarResult {
     pub points: Vec<PolarPoint>,
     /// Things worth reading.
     pub warnings: Vec<String>,
+    /// The coefficients' uncertainty as independent directions (for propagation through the
+    /// later stages; summarised per coefficient in the report).
+    #[serde(skip)]
+    pub directions: Vec<Direction>,
 }
 
 impl PolarResult {

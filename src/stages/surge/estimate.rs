@@ -247,21 +247,19 @@ pub(super) fn part(
             let xud = mass - 1.0 / kappa;
             let sigma_stat = fit.covariance[0][0].max(0.0).sqrt() / (kappa * kappa);
             // Sensitivity to Xuu by a central difference of the whole fit.
-            let sigma_xuu = match xuu_sigma {
-                Some(sx) => {
-                    let h = 1e-6 * xuu_value.abs().max(1e-6);
-                    let at = |x: f64| {
-                        solve(s, mode, Some((x, None)), segments)
-                            .ok()
-                            .map(|f| mass - 1.0 / f.theta[0])
-                    };
-                    match (at(xuu_value + h), at(xuu_value - h)) {
-                        (Some(a), Some(b)) => Some(((a - b) / (2.0 * h)).abs() * sx),
-                        _ => None,
-                    }
+            let sensitivity = {
+                let h = 1e-6 * xuu_value.abs().max(1e-6);
+                let at = |x: f64| {
+                    solve(s, mode, Some((x, None)), segments)
+                        .ok()
+                        .map(|f| mass - 1.0 / f.theta[0])
+                };
+                match (at(xuu_value + h), at(xuu_value - h)) {
+                    (Some(a), Some(b)) => Some((a - b) / (2.0 * h)),
+                    _ => None,
                 }
-                None => None,
             };
+            let sigma_xuu = xuu_sigma.and_then(|sx| sensitivity.map(|k| k.abs() * sx));
             let total = match sigma_xuu {
                 Some(sx) => (sigma_stat.powi(2) + sx.powi(2)).sqrt(),
                 None => sigma_stat,
@@ -272,11 +270,13 @@ pub(super) fn part(
                     sigma: Some(total),
                     sigma_statistical: Some(sigma_stat),
                     sigma_from_xuu: sigma_xuu,
+                    sensitivity_to_xuu: sensitivity,
                 },
                 xuu: None,
                 n_samples: fit.n,
                 residual_std,
                 r_squared: fit.r_squared,
+                covariance_xud_xuu: None,
             })
         }
         DragFrom::Force => {
@@ -307,16 +307,19 @@ pub(super) fn part(
                     sigma: Some(sx),
                     sigma_statistical: Some(sx),
                     sigma_from_xuu: None,
+                    sensitivity_to_xuu: None,
                 },
                 xuu: Some(Estimate {
                     value: xuu_fit,
                     sigma: Some(su),
                     sigma_statistical: Some(su),
                     sigma_from_xuu: None,
+                    sensitivity_to_xuu: None,
                 }),
                 n_samples: fit.n,
                 residual_std,
                 r_squared: fit.r_squared,
+                covariance_xud_xuu: Some(quad(&jx, &ju)),
             })
         }
     }

@@ -281,6 +281,7 @@ pub fn run(
         xuu: xuu_used,
         xud: whole.xud,
         xuu_fitted: whole.xuu,
+        covariance_xud_xuu: whole.covariance_xud_xuu,
         inertia,
         constants: Constants {
             names,

@@ -1,7 +1,7 @@
 //! The surge stage's result types (all `serde::Serialize`; see docs/stages.md).
 
 use super::DragFrom;
-use crate::coefficients::Coefficient;
+use crate::coefficients::{directions_of, Coefficient, CoefficientSet, Direction};
 use crate::stages::spread::Spread;
 use serde::Serialize;
 
@@ -16,6 +16,10 @@ pub struct Estimate {
     pub sigma_statistical: Option<f64>,
     /// Standard deviation carried over from the uncertainty of the X_uu used.
     pub sigma_from_xuu: Option<f64>,
+    /// d X_udot / d X_uu of the fit (`coefficients`), kg per kg/m: how an error in X_uu moves
+    /// X_udot.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sensitivity_to_xuu: Option<f64>,
 }
 
 /// The X_uu the stage used.
@@ -42,6 +46,9 @@ pub struct PartFit {
     pub residual_std: f64,
     /// Coefficient of determination of u.
     pub r_squared: Option<f64>,
+    /// Covariance of X_udot and X_uu fitted together (`force`), kg^2/m.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub covariance_xud_xuu: Option<f64>,
 }
 
 /// One run.
@@ -134,6 +141,8 @@ pub struct SurgeResult {
     pub xud: Estimate,
     /// X_uu fitted with X_udot (`force` only), kg/m.
     pub xuu_fitted: Option<Estimate>,
+    /// Covariance of X_udot and X_uu fitted together (`force` only), kg^2/m.
+    pub covariance_xud_xuu: Option<f64>,
     /// m - X_udot, kg.
     pub inertia: Estimate,
     /// The fitted constants and their covariance.
@@ -169,5 +178,46 @@ impl SurgeResult {
     /// The coefficients this stage estimated.
     pub fn coefficients(&self) -> Vec<Coefficient> {
         self.coefficients.clone()
+    }
+
+    /// Adds this stage's coefficients to `set` with their uncertainty directions: its own
+    /// statistics, and (with X_uu from an earlier stage) X_udot's share of every direction that
+    /// moves X_uu, through d X_udot / d X_uu.
+    pub fn merge_into(&self, set: &mut CoefficientSet) {
+        let own = match self.drag_from {
+            DragFrom::Coefficients => self
+                .xud
+                .sigma_statistical
+                .map(|s| Direction {
+                    source: "surge statistics".into(),
+                    deltas: [("Xud".to_string(), s)].into_iter().collect(),
+                })
+                .into_iter()
+                .collect(),
+            DragFrom::Force => {
+                let (sx, su) = (
+                    self.xud.sigma.unwrap_or(0.0),
+                    self.xuu_fitted.and_then(|e| e.sigma).unwrap_or(0.0),
+                );
+                let c = self.covariance_xud_xuu.unwrap_or(0.0);
+                directions_of(
+                    "surge statistics",
+                    &["Xud", "Xuu"],
+                    &[vec![sx * sx, c], vec![c, su * su]],
+                )
+            }
+        };
+        let mut directions = own;
+        if let (DragFrom::Coefficients, Some(k)) = (self.drag_from, self.xud.sensitivity_to_xuu) {
+            for d in &set.directions {
+                if let Some(dx) = d.deltas.get("Xuu") {
+                    directions.push(Direction {
+                        source: d.source.clone(),
+                        deltas: [("Xud".to_string(), k * dx)].into_iter().collect(),
+                    });
+                }
+            }
+        }
+        set.merge_stage(self.coefficients(), directions);
     }
 }
