@@ -1,6 +1,11 @@
 //! Everything written to the output folder: results.json, coefficients.csv, the effective
 //! configuration, and (with plots enabled) figures and the Markdown/HTML reports.
 
+pub mod content;
+pub mod doc;
+pub mod html;
+pub mod markdown;
+pub mod plots;
 pub mod results;
 pub mod table;
 
@@ -20,6 +25,10 @@ pub const CONFIG_TOML: &str = "config.toml";
 pub const INPUTS_JSON: &str = "inputs.json";
 /// Where the configuration and its inputs live, for `hydroid rerun`.
 pub const RERUN_JSON: &str = "rerun.json";
+/// The report in Markdown (always written).
+pub const REPORT_MD: &str = "report.md";
+/// The self-contained HTML report (with plots on).
+pub const REPORT_HTML: &str = "report.html";
 
 /// What `hydroid rerun` needs besides config.toml and inputs.json.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -32,7 +41,9 @@ pub struct RerunManifest {
     pub overrides: Vec<String>,
 }
 
-/// Writes the run's outputs into the staging folder.
+/// Writes the run's outputs into the staging folder: results.json, inputs.json,
+/// coefficients.csv, config.toml, rerun.json and report.md; with `output.plots` also the
+/// figures in plots/ (SVG and PNG) and report.html.
 pub fn write(staging: &Staging, loaded: &LoadedConfig, out: &RunOutput) -> Result<()> {
     check_finite(&out.result)?;
     staging.write(RESULTS_JSON, &to_json(&out.result)?)?;
@@ -51,6 +62,27 @@ pub fn write(staging: &Staging, loaded: &LoadedConfig, out: &RunOutput) -> Resul
         overrides: loaded.overrides.clone(),
     };
     staging.write(RERUN_JSON, &to_json(&manifest)?)?;
+    write_reports(staging, out, loaded.config.output.plots)
+}
+
+/// Writes report.md and, with `plots`, the figures and report.html.
+pub fn write_reports(staging: &Staging, out: &RunOutput, plots: bool) -> Result<()> {
+    let figures = if plots {
+        let dir = staging.dir().join(plots::PLOTS_DIR);
+        std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
+        let figures = plots::render_all(out, Some(&dir))?;
+        for f in &figures {
+            staging.write(&f.svg_path(), f.svg.as_bytes())?;
+        }
+        Some(figures)
+    } else {
+        None
+    };
+    let doc = content::document(&out.result, figures.as_deref());
+    staging.write(REPORT_MD, markdown::render(&doc).as_bytes())?;
+    if figures.is_some() {
+        staging.write(REPORT_HTML, html::render(&doc).as_bytes())?;
+    }
     Ok(())
 }
 

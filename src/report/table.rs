@@ -85,37 +85,102 @@ pub fn write_text(out: &mut impl Write, r: &RunResult) -> io::Result<()> {
     Ok(())
 }
 
-/// The comparison table in Markdown, with the reference's name in its header.
-pub fn markdown(r: &RunResult) -> String {
+/// The header of the comparison table, with the reference's name.
+pub fn comparison_header(r: &RunResult) -> Vec<String> {
     let ref_name = r
         .reference
         .as_ref()
         .map_or("reference", |x| x.name.as_str());
-    let mut s = format!(
-        "| coefficient | hydroid ± σ | unit | source | Fossen analytic | vs Fossen | {ref_name} | vs {ref_name} | flags |\n\
-         |---|---|---|---|---|---|---|---|---|\n"
-    );
-    for row in &r.comparison {
-        let c = cells(row);
-        s.push_str(&format!(
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
-            c[0],
-            c[1],
-            c[2],
-            c[3],
-            c[4],
-            c[5],
-            c[6],
-            c[7],
-            row.flags.join("; ")
-        ));
+    [
+        "coefficient",
+        "hydroid ± σ",
+        "unit",
+        "source",
+        "Fossen analytic",
+        "vs Fossen",
+        ref_name,
+        &format!("vs {ref_name}"),
+        "flags",
+    ]
+    .map(String::from)
+    .to_vec()
+}
+
+/// The rows of the comparison table (as in [`comparison_header`]).
+pub fn comparison_rows(r: &RunResult) -> Vec<Vec<String>> {
+    r.comparison
+        .iter()
+        .map(|row| {
+            let mut c = cells(row).to_vec();
+            c.push(row.flags.join("; "));
+            c
+        })
+        .collect()
+}
+
+/// Escapes the characters that Markdown would read as markup.
+pub fn escape_markdown(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for ch in s.chars() {
+        match ch {
+            '\\' | '`' | '*' | '_' | '[' | ']' | '<' | '>' | '|' | '#' => {
+                out.push('\\');
+                out.push(ch);
+            }
+            '\n' | '\r' => out.push(' '),
+            _ => out.push(ch),
+        }
+    }
+    out
+}
+
+/// A Markdown table; `right[i]` right-aligns column i. Cells are escaped.
+pub fn markdown_table(header: &[String], rows: &[Vec<String>], right: &[bool]) -> String {
+    let line = |cells: &[String]| {
+        let mut s = String::from("|");
+        for c in cells {
+            s.push_str(&format!(" {} |", escape_markdown(c)));
+        }
+        s.push('\n');
+        s
+    };
+    let mut s = line(header);
+    s.push('|');
+    for i in 0..header.len() {
+        s.push_str(if right.get(i).copied().unwrap_or(false) {
+            "---:|"
+        } else {
+            "---|"
+        });
+    }
+    s.push('\n');
+    for r in rows {
+        s.push_str(&line(r));
     }
     s
+}
+
+/// The comparison table in Markdown, with the reference's name in its header.
+pub fn markdown(r: &RunResult) -> String {
+    markdown_table(&comparison_header(r), &comparison_rows(r), &[])
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn markdown_cells_cannot_break_the_table() {
+        let t = markdown_table(
+            &["a|b".to_string(), "n".to_string()],
+            &[vec!["x*y_z <b>".to_string(), "1\n2".to_string()]],
+            &[false, true],
+        );
+        assert_eq!(
+            t,
+            "| a\\|b | n |\n|---|---:|\n| x\\*y\\_z \\<b\\> | 1 2 |\n"
+        );
+    }
 
     #[test]
     fn four_significant_figures() {

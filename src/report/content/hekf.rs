@@ -1,0 +1,185 @@
+//! The hybrid EKF stage: settings and tuning, fixed coefficients, the estimate after each
+//! pass, measurement noise and innovation consistency.
+
+use super::fmt::{opt, pct, pm};
+use super::Figures;
+use crate::report::doc::{text, Col, Document, Table};
+use crate::report::results::CORRELATED;
+use crate::report::table::num;
+use crate::stages::hekf::HekfResult;
+
+pub fn write<'a>(d: &mut Document<'a>, h: &HekfResult, figs: &Figures<'a>) {
+    d.heading(2, "Hybrid extended Kalman filter");
+    let s = &h.settings;
+    d.text(format!(
+        "Model {}, tuning preset {}: {} pass{}, {} RK4 sub-step{} per sample, smoother {}. The \
+         estimated coefficients are appended to the state (paper eq. 22); every other \
+         coefficient is held at the value below.",
+        h.model,
+        h.preset,
+        s.passes,
+        if s.passes == 1 { "" } else { "es" },
+        s.substeps,
+        if s.substeps == 1 { "" } else { "s" },
+        if s.smoother { "on" } else { "off" }
+    ));
+    d.heading(3, "Tuning choices");
+    let mut items: Vec<_> = h.tuning.iter().map(|t| vec![text(t.clone())]).collect();
+    let nb = h.estimated.len();
+    if s.process_noise.len() >= nb {
+        let (states, coefs) = s.process_noise.split_at(s.process_noise.len() - nb);
+        items.push(vec![text(format!(
+            "Process noise spectral density (SI²/s, in state order): states {}; coefficients {}.",
+            states.iter().map(|v| num(*v)).collect::<Vec<_>>().join(", "),
+            coefs.iter().map(|v| num(*v)).collect::<Vec<_>>().join(", ")
+        ))]);
+    }
+    d.list(items);
+    fixed(d, h);
+    passes(d, h);
+    figs.put(d, "hekf_convergence");
+    correlation(d, h);
+    figs.put(d, "hekf_correlation");
+    noise(d, h);
+    nis(d, h);
+    figs.put_prefixed(d, "nis_fit_");
+}
+
+fn fixed(d: &mut Document, h: &HekfResult) {
+    d.heading(3, "Fixed coefficients");
+    let mut t = Table::new(["coefficient", "value ± σ", "unit", "source", "note"]).col(4, Col::Text);
+    for c in &h.fixed {
+        t.row([
+            c.name.clone(),
+            pm(c.value, c.sigma),
+            c.unit.clone(),
+            c.source.to_string(),
+            c.note.clone().unwrap_or_default(),
+        ]);
+    }
+    d.table(t);
+}
+
+fn passes(d: &mut Document, h: &HekfResult) {
+    d.heading(3, "Estimates after each pass");
+    let mut header = vec!["coefficient".to_string(), "unit".into()];
+    header.extend(h.passes.iter().map(|p| format!("pass {}", p.pass)));
+    header.extend(["final ± σ (total)".to_string(), "σ from the data alone".into()]);
+    let mut t = Table::new(header).numeric_from(2);
+    for (j, c) in h.coefficients.iter().enumerate() {
+        let mut row = vec![c.name.clone(), c.unit.clone()];
+        row.extend(h.passes.iter().map(|p| opt(p.values.get(j).copied())));
+        row.push(pm(c.value, c.sigma));
+        row.push(opt(h.sigma_filter.get(j).copied()));
+        t.row(row);
+    }
+    d.table(t);
+    d.text(
+        "The total σ adds to the filter's own (from the data, with the fixed coefficients taken \
+         as exact) the change of the estimate when each uncertain fixed coefficient moves by \
+         its σ (consider analysis: the filter re-run per direction).",
+    );
+}
+
+fn correlation(d: &mut Document, h: &HekfResult) {
+    let c = &h.correlation;
+    let mut pairs = Vec::new();
+    for i in 0..c.names.len() {
+        for j in i + 1..c.names.len() {
+            let rho = c.matrix[i][j];
+            if rho.abs() > CORRELATED {
+                pairs.push(format!("{} and {} ({rho:+.2})", c.names[i], c.names[j]));
+            }
+        }
+    }
+    if pairs.is_empty() {
+        d.text(format!(
+            "No two estimates are correlated above {CORRELATED}: the data separate them."
+        ));
+    } else {
+        d.text(format!(
+            "Strongly correlated pairs (|ρ| > {CORRELATED}): {}. This manoeuvre does not \
+             separate them well: an error in one is compensated by the other, and a second, \
+             different manoeuvre would.",
+            pairs.join(", ")
+        ));
+    }
+}
+
+fn noise(d: &mut Document, h: &HekfResult) {
+    d.heading(3, "Measurement noise");
+    let mut t = Table::new([
+        "run",
+        "quantity",
+        "σ used",
+        "unit",
+        "source",
+        "innovation RMS (last pass)",
+    ])
+    .col(0, Col::Text)
+    .col(2, Col::Num)
+    .col(5, Col::Num);
+    for run in &h.runs {
+        for (k, n) in run.noise.iter().enumerate() {
+            let i = run
+                .measured
+                .iter()
+                .position(|m| m == n.quantity.key())
+                .and_then(|i| run.innovation_rms.get(i).copied())
+                .or_else(|| run.innovation_rms.get(k).copied());
+            t.row([
+                run.name.clone(),
+                n.quantity.key().to_string(),
+                num(n.sigma),
+                n.quantity.si_symbol().to_string(),
+                n.source.clone(),
+                opt(i),
+            ]);
+        }
+    }
+    d.table(t);
+}
+
+fn nis(d: &mut Document, h: &HekfResult) {
+    d.heading(3, "Innovation consistency (NIS)");
+    d.text(
+        "For a consistent filter the normalised innovation squared of a sample is χ² with as \
+         many degrees of freedom as measurements, its mean over K samples lies in the 95 % \
+         bounds below, and about 5 % of the samples fall outside the per-sample bounds \
+         (Bar-Shalom, Li & Kirubarajan 2001, section 5.4). A mean above its bounds says the \
+         innovations are larger than the noise model allows (model error or noise set too \
+         small), below says the noise is set too large.",
+    );
+    let mut t = Table::new([
+        "run",
+        "dof",
+        "samples",
+        "mean NIS",
+        "95 % bounds of the mean",
+        "95 % bounds per sample",
+        "outside",
+        "consistent",
+    ])
+    .numeric_from(1)
+    .col(0, Col::Text)
+    .col(7, Col::Tag);
+    for run in &h.runs {
+        let Some(n) = &run.nis else { continue };
+        let row = [
+            run.name.clone(),
+            n.dof.to_string(),
+            n.samples.to_string(),
+            num(n.mean),
+            format!("{} to {}", num(n.mean_bounds[0]), num(n.mean_bounds[1])),
+            format!("{} to {}", num(n.sample_bounds[0]), num(n.sample_bounds[1])),
+            pct(n.fraction_outside),
+            if n.consistent { "yes" } else { "no" }.to_string(),
+        ];
+        if n.consistent {
+            t.row(row);
+        } else {
+            t.marked_row(row);
+        }
+    }
+    d.table(t);
+}

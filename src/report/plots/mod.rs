@@ -1,0 +1,185 @@
+//! The report's figures, each written as SVG and PNG into `plots/`.
+//!
+//! Every figure family is a type implementing [`Plot`]: it says what it is ([`FigureMeta`]),
+//! how large it is, and draws itself on any plotters backend, so the SVG and the PNG come
+//! from the same code. Text uses the embedded DejaVu Sans (no system fonts needed), and the
+//! output depends on the data only (same input, same bytes). A figure is drawn only when its
+//! data exist; non-finite samples are left out of lines (they break the line), and a figure
+//! with nothing finite to show is refused with an error naming it.
+
+pub mod axes;
+pub mod budget;
+pub mod convergence;
+pub mod correlation;
+pub mod nis;
+pub mod polar;
+pub mod style;
+pub mod surge;
+pub mod tracks;
+
+use crate::error::{Error, Result};
+use crate::pipeline::RunOutput;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use rayon::prelude::*;
+use std::fmt;
+use std::path::Path;
+
+/// Where in the report a figure belongs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Section {
+    /// The uncertainty budget, next to the comparison table.
+    Budget,
+    /// The static polar stage.
+    Polar,
+    /// The surge stage.
+    Surge,
+    /// The hybrid EKF stage.
+    Hekf,
+    /// The re-simulation of each run.
+    Resim,
+}
+
+/// What a figure is.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FigureMeta {
+    /// File stem in `plots/` (`polar`, `track_fit_1`).
+    pub name: String,
+    /// Short title (also the alternative text).
+    pub title: String,
+    /// What the figure shows and how to read it.
+    pub caption: String,
+    /// Where it goes in the report.
+    pub section: Section,
+}
+
+/// A rendered figure.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Figure {
+    /// What it is.
+    pub meta: FigureMeta,
+    /// The SVG document.
+    pub svg: String,
+}
+
+impl Figure {
+    /// Path of the SVG file relative to the output folder.
+    pub fn svg_path(&self) -> String {
+        format!("{PLOTS_DIR}/{}.svg", self.meta.name)
+    }
+
+    /// Path of the PNG file relative to the output folder.
+    pub fn png_path(&self) -> String {
+        format!("{PLOTS_DIR}/{}.png", self.meta.name)
+    }
+}
+
+/// The folder of the figures inside the output folder.
+pub const PLOTS_DIR: &str = "plots";
+
+/// A figure that cannot be drawn, and why.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlotError(pub String);
+
+impl PlotError {
+    /// An error with a message.
+    pub fn new(msg: impl Into<String>) -> Self {
+        PlotError(msg.into())
+    }
+}
+
+impl fmt::Display for PlotError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl<E: std::error::Error + Send + Sync> From<DrawingAreaErrorKind<E>> for PlotError {
+    fn from(e: DrawingAreaErrorKind<E>) -> Self {
+        PlotError(format!("drawing failed: {e}"))
+    }
+}
+
+/// A figure family.
+pub trait Plot: Sync {
+    /// What it is.
+    fn meta(&self) -> FigureMeta;
+    /// Size in pixels.
+    fn size(&self) -> (u32, u32);
+    /// Draws the whole figure on `root`.
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), PlotError>;
+}
+
+/// Draws `plot` as SVG (returned) and, with `png_dir`, as the PNG file `NAME.png` there.
+pub fn render<P: Plot>(plot: &P, png_dir: Option<&Path>) -> Result<Figure> {
+    let meta = plot.meta();
+    let fail = |e: PlotError| Error::numerical("report", format!("figure '{}': {e}", meta.name));
+    style::ensure_font().map_err(fail)?;
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, plot.size()).into_drawing_area();
+        plot.draw(&root).map_err(fail)?;
+        root.present().map_err(|e| fail(e.into()))?;
+    }
+    if let Some(dir) = png_dir {
+        let path = dir.join(format!("{}.png", meta.name));
+        let root = BitMapBackend::new(&path, plot.size()).into_drawing_area();
+        plot.draw(&root).map_err(fail)?;
+        root.present().map_err(|e| fail(e.into()))?;
+    }
+    Ok(Figure { meta, svg })
+}
+
+type Job<'a> = Box<dyn Fn(Option<&Path>) -> Result<Figure> + Send + Sync + 'a>;
+
+fn job<'a, P: Plot + Send + 'a>(plot: P) -> Job<'a> {
+    Box::new(move |png| render(&plot, png))
+}
+
+/// Every figure the run's data support, in report order. With `png_dir`, each figure's PNG
+/// is written there as `NAME.png`.
+pub fn render_all(out: &RunOutput, png_dir: Option<&Path>) -> Result<Vec<Figure>> {
+    let r = &out.result;
+    let mut jobs: Vec<Job> = Vec::new();
+    if let Some(b) = budget::Budget::new(&r.comparison) {
+        jobs.push(job(b));
+    }
+    if let Some(p) = &r.stages.polar {
+        jobs.push(job(polar::PolarFits::new(p)?));
+    }
+    if let Some(s) = &r.stages.surge {
+        if let Some(f) = surge::SurgeFit::new(s) {
+            jobs.push(job(f));
+        }
+        if let Some(b) = surge::SurgeBins::new(s, r) {
+            jobs.push(job(b));
+        }
+    }
+    if let Some(h) = &r.stages.hekf {
+        if let Some(c) = convergence::Convergence::new(h, r) {
+            jobs.push(job(c));
+        }
+        for (i, (run, tr)) in h.runs.iter().zip(&h.traces).enumerate() {
+            if let Some(n) = nis::NisPlot::new(i + 1, run, tr) {
+                jobs.push(job(n));
+            }
+        }
+        if let Some(c) = correlation::CorrelationMap::new(&h.correlation) {
+            jobs.push(job(c));
+        }
+    }
+    for run in tracks::runs(out) {
+        if let Some(t) = tracks::Track::new(run) {
+            jobs.push(job(t));
+        }
+        if let Some(s) = tracks::States::new(run) {
+            jobs.push(job(s));
+        }
+    }
+    let mut figures: Vec<Figure> = jobs
+        .par_iter()
+        .map(|j| j(png_dir))
+        .collect::<Result<_>>()?;
+    figures.sort_by_key(|f| f.meta.section);
+    Ok(figures)
+}
