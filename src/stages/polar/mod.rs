@@ -32,6 +32,11 @@ use channel::fit_all;
 
 pub(crate) const STAGE: &str = "polar";
 
+/// The coefficients this stage estimates (paper eq. 5).
+pub fn provides() -> Vec<&'static str> {
+    mapping::provides()
+}
+
 /// What the stage reads from each record.
 pub fn needs(config: &PolarConfig) -> Needs<'static> {
     match config.data {

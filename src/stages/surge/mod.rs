@@ -43,6 +43,14 @@ pub(crate) const STAGE: &str = "surge";
 /// Fewest samples of a run inside the time window.
 pub const MIN_RUN_SAMPLES: usize = 10;
 
+/// The coefficients this stage estimates: Xud, and Xuu when it fits the drag too.
+pub fn provides(config: &SurgeConfig) -> &'static [&'static str] {
+    match config.drag_from {
+        DragFrom::Coefficients => &["Xud"],
+        DragFrom::Force => &["Xud", "Xuu"],
+    }
+}
+
 /// What the stage reads from each record.
 pub fn needs(config: &SurgeConfig) -> Needs<'static> {
     match config.drag_from {
