@@ -457,3 +457,26 @@ fn closed_stdout_is_not_a_panic() {
     let o = child.wait_with_output().unwrap();
     assert!(!text(&o.stderr).contains("panicked"), "{}", text(&o.stderr));
 }
+
+#[test]
+fn bundled_exports_are_what_their_simulate_configs_make() {
+    let dir = tempfile::tempdir().unwrap();
+    for (cfg, export) in [
+        ("polar_sweep", "polar_sweep.csv"),
+        ("surge_run", "surge_run.csv"),
+        ("turn_paper", "turn_paper.csv"),
+        ("turn_validation", "turn_validation.csv"),
+    ] {
+        let out = dir.path().join(export);
+        let o = hydroid(&[
+            "simulate",
+            &format!("configs/simulate/{cfg}.toml"),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(o.status.code(), Some(0), "{cfg}: {}", text(&o.stderr));
+        let made = std::fs::read(&out).unwrap();
+        let bundled = std::fs::read(root().join("cfd_exports").join(export)).unwrap();
+        assert!(made == bundled, "cfd_exports/{export} is stale: rerun hydroid simulate");
+    }
+}
