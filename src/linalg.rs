@@ -3,18 +3,39 @@
 //! The filter works on a few dozen states at most; these loops are written so the compiler
 //! vectorises the innermost one, and nothing allocates.
 
-/// out (r x c) = a (r x k) * b (k x c).
+/// out (r x c) = a (r x k) * b (k x c), with the `matrixmultiply` kernels (SIMD chosen at
+/// run time).
 pub fn matmul(a: &[f64], b: &[f64], r: usize, k: usize, c: usize, out: &mut [f64]) {
-    out[..r * c].fill(0.0);
-    for i in 0..r {
-        let row = &mut out[i * c..(i + 1) * c];
-        for (l, &ail) in a[i * k..(i + 1) * k].iter().enumerate() {
-            if ail != 0.0 {
-                for (o, &blj) in row.iter_mut().zip(&b[l * c..(l + 1) * c]) {
-                    *o += ail * blj;
-                }
-            }
-        }
+    let (a, b, out) = (&a[..r * k], &b[..k * c], &mut out[..r * c]);
+    // SAFETY: the slices hold r x k, k x c and r x c elements, row-major with the strides
+    // given, as checked by the slicing above.
+    unsafe {
+        matrixmultiply::dgemm(
+            r,
+            k,
+            c,
+            1.0,
+            a.as_ptr(),
+            k as isize,
+            1,
+            b.as_ptr(),
+            c as isize,
+            1,
+            0.0,
+            out.as_mut_ptr(),
+            c as isize,
+            1,
+        );
+    }
+}
+
+/// y += a x, for slices of equal length (written so that it vectorises).
+#[inline(always)]
+pub fn axpy(a: f64, x: &[f64], y: &mut [f64]) {
+    let n = y.len().min(x.len());
+    let (x, y) = (&x[..n], &mut y[..n]);
+    for i in 0..n {
+        y[i] += a * x[i];
     }
 }
 

@@ -477,6 +477,9 @@ fn bundled_exports_are_what_their_simulate_configs_make() {
         assert_eq!(o.status.code(), Some(0), "{cfg}: {}", text(&o.stderr));
         let made = std::fs::read(&out).unwrap();
         let bundled = std::fs::read(root().join("cfd_exports").join(export)).unwrap();
-        assert!(made == bundled, "cfd_exports/{export} is stale: rerun hydroid simulate");
+        assert!(
+            made == bundled,
+            "cfd_exports/{export} is stale: rerun hydroid simulate"
+        );
     }
 }

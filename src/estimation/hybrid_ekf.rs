@@ -9,8 +9,9 @@
 //! congruence keeps P positive definite when the measured states are known far better than
 //! the coefficients (the RK4 truncation error of the cross terms otherwise exceeds the small
 //! state variances). At a sample the update is in Joseph form
-//! P = (I - K H) P (I - K H)^T + K R K^T (Simon 2006, eq. 5.19), then P is symmetrised and
-//! checked for positive definiteness.
+//! P = (I - K H) P (I - K H)^T + K R K^T (Simon 2006, eq. 5.19), then P is symmetrised; its variances are
+//! checked at every update and its positive definiteness (Cholesky) every few updates and at
+//! the end of each run.
 
 use super::System;
 use crate::linalg::{cholesky, matmul, symmetrize};
@@ -62,7 +63,12 @@ pub struct HybridEkf {
     tmp: Vec<f64>,
     tmp2: Vec<f64>,
     upd: UpdateWork,
+    updates_since_check: usize,
 }
+
+/// Updates between full positive-definiteness checks of P (a Cholesky factorisation; every
+/// update checks the variances and finiteness).
+pub const CHECK_EVERY: usize = 8;
 
 impl HybridEkf {
     /// A filter for `system`-sized states starting at `x0` with covariance `p0`.
@@ -94,6 +100,7 @@ impl HybridEkf {
             tmp: z(n * n),
             tmp2: z(n * n),
             upd: UpdateWork::default(),
+            updates_since_check: 0,
         }
     }
 
@@ -179,36 +186,43 @@ impl HybridEkf {
 
     /// The top `nd` rows of Phi = I + hF + (hF)^2/2 + (hF)^3/6 + (hF)^4/24 into `phi_step`
     /// (`nd x n`); the bottom rows of Phi are [0 I] because the parameters are constant.
+    /// With F = [F_x F_z] (rows of the dynamic states), Horner's scheme gives
+    /// Phi_top = [I 0] + h S F with S = I + hF_x/2 (I + hF_x/3 (I + hF_x/4)) (nd x nd).
     fn propagator(&mut self, h: f64) {
         let (n, nd) = (self.n, self.nd);
-        // term_1 = hF (nd x n); term_k = (hF_xx) term_{k-1} / k, F_xx the first nd columns
-        let term = &mut self.tmp;
-        for (t, f) in term[..nd * n].iter_mut().zip(&self.f) {
-            *t = h * f;
-        }
-        let top = &mut self.phi_step;
-        top[..nd * n].copy_from_slice(&term[..nd * n]);
-        for i in 0..nd {
-            top[i * n + i] += 1.0;
-        }
+        let s = &mut self.tmp;
         let next = &mut self.tmp2;
-        for k in 2..=4 {
-            next[..nd * n].fill(0.0);
+        // S = I + hF_x/4
+        for i in 0..nd {
+            for j in 0..nd {
+                s[i * nd + j] = h * self.f[i * n + j] / 4.0 + if i == j { 1.0 } else { 0.0 };
+            }
+        }
+        for k in [3.0, 2.0] {
+            // S <- I + (hF_x/k) S
             for i in 0..nd {
+                let row = &mut next[i * nd..(i + 1) * nd];
+                row.fill(0.0);
+                row[i] = 1.0;
                 for l in 0..nd {
-                    let a = h * self.f[i * n + l] / k as f64;
+                    let a = h * self.f[i * n + l] / k;
                     if a != 0.0 {
-                        let (row, src) = (&mut next[i * n..(i + 1) * n], &term[l * n..(l + 1) * n]);
-                        for (o, s) in row.iter_mut().zip(src) {
-                            *o += a * s;
+                        for (o, sv) in row.iter_mut().zip(&s[l * nd..(l + 1) * nd]) {
+                            *o += a * sv;
                         }
                     }
                 }
             }
-            term[..nd * n].copy_from_slice(&next[..nd * n]);
-            for (t, v) in top[..nd * n].iter_mut().zip(&term[..nd * n]) {
-                *t += v;
-            }
+            s[..nd * nd].copy_from_slice(&next[..nd * nd]);
+        }
+        // Phi_top = [I 0] + h S F
+        let top = &mut self.phi_step;
+        matmul(&s[..nd * nd], &self.f, nd, nd, n, top);
+        for v in top[..nd * n].iter_mut() {
+            *v *= h;
+        }
+        for i in 0..nd {
+            top[i * n + i] += 1.0;
         }
     }
 
@@ -238,26 +252,35 @@ impl HybridEkf {
             }
         }
         if self.q.iter().any(|&q| q != 0.0) {
-            // Phi Q Phi^T (Q diagonal): top-left nd x nd, top-right Phi_xz Q_zz, bottom Q_zz
-            for i in 0..n {
-                for j in 0..n {
-                    let mut v = 0.0;
-                    for k in 0..n {
-                        let a = if i < nd {
-                            top[i * n + k]
-                        } else {
-                            (i == k) as u8 as f64
-                        };
-                        let b = if j < nd {
-                            top[j * n + k]
-                        } else {
-                            (j == k) as u8 as f64
-                        };
-                        v += a * self.q[k] * b;
-                    }
-                    let qd = 0.5 * h * (v + if i == j { self.q[i] } else { 0.0 });
+            // Q_d = h (Phi Q Phi^T + Q) / 2 with Q diagonal and Phi = [[top], [0 I]]:
+            // (Phi Q Phi^T)_ij = sum_k top_ik q_k top_jk for i, j < nd; top_ij q_j for i < nd
+            // <= j; q_i on the diagonal below.
+            let q = &self.q;
+            let half_h = 0.5 * h;
+            for i in 0..nd {
+                let ti = &top[i * n..(i + 1) * n];
+                for j in i..nd {
+                    let tj = &top[j * n..(j + 1) * n];
+                    let v: f64 = ti
+                        .iter()
+                        .zip(tj)
+                        .zip(q)
+                        .map(|((a, b), qk)| a * qk * b)
+                        .sum();
+                    let qd = half_h * (v + if i == j { q[i] } else { 0.0 });
                     self.p[i * n + j] += qd;
+                    if j != i {
+                        self.p[j * n + i] += qd;
+                    }
                 }
+                for j in nd..n {
+                    let qd = half_h * ti[j] * q[j];
+                    self.p[i * n + j] += qd;
+                    self.p[j * n + i] += qd;
+                }
+            }
+            for i in nd..n {
+                self.p[i * n + i] += h * q[i];
             }
         }
     }
@@ -290,12 +313,20 @@ impl HybridEkf {
         debug_assert_eq!(m, sys.m());
         let w = &mut self.upd;
         w.resize(n, m);
+        // H is usually a selection of states: then the update is done one measurement at a
+        // time (exact for a linear h with diagonal R), each a rank-one Joseph update.
+        if let Some(sel) = sys.selection() {
+            for k in 0..m {
+                w.sel[k] = sel[k];
+                w.yhat[k] = self.x[sel[k]];
+                w.nu[k] = y[k] - w.yhat[k];
+            }
+            return self.update_sequential(sys, t, r);
+        }
         sys.observe(&self.x, &mut w.yhat, &mut w.h);
         for k in 0..m {
             w.nu[k] = y[k] - w.yhat[k];
         }
-        // H is usually a selection of states: then the update is done one measurement at a
-        // time (exact for a linear h with diagonal R), each a rank-one Joseph update.
         if selection_rows(&w.h, m, n, &mut w.sel) {
             return self.update_sequential(sys, t, r);
         }
@@ -389,32 +420,22 @@ impl HybridEkf {
             // innovation against the current (partly updated) state
             let nu = w.nu[a] - (self.x[j] - w.yhat[a]);
             nis += nu * nu / s;
-            for i in 0..n {
-                kvec[i] = p[i * n + j] / s;
-            }
-            for i in 0..n {
-                self.x[i] += kvec[i] * nu;
-            }
-            // P1 = P - k (row j of P)
+            // p = P e_j (= row j, P symmetric), k = p / s
             row_j.copy_from_slice(&p[j * n..(j + 1) * n]);
-            for i in 0..n {
-                let ki = kvec[i];
-                if ki != 0.0 {
-                    for (pv, rv) in p[i * n..(i + 1) * n].iter_mut().zip(row_j.iter()) {
-                        *pv -= ki * rv;
-                    }
-                }
+            let pjj = row_j[j];
+            for ((k, x), pi) in kvec.iter_mut().zip(self.x.iter_mut()).zip(row_j.iter()) {
+                *k = pi / s;
+                *x += *k * nu;
             }
-            // P = P1 - (P1 e_j) k^T + r k k^T
-            for i in 0..n {
-                col[i] = p[i * n + j];
+            // Joseph form with B = I - k e_j^T: P1 = B P = P - k p^T, whose column j is
+            // p - k p_jj; P = P1 B^T + r k k^T = P1 - (P1 e_j) k^T + r k k^T. Fused:
+            // P_il += -k_i p_l + (r k_i - (p_i - k_i p_jj)) k_l.
+            for ((c, k), pi) in col.iter_mut().zip(kvec.iter()).zip(row_j.iter()) {
+                *c = r[a] * k - (pi - k * pjj);
             }
-            for i in 0..n {
-                let c = r[a] * kvec[i] - col[i];
-                if c != 0.0 {
-                    for (pv, kv) in p[i * n..(i + 1) * n].iter_mut().zip(kvec.iter()) {
-                        *pv += c * kv;
-                    }
+            for ((prow, ki), ci) in p.chunks_exact_mut(n).zip(kvec.iter()).zip(col.iter()) {
+                for ((pv, pl), kl) in prow.iter_mut().zip(row_j.iter()).zip(kvec.iter()) {
+                    *pv += ci * kl - ki * pl;
                 }
             }
         }
@@ -435,7 +456,11 @@ impl HybridEkf {
                 reason: format!("state {i} became non-finite in the update"),
             });
         }
-        self.check_covariance(t)?;
+        self.updates_since_check += 1;
+        let diag_ok = (0..self.n).all(|i| self.p[i * self.n + i] > 0.0);
+        if !diag_ok || self.updates_since_check >= CHECK_EVERY {
+            self.check_covariance(t)?;
+        }
         sys.check(&self.x)
             .map_err(|reason| Divergence { time: t, reason })?;
         Ok(nis)
@@ -451,8 +476,11 @@ impl HybridEkf {
         &self.upd.s_diag
     }
 
-    /// Fails when P is not finite or not positive definite.
-    fn check_covariance(&mut self, t: f64) -> Result<(), Divergence> {
+    /// Fails when P is not finite or not positive definite (a Cholesky factorisation). The
+    /// filter does this after every `CHECK_EVERY`-th update and whenever a variance is not
+    /// positive; call it at the end of a run to check the last samples too.
+    pub fn check_covariance(&mut self, t: f64) -> Result<(), Divergence> {
+        self.updates_since_check = 0;
         self.chol.copy_from_slice(&self.p);
         cholesky(&mut self.chol, self.n).map_err(|i| Divergence {
             time: t,
@@ -578,7 +606,7 @@ mod tests {
             h[0] = 1.0;
             h[1] = 0.0;
         }
-        fn check(&self, _x: &[f64]) -> Result<(), String> {
+        fn check(&mut self, _x: &[f64]) -> Result<(), String> {
             Ok(())
         }
     }
