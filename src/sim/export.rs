@@ -5,8 +5,8 @@ use super::config::{ExportColumn, ExportConfig};
 use super::synth::Columns;
 use crate::error::{Error, Result};
 use crate::formats::Format;
+use crate::frames::rotation_zyx;
 use crate::quantity::Quantity;
-use crate::record::rotation_zyx;
 use crate::units::{wrap_pi, Unit};
 use std::fmt::Write;
 
