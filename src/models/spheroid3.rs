@@ -136,12 +136,12 @@ impl Model for Spheroid3 {
         let m12 = -c[YRD];
         let m21 = -c[NVD];
         let m22 = -c[NRD] + self.izz;
-        let det = m11 * m22 - m12 * m21;
+        let inv_det = (m11 * m22 - m12 * m21).recip();
         dx[0] = fx / (-c[XUD] + m);
-        dx[1] = (fy * m22 - fn_ * m12) / det;
-        dx[2] = (fn_ * m11 - fy * m21) / det;
+        dx[1] = (fy * m22 - fn_ * m12) * inv_det;
+        dx[2] = (fn_ * m11 - fy * m21) * inv_det;
         // kinematics (paper eq. 2, last line)
-        let (s, co) = (psi.sin(), psi.cos());
+        let (s, co) = psi.sin_cos();
         dx[3] = uu * co - v * s;
         dx[4] = uu * s + v * co;
         dx[5] = r;

@@ -141,11 +141,7 @@ impl HybridEkf {
             for ((c, k), pi) in col.iter_mut().zip(kvec.iter()).zip(row_j.iter()) {
                 *c = r[a] * k - (pi - k * pjj);
             }
-            for ((prow, ki), ci) in p.chunks_exact_mut(n).zip(kvec.iter()).zip(col.iter()) {
-                for ((pv, pl), kl) in prow.iter_mut().zip(row_j.iter()).zip(kvec.iter()) {
-                    *pv += ci * kl - ki * pl;
-                }
-            }
+            rank_two_update(p, kvec, col, row_j);
         }
         self.finish_update(sys, t, nis)
     }
@@ -194,6 +190,20 @@ impl HybridEkf {
             time: t,
             reason: format!("the covariance lost positive definiteness (state {i})"),
         })
+    }
+}
+
+/// P_il += c_i k_l - k_i p_l over the n x n matrix `p` (the fused Joseph update), with
+/// equal-length slices so that the inner loop vectorises.
+#[inline]
+fn rank_two_update(p: &mut [f64], k: &[f64], c: &[f64], row: &[f64]) {
+    let n = k.len();
+    let (c, row) = (&c[..n], &row[..n]);
+    for (i, prow) in p[..n * n].chunks_exact_mut(n).enumerate() {
+        let (ki, ci) = (k[i], c[i]);
+        for l in 0..n {
+            prow[l] += ci * k[l] - ki * row[l];
+        }
     }
 }
 
