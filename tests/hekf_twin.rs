@@ -13,24 +13,7 @@ use hydroid::sim::synth::synthesize;
 use hydroid::stages::hekf::{self, HekfConfig, HekfResult, ModelName, Preset, Prior};
 use std::collections::BTreeMap;
 
-const TRUTH: &[(&str, f64)] = &[
-    ("Xud", -1.1640),
-    ("Yvd", -23.626),
-    ("Yrd", 0.0),
-    ("Nrd", -1.4532),
-    ("Kpd", 0.0),
-    ("Xuu", -1.33),
-    ("Xuv", 0.44),
-    ("Xvv", -5.38),
-    ("Yvv", -0.44),
-    ("Yrr", 0.5),
-    ("Yuvd", 1.33),
-    ("Yuvl", -16.31),
-    ("Nvv", 10.0),
-    ("Nrr", -5.0),
-    ("Nuvl", 13.43),
-    ("Kpp", -0.05),
-];
+use hydroid::models::spheroid3::BOUNDED_TRUTH as TRUTH;
 
 const ESTIMATED: [&str; 6] = ["Yvd", "Yrd", "Nrd", "Nvv", "Nrr", "Yrr"];
 

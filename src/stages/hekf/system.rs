@@ -156,19 +156,11 @@ impl<M: Model> System for ModelSystem<'_, M> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::models::{Scales, Spheroid3};
+    use crate::models::Spheroid3;
 
     #[test]
     fn augmented_jacobian_matches_finite_differences() {
-        let m = Spheroid3::new(
-            50.0,
-            3.7,
-            Scales {
-                q: 16.1,
-                length: 1.2,
-                added: None,
-            },
-        );
+        let m = Spheroid3::paper_vehicle();
         let names = m.coefficient_names();
         let mut base = vec![0.0; names.len()];
         for (n, v) in [

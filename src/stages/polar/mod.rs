@@ -59,16 +59,6 @@ pub fn needs(config: &PolarConfig) -> Needs<'static> {
     }
 }
 
-/// Reads every run of `config` (paths relative to `base`) with what [`needs`] asks for.
-pub fn load(config: &PolarConfig, base: &std::path::Path) -> Result<Vec<Record>> {
-    let needs = needs(config);
-    config
-        .runs
-        .iter()
-        .map(|spec| crate::record::load(spec, base, &needs).map_err(Error::from))
-        .collect()
-}
-
 /// Runs the polar stage on records already read.
 pub fn run(
     config: &PolarConfig,

@@ -67,16 +67,6 @@ pub fn needs(config: &SurgeConfig) -> Needs<'static> {
     }
 }
 
-/// Reads every run of `config` (paths relative to `base`) with what [`needs`] asks for.
-pub fn load(config: &SurgeConfig, base: &std::path::Path) -> Result<Vec<Record>> {
-    let needs = needs(config);
-    config
-        .runs
-        .iter()
-        .map(|spec| crate::record::load(spec, base, &needs).map_err(Error::from))
-        .collect()
-}
-
 /// Runs the surge stage on records already read. `known` supplies X_uu (with its sigma) for
 /// `drag_from = "coefficients"`.
 pub fn run(
