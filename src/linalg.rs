@@ -3,29 +3,14 @@
 //! The filter works on a few dozen states at most; these loops are written so the compiler
 //! vectorises the innermost one, and nothing allocates.
 
-/// out (r x c) = a (r x k) * b (k x c), with the `matrixmultiply` kernels (SIMD chosen at
-/// run time).
+/// out (r x c) = a (r x k) * b (k x c).
 pub fn matmul(a: &[f64], b: &[f64], r: usize, k: usize, c: usize, out: &mut [f64]) {
     let (a, b, out) = (&a[..r * k], &b[..k * c], &mut out[..r * c]);
-    // SAFETY: the slices hold r x k, k x c and r x c elements, row-major with the strides
-    // given, as checked by the slicing above.
-    unsafe {
-        matrixmultiply::dgemm(
-            r,
-            k,
-            c,
-            1.0,
-            a.as_ptr(),
-            k as isize,
-            1,
-            b.as_ptr(),
-            c as isize,
-            1,
-            0.0,
-            out.as_mut_ptr(),
-            c as isize,
-            1,
-        );
+    out.fill(0.0);
+    for (arow, orow) in a.chunks_exact(k).zip(out.chunks_exact_mut(c)) {
+        for (&ail, brow) in arow.iter().zip(b.chunks_exact(c)) {
+            axpy(ail, brow, orow);
+        }
     }
 }
 
