@@ -14,7 +14,7 @@
 //! the end of each run.
 
 use super::System;
-use crate::linalg::{matmul, symmetrize};
+use crate::linalg::{dot, dot3, matmul, symmetrize};
 use std::fmt;
 
 /// The filter failed: non-finite numbers, a covariance that lost positive definiteness, or a
@@ -233,56 +233,7 @@ impl HybridEkf {
         // M = Phi_top P (nd x n)
         let m = &mut self.fp;
         matmul(top, &self.p, nd, n, n, m);
-        // new P_xx = M Phi_top^T; new P_xz = M[:, nd..]; P_zz unchanged
-        let top_t = &mut self.tmp2;
-        transpose(top, nd, n, top_t);
-        let pxx = &mut self.tmp;
-        matmul(m, top_t, nd, n, nd, pxx);
-        for i in 0..nd {
-            for j in 0..n {
-                let v = if j < nd {
-                    pxx[i * nd + j]
-                } else {
-                    m[i * n + j]
-                };
-                self.p[i * n + j] = v;
-                if j >= nd {
-                    self.p[j * n + i] = v;
-                }
-            }
-        }
-        if self.q.iter().any(|&q| q != 0.0) {
-            // Q_d = h (Phi Q Phi^T + Q) / 2 with Q diagonal and Phi = [[top], [0 I]]:
-            // (Phi Q Phi^T)_ij = sum_k top_ik q_k top_jk for i, j < nd; top_ij q_j for i < nd
-            // <= j; q_i on the diagonal below.
-            let q = &self.q;
-            let half_h = 0.5 * h;
-            for i in 0..nd {
-                let ti = &top[i * n..(i + 1) * n];
-                for j in i..nd {
-                    let tj = &top[j * n..(j + 1) * n];
-                    let v: f64 = ti
-                        .iter()
-                        .zip(tj)
-                        .zip(q)
-                        .map(|((a, b), qk)| a * qk * b)
-                        .sum();
-                    let qd = half_h * (v + if i == j { q[i] } else { 0.0 });
-                    self.p[i * n + j] += qd;
-                    if j != i {
-                        self.p[j * n + i] += qd;
-                    }
-                }
-                for j in nd..n {
-                    let qd = half_h * ti[j] * q[j];
-                    self.p[i * n + j] += qd;
-                    self.p[j * n + i] += qd;
-                }
-            }
-            for i in nd..n {
-                self.p[i * n + i] += h * q[i];
-            }
-        }
+        congruence_blocks(&mut self.p, m, top, &self.q, nd, h);
     }
 
     /// Accumulates the full transition matrix of the sample interval: Phi <- Phi_step Phi.
@@ -296,6 +247,55 @@ impl HybridEkf {
         }
         matmul(full, &self.phi, n, n, n, &mut self.tmp);
         self.phi.copy_from_slice(&self.tmp);
+    }
+}
+
+/// The rest of P <- Phi P Phi^T + Q_d once M = Phi_top P is known (Phi = [[top], [0 I]]):
+/// new P_xx = M Phi_top^T (symmetric: upper triangle, mirrored), new P_xz = M[:, nd..], P_zz
+/// unchanged; then Q_d = h (Phi Q Phi^T + Q) / 2 with Q diagonal, where
+/// (Phi Q Phi^T)_ij = sum_k top_ik q_k top_jk for i, j < nd, top_ij q_j for i < nd <= j, and
+/// q_i on the diagonal below.
+fn congruence_blocks(p: &mut [f64], m: &[f64], top: &[f64], q: &[f64], nd: usize, h: f64) {
+    crate::linalg::dispatch!(congruence_blocks_impl(p, m, top, q, nd, h))
+}
+
+#[inline(always)]
+fn congruence_blocks_impl(p: &mut [f64], m: &[f64], top: &[f64], q: &[f64], nd: usize, h: f64) {
+    let n = q.len();
+    for i in 0..nd {
+        let mi = &m[i * n..(i + 1) * n];
+        for j in i..nd {
+            let v = dot(mi, &top[j * n..(j + 1) * n]);
+            p[i * n + j] = v;
+            p[j * n + i] = v;
+        }
+        for j in nd..n {
+            p[i * n + j] = mi[j];
+            p[j * n + i] = mi[j];
+        }
+    }
+    if q.iter().all(|&v| v == 0.0) {
+        return;
+    }
+    let half_h = 0.5 * h;
+    for i in 0..nd {
+        let ti = &top[i * n..(i + 1) * n];
+        for j in i..nd {
+            let v = dot3(ti, q, &top[j * n..(j + 1) * n]);
+            let qd = half_h * (v + if i == j { q[i] } else { 0.0 });
+            p[i * n + j] += qd;
+            if j != i {
+                p[j * n + i] += qd;
+            }
+        }
+        for j in nd..n {
+            let qd = half_h * ti[j] * q[j];
+            p[i * n + j] += qd;
+            p[j * n + i] += qd;
+        }
+    }
+    for i in nd..n {
+        p[i * n + i] += h * q[i];
     }
 }
 

@@ -3,7 +3,7 @@
 
 use super::{transpose, Divergence, HybridEkf, CHECK_EVERY};
 use crate::estimation::System;
-use crate::linalg::{cholesky, matmul, symmetrize};
+use crate::linalg::{cholesky, matmul, rank_two_update, symmetrize};
 
 impl HybridEkf {
     /// Measurement update with measurement `y` and diagonal measurement noise variance `r`.
@@ -190,20 +190,6 @@ impl HybridEkf {
             time: t,
             reason: format!("the covariance lost positive definiteness (state {i})"),
         })
-    }
-}
-
-/// P_il += c_i k_l - k_i p_l over the n x n matrix `p` (the fused Joseph update), with
-/// equal-length slices so that the inner loop vectorises.
-#[inline]
-fn rank_two_update(p: &mut [f64], k: &[f64], c: &[f64], row: &[f64]) {
-    let n = k.len();
-    let (c, row) = (&c[..n], &row[..n]);
-    for (i, prow) in p[..n * n].chunks_exact_mut(n).enumerate() {
-        let (ki, ci) = (k[i], c[i]);
-        for l in 0..n {
-            prow[l] += ci * k[l] - ki * row[l];
-        }
     }
 }
 
