@@ -4,58 +4,18 @@
 //! `cargo bench --bench hekf`; numbers are recorded in docs/performance.md.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use hydroid::coefficients::{Coefficient, CoefficientSet, Source};
 use hydroid::estimation::System;
-use hydroid::models::{AddedMass, Model, Scales, Spheroid3};
+use hydroid::models::spheroid3::BOUNDED_TRUTH;
+use hydroid::models::{Model, Spheroid3};
 use hydroid::progress::Silent;
-use hydroid::sim::{complete_coefficients, simulate, InputSeries};
+use hydroid::sim::{simulate, InputSeries};
 use hydroid::stages::hekf::identify::{identify, RunData, Setup};
 use hydroid::stages::hekf::system::ModelSystem;
 use rand::{rngs::StdRng, SeedableRng};
 use rand_distr::{Distribution, Normal};
 use std::hint::black_box;
 
-const TRUTH: &[(&str, f64)] = &[
-    ("Xud", -1.164),
-    ("Yvd", -23.626),
-    ("Yrd", 0.0),
-    ("Nrd", -1.4532),
-    ("Xuu", -1.33),
-    ("Xuv", 0.44),
-    ("Xvv", -5.38),
-    ("Yvv", -0.44),
-    ("Yrr", 0.5),
-    ("Yuvd", 1.33),
-    ("Yuvl", -16.31),
-    ("Nvv", 10.0),
-    ("Nrr", -5.0),
-    ("Nuvl", 13.43),
-];
 const ESTIMATED: [&str; 6] = ["Yvd", "Yrd", "Nrd", "Nvv", "Nrr", "Yrr"];
-
-fn model() -> Spheroid3 {
-    Spheroid3::new(
-        50.0,
-        3.7,
-        Scales {
-            q: 16.1,
-            length: 1.2,
-            added: Some(AddedMass {
-                xud: -1.164,
-                yvd: -23.626,
-                nrd: -1.4532,
-            }),
-        },
-    )
-}
-
-fn truth(m: &Spheroid3) -> Vec<f64> {
-    let mut set = CoefficientSet::new();
-    for (n, v) in TRUTH {
-        set.insert(Coefficient::new(n, *v, None, Source::Config));
-    }
-    complete_coefficients(m, &set).unwrap()
-}
 
 fn run_data(m: &Spheroid3, c: &[f64]) -> RunData {
     let times: Vec<f64> = (0..2000).map(|k| k as f64 * 0.01).collect();
@@ -94,8 +54,8 @@ fn run_data(m: &Spheroid3, c: &[f64]) -> RunData {
 }
 
 fn bench(c: &mut Criterion) {
-    let m = model();
-    let truth = truth(&m);
+    let m = Spheroid3::paper_vehicle();
+    let truth = m.coefficient_vector(BOUNDED_TRUTH);
     let run = run_data(&m, &truth);
     let est: Vec<usize> = ESTIMATED
         .iter()

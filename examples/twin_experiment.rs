@@ -3,49 +3,18 @@
 //!
 //! `cargo run --release --example twin_experiment`
 
-use hydroid::coefficients::{Coefficient, CoefficientSet, Source};
-use hydroid::models::{AddedMass, Model, Scales, Spheroid3};
+use hydroid::models::spheroid3::BOUNDED_TRUTH;
+use hydroid::models::{Model, Spheroid3};
 use hydroid::progress::Silent;
-use hydroid::sim::{complete_coefficients, simulate, InputSeries};
+use hydroid::sim::{simulate, InputSeries};
 use hydroid::stages::hekf::identify::{identify, RunData, Setup};
 use rand::{rngs::StdRng, SeedableRng};
 use rand_distr::{Distribution, Normal};
 
 fn main() {
-    let model = Spheroid3::new(
-        50.0,
-        3.7,
-        Scales {
-            q: 16.1,
-            length: 1.2,
-            added: Some(AddedMass {
-                xud: -1.164,
-                yvd: -23.626,
-                nrd: -1.4532,
-            }),
-        },
-    );
-    let truth = [
-        ("Xud", -1.164),
-        ("Yvd", -23.626),
-        ("Yrd", 0.0),
-        ("Nrd", -1.4532),
-        ("Xuu", -1.33),
-        ("Xuv", 0.44),
-        ("Xvv", -5.38),
-        ("Yvv", -0.44),
-        ("Yrr", 0.5),
-        ("Yuvd", 1.33),
-        ("Yuvl", -16.31),
-        ("Nvv", 10.0),
-        ("Nrr", -5.0),
-        ("Nuvl", 13.43),
-    ];
-    let mut set = CoefficientSet::new();
-    for (n, v) in truth {
-        set.insert(Coefficient::new(n, v, None, Source::Config));
-    }
-    let c = complete_coefficients(&model, &set).unwrap();
+    let model = Spheroid3::paper_vehicle();
+    let c = model.coefficient_vector(BOUNDED_TRUTH);
+    let truth_of = |n: &str| BOUNDED_TRUTH.iter().find(|(m, _)| *m == n).unwrap().1;
     let dt: f64 = std::env::args().nth(1).map_or(0.01, |s| s.parse().unwrap());
     let q_state: f64 = std::env::args().nth(2).map_or(0.0, |s| s.parse().unwrap());
     let passes: usize = std::env::args().nth(3).map_or(3, |s| s.parse().unwrap());
@@ -133,7 +102,7 @@ fn main() {
     for (p, pe) in id.passes.iter().enumerate() {
         println!("pass {}", p + 1);
         for (j, n) in est_names.iter().enumerate() {
-            let tv = set.value(n).unwrap();
+            let tv = truth_of(n);
             println!(
                 "  {n:5} {:10.4} +- {:8.4}  truth {:8.4}  err {:7.3} %  ({:5.2} sigma)",
                 pe.values[j],

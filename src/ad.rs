@@ -19,8 +19,9 @@ impl<T: DualNum<Primitive = f64> + Copy + Send + Sync + DualStruct<Real = f64>> 
     }
 }
 
-/// Number of derivative directions carried per evaluation.
-pub const CHUNK: usize = 8;
+/// Number of derivative directions carried per evaluation (6 measured fastest for the
+/// 12-state spheroid filter: two passes of 6 beat one of 12 or passes of 8 and 4).
+pub const CHUNK: usize = 6;
 
 /// The dual number used for Jacobians.
 pub type Dual = DualSVec64<CHUNK>;

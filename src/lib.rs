@@ -15,6 +15,7 @@ pub mod config;
 pub mod error;
 pub mod estimation;
 pub mod formats;
+pub mod frames;
 pub mod inspect;
 pub mod linalg;
 pub mod models;

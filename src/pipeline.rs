@@ -91,10 +91,84 @@ pub fn analytic_added_mass(loaded: &LoadedConfig) -> Result<Vec<Coefficient>> {
     }
 }
 
+/// Coefficient names that the configuration, the analytic formulas and the enabled stages
+/// will provide (so that a stage's needs can be checked before anything runs).
+pub fn available_coefficients(cfg: &crate::config::Config) -> Vec<String> {
+    let mut names: Vec<String> = cfg.coefficients.keys().cloned().collect();
+    if cfg.vehicle.diameter.is_some() {
+        names.extend(["Xud", "Yvd", "Zwd", "Nrd", "Mqd", "Kpd", "Yrd", "Nvd"].map(String::from));
+    }
+    if cfg.polar.as_ref().is_some_and(|c| c.enabled) {
+        names.extend(
+            crate::stages::polar::provides()
+                .iter()
+                .map(|n| n.to_string()),
+        );
+    }
+    if let Some(sc) = cfg.surge.as_ref().filter(|c| c.enabled) {
+        names.extend(
+            crate::stages::surge::provides(sc)
+                .iter()
+                .map(|n| n.to_string()),
+        );
+    }
+    names.sort();
+    names.dedup();
+    names
+}
+
+/// Problems of the configuration that only show with the inputs read: what the HEKF stage
+/// would miss (coefficients nothing provides, estimated coefficients a relation derives,
+/// inputs a run lacks).
+pub fn preflight(
+    loaded: &LoadedConfig,
+    inputs: &[LoadedInput],
+) -> Vec<crate::error::ConfigProblem> {
+    let cfg = &loaded.config;
+    let Some(hc) = cfg.hekf.as_ref().filter(|c| c.enabled) else {
+        return Vec::new();
+    };
+    let runs: Vec<&Record> = inputs
+        .iter()
+        .filter(|i| i.key.starts_with("hekf.runs[") || i.key.starts_with("hekf.validation["))
+        .map(|i| &i.record)
+        .collect();
+    hekf::preflight(
+        hc,
+        &cfg.vehicle,
+        &cfg.fluid,
+        &available_coefficients(cfg),
+        &runs,
+    )
+    .into_iter()
+    .map(|message| crate::error::ConfigProblem {
+        file: loaded.path.clone(),
+        line: None,
+        key: Some("hekf".into()),
+        message,
+    })
+    .collect()
+}
+
 /// Runs every enabled stage, telling `progress` how it goes.
 pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutput> {
     let cfg = &loaded.config;
+    // every input first: a bad file stops the run before any stage has run
     let mut inputs: Vec<LoadedInput> = Vec::new();
+    for (key, spec, needs) in stage_inputs(cfg) {
+        inputs.push(load_input(loaded, &key, spec, &needs)?);
+    }
+    let problems = preflight(loaded, &inputs);
+    if !problems.is_empty() {
+        return Err(Error::Config(problems));
+    }
+    let records = |prefix: &str| -> Vec<Record> {
+        inputs
+            .iter()
+            .filter(|i| i.key.starts_with(prefix))
+            .map(|i| i.record.clone())
+            .collect()
+    };
     let mut warnings = Vec::new();
     let mut known = CoefficientSet::new();
     for (name, v) in &cfg.coefficients {
@@ -104,59 +178,34 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutp
     let mut stages = StageResults::default();
 
     if let Some(pc) = cfg.polar.as_ref().filter(|c| c.enabled) {
-        let needs = crate::stages::polar::needs(pc);
-        let mut recs = Vec::new();
-        for (key, spec) in pc.inputs() {
-            let li = load_input(loaded, &key, spec, &needs)?;
-            recs.push(li.record.clone());
-            inputs.push(li);
-        }
+        let recs = records("polar.");
         let r = crate::stages::polar::run(pc, &cfg.vehicle, &cfg.fluid, &recs)?;
         known.merge_stage(r.coefficients(), r.directions.clone());
-        progress.stage(&format!("polar: fitted {} steady runs", recs.len()));
+        progress.stage(&format!(
+            "polar: {} coefficients from {} steady points",
+            r.coefficients.len(),
+            r.pooled.n_points
+        ));
         stages.polar = Some(r);
     }
     if let Some(sc) = cfg.surge.as_ref().filter(|c| c.enabled) {
-        let needs = crate::stages::surge::needs(sc);
-        let mut recs = Vec::new();
-        for (key, spec) in sc.inputs() {
-            let li = load_input(loaded, &key, spec, &needs)?;
-            recs.push(li.record.clone());
-            inputs.push(li);
-        }
+        let recs = records("surge.");
         known.complete(SYMMETRY);
         let r = crate::stages::surge::run(sc, &cfg.vehicle, &known, &recs)?;
         r.merge_into(&mut known);
-        progress.stage("surge: added mass from the acceleration run");
+        progress.stage(&format!(
+            "surge: Xud from {} run{}",
+            recs.len(),
+            if recs.len() == 1 { "" } else { "s" }
+        ));
         stages.surge = Some(r);
     }
     let mut resim_traces = Vec::new();
     let mut resim_metrics = Vec::new();
     let mut model_name = None;
     if let Some(hc) = cfg.hekf.as_ref().filter(|c| c.enabled) {
-        let needs = hekf::needs(hc);
-        let mut fit = Vec::new();
-        for (key, spec) in hc
-            .runs
-            .iter()
-            .enumerate()
-            .map(|(i, s)| (format!("hekf.runs[{i}]"), s))
-        {
-            let li = load_input(loaded, &key, spec, &needs)?;
-            fit.push(li.record.clone());
-            inputs.push(li);
-        }
-        let mut validation = Vec::new();
-        for (key, spec) in hc
-            .validation
-            .iter()
-            .enumerate()
-            .map(|(i, s)| (format!("hekf.validation[{i}]"), s))
-        {
-            let li = load_input(loaded, &key, spec, &needs)?;
-            validation.push(li.record.clone());
-            inputs.push(li);
-        }
+        let fit = records("hekf.runs[");
+        let validation = records("hekf.validation[");
         // fixed coefficients: stages and configuration first, analytic values where nothing
         // else gives one
         let mut for_filter = known.clone();

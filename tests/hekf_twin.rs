@@ -13,24 +13,7 @@ use hydroid::sim::synth::synthesize;
 use hydroid::stages::hekf::{self, HekfConfig, HekfResult, ModelName, Preset, Prior};
 use std::collections::BTreeMap;
 
-const TRUTH: &[(&str, f64)] = &[
-    ("Xud", -1.1640),
-    ("Yvd", -23.626),
-    ("Yrd", 0.0),
-    ("Nrd", -1.4532),
-    ("Kpd", 0.0),
-    ("Xuu", -1.33),
-    ("Xuv", 0.44),
-    ("Xvv", -5.38),
-    ("Yvv", -0.44),
-    ("Yrr", 0.5),
-    ("Yuvd", 1.33),
-    ("Yuvl", -16.31),
-    ("Nvv", 10.0),
-    ("Nrr", -5.0),
-    ("Nuvl", 13.43),
-    ("Kpp", -0.05),
-];
+use hydroid::models::spheroid3::BOUNDED_TRUTH as TRUTH;
 
 const ESTIMATED: [&str; 6] = ["Yvd", "Yrd", "Nrd", "Nvv", "Nrr", "Yrr"];
 
@@ -302,23 +285,7 @@ fn paper_manoeuvre_with_hydroid_defaults() {
 #[test]
 fn second_manoeuvre_coarser_sampling() {
     // different initial state and thrust (with a step), 25 s sampled every 50 ms
-    let run = simulate(Man {
-        model: ModelName::Spheroid3,
-        initial: &[
-            (Quantity::U, "2 m/s"),
-            (Quantity::V, "-0.5 m/s"),
-            (Quantity::R, "0.2 rad/s"),
-        ],
-        thrust: "15 N",
-        steps: vec![Step {
-            time: 10.0,
-            values: [(Quantity::Thrust, c("30 N"))].into_iter().collect(),
-        }],
-        duration: 25.0,
-        dt: 0.05,
-        noisy: true,
-        seed: 2,
-    });
+    let run = second_manoeuvre(2);
     let r = identify(&config(Preset::Hydroid, ModelName::Spheroid3), &[run]).unwrap();
     assert_eq!(r.settings.substeps, 5, "10 ms RK4 steps by default");
     assert_issue_accuracy(&r);
@@ -429,4 +396,63 @@ fn a_bad_prior_gives_a_clear_error_not_a_nan() {
     assert!(e.contains("hekf") && e.contains("t = "), "{e}");
     assert!(e.contains("m - Yvd"), "{e}");
     assert!(!e.contains("NaN"), "{e}");
+}
+
+/// Second manoeuvre of the issue: different initial state, a thrust step, 50 ms sampling.
+fn second_manoeuvre(seed: u64) -> Record {
+    simulate(Man {
+        model: ModelName::Spheroid3,
+        initial: &[
+            (Quantity::U, "2 m/s"),
+            (Quantity::V, "-0.5 m/s"),
+            (Quantity::R, "0.2 rad/s"),
+        ],
+        thrust: "15 N",
+        steps: vec![Step {
+            time: 10.0,
+            values: [(Quantity::Thrust, c("30 N"))].into_iter().collect(),
+        }],
+        duration: 25.0,
+        dt: 0.05,
+        noisy: true,
+        seed,
+    })
+}
+
+#[test]
+fn two_runs_identified_jointly_beat_either_alone() {
+    let (a, b) = (paper_manoeuvre(true, 7), second_manoeuvre(8));
+    let cfg = config(Preset::Hydroid, ModelName::Spheroid3);
+    let ra = identify(&cfg, std::slice::from_ref(&a)).unwrap();
+    let rb = identify(&cfg, std::slice::from_ref(&b)).unwrap();
+    let joint = identify(&cfg, &[a, b]).unwrap();
+    assert_eq!(joint.runs.len(), 2);
+    let (ca, cb, cj) = (checks(&ra), checks(&rb), checks(&joint));
+    for n in ESTIMATED {
+        // more data: a sigma no larger than either run's alone
+        assert!(cj[n].sigma <= ca[n].sigma.min(cb[n].sigma) * 1.0001, "{n}");
+        assert!((cj[n].value - cj[n].truth).abs() < 3.0 * cj[n].sigma, "{n}");
+    }
+    assert_issue_accuracy(&joint);
+}
+
+#[test]
+fn smoothed_states_are_closer_to_the_truth_than_filtered_ones() {
+    let noisy = paper_manoeuvre(true, 4);
+    let clean = paper_manoeuvre(false, 0);
+    let mut cfg = config(Preset::Hydroid, ModelName::Spheroid3);
+    cfg.smoother = Some(true);
+    let r = identify(&cfg, &[noisy]).unwrap();
+    let tr = &r.traces[0];
+    let smoothed = tr.smoothed.as_ref().expect("smoother ran");
+    let v_true = clean.channel(Quantity::V).unwrap();
+    let rms = |xs: &[f64]| {
+        let s: f64 = (0..v_true.len())
+            .map(|k| (xs[k * 6 + 1] - v_true[k]).powi(2))
+            .sum();
+        (s / v_true.len() as f64).sqrt()
+    };
+    let (f, s) = (rms(&tr.filtered), rms(smoothed));
+    assert!(s < f, "smoothed v RMS error {s} not below filtered {f}");
+    assert!(s < 1e-3, "smoothed v within the measurement noise: {s}");
 }

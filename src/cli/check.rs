@@ -22,8 +22,9 @@ pub struct Args {
 /// Runs the command.
 pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
     let text = config::read(&args.config)?;
-    let (loaded, config_problems) = config::load_lenient(&args.config, &text, &args.set);
+    let (loaded, mut config_problems) = config::load_lenient(&args.config, &text, &args.set);
     let mut input_problems = Vec::new();
+    let mut usable = Vec::new();
     if let Some(l) = &loaded {
         let c = &l.config;
         writeln!(out, "configuration: {}", l.path.display())?;
@@ -94,6 +95,7 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
                     for w in &r.warnings {
                         writeln!(out, "      warning: {w}")?;
                     }
+                    usable.push(li);
                 }
                 Err(e) => {
                     writeln!(out, "  {key}: {} (cannot be used)", spec.file.display())?;
@@ -101,6 +103,9 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
                 }
             }
         }
+    }
+    if let Some(l) = &loaded {
+        config_problems.extend(pipeline::preflight(l, &usable));
     }
     if config_problems.is_empty() && input_problems.is_empty() {
         writeln!(out, "ok: the configuration and every input are usable")?;

@@ -30,6 +30,27 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
     let output = pipeline::run(&loaded, &mut progress::Cli::new())?;
     report::write(&staging, &loaded, &output)?;
     let dir = staging.commit()?;
+    if let Some(h) = &output.result.stages.hekf {
+        note(&format!(
+            "hekf settings: {} preset, {} passes, {} RK4 sub-steps per sample",
+            h.preset, h.settings.passes, h.settings.substeps
+        ));
+        for t in &h.tuning {
+            note(&format!("hekf prior: {t}"));
+        }
+        for run in &h.runs {
+            for n in &run.noise {
+                note(&format!(
+                    "hekf noise of {} in '{}': sigma {:.3e} {} ({})",
+                    n.quantity,
+                    run.name,
+                    n.sigma,
+                    n.quantity.si_symbol(),
+                    n.source
+                ));
+            }
+        }
+    }
     for w in &output.result.warnings {
         note(&format!("warning: {w}"));
     }

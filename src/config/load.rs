@@ -93,14 +93,33 @@ pub fn load_lenient(
 fn deserialize_collecting(path: &Path, text: &str) -> (Option<Config>, Vec<ConfigProblem>) {
     let mut text = text.to_string();
     let mut problems = Vec::new();
+    let mut neutralised_keys: Vec<String> = Vec::new();
     for _ in 0..64 {
         match toml::from_str::<Config>(&text) {
-            Ok(c) => {
-                return (if problems.is_empty() { Some(c) } else { None }, problems);
-            }
+            // With the faulty lines commented out the rest still deserialises: return it so
+            // that validation can report the remaining problems too.
+            Ok(c) => return (Some(c), problems),
             Err(e) => {
                 let line = e.span().map(|s| line_of_offset(&text, s.start));
                 let syntax = is_syntax_error(&e);
+                // "missing field `mass`" after commenting out a bad `mass = ...` line says
+                // nothing new: stop there.
+                if let Some(k) = e.message().strip_prefix("missing field `") {
+                    let k = k.trim_end_matches('`');
+                    if neutralised_keys.iter().any(|n| n == k) {
+                        return (None, problems);
+                    }
+                }
+                if let Some(l) = line {
+                    if let Some(k) = text
+                        .lines()
+                        .nth(l - 1)
+                        .and_then(|s| s.split_once('='))
+                        .map(|(k, _)| k.trim().to_string())
+                    {
+                        neutralised_keys.push(k);
+                    }
+                }
                 problems.push(ConfigProblem {
                     file: path.to_path_buf(),
                     line,

@@ -32,7 +32,14 @@ pub trait System {
     /// y = h(x) (length `m`) and H = dh/dx (`m x n`, row-major).
     fn observe(&mut self, x: &[f64], y: &mut [f64], h: &mut [f64]);
 
+    /// When every measurement is one state (H a selection of rows of the identity), the
+    /// state indices; the filter then skips [`System::observe`] and updates one measurement
+    /// at a time.
+    fn selection(&self) -> Option<&[usize]> {
+        None
+    }
+
     /// A physical check of the state (e.g. positive effective masses); the message says what
     /// is wrong.
-    fn check(&self, x: &[f64]) -> Result<(), String>;
+    fn check(&mut self, x: &[f64]) -> Result<(), String>;
 }

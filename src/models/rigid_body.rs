@@ -83,8 +83,8 @@ pub fn added_mass_coriolis<T: Scalar>(ma: &[[T; 6]; 6], nu: &[T; 6]) -> [T; 6] {
 /// Hydrostatic restoring forces -g(eta) for weight W at (0, 0, zg) and buoyancy B at the
 /// origin (Fossen 2011, eq. 4.6).
 pub fn restoring<T: Scalar>(weight: f64, buoyancy: f64, zg: f64, phi: T, theta: T) -> [T; 6] {
-    let (sf, cf) = (phi.sin(), phi.cos());
-    let (st, ct) = (theta.sin(), theta.cos());
+    let (sf, cf) = phi.sin_cos();
+    let (st, ct) = theta.sin_cos();
     let wb = weight - buoyancy;
     let zw = zg * weight;
     [
@@ -99,9 +99,9 @@ pub fn restoring<T: Scalar>(weight: f64, buoyancy: f64, zg: f64, phi: T, theta: 
 
 /// Euler-angle kinematics eta_dot = J(eta) nu, zyx convention (Fossen 2011, eq. 2.40).
 pub fn kinematics<T: Scalar>(nu: &[T; 6], phi: T, theta: T, psi: T) -> [T; 6] {
-    let (sf, cf) = (phi.sin(), phi.cos());
-    let (st, ct) = (theta.sin(), theta.cos());
-    let (sp, cp) = (psi.sin(), psi.cos());
+    let (sf, cf) = phi.sin_cos();
+    let (st, ct) = theta.sin_cos();
+    let (sp, cp) = psi.sin_cos();
     let (u, v, w, p, q, r) = (nu[0], nu[1], nu[2], nu[3], nu[4], nu[5]);
     let tt = st / ct;
     [

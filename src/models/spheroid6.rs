@@ -235,23 +235,13 @@ mod tests {
         c
     }
 
-    const PAPER: &[(&str, f64)] = &[
-        ("Xud", -1.164),
-        ("Yvd", -23.626),
-        ("Yrd", 0.1),
-        ("Nrd", -1.4532),
-        ("Xuu", -1.33),
-        ("Xuv", 0.44),
-        ("Xvv", -5.38),
-        ("Yvv", -0.44),
-        ("Yrr", 0.5),
-        ("Yuvd", 1.33),
-        ("Yuvl", -16.31),
-        ("Nvv", 10.0),
-        ("Nrr", -5.0),
-        ("Nuvl", 13.43),
-        ("Kpp", -0.1),
-    ];
+    /// The bounded truth with a non-zero Yrd, so that the off-diagonal added mass counts.
+    fn paper() -> Vec<(&'static str, f64)> {
+        crate::models::spheroid3::BOUNDED_TRUTH
+            .iter()
+            .map(|&(n, v)| (n, if n == "Yrd" { 0.1 } else { v }))
+            .collect()
+    }
 
     #[test]
     fn index_constants_match_the_list() {
@@ -271,9 +261,9 @@ mod tests {
     #[test]
     fn reduces_to_the_paper_model_in_the_plane() {
         let m6 = Spheroid6::new(50.0, [0.5, 3.7, 3.7], 50.0 * G, 0.0, scales());
-        let m3 = Spheroid3::new(50.0, 3.7, scales());
-        let c6 = fill(&m6, PAPER);
-        let c3 = fill(&m3, PAPER);
+        let m3 = Spheroid3::new(50.0, 3.7, scales()); // the same vehicle as m6
+        let c6 = fill(&m6, &paper());
+        let c3 = fill(&m3, &paper());
         let (u, v, r, psi) = (2.5, 0.7, -0.3, 0.4);
         let mut d6 = [0.0; 12];
         m6.derivatives(
@@ -302,7 +292,7 @@ mod tests {
     fn heave_and_pitch_mirror_sway_and_yaw() {
         // A body of revolution rotated 90 deg about x: (v, r) -> (w, -q) gives (Y, N) -> (Z, -M).
         let m6 = Spheroid6::new(50.0, [0.5, 3.7, 3.7], 50.0 * G, 0.0, scales());
-        let c = fill(&m6, PAPER);
+        let c = fill(&m6, &paper());
         let (u, s, t) = (2.0, 0.6, 0.25);
         let mut dy = [0.0; 12];
         m6.derivatives(
@@ -326,7 +316,7 @@ mod tests {
     #[test]
     fn bottom_heavy_body_rights_itself_in_roll() {
         let m6 = Spheroid6::new(50.0, [0.5, 3.7, 3.7], 50.0 * G, 0.02, scales());
-        let c = fill(&m6, PAPER);
+        let c = fill(&m6, &paper());
         let mut d = [0.0; 12];
         let mut x = [0.0; 12];
         x[9] = 0.2;

@@ -5,8 +5,8 @@ use super::config::{ExportColumn, ExportConfig};
 use super::synth::Columns;
 use crate::error::{Error, Result};
 use crate::formats::Format;
+use crate::frames::rotation_zyx;
 use crate::quantity::Quantity;
-use crate::record::rotation_zyx;
 use crate::units::{wrap_pi, Unit};
 use std::fmt::Write;
 
@@ -125,7 +125,8 @@ fn cfx_unit(u: &str) -> String {
 }
 
 /// `t (x y z) (x y z) (roll pitch yaw) (u v w) (p q r)` with earth-frame velocities, as the
-/// sixDoFRigidBodyState function object writes (docs/cfd-formats.md).
+/// sixDoFRigidBodyState function object writes (docs/cfd-formats.md); angles and angular
+/// velocity in the unit its `Angle Units` line names.
 fn sixdof(cfg: &ExportConfig, cols: &Columns) -> Result<String> {
     let get = |q: Quantity| cols.get(&q);
     let time =
@@ -173,7 +174,8 @@ fn sixdof(cfg: &ExportConfig, cols: &Columns) -> Result<String> {
         let earth =
             |v: [f64; 3]| [0, 1, 2].map(|i| r[i][0] * v[0] + r[i][1] * v[1] + r[i][2] * v[2]);
         let vel = earth(body);
-        let om = earth(rates);
+        // the angular velocity is written in the file's angle unit, per second
+        let om = earth(rates).map(|w| if degrees { w.to_degrees() } else { w });
         let pos = [g(Quantity::X)[k], g(Quantity::Y)[k], g(Quantity::Z)[k]];
         let v3 = |a: [f64; 3]| format!("({} {} {})", num(a[0]), num(a[1]), num(a[2]));
         writeln!(

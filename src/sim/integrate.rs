@@ -99,19 +99,11 @@ pub fn simulate<M: Model>(
 mod tests {
     use super::*;
     use crate::coefficients::{Coefficient, Source};
-    use crate::models::{Scales, Spheroid3};
+    use crate::models::Spheroid3;
 
     #[test]
     fn surge_run_approaches_terminal_speed() {
-        let m = Spheroid3::new(
-            50.0,
-            3.7,
-            Scales {
-                q: 16.1,
-                length: 1.2,
-                added: None,
-            },
-        );
+        let m = Spheroid3::paper_vehicle();
         let mut set = CoefficientSet::new();
         for n in m.coefficient_names() {
             set.insert(Coefficient::new(n, 0.0, None, Source::Config));
@@ -136,15 +128,7 @@ mod tests {
 
     #[test]
     fn missing_coefficients_are_named() {
-        let m = Spheroid3::new(
-            50.0,
-            3.7,
-            Scales {
-                q: 16.1,
-                length: 1.2,
-                added: None,
-            },
-        );
+        let m = Spheroid3::paper_vehicle();
         let mut set = CoefficientSet::new();
         set.insert(Coefficient::new("Xuu", -1.33, None, Source::Config));
         let missing = complete_coefficients(&m, &set).unwrap_err();

@@ -233,6 +233,9 @@ pub fn identify<M: Model>(
                     progress.filter(pass + 1, setup.passes, done, total);
                 }
             }
+            if let Some(&t_end) = run.times.last() {
+                f.check_covariance(t_end).map_err(fail)?;
+            }
             if let Some(s) = smoother {
                 let (xs, _) = s.smooth().map_err(|k| {
                     fail(Divergence {

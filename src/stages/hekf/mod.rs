@@ -83,6 +83,60 @@ pub fn run(
     )
 }
 
+/// Problems the stage would meet, found before any stage runs: estimated coefficients the
+/// model does not have or that a relation derives, fixed coefficients that nothing will
+/// provide (`available`: names the configuration, analytic formulas and enabled stages give),
+/// and model inputs a run lacks.
+pub fn preflight(
+    cfg: &HekfConfig,
+    vehicle: &VehicleConfig,
+    fluid: &FluidConfig,
+    available: &[String],
+    runs: &[&Record],
+) -> Vec<String> {
+    struct Pre<'a> {
+        cfg: &'a HekfConfig,
+        available: &'a [String],
+        runs: &'a [&'a Record],
+    }
+    impl ModelVisitor for Pre<'_> {
+        type Output = Vec<String>;
+        fn visit<M: Model>(self, model: &M) -> Vec<String> {
+            let mut p = prepare::coefficient_problems(model, self.cfg, |n| {
+                self.available.iter().any(|a| a == n)
+            })
+            .err()
+            .unwrap_or_default();
+            for r in self.runs {
+                for q in model.inputs() {
+                    if !r.has(*q) {
+                        p.push(format!(
+                            "run '{}' gives no {q}, which the {} model needs: map a {q} column \
+                             or give `constants = {{ {q} = ... }}`",
+                            r.name,
+                            model.name()
+                        ));
+                    }
+                }
+            }
+            p
+        }
+    }
+    let spec = ModelSpec {
+        name: cfg.model,
+        vehicle,
+        scales: Scales::for_vehicle(vehicle, fluid, None),
+    };
+    with_model(
+        &spec,
+        Pre {
+            cfg,
+            available,
+            runs,
+        },
+    )
+}
+
 struct Identify<'a> {
     cfg: &'a HekfConfig,
     inputs: &'a StageInputs<'a>,

@@ -41,48 +41,17 @@ pub fn plan<M: Model>(
     known: &CoefficientSet,
 ) -> Result<Plan> {
     let names = model.coefficient_names();
-    let mut problems = Vec::new();
-    let mut est = Vec::new();
-    for n in &cfg.estimate {
-        match model.coefficient_index(n) {
-            None => problems.push(format!(
-                "'{n}' is not a coefficient of the {} model (its coefficients: {})",
-                model.name(),
-                names.join(", ")
-            )),
-            Some(_) if model.is_derived(n) => problems.push(format!(
-                "'{n}' follows from other coefficients by a symmetry relation (paper eq. 4); \
-                 estimate the coefficient it is derived from instead"
-            )),
-            Some(i) => est.push(i),
-        }
-    }
+    let est = coefficient_problems(model, cfg, |n| known.contains(n))
+        .map_err(|p| Error::numerical("hekf", p.join("; ")))?;
     let mut base = vec![0.0; names.len()];
     let mut fixed = Vec::new();
-    let mut missing = Vec::new();
     for (i, n) in names.iter().enumerate() {
         if est.contains(&i) || model.is_derived(n) {
             continue;
         }
-        match known.get(n) {
-            Some(c) => {
-                base[i] = c.value;
-                fixed.push(c.clone());
-            }
-            None => missing.push(n.to_string()),
-        }
-    }
-    if !missing.is_empty() {
-        problems.push(format!(
-            "no value for {} (held fixed by the filter): give {} in [coefficients] or enable \
-             the stage that provides {}",
-            missing.join(", "),
-            if missing.len() == 1 { "it" } else { "them" },
-            if missing.len() == 1 { "it" } else { "them" },
-        ));
-    }
-    if !problems.is_empty() {
-        return Err(Error::numerical("hekf", problems.join("; ")));
+        let c = known.get(n).expect("checked by coefficient_problems");
+        base[i] = c.value;
+        fixed.push(c.clone());
     }
     let mut notes = Vec::new();
     let mut initial = Vec::new();
@@ -116,6 +85,52 @@ pub fn plan<M: Model>(
         scale,
         notes,
     })
+}
+
+/// The indices of the estimated coefficients, or every problem with the names: an estimated
+/// coefficient the model does not have or that a relation derives, and fixed coefficients
+/// that `known` says nothing provides.
+pub fn coefficient_problems<M: Model>(
+    model: &M,
+    cfg: &HekfConfig,
+    known: impl Fn(&str) -> bool,
+) -> std::result::Result<Vec<usize>, Vec<String>> {
+    let names = model.coefficient_names();
+    let mut problems = Vec::new();
+    let mut est = Vec::new();
+    for n in &cfg.estimate {
+        match model.coefficient_index(n) {
+            None => problems.push(format!(
+                "'{n}' is not a coefficient of the {} model (its coefficients: {})",
+                model.name(),
+                names.join(", ")
+            )),
+            Some(_) if model.is_derived(n) => problems.push(format!(
+                "'{n}' follows from other coefficients by a symmetry relation (paper eq. 4); \
+                 estimate the coefficient it is derived from instead"
+            )),
+            Some(i) => est.push(i),
+        }
+    }
+    let missing: Vec<&str> = names
+        .iter()
+        .enumerate()
+        .filter(|(i, n)| !est.contains(i) && !model.is_derived(n) && !known(n))
+        .map(|(_, n)| *n)
+        .collect();
+    if !missing.is_empty() {
+        let them = if missing.len() == 1 { "it" } else { "them" };
+        problems.push(format!(
+            "no value for {} (held fixed by the filter): give {them} in [coefficients] or \
+             enable the stage that provides {them}",
+            missing.join(", "),
+        ));
+    }
+    if problems.is_empty() {
+        Ok(est)
+    } else {
+        Err(problems)
+    }
 }
 
 impl Plan {

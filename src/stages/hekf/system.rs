@@ -22,6 +22,8 @@ pub struct ModelSystem<'a, M: Model> {
     // work space
     u: Vec<f64>,
     c: Vec<f64>,
+    /// The scaled coefficients `c` was completed for (NaN: not yet).
+    c_for: Vec<f64>,
     xd: Vec<Dual>,
     cd: Vec<Dual>,
     outd: Vec<Dual>,
@@ -49,15 +51,21 @@ impl<'a, M: Model> ModelSystem<'a, M> {
             measured,
             u: vec![0.0; inputs.len()],
             c: vec![0.0; nc],
+            c_for: vec![f64::NAN; est.len()],
             xd: vec![ad::constant(0.0); nx],
             cd: vec![ad::constant(0.0); nc],
             outd: vec![ad::constant(0.0); nx],
         }
     }
 
-    /// The completed coefficient vector for augmented state `x`.
+    /// The completed coefficient vector for augmented state `x` (recomputed only when the
+    /// coefficient part of `x` changed: it is constant between measurement updates).
     pub fn coefficients(&mut self, x: &[f64]) -> &[f64] {
         let nx = self.model.nx();
+        if x[nx..] == self.c_for[..] {
+            return &self.c;
+        }
+        self.c_for.copy_from_slice(&x[nx..]);
         self.c.copy_from_slice(&self.base);
         for (j, &i) in self.est.iter().enumerate() {
             self.c[i] = x[nx + j] * self.scale[j];
@@ -134,33 +142,25 @@ impl<M: Model> System for ModelSystem<'_, M> {
         }
     }
 
-    fn check(&self, x: &[f64]) -> Result<(), String> {
+    fn selection(&self) -> Option<&[usize]> {
+        Some(self.measured)
+    }
+
+    fn check(&mut self, x: &[f64]) -> Result<(), String> {
         let nx = self.model.nx();
-        let mut c = self.base.clone();
-        for (j, &i) in self.est.iter().enumerate() {
-            c[i] = x[nx + j] * self.scale[j];
-        }
-        self.model.relations().apply(&mut c);
-        self.model.check(&x[..nx], &c)
+        self.coefficients(x);
+        self.model.check(&x[..nx], &self.c)
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::models::{Scales, Spheroid3};
+    use crate::models::Spheroid3;
 
     #[test]
     fn augmented_jacobian_matches_finite_differences() {
-        let m = Spheroid3::new(
-            50.0,
-            3.7,
-            Scales {
-                q: 16.1,
-                length: 1.2,
-                added: None,
-            },
-        );
+        let m = Spheroid3::paper_vehicle();
         let names = m.coefficient_names();
         let mut base = vec![0.0; names.len()];
         for (n, v) in [

@@ -84,6 +84,11 @@ const MAPS: &[Map] = &[
     },
 ];
 
+/// The coefficients this mapping gives (paper eq. 5).
+pub fn provides() -> Vec<&'static str> {
+    MAPS.iter().map(|m| m.name).collect()
+}
+
 /// The gradient g of a coefficient with respect to its channel's constants (in `fit.names`
 /// order): the coefficient is g'x.
 fn gradient(m: &Map, fit: &ChannelFit, q: f64, l_ref: f64) -> Vec<f64> {

@@ -32,6 +32,11 @@ use channel::fit_all;
 
 pub(crate) const STAGE: &str = "polar";
 
+/// The coefficients this stage estimates (paper eq. 5).
+pub fn provides() -> Vec<&'static str> {
+    mapping::provides()
+}
+
 /// What the stage reads from each record.
 pub fn needs(config: &PolarConfig) -> Needs<'static> {
     match config.data {
@@ -52,16 +57,6 @@ pub fn needs(config: &PolarConfig) -> Needs<'static> {
             min_rows: 1,
         },
     }
-}
-
-/// Reads every run of `config` (paths relative to `base`) with what [`needs`] asks for.
-pub fn load(config: &PolarConfig, base: &std::path::Path) -> Result<Vec<Record>> {
-    let needs = needs(config);
-    config
-        .runs
-        .iter()
-        .map(|spec| crate::record::load(spec, base, &needs).map_err(Error::from))
-        .collect()
 }
 
 /// Runs the polar stage on records already read.

@@ -43,6 +43,14 @@ pub(crate) const STAGE: &str = "surge";
 /// Fewest samples of a run inside the time window.
 pub const MIN_RUN_SAMPLES: usize = 10;
 
+/// The coefficients this stage estimates: Xud, and Xuu when it fits the drag too.
+pub fn provides(config: &SurgeConfig) -> &'static [&'static str] {
+    match config.drag_from {
+        DragFrom::Coefficients => &["Xud"],
+        DragFrom::Force => &["Xud", "Xuu"],
+    }
+}
+
 /// What the stage reads from each record.
 pub fn needs(config: &SurgeConfig) -> Needs<'static> {
     match config.drag_from {
@@ -57,16 +65,6 @@ pub fn needs(config: &SurgeConfig) -> Needs<'static> {
             min_rows: MIN_RUN_SAMPLES,
         },
     }
-}
-
-/// Reads every run of `config` (paths relative to `base`) with what [`needs`] asks for.
-pub fn load(config: &SurgeConfig, base: &std::path::Path) -> Result<Vec<Record>> {
-    let needs = needs(config);
-    config
-        .runs
-        .iter()
-        .map(|spec| crate::record::load(spec, base, &needs).map_err(Error::from))
-        .collect()
 }
 
 /// Runs the surge stage on records already read. `known` supplies X_uu (with its sigma) for
