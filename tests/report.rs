@@ -25,9 +25,11 @@ fn example() -> PathBuf {
 
 fn run_into(name: &str) -> Run {
     let loaded = hydroid::config::load(&example(), &[]).expect("the example loads");
-    let output = hydroid::pipeline::run(&loaded, &mut hydroid::progress::Silent)
-        .expect("the example runs");
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("report-test").join(name);
+    let output =
+        hydroid::pipeline::run(&loaded, &mut hydroid::progress::Silent).expect("the example runs");
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join("report-test")
+        .join(name);
     let staging = Staging::new(&dir).unwrap();
     report::write(&staging, &loaded, &output).expect("the report is written");
     let dir = staging.commit().unwrap();
@@ -100,11 +102,20 @@ fn every_figure_is_written_as_svg_and_png() {
 
         let bytes = std::fs::read(plots.join(format!("{name}.png"))).unwrap();
         let decoder = png::Decoder::new(std::io::Cursor::new(bytes));
-        let mut reader = decoder.read_info().unwrap_or_else(|e| panic!("{name}.png: {e}"));
+        let mut reader = decoder
+            .read_info()
+            .unwrap_or_else(|e| panic!("{name}.png: {e}"));
         let mut buf = vec![0; reader.output_buffer_size()];
         let info = reader.next_frame(&mut buf).unwrap();
-        assert_eq!((info.width, info.height), (w, h), "{name}: PNG and SVG agree");
-        assert!((600..=3000).contains(&w) && (500..=3000).contains(&h), "{name}: {w}x{h}");
+        assert_eq!(
+            (info.width, info.height),
+            (w, h),
+            "{name}: PNG and SVG agree"
+        );
+        assert!(
+            (600..=3000).contains(&w) && (500..=3000).contains(&h),
+            "{name}: {w}x{h}"
+        );
         // something is drawn: many distinct colours, and the corners are the white page
         let px = info.color_type.samples();
         let colours: BTreeSet<&[u8]> = buf[..info.buffer_size()].chunks(px).collect();
@@ -122,16 +133,48 @@ fn figures_say_what_they_show() {
             assert!(svg.contains(w), "{name}.svg lacks '{w}'");
         }
     };
-    has("polar", &["drift angle α (deg)", "C_D (-)", "C_L (-)", "C_M (-)", "pooled fit"]);
-    has("surge_fit", &["time t (s)", "surge speed u (m/s)", "u − û (mm/s)"]);
-    has("surge_bins", &["X_udot (kg)", "Fossen analytic", "Rasekh &amp; Mahdi 2020"]);
-    has("hekf_convergence", &["Yvd (kg)", "Nrr (kg m^2)", "pass 3", "Rasekh &amp; Mahdi 2020"]);
+    has(
+        "polar",
+        &[
+            "drift angle α (deg)",
+            "C_D (-)",
+            "C_L (-)",
+            "C_M (-)",
+            "pooled fit",
+        ],
+    );
+    has(
+        "surge_fit",
+        &["time t (s)", "surge speed u (m/s)", "u − û (mm/s)"],
+    );
+    has(
+        "surge_bins",
+        &["X_udot (kg)", "Fossen analytic", "Rasekh &amp; Mahdi 2020"],
+    );
+    has(
+        "hekf_convergence",
+        &[
+            "Yvd (kg)",
+            "Nrr (kg m^2)",
+            "pass 3",
+            "Rasekh &amp; Mahdi 2020",
+        ],
+    );
     has("nis_fit_1", &["95 % bounds", "running mean of NIS (-)"]);
     has("hekf_correlation", &["Yvd", "Nvv", "\u{2212}0.99"]);
-    has("track_validation_1", &["east y (m)", "north x (m)", "final position error"]);
-    has("states_fit_1", &["heading ψ (deg)", "yaw rate r (deg/s)", "smoothed estimate"]);
+    has(
+        "track_validation_1",
+        &["east y (m)", "north x (m)", "final position error"],
+    );
+    has(
+        "states_fit_1",
+        &["heading ψ (deg)", "yaw rate r (deg/s)", "smoothed estimate"],
+    );
     has("states_validation_1", &["surge u (m/s)", "sway v (m/s)"]);
-    has("uncertainty_budget", &["from polar", "from hekf", "Nrd (kg m^2)"]);
+    has(
+        "uncertainty_budget",
+        &["from polar", "from hekf", "Nrd (kg m^2)"],
+    );
 }
 
 #[test]
@@ -139,8 +182,14 @@ fn report_md_links_every_figure_and_holds_the_comparison_table() {
     let r = first();
     let md = read(&r.dir.join(report::REPORT_MD));
     for name in EXPECTED {
-        assert!(md.contains(&format!("](plots/{name}.svg)")), "{name} not linked");
-        assert!(md.contains(&format!("(plots/{name}.png)")), "{name} PNG not linked");
+        assert!(
+            md.contains(&format!("](plots/{name}.svg)")),
+            "{name} not linked"
+        );
+        assert!(
+            md.contains(&format!("(plots/{name}.png)")),
+            "{name} PNG not linked"
+        );
     }
     assert!(md.contains(&table::markdown(&r.output.result)));
     for heading in [
@@ -167,7 +216,10 @@ fn report_md_links_every_figure_and_holds_the_comparison_table() {
     let surge = r.output.result.stages.surge.as_ref().unwrap();
     assert!(!surge.warnings.is_empty());
     for w in &surge.warnings {
-        assert!(md.contains(&table::escape_markdown(w)), "warning missing: {w}");
+        assert!(
+            md.contains(&table::escape_markdown(w)),
+            "warning missing: {w}"
+        );
     }
 }
 
@@ -178,7 +230,10 @@ fn report_html_is_self_contained_and_complete() {
     assert!(html.starts_with("<!DOCTYPE html>"));
     assert_eq!(html.matches("<svg").count(), EXPECTED.len());
     for name in EXPECTED {
-        assert!(html.contains(&format!("<figure id=\"fig-{name}\">")), "{name}");
+        assert!(
+            html.contains(&format!("<figure id=\"fig-{name}\">")),
+            "{name}"
+        );
     }
     for bad in ["http://", "https://", "<script", "<link", "@import", "url("] {
         assert!(!html.contains(bad), "report.html contains {bad}");
@@ -211,7 +266,7 @@ fn results_json_matches_its_schema() {
         serde_json::from_str(&read(&first().dir.join(report::RESULTS_JSON))).unwrap();
     let errors: Vec<String> = validator
         .iter_errors(&results)
-        .map(|e| format!("{}: {e}", e.instance_path))
+        .map(|e| format!("{}: {e}", e.instance_path()))
         .collect();
     assert!(errors.is_empty(), "{errors:#?}");
 
@@ -276,7 +331,11 @@ fn without_plots_only_report_md_is_written() {
     let dir = staging.commit().unwrap();
     assert!(!dir.join("plots").exists());
     assert!(!dir.join(report::REPORT_HTML).exists());
-    for f in [report::RESULTS_JSON, report::COEFFICIENTS_CSV, report::REPORT_MD] {
+    for f in [
+        report::RESULTS_JSON,
+        report::COEFFICIENTS_CSV,
+        report::REPORT_MD,
+    ] {
         assert!(dir.join(f).exists(), "{f}");
     }
     let md = read(&dir.join(report::REPORT_MD));
@@ -295,7 +354,10 @@ fn figures_follow_the_data() {
         .into_iter()
         .map(|f| f.meta.name)
         .collect();
-    assert!(!names.iter().any(|n| n == "polar" || n.starts_with("surge")), "{names:?}");
+    assert!(
+        !names.iter().any(|n| n == "polar" || n.starts_with("surge")),
+        "{names:?}"
+    );
     assert!(names.iter().any(|n| n == "hekf_convergence"));
 
     out.result.stages.hekf = None;
@@ -328,7 +390,10 @@ fn non_finite_samples_are_skipped_and_empty_data_refused() {
         p.alpha = f64::NAN;
     }
     let e = plots::render_all(&out, None).unwrap_err().to_string();
-    assert!(e.contains("figure 'polar'") && e.contains("no finite value"), "{e}");
+    assert!(
+        e.contains("figure 'polar'") && e.contains("no finite value"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -338,7 +403,11 @@ fn polar_curves_are_the_stage_fits() {
         assert!(!fit.residuals.is_empty());
         for r in &fit.residuals {
             let f = plots::polar::eval(fit, r.alpha).unwrap();
-            assert!((f - r.fitted).abs() <= 1e-12 * (1.0 + r.fitted.abs()), "{f} vs {}", r.fitted);
+            assert!(
+                (f - r.fitted).abs() <= 1e-12 * (1.0 + r.fitted.abs()),
+                "{f} vs {}",
+                r.fitted
+            );
         }
     }
 }

@@ -136,5 +136,9 @@ fn chromium_renders_the_report() {
     assert_eq!((info.width, info.height), (1280, 2400));
     let px = info.color_type.samples();
     let colours: BTreeSet<&[u8]> = buf[..info.buffer_size()].chunks(px).collect();
-    assert!(colours.len() > 50, "a blank page? {} colours", colours.len());
+    assert!(
+        colours.len() > 50,
+        "a blank page? {} colours",
+        colours.len()
+    );
 }

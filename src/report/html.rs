@@ -36,7 +36,11 @@ fn slug(s: &str, taken: &mut Vec<String>) -> String {
         base = base.replace("--", "-");
     }
     let base = base.trim_matches('-').to_string();
-    let base = if base.is_empty() { "section".into() } else { base };
+    let base = if base.is_empty() {
+        "section".into()
+    } else {
+        base
+    };
     let mut id = base.clone();
     let mut k = 2;
     while taken.contains(&id) {
@@ -153,7 +157,10 @@ pub fn render(doc: &Document) -> String {
                             Col::Num => "n",
                         };
                         if class == "x" {
-                            body.push_str(&format!("<td class=\"x\"><div>{}</div></td>", escape(c)));
+                            body.push_str(&format!(
+                                "<td class=\"x\"><div>{}</div></td>",
+                                escape(c)
+                            ));
                         } else {
                             body.push_str(&format!("<td class=\"{class}\">{}</td>", escape(c)));
                         }
@@ -212,7 +219,9 @@ mod tests {
         assert!(!h.contains("<img"));
         assert!(!h.contains("<script>"));
         assert!(h.contains("<h2 id=\"runs-inputs\">Runs &amp; &lt;inputs&gt;</h2>"));
-        assert!(h.contains("<tr class=\"mark\"><td class=\"t\">&lt;/td&gt;&lt;script&gt;</td></tr>"));
+        assert!(
+            h.contains("<tr class=\"mark\"><td class=\"t\">&lt;/td&gt;&lt;script&gt;</td></tr>")
+        );
         assert!(h.contains("<a href=\"#runs-inputs\">"));
     }
 

@@ -29,9 +29,18 @@ pub fn write(d: &mut Document, r: &RunResult, figures: Option<&[Figure]>) {
     }
     d.heading(2, "Files");
     let mut files = vec![
-        vec![code("results.json"), text(": everything above, versioned (docs/results.md).")],
-        vec![code("coefficients.csv"), text(": the comparison table, full precision.")],
-        vec![code("inputs.json"), text(": every input file with its SHA-256.")],
+        vec![
+            code("results.json"),
+            text(": everything above, versioned (docs/results.md)."),
+        ],
+        vec![
+            code("coefficients.csv"),
+            text(": the comparison table, full precision."),
+        ],
+        vec![
+            code("inputs.json"),
+            text(": every input file with its SHA-256."),
+        ],
         vec![
             code("config.toml"),
             text(": the effective configuration (defaults and overrides applied)."),

@@ -30,7 +30,11 @@ pub fn write<'a>(d: &mut Document<'a>, h: &HekfResult, figs: &Figures<'a>) {
         let (states, coefs) = s.process_noise.split_at(s.process_noise.len() - nb);
         items.push(vec![text(format!(
             "Process noise spectral density (SI²/s, in state order): states {}; coefficients {}.",
-            states.iter().map(|v| num(*v)).collect::<Vec<_>>().join(", "),
+            states
+                .iter()
+                .map(|v| num(*v))
+                .collect::<Vec<_>>()
+                .join(", "),
             coefs.iter().map(|v| num(*v)).collect::<Vec<_>>().join(", ")
         ))]);
     }
@@ -47,7 +51,8 @@ pub fn write<'a>(d: &mut Document<'a>, h: &HekfResult, figs: &Figures<'a>) {
 
 fn fixed(d: &mut Document, h: &HekfResult) {
     d.heading(3, "Fixed coefficients");
-    let mut t = Table::new(["coefficient", "value ± σ", "unit", "source", "note"]).col(4, Col::Text);
+    let mut t =
+        Table::new(["coefficient", "value ± σ", "unit", "source", "note"]).col(4, Col::Text);
     for c in &h.fixed {
         t.row([
             c.name.clone(),
@@ -64,7 +69,10 @@ fn passes(d: &mut Document, h: &HekfResult) {
     d.heading(3, "Estimates after each pass");
     let mut header = vec!["coefficient".to_string(), "unit".into()];
     header.extend(h.passes.iter().map(|p| format!("pass {}", p.pass)));
-    header.extend(["final ± σ (total)".to_string(), "σ from the data alone".into()]);
+    header.extend([
+        "final ± σ (total)".to_string(),
+        "σ from the data alone".into(),
+    ]);
     let mut t = Table::new(header).numeric_from(2);
     for (j, c) in h.coefficients.iter().enumerate() {
         let mut row = vec![c.name.clone(), c.unit.clone()];

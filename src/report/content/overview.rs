@@ -22,7 +22,10 @@ pub fn write(d: &mut Document, r: &RunResult, plots: bool) {
                 .unwrap_or_default(),
         )),
         code("results.json"),
-        text(format!(" (layout {}, described in docs/results.md).", r.schema)),
+        text(format!(
+            " (layout {}, described in docs/results.md).",
+            r.schema
+        )),
     ]);
     if !plots {
         d.para([
@@ -43,10 +46,30 @@ fn vehicle(d: &mut Document, r: &RunResult) {
     t.row(["vehicle", "", v.name.as_str(), ""]);
     t.row(["mass".to_string(), "m".into(), num(v.mass), "kg".into()]);
     t.row(["length".to_string(), "L".into(), num(v.length), "m".into()]);
-    t.row(["diameter".to_string(), "D".into(), opt(v.diameter), "m".into()]);
-    t.row(["yaw inertia".to_string(), "I_zz".into(), num(v.izz), "kg m^2".into()]);
-    t.row(["density".to_string(), "ρ".into(), num(v.rho), "kg/m^3".into()]);
-    t.row(["dynamic viscosity".to_string(), "μ".into(), num(v.mu), "Pa s".into()]);
+    t.row([
+        "diameter".to_string(),
+        "D".into(),
+        opt(v.diameter),
+        "m".into(),
+    ]);
+    t.row([
+        "yaw inertia".to_string(),
+        "I_zz".into(),
+        num(v.izz),
+        "kg m^2".into(),
+    ]);
+    t.row([
+        "density".to_string(),
+        "ρ".into(),
+        num(v.rho),
+        "kg/m^3".into(),
+    ]);
+    t.row([
+        "dynamic viscosity".to_string(),
+        "μ".into(),
+        num(v.mu),
+        "Pa s".into(),
+    ]);
     t.row([
         "reference area (force coefficients)".to_string(),
         "A_ref".into(),
@@ -59,7 +82,12 @@ fn vehicle(d: &mut Document, r: &RunResult) {
         num(v.reference_length),
         "m".into(),
     ]);
-    t.row(["q = ½ ρ A_ref".to_string(), "q".into(), num(v.q), "kg/m".into()]);
+    t.row([
+        "q = ½ ρ A_ref".to_string(),
+        "q".into(),
+        num(v.q),
+        "kg/m".into(),
+    ]);
     d.table(t);
     let convention = match &r.stages.polar {
         Some(p) => p.reference.statement.clone(),

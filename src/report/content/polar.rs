@@ -60,7 +60,8 @@ pub fn write<'a>(d: &mut Document<'a>, p: &PolarResult, figs: &Figures<'a>) {
             f.model.clone(),
             constants(f),
             f.n_points.to_string(),
-            f.r_squared.map_or_else(|| "-".into(), |r| format!("{r:.5}")),
+            f.r_squared
+                .map_or_else(|| "-".into(), |r| format!("{r:.5}")),
             opt(f.residual_std),
             if active.is_empty() {
                 "none".into()

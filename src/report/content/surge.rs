@@ -77,10 +77,14 @@ pub fn write<'a>(d: &mut Document<'a>, s: &SurgeResult, figs: &Figures<'a>) {
         }
     }
     if !s.momentum.is_empty() {
-        let mut t = Table::new(["run", "RMS of m u − ∫(F + X_prop) dt (N s)", "relative"])
-            .numeric_from(1);
+        let mut t =
+            Table::new(["run", "RMS of m u − ∫(F + X_prop) dt (N s)", "relative"]).numeric_from(1);
         for m in &s.momentum {
-            t.row([m.record.clone(), num(m.rms), format!("{:.2} %", 100.0 * m.relative)]);
+            t.row([
+                m.record.clone(),
+                num(m.rms),
+                format!("{:.2} %", 100.0 * m.relative),
+            ]);
         }
         d.text("Momentum balance of the runs that export both force and thrust (a check of the export):");
         d.table(t);

@@ -177,7 +177,10 @@ pub fn panel<'a, DB: DrawingBackend>(
         builder.caption(t, style::text(size::PANEL));
     }
     let y = if axes.log_y {
-        Range::new(axes.y.lo.floor(), axes.y.hi.ceil().max(axes.y.lo.floor() + 1.0))
+        Range::new(
+            axes.y.lo.floor(),
+            axes.y.hi.ceil().max(axes.y.lo.floor() + 1.0),
+        )
     } else {
         axes.y
     };
@@ -206,7 +209,7 @@ pub fn tick(v: &f64) -> String {
         return "0".into();
     }
     let mag = v.abs().log10().floor() as i32;
-    let s = if (-3..5).contains(&mag) {
+    let s = if (-4..5).contains(&mag) {
         let decimals = (2 - mag).clamp(0, 6) as usize;
         let s = format!("{v:.decimals$}");
         if s.contains('.') {
@@ -365,7 +368,10 @@ pub fn band<DB: DrawingBackend>(
         let hi: Vec<(f64, f64)> = (start..i).map(|k| (x[k], y.clamp(upper[k]))).collect();
         let mut poly = thin(&hi, width.max(1));
         poly.extend(thin(&lo, width.max(1)).into_iter().rev());
-        chart.draw_series(std::iter::once(Polygon::new(poly, colour.mix(0.22).filled())))?;
+        chart.draw_series(std::iter::once(Polygon::new(
+            poly,
+            colour.mix(0.22).filled(),
+        )))?;
     }
     Ok(())
 }
@@ -382,12 +388,14 @@ pub fn error_bar<DB: DrawingBackend>(
         return Ok(());
     }
     let cap = 5;
-    chart.draw_series(std::iter::once(PathElement::new(vec![(x, lo), (x, hi)], style)))?;
+    chart.draw_series(std::iter::once(PathElement::new(
+        vec![(x, lo), (x, hi)],
+        style,
+    )))?;
     for y in [lo, hi] {
-        chart.draw_series(std::iter::once(EmptyElement::at((x, y)) + PathElement::new(
-            vec![(-cap, 0), (cap, 0)],
-            style,
-        )))?;
+        chart.draw_series(std::iter::once(
+            EmptyElement::at((x, y)) + PathElement::new(vec![(-cap, 0), (cap, 0)], style),
+        ))?;
     }
     Ok(())
 }

@@ -75,8 +75,10 @@ pub fn history(h: &HekfResult, j: usize) -> History {
             let t0 = tr.times.first().copied().unwrap_or(0.0);
             for (k, t) in tr.times.iter().enumerate() {
                 out.x.push(row[r] + t - t0);
-                out.value.push(c.get(k * nb + j).copied().unwrap_or(f64::NAN));
-                out.sigma.push(s.get(k * nb + j).copied().unwrap_or(f64::NAN));
+                out.value
+                    .push(c.get(k * nb + j).copied().unwrap_or(f64::NAN));
+                out.sigma
+                    .push(s.get(k * nb + j).copied().unwrap_or(f64::NAN));
             }
         }
     }
@@ -109,7 +111,10 @@ impl<'a> Convergence<'a> {
     }
 
     fn analytic(&self, name: &str) -> Option<f64> {
-        self.analytic.iter().find(|c| c.name == name).map(|c| c.value)
+        self.analytic
+            .iter()
+            .find(|c| c.name == name)
+            .map(|c| c.value)
     }
 
     fn cols(&self) -> usize {
@@ -163,20 +168,44 @@ impl<'a> Convergence<'a> {
         );
         let mut chart = axes::panel(
             area,
-            &Axes::new(x, y, if bottom_row {
+            &Axes::new(
+                x,
+                y,
+                if bottom_row {
                     "filter time, passes laid end to end (s)"
                 } else {
                     ""
-                }, &y_desc).title(&title),
+                },
+                &y_desc,
+            )
+            .title(&title),
         )?;
-        let lower: Vec<f64> = hist.value.iter().zip(&hist.sigma).map(|(v, s)| v - 2.0 * s).collect();
-        let upper: Vec<f64> = hist.value.iter().zip(&hist.sigma).map(|(v, s)| v + 2.0 * s).collect();
+        let lower: Vec<f64> = hist
+            .value
+            .iter()
+            .zip(&hist.sigma)
+            .map(|(v, s)| v - 2.0 * s)
+            .collect();
+        let upper: Vec<f64> = hist
+            .value
+            .iter()
+            .zip(&hist.sigma)
+            .map(|(v, s)| v + 2.0 * s)
+            .collect();
         axes::band(&mut chart, &hist.x, &lower, &upper, y, colour::BLUE)?;
         for s in &pass_starts[1..pass_starts.len().saturating_sub(1)] {
-            axes::dashed(&mut chart, [(*s, y.lo), (*s, y.hi)], colour::GREY.stroke_width(2))?;
+            axes::dashed(
+                &mut chart,
+                [(*s, y.lo), (*s, y.hi)],
+                colour::GREY.stroke_width(2),
+            )?;
         }
         for s in run_starts {
-            axes::dashed(&mut chart, [(*s, y.lo), (*s, y.hi)], colour::GRID.stroke_width(1))?;
+            axes::dashed(
+                &mut chart,
+                [(*s, y.lo), (*s, y.hi)],
+                colour::GRID.stroke_width(1),
+            )?;
         }
         for (p, w) in pass_starts.windows(2).enumerate() {
             chart.draw_series(std::iter::once(Text::new(
@@ -194,11 +223,20 @@ impl<'a> Convergence<'a> {
         let inside = |v: f64| if y.contains(v) { v } else { f64::NAN };
         axes::line(
             &mut chart,
-            hist.x.iter().copied().zip(hist.value.iter().map(|v| inside(*v))),
+            hist.x
+                .iter()
+                .copied()
+                .zip(hist.value.iter().map(|v| inside(*v))),
             colour::BLUE.stroke_width(2),
         )?;
         let xe = end + 0.02 * end;
-        axes::error_bar(&mut chart, xe, c.value - 2.0 * total, c.value + 2.0 * total, colour::DATA.stroke_width(2))?;
+        axes::error_bar(
+            &mut chart,
+            xe,
+            c.value - 2.0 * total,
+            c.value + 2.0 * total,
+            colour::DATA.stroke_width(2),
+        )?;
         axes::dots(&mut chart, [(xe, c.value)], 4, colour::DATA.filled())?;
         Ok(())
     }
@@ -219,7 +257,11 @@ impl Plot for Convergence<'_> {
                  by the estimates after the first tenth of the first pass: the line leaves the \
                  panel where the estimate moves away from its starting value.",
                 self.h.settings.passes,
-                if self.h.settings.passes == 1 { "" } else { "es" },
+                if self.h.settings.passes == 1 {
+                    ""
+                } else {
+                    "es"
+                },
                 self.reference
                     .map(|r| format!("the reference values ({}), ", r.name))
                     .unwrap_or_default()
@@ -236,7 +278,10 @@ impl Plot for Convergence<'_> {
         let mut keys = vec![
             Key::new(Mark::Line(colour::BLUE), "estimate"),
             Key::new(Mark::Band(colour::BLUE), "±2σ of the filter (data only)"),
-            Key::new(Mark::Bar(colour::DATA), "final ±2σ incl. fixed coefficients"),
+            Key::new(
+                Mark::Bar(colour::DATA),
+                "final ±2σ incl. fixed coefficients",
+            ),
         ];
         if let Some(r) = self.reference {
             if self.h.estimated.iter().any(|n| r.values.contains_key(n)) {

@@ -75,7 +75,10 @@ impl Plot for CorrelationMap<'_> {
         for (i, row) in self.c.matrix.iter().enumerate() {
             for (j, rho) in row.iter().enumerate() {
                 let (x, y) = (x0 + j as i32 * cell, y0 + i as i32 * cell);
-                area.draw(&Rectangle::new([(x, y), (x + cell, y + cell)], heat(*rho).filled()))?;
+                area.draw(&Rectangle::new(
+                    [(x, y), (x + cell, y + cell)],
+                    heat(*rho).filled(),
+                ))?;
                 area.draw(&Rectangle::new(
                     [(x, y), (x + cell, y + cell)],
                     WHITE.stroke_width(1),
@@ -114,7 +117,10 @@ impl Plot for CorrelationMap<'_> {
             let rho = 1.0 - 2.0 * (s as f64 + 0.5) / steps as f64;
             let ya = y0 + side * s / steps;
             let yb = y0 + side * (s + 1) / steps;
-            area.draw(&Rectangle::new([(bx, ya), (bx + bw, yb)], heat(rho).filled()))?;
+            area.draw(&Rectangle::new(
+                [(bx, ya), (bx + bw, yb)],
+                heat(rho).filled(),
+            ))?;
         }
         area.draw(&Rectangle::new(
             [(bx, y0), (bx + bw, y0 + side)],

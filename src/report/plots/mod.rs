@@ -176,10 +176,7 @@ pub fn render_all(out: &RunOutput, png_dir: Option<&Path>) -> Result<Vec<Figure>
             jobs.push(job(s));
         }
     }
-    let mut figures: Vec<Figure> = jobs
-        .par_iter()
-        .map(|j| j(png_dir))
-        .collect::<Result<_>>()?;
+    let mut figures: Vec<Figure> = jobs.par_iter().map(|j| j(png_dir)).collect::<Result<_>>()?;
     figures.sort_by_key(|f| f.meta.section);
     Ok(figures)
 }

@@ -11,14 +11,20 @@ use crate::stages::hekf::{RunSummary, RunTraces};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-/// Running mean of `v`.
+/// Running mean of the finite values of `v` (NaN until the first finite one).
 pub fn running_mean(v: &[f64]) -> Vec<f64> {
-    let mut s = 0.0;
+    let (mut s, mut n) = (0.0, 0usize);
     v.iter()
-        .enumerate()
-        .map(|(k, x)| {
-            s += x;
-            s / (k + 1) as f64
+        .map(|x| {
+            if x.is_finite() {
+                s += x;
+                n += 1;
+            }
+            if n == 0 {
+                f64::NAN
+            } else {
+                s / n as f64
+            }
         })
         .collect()
 }
@@ -114,12 +120,18 @@ impl Plot for NisPlot<'_> {
         let keys = vec![
             Key::new(Mark::Dot(colour::BLUE), "NIS of a sample"),
             Key::new(Mark::Dashed(colour::VERMILLION), "95 % bounds (χ²)"),
-            Key::new(Mark::Line(colour::GREY), format!("expected value {} (= dof)", s.dof)),
+            Key::new(
+                Mark::Line(colour::GREY),
+                format!("expected value {} (= dof)", s.dof),
+            ),
             Key::new(Mark::Line(colour::BLUE), "running mean"),
         ];
         let body = style::frame(
             root,
-            &format!("Innovation consistency (NIS), fit run {}: {}", self.index, self.run.name),
+            &format!(
+                "Innovation consistency (NIS), fit run {}: {}",
+                self.index, self.run.name
+            ),
             &keys,
         )?;
         let t = &self.traces.times;
@@ -139,15 +151,30 @@ impl Plot for NisPlot<'_> {
         let log = |v: f64| y.clamp(v.max(lo).log10());
         axes::dots(
             &mut chart,
-            t.iter().zip(nis).map(|(a, b)| (*a, if b.is_finite() { log(*b) } else { f64::NAN })),
+            t.iter()
+                .zip(nis)
+                .map(|(a, b)| (*a, if b.is_finite() { log(*b) } else { f64::NAN })),
             2,
             colour::BLUE.mix(0.6).filled(),
         )?;
         for b in s.sample_bounds {
-            axes::hline(&mut chart, x, log(b), colour::VERMILLION.stroke_width(2), true)?;
+            axes::hline(
+                &mut chart,
+                x,
+                log(b),
+                colour::VERMILLION.stroke_width(2),
+                true,
+            )?;
         }
-        axes::hline(&mut chart, x, log(s.dof as f64), colour::GREY.stroke_width(2), false)?;
-        axes::note(&chart,
+        axes::hline(
+            &mut chart,
+            x,
+            log(s.dof as f64),
+            colour::GREY.stroke_width(2),
+            false,
+        )?;
+        axes::note(
+            &chart,
             &[format!(
                 "{:.1} % of samples outside [{}, {}] (5 % expected)",
                 100.0 * s.fraction_outside,
@@ -194,6 +221,9 @@ mod tests {
     #[test]
     fn running_mean_and_its_bounds() {
         assert_eq!(running_mean(&[2.0, 4.0, 6.0]), vec![2.0, 3.0, 4.0]);
+        let m = running_mean(&[f64::NAN, 2.0, f64::INFINITY, 4.0]);
+        assert!(m[0].is_nan());
+        assert_eq!(&m[1..], &[2.0, 2.0, 3.0]);
         let b = mean_bounds(6, 2001, 50);
         assert_eq!(b.first().unwrap().0, 1);
         assert_eq!(b.last().unwrap().0, 2001);
@@ -202,6 +232,9 @@ mod tests {
         let one = chi2_bounds(6.0);
         assert!((b[0].1[0] - one[0]).abs() < 1e-12 && (b[0].1[1] - one[1]).abs() < 1e-12);
         let last = b.last().unwrap().1;
-        assert!(last[0] < 6.0 && last[1] > 6.0 && last[1] - last[0] < 0.4, "{last:?}");
+        assert!(
+            last[0] < 6.0 && last[1] > 6.0 && last[1] - last[0] < 0.4,
+            "{last:?}"
+        );
     }
 }

@@ -128,7 +128,10 @@ impl<'a> PolarFits<'a> {
             if let Some(n) = c.fit(&r.pooled).names.iter().find(|n| power(n).is_none()) {
                 return Err(crate::Error::numerical(
                     "report",
-                    format!("figure 'polar': unknown constant '{n}' in the {} fit", c.symbol()),
+                    format!(
+                        "figure 'polar': unknown constant '{n}' in the {} fit",
+                        c.symbol()
+                    ),
                 ));
             }
         }
@@ -159,7 +162,11 @@ impl<'a> PolarFits<'a> {
         match p.speed {
             Some(u) => (0..self.groups.len())
                 .min_by(|&a, &b| {
-                    let d = |g: usize| self.groups[g].speed.map_or(f64::INFINITY, |s| (s - u).abs());
+                    let d = |g: usize| {
+                        self.groups[g]
+                            .speed
+                            .map_or(f64::INFINITY, |s| (s - u).abs())
+                    };
                     d(a).total_cmp(&d(b))
                 })
                 .unwrap_or(0),
@@ -168,7 +175,10 @@ impl<'a> PolarFits<'a> {
     }
 
     fn alpha_range(&self) -> Result<Range, PlotError> {
-        Range::require(self.r.points.iter().map(|p| p.alpha), "polar angles of attack")
+        Range::require(
+            self.r.points.iter().map(|p| p.alpha),
+            "polar angles of attack",
+        )
     }
 
     fn keys(&self) -> Vec<Key> {
@@ -177,12 +187,21 @@ impl<'a> PolarFits<'a> {
             .iter()
             .map(|g| Key::new(Mark::Dot(g.colour), g.label.clone()))
             .collect();
-        keys.push(Key::new(Mark::Line(colour::DATA), "pooled fit (all speeds)"));
+        keys.push(Key::new(
+            Mark::Line(colour::DATA),
+            "pooled fit (all speeds)",
+        ));
         if self.groups.iter().filter(|g| g.fit.is_some()).count() > 1 {
-            keys.push(Key::new(Mark::Dashed(colour::GREY), "fit of one speed (its colour)"));
+            keys.push(Key::new(
+                Mark::Dashed(colour::GREY),
+                "fit of one speed (its colour)",
+            ));
         }
         if self.r.points.iter().any(|p| !p.used) {
-            keys.push(Key::new(Mark::Ring(colour::GREY), "outside α_max: not fitted"));
+            keys.push(Key::new(
+                Mark::Ring(colour::GREY),
+                "outside α_max: not fitted",
+            ));
         }
         if self.r.points.iter().any(|p| p.cd_se.is_some()) {
             keys.push(Key::new(Mark::Bar(colour::GREY), "±2 SE of a steady mean"));
@@ -214,16 +233,16 @@ impl<'a> PolarFits<'a> {
             [v - e, v + e]
         });
         let y = Range::require(values, ch.symbol())?
-            .union(Range::require(pooled_curve.iter().map(|p| p.1), "the pooled fit")?)
+            .union(Range::require(
+                pooled_curve.iter().map(|p| p.1),
+                "the pooled fit",
+            )?)
             .pad(0.08)
             .headroom(0.18);
         let x = Range::new(deg(alpha.lo), deg(alpha.hi)).pad(0.04);
         let (top, bottom) = area.split_vertically(area.dim_in_pixel().1 * 64 / 100);
         let y_desc = format!("{} (-)", ch.symbol());
-        let mut chart = axes::panel(
-            &top,
-            &Axes::new(x, y, "", &y_desc).title(ch.title()),
-        )?;
+        let mut chart = axes::panel(&top, &Axes::new(x, y, "", &y_desc).title(ch.title()))?;
         // each speed's own fit, then the pooled fit, then the points on top
         if self.groups.iter().filter(|g| g.fit.is_some()).count() > 1 {
             for g in &self.groups {
@@ -238,7 +257,13 @@ impl<'a> PolarFits<'a> {
             let (v, se) = ch.of(p);
             let a = p.alpha_deg;
             if let Some(se) = se {
-                axes::error_bar(&mut chart, a, v - 2.0 * se, v + 2.0 * se, g.colour.stroke_width(1))?;
+                axes::error_bar(
+                    &mut chart,
+                    a,
+                    v - 2.0 * se,
+                    v + 2.0 * se,
+                    g.colour.stroke_width(1),
+                )?;
             }
             let style = if p.used {
                 g.colour.filled()
@@ -273,10 +298,7 @@ impl<'a> PolarFits<'a> {
             .symmetric()
             .pad(0.15);
         let ry_desc = format!("{} residual (-)", ch.symbol());
-        let mut rchart = axes::panel(
-            &bottom,
-            &Axes::new(x, ry, "drift angle α (deg)", &ry_desc),
-        )?;
+        let mut rchart = axes::panel(&bottom, &Axes::new(x, ry, "drift angle α (deg)", &ry_desc))?;
         axes::hline(&mut rchart, x, 0.0, colour::GREY.stroke_width(1), false)?;
         for (g, a, r) in res {
             axes::dots(&mut rchart, [(a, r)], 4, self.groups[g].colour.filled())?;
@@ -362,6 +384,9 @@ mod tests {
             "C_D = 0.2930 α² − 0.02730 α + 0.08260  (α in rad)"
         );
         assert_eq!(formula("C_L", &l), "C_L = 0.5000 α³ − 1.000 α  (α in rad)");
-        assert_eq!(formula("C_M", &fit(&["slope"], &[0.0])), "C_M = 0  (α in rad)");
+        assert_eq!(
+            formula("C_M", &fit(&["slope"], &[0.0])),
+            "C_M = 0  (α in rad)"
+        );
     }
 }

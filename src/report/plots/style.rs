@@ -156,7 +156,10 @@ pub fn draw_mark<DB: DrawingBackend>(
 ) -> Result<(), PlotError> {
     let w = KEY_SAMPLE;
     match mark {
-        Mark::Line(c) => area.draw(&PathElement::new(vec![(x, y), (x + w, y)], c.stroke_width(3)))?,
+        Mark::Line(c) => area.draw(&PathElement::new(
+            vec![(x, y), (x + w, y)],
+            c.stroke_width(3),
+        ))?,
         Mark::Dashed(c) => area.draw(&DashedPathElement::new(
             vec![(x, y), (x + w, y)],
             7,
@@ -249,7 +252,12 @@ mod tests {
     fn legend_wraps_when_the_row_is_full() {
         ensure_font().unwrap();
         let keys: Vec<Key> = (0..6)
-            .map(|i| Key::new(Mark::Dot(colour::BLUE), format!("a fairly long legend entry {i}")))
+            .map(|i| {
+                Key::new(
+                    Mark::Dot(colour::BLUE),
+                    format!("a fairly long legend entry {i}"),
+                )
+            })
             .collect();
         let wide = key_layout(&keys, 4000);
         assert!(wide.iter().all(|(row, _)| *row == 0));

@@ -71,7 +71,10 @@ impl Plot for SurgeFit<'_> {
         }
         let body = style::frame(root, "Surge run: measured u(t) and the fitted model", &keys)?;
         let all = |f: fn(&crate::stages::surge::RunResiduals) -> &Vec<f64>| {
-            self.r.residuals.iter().flat_map(move |x| f(x).iter().copied())
+            self.r
+                .residuals
+                .iter()
+                .flat_map(move |x| f(x).iter().copied())
         };
         let t = Range::require(all(|x| &x.time), "surge time")?.pad(0.01);
         let u = Range::require(all(|x| &x.u), "surge u")?
@@ -82,21 +85,24 @@ impl Plot for SurgeFit<'_> {
             .pad(0.1)
             .headroom(0.3);
         let (top, bottom) = body.split_vertically(body.dim_in_pixel().1 * 62 / 100);
-        let mut chart = axes::panel(
-            &top,
-            &Axes::new(t, u, "", "surge speed u (m/s)"),
-        )?;
-        let mut rchart = axes::panel(
-            &bottom,
-            &Axes::new(t, res, "time t (s)", "u − û (mm/s)"),
-        )?;
+        let mut chart = axes::panel(&top, &Axes::new(t, u, "", "surge speed u (m/s)"))?;
+        let mut rchart = axes::panel(&bottom, &Axes::new(t, res, "time t (s)", "u − û (mm/s)"))?;
         axes::hline(&mut rchart, t, 0.0, colour::GREY.stroke_width(1), false)?;
         for (i, run) in self.r.residuals.iter().enumerate() {
             let c = run_colour(i);
-            let pts: Vec<(f64, f64)> = run.time.iter().copied().zip(run.u.iter().copied()).collect();
+            let pts: Vec<(f64, f64)> = run
+                .time
+                .iter()
+                .copied()
+                .zip(run.u.iter().copied())
+                .collect();
             let width = chart.plotting_area().dim_in_pixel().0 as usize;
             // points, thinned to a few per pixel column so the figure stays light
-            let shown = if pts.len() > width { axes::thin(&pts, width / 2) } else { pts };
+            let shown = if pts.len() > width {
+                axes::thin(&pts, width / 2)
+            } else {
+                pts
+            };
             axes::dots(&mut chart, shown, 2, colour::DATA.filled())?;
             let fitted = run.time.iter().copied().zip(run.fitted.iter().copied());
             axes::line(&mut chart, fitted, c.stroke_width(2))?;
@@ -115,7 +121,9 @@ impl Plot for SurgeFit<'_> {
         note.push(format!(
             "residual SD = {} mm/s, R² = {}",
             num(1e3 * self.r.residual_std),
-            self.r.r_squared.map_or_else(|| "-".into(), |v| format!("{v:.6}"))
+            self.r
+                .r_squared
+                .map_or_else(|| "-".into(), |v| format!("{v:.6}"))
         ));
         axes::note(&rchart, &note)?;
         Ok(())
@@ -135,7 +143,11 @@ impl<'a> SurgeBins<'a> {
         if !r.bins.iter().any(|b| b.fit.is_some()) {
             return None;
         }
-        let analytic = run.analytic.iter().find(|c| c.name == "Xud").map(|c| c.value);
+        let analytic = run
+            .analytic
+            .iter()
+            .find(|c| c.name == "Xud")
+            .map(|c| c.value);
         let reference = run
             .reference
             .as_ref()
@@ -186,17 +198,30 @@ impl Plot for SurgeBins<'_> {
         let s_all = xud.sigma.unwrap_or(0.0);
         let mut keys = vec![
             Key::new(Mark::Dot(colour::BLUE), "X_udot of a speed bin"),
-            Key::new(Mark::Bar(colour::BLUE), "±2σ (thick: statistical; thin: with X_uu)"),
+            Key::new(
+                Mark::Bar(colour::BLUE),
+                "±2σ (thick: statistical; thin: with X_uu)",
+            ),
             Key::new(
                 Mark::Band(colour::DATA),
-                format!("whole run: {} kg, σ = {} kg (band: ±2σ)", num(xud.value), num(s_all)),
+                format!(
+                    "whole run: {} kg, σ = {} kg (band: ±2σ)",
+                    num(xud.value),
+                    num(s_all)
+                ),
             ),
         ];
         if let Some(a) = self.analytic {
-            keys.push(Key::new(Mark::Dashed(colour::ORANGE), format!("Fossen analytic {}", num(a))));
+            keys.push(Key::new(
+                Mark::Dashed(colour::ORANGE),
+                format!("Fossen analytic {}", num(a)),
+            ));
         }
         if let Some((n, v)) = &self.reference {
-            keys.push(Key::new(Mark::Dashed(colour::GREEN), format!("{n}: {}", num(*v))));
+            keys.push(Key::new(
+                Mark::Dashed(colour::GREEN),
+                format!("{n}: {}", num(*v)),
+            ));
         }
         let body = style::frame(root, "Surge added mass X_udot per speed bin", &keys)?;
         let fits: Vec<(f64, f64, f64, f64, f64)> = self
@@ -232,7 +257,13 @@ impl Plot for SurgeBins<'_> {
             y,
             colour::DATA,
         )?;
-        axes::hline(&mut chart, x, xud.value, colour::DATA.stroke_width(2), false)?;
+        axes::hline(
+            &mut chart,
+            x,
+            xud.value,
+            colour::DATA.stroke_width(2),
+            false,
+        )?;
         if let Some(a) = self.analytic {
             axes::hline(&mut chart, x, a, colour::ORANGE.stroke_width(2), true)?;
         }
@@ -242,8 +273,20 @@ impl Plot for SurgeBins<'_> {
         for (lo, hi, v, stat, tot) in fits {
             let mid = 0.5 * (lo + hi);
             axes::line(&mut chart, [(lo, v), (hi, v)], colour::BLUE.stroke_width(2))?;
-            axes::error_bar(&mut chart, mid, v - 2.0 * tot, v + 2.0 * tot, colour::BLUE.stroke_width(1))?;
-            axes::error_bar(&mut chart, mid, v - 2.0 * stat, v + 2.0 * stat, colour::BLUE.stroke_width(4))?;
+            axes::error_bar(
+                &mut chart,
+                mid,
+                v - 2.0 * tot,
+                v + 2.0 * tot,
+                colour::BLUE.stroke_width(1),
+            )?;
+            axes::error_bar(
+                &mut chart,
+                mid,
+                v - 2.0 * stat,
+                v + 2.0 * stat,
+                colour::BLUE.stroke_width(4),
+            )?;
             axes::dots(&mut chart, [(mid, v)], 6, colour::BLUE.filled())?;
         }
         Ok(())

@@ -69,7 +69,11 @@ pub fn runs(out: &RunOutput) -> Vec<RunView<'_>> {
         .iter()
         .enumerate()
         .map(|(i, (record, sim))| {
-            let metrics = out.result.resimulation.get(i).filter(|m| m.run == record.name);
+            let metrics = out
+                .result
+                .resimulation
+                .get(i)
+                .filter(|m| m.run == record.name);
             let fit = metrics.map_or(i < traces.map_or(0, Vec::len), |m| m.used_for_fit);
             let index = if fit {
                 n_fit += 1;
@@ -146,7 +150,10 @@ impl Plot for Track<'_> {
         let sy = self.run.simulated(Quantity::Y);
         let keys = vec![
             Key::new(Mark::Line(colour::DATA), "CFD"),
-            Key::new(Mark::Dashed(colour::VERMILLION), "identified model, open loop"),
+            Key::new(
+                Mark::Dashed(colour::VERMILLION),
+                "identified model, open loop",
+            ),
             Key::new(Mark::Ring(colour::DATA), "start"),
             Key::new(Mark::Dot(colour::DATA), "end (CFD)"),
             Key::new(Mark::Dot(colour::VERMILLION), "end (model)"),
@@ -175,16 +182,31 @@ impl Plot for Track<'_> {
             .plotting_area()
             .dim_in_pixel();
         let (east, north) = axes::equal_aspect(east, north, probe);
-        let mut chart = axes::panel(
-            &body,
-            &Axes::new(east, north, "east y (m)", "north x (m)"),
-        )?;
+        let mut chart = axes::panel(&body, &Axes::new(east, north, "east y (m)", "north x (m)"))?;
         let cfd: Vec<(f64, f64)> = cy.iter().copied().zip(cx.iter().copied()).collect();
-        axes::line(&mut chart, cfd.iter().copied(), colour::DATA.stroke_width(3))?;
-        axes::dashed(&mut chart, sim_pts.iter().copied(), colour::VERMILLION.stroke_width(2))?;
-        axes::dots(&mut chart, cfd.first().copied(), 7, colour::DATA.stroke_width(2))?;
+        axes::line(
+            &mut chart,
+            cfd.iter().copied(),
+            colour::DATA.stroke_width(3),
+        )?;
+        axes::dashed(
+            &mut chart,
+            sim_pts.iter().copied(),
+            colour::VERMILLION.stroke_width(2),
+        )?;
+        axes::dots(
+            &mut chart,
+            cfd.first().copied(),
+            7,
+            colour::DATA.stroke_width(2),
+        )?;
         axes::dots(&mut chart, cfd.last().copied(), 6, colour::DATA.filled())?;
-        axes::dots(&mut chart, sim_pts.last().copied(), 5, colour::VERMILLION.filled())?;
+        axes::dots(
+            &mut chart,
+            sim_pts.last().copied(),
+            5,
+            colour::VERMILLION.filled(),
+        )?;
         if let Some(m) = self.run.metrics {
             if let (Some(p), Some(dist)) = (m.final_position_error_pct, m.distance) {
                 axes::note(
@@ -261,23 +283,38 @@ impl Plot for States<'_> {
             .ok_or_else(|| PlotError::new("the run has no time"))?;
         let mut keys = vec![
             Key::new(Mark::Line(colour::DATA), "CFD"),
-            Key::new(Mark::Line(colour::VERMILLION), "identified model, open loop"),
+            Key::new(
+                Mark::Line(colour::VERMILLION),
+                "identified model, open loop",
+            ),
         ];
         if self.run.smoothed.is_some() {
-            keys.push(Key::new(Mark::Line(colour::BLUE), "smoothed estimate (fit run)"));
+            keys.push(Key::new(
+                Mark::Line(colour::BLUE),
+                "smoothed estimate (fit run)",
+            ));
         }
         let body = style::frame(root, &format!("Motion of {}", self.run.label()), &keys)?;
         let t = Range::require(time.iter().copied(), "time")?;
         let n = self.shown.len();
-        for (i, (area, (q, desc, k))) in body.split_evenly((n, 1)).iter().zip(&self.shown).enumerate() {
+        for (i, (area, (q, desc, k))) in body
+            .split_evenly((n, 1))
+            .iter()
+            .zip(&self.shown)
+            .enumerate()
+        {
             let scaled = |v: Option<Vec<f64>>| -> Vec<f64> {
-                v.map(|v| v.iter().map(|x| x * k).collect()).unwrap_or_default()
+                v.map(|v| v.iter().map(|x| x * k).collect())
+                    .unwrap_or_default()
             };
             let cfd = scaled(self.run.record.channel(*q).map(<[f64]>::to_vec));
             let sim = scaled(self.run.simulated(*q));
             let smooth = scaled(self.run.smoothed(*q));
             let diff = |v: &[f64]| -> Vec<(f64, f64)> {
-                time.iter().zip(v.iter().zip(&cfd)).map(|(t, (a, b))| (*t, a - b)).collect()
+                time.iter()
+                    .zip(v.iter().zip(&cfd))
+                    .map(|(t, (a, b))| (*t, a - b))
+                    .collect()
             };
             let (d_sim, d_smooth) = (diff(&sim), diff(&smooth));
             let y = Range::require(cfd.iter().copied(), desc)?
@@ -285,7 +322,12 @@ impl Plot for States<'_> {
                 .pad(0.08);
             let (top, bottom) = area.split_vertically(area.dim_in_pixel().1 * 62 / 100);
             let mut chart = axes::panel(&top, &Axes::new(t, y, "", desc))?;
-            let series = |v: &[f64]| time.iter().copied().zip(v.iter().copied()).collect::<Vec<_>>();
+            let series = |v: &[f64]| {
+                time.iter()
+                    .copied()
+                    .zip(v.iter().copied())
+                    .collect::<Vec<_>>()
+            };
             axes::line(&mut chart, series(&cfd), colour::DATA.stroke_width(3))?;
             axes::line(&mut chart, series(&sim), colour::VERMILLION.stroke_width(2))?;
             axes::line(&mut chart, series(&smooth), colour::BLUE.stroke_width(1))?;
@@ -304,7 +346,10 @@ impl Plot for States<'_> {
             axes::line(&mut dchart, d_smooth, colour::BLUE.stroke_width(1))?;
             axes::line(&mut dchart, d_sim, colour::VERMILLION.stroke_width(1))?;
             if let Some(rms) = self.run.metrics.and_then(|m| m.rms.get(q)) {
-                axes::note(&dchart, &[format!("RMS(model − CFD) = {} {unit}", num(rms * k))])?;
+                axes::note(
+                    &dchart,
+                    &[format!("RMS(model − CFD) = {} {unit}", num(rms * k))],
+                )?;
             }
         }
         Ok(())
