@@ -223,7 +223,10 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutp
             analytic_added_mass: added,
             runs: &fit,
         };
-        let r = hekf::run(hc, &stage_inputs, progress)?;
+        let mut r = hekf::run(hc, &stage_inputs, progress)?;
+        for (summary, rec) in r.runs.iter_mut().zip(&fit) {
+            summary.file = record::report_path(&rec.source, &loaded.base_dir);
+        }
         progress.stage(&format!(
             "hekf: {} coefficients from {} run{} ({} passes)",
             r.estimated.len(),

@@ -74,6 +74,15 @@ impl Record {
     }
 }
 
+/// `path` as written in reports: relative to the configuration's folder `base` when inside it,
+/// with forward slashes, so that results do not depend on where hydroid was started.
+pub fn report_path(path: &Path, base: &Path) -> String {
+    path.strip_prefix(base)
+        .unwrap_or(path)
+        .to_string_lossy()
+        .replace('\\', "/")
+}
+
 /// Reads the file `spec` names (relative to `base`) and picks the quantities `needs` asks for.
 pub fn load(spec: &InputSpec, base: &Path, needs: &Needs) -> Result<Record, InputError> {
     let path = base.join(&spec.file);

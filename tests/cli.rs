@@ -10,9 +10,13 @@ fn root() -> PathBuf {
 }
 
 fn hydroid(args: &[&str]) -> Output {
+    hydroid_in(&root(), args)
+}
+
+fn hydroid_in(dir: &Path, args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_hydroid"))
         .args(args)
-        .current_dir(root())
+        .current_dir(dir)
         .output()
         .expect("the hydroid binary runs")
 }
@@ -374,8 +378,12 @@ fn rerun_reproduces_and_refuses_changed_inputs() {
     let dir = tempfile::tempdir().unwrap();
     copy_example(dir.path());
     let out = dir.path().join("out");
-    let cfg = dir.path().join("configs/spheroid.toml");
-    let o = hydroid(&["run", cfg.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    // run with a relative path from the example's folder, rerun from elsewhere: the results
+    // do not depend on where hydroid was started
+    let o = hydroid_in(
+        dir.path(),
+        &["run", "configs/spheroid.toml", "--out", "out"],
+    );
     assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
     let before = std::fs::read(out.join("results.json")).unwrap();
     let o = hydroid(&["rerun", out.to_str().unwrap()]);

@@ -116,12 +116,7 @@ impl InputSummary {
     /// Summary of a loaded input; the file path is written relative to `base`.
     pub fn from_loaded(i: &LoadedInput, base: &Path) -> Self {
         let r = &i.record;
-        let file = r
-            .source
-            .strip_prefix(base)
-            .unwrap_or(&r.source)
-            .to_string_lossy()
-            .replace('\\', "/");
+        let file = crate::record::report_path(&r.source, base);
         InputSummary {
             key: i.key.clone(),
             name: r.name.clone(),

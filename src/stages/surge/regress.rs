@@ -48,6 +48,52 @@ pub enum SegmentError {
     Singular,
 }
 
+/// Slopes of y = X theta (no intercept) by least squares on unit-norm columns, with the
+/// covariance sigma^2 (X'X)^-1 from `resid_dof` residual degrees of freedom.
+struct Slopes {
+    theta: Vec<f64>,
+    covariance: Vec<Vec<f64>>,
+    rss: f64,
+}
+
+fn scaled_least_squares(
+    x: &DMatrix<f64>,
+    y: &DVector<f64>,
+    resid_dof: usize,
+) -> Result<Slopes, SegmentError> {
+    let (n, p) = x.shape();
+    // Scale columns for the rank test.
+    let norms: Vec<f64> = (0..p).map(|j| x.column(j).norm()).collect();
+    if norms.iter().any(|v| *v == 0.0 || !v.is_finite()) {
+        return Err(SegmentError::Singular);
+    }
+    let xs = DMatrix::from_fn(n, p, |i, j| x[(i, j)] / norms[j]);
+    let svd = (xs.transpose() * &xs).svd(true, true);
+    let (smin, smax) = (svd.singular_values.min(), svd.singular_values.max());
+    if smin.is_nan() || smin <= 1e-13 * smax {
+        return Err(SegmentError::Singular);
+    }
+    let inv = svd
+        .pseudo_inverse(0.0)
+        .map_err(|_| SegmentError::Singular)?;
+    let theta_s = &inv * (xs.transpose() * y);
+    let theta = (0..p).map(|j| theta_s[j] / norms[j]).collect();
+    let rss = (y - &xs * &theta_s).norm_squared();
+    let s2 = rss / resid_dof as f64;
+    let covariance = (0..p)
+        .map(|i| {
+            (0..p)
+                .map(|j| s2 * inv[(i, j)] / (norms[i] * norms[j]))
+                .collect()
+        })
+        .collect();
+    Ok(Slopes {
+        theta,
+        covariance,
+        rss,
+    })
+}
+
 /// Fits y = c_s + X theta over `segments` (index ranges into `y` and each of `x`).
 pub fn fit(y: &[f64], x: &[&[f64]], segments: &[Range<usize>]) -> Result<SegmentFit, SegmentError> {
     let p = x.len();
@@ -77,36 +123,13 @@ pub fn fit(y: &[f64], x: &[&[f64]], segments: &[Range<usize>]) -> Result<Segment
         }
         means.push((my, mx));
     }
-    // Scale columns for the rank test.
-    let norms: Vec<f64> = (0..p).map(|j| xc.column(j).norm()).collect();
-    if norms.iter().any(|v| *v == 0.0 || !v.is_finite()) {
-        return Err(SegmentError::Singular);
-    }
-    let xs = DMatrix::from_fn(n, p, |i, j| xc[(i, j)] / norms[j]);
-    let xtx = xs.transpose() * &xs;
-    let svd = xtx.clone().svd(true, true);
-    let smax = svd.singular_values.max();
-    let smin = svd.singular_values.min();
-    if smin.is_nan() || smin <= 1e-13 * smax {
-        return Err(SegmentError::Singular);
-    }
-    let inv = svd
-        .pseudo_inverse(0.0)
-        .map_err(|_| SegmentError::Singular)?;
-    let theta_s = &inv * (xs.transpose() * &yc);
-    let theta: Vec<f64> = (0..p).map(|j| theta_s[j] / norms[j]).collect();
-    let resid = &yc - &xs * &theta_s;
-    let rss = resid.norm_squared();
-    let tss = yc.norm_squared();
     let dof = n - s_count - p;
-    let s2 = rss / dof as f64;
-    let covariance = (0..p)
-        .map(|i| {
-            (0..p)
-                .map(|j| s2 * inv[(i, j)] / (norms[i] * norms[j]))
-                .collect()
-        })
-        .collect();
+    let Slopes {
+        theta,
+        covariance,
+        rss,
+    } = scaled_least_squares(&xc, &yc, dof)?;
+    let tss = yc.norm_squared();
     let mut intercepts = Vec::with_capacity(s_count);
     let mut fitted = Vec::with_capacity(s_count);
     for (seg, (my, mx)) in segments.iter().zip(&means) {
@@ -157,31 +180,12 @@ pub fn fit_windows(
     }
     let dx = DMatrix::from_fn(m, p, |w, j| x[j][pairs[w].1] - x[j][pairs[w].0]);
     let dy = DVector::from_fn(m, |w, _| y[pairs[w].1] - y[pairs[w].0]);
-    let norms: Vec<f64> = (0..p).map(|j| dx.column(j).norm()).collect();
-    if norms.iter().any(|v| *v == 0.0 || !v.is_finite()) {
-        return Err(SegmentError::Singular);
-    }
-    let xs = DMatrix::from_fn(m, p, |i, j| dx[(i, j)] / norms[j]);
-    let svd = (xs.transpose() * &xs).svd(true, true);
-    let (smin, smax) = (svd.singular_values.min(), svd.singular_values.max());
-    if smin.is_nan() || smin <= 1e-13 * smax {
-        return Err(SegmentError::Singular);
-    }
-    let inv = svd
-        .pseudo_inverse(0.0)
-        .map_err(|_| SegmentError::Singular)?;
-    let theta_s = &inv * (xs.transpose() * &dy);
-    let theta: Vec<f64> = (0..p).map(|j| theta_s[j] / norms[j]).collect();
-    let rss = (&dy - &xs * &theta_s).norm_squared();
     let dof = m - p;
-    let s2 = rss / dof as f64;
-    let covariance = (0..p)
-        .map(|i| {
-            (0..p)
-                .map(|j| s2 * inv[(i, j)] / (norms[i] * norms[j]))
-                .collect()
-        })
-        .collect();
+    let Slopes {
+        theta,
+        covariance,
+        rss,
+    } = scaled_least_squares(&dx, &dy, dof)?;
     let (mut intercepts, mut fitted) = (Vec::new(), Vec::new());
     let (mut res2, mut tot2, mut n) = (0.0, 0.0, 0);
     for seg in segments {
