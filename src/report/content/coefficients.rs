@@ -3,7 +3,7 @@
 use super::fmt::pct;
 use super::Figures;
 use crate::report::doc::{code, text, Col, Document, Table};
-use crate::report::plots::budget::{lines, stage_order};
+use crate::report::plots::budget::{lines, stages_of};
 use crate::report::results::RunResult;
 use crate::report::table::{comparison_header, comparison_rows, num};
 
@@ -53,12 +53,7 @@ fn budget(d: &mut Document, r: &RunResult) {
          A coefficient fixed in a later stage inherits the uncertainty of the earlier ones it \
          depends on.",
     );
-    let mut stages: Vec<String> = lines
-        .iter()
-        .flat_map(|l| l.shares.iter().map(|s| s.0.clone()))
-        .collect();
-    stage_order(&mut stages);
-    stages.dedup();
+    let stages = stages_of(&lines);
     let mut header = vec!["coefficient".to_string(), "unit".into(), "σ".into()];
     header.extend(stages.iter().map(|s| format!("from {s}")));
     header.push("dominant".into());

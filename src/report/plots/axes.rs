@@ -304,11 +304,7 @@ pub fn line<DB: DrawingBackend>(
     points: impl IntoIterator<Item = (f64, f64)>,
     style: ShapeStyle,
 ) -> Result<(), PlotError> {
-    let width = chart.plotting_area().dim_in_pixel().0 as usize;
-    for s in stretches(points) {
-        chart.draw_series(LineSeries::new(thin(&s, width.max(1)), style))?;
-    }
-    Ok(())
+    stretched(chart, points, style, None)
 }
 
 /// Draws a dashed line through every finite stretch of `points`.
@@ -317,9 +313,24 @@ pub fn dashed<DB: DrawingBackend>(
     points: impl IntoIterator<Item = (f64, f64)>,
     style: ShapeStyle,
 ) -> Result<(), PlotError> {
+    stretched(chart, points, style, Some((9, 6)))
+}
+
+/// Solid (`dash` None) or dashed (dash length, gap in pixels) lines through the finite
+/// stretches of `points`, thinned to the panel width.
+fn stretched<DB: DrawingBackend>(
+    chart: &mut Chart<'_, DB>,
+    points: impl IntoIterator<Item = (f64, f64)>,
+    style: ShapeStyle,
+    dash: Option<(u32, u32)>,
+) -> Result<(), PlotError> {
     let width = chart.plotting_area().dim_in_pixel().0 as usize;
     for s in stretches(points) {
-        chart.draw_series(DashedLineSeries::new(thin(&s, width.max(1)), 9, 6, style))?;
+        let pts = thin(&s, width.max(1));
+        match dash {
+            None => chart.draw_series(LineSeries::new(pts, style))?,
+            Some((size, gap)) => chart.draw_series(DashedLineSeries::new(pts, size, gap, style))?,
+        };
     }
     Ok(())
 }

@@ -25,7 +25,7 @@ pub struct Line {
 }
 
 /// The stages in pipeline order, then any other in name order.
-pub fn stage_order(stages: &mut [String]) {
+fn stage_order(stages: &mut [String]) {
     let rank = |s: &str| match s {
         "polar" => 0,
         "surge" => 1,
@@ -33,6 +33,17 @@ pub fn stage_order(stages: &mut [String]) {
         _ => 3,
     };
     stages.sort_by(|a, b| rank(a).cmp(&rank(b)).then(a.cmp(b)));
+}
+
+/// Every stage some line's budget names, once each, in pipeline order.
+pub fn stages_of(lines: &[Line]) -> Vec<String> {
+    let mut stages: Vec<String> = lines
+        .iter()
+        .flat_map(|l| l.shares.iter().map(|s| s.0.clone()))
+        .collect();
+    stage_order(&mut stages);
+    stages.dedup();
+    stages
 }
 
 /// The budget lines of every coefficient with a finite, positive budget.
@@ -83,12 +94,7 @@ impl Budget {
     /// The figure, when some coefficient has a budget.
     pub fn new(rows: &[ComparisonRow]) -> Option<Self> {
         let lines = lines(rows);
-        let mut stages: Vec<String> = lines
-            .iter()
-            .flat_map(|l| l.shares.iter().map(|s| s.0.clone()))
-            .collect();
-        stage_order(&mut stages);
-        stages.dedup();
+        let stages = stages_of(&lines);
         (!lines.is_empty()).then_some(Budget { lines, stages })
     }
 }
