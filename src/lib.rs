@@ -19,6 +19,7 @@ pub mod frames;
 pub mod inspect;
 pub mod linalg;
 pub mod models;
+pub mod numfmt;
 pub mod output;
 pub mod pipeline;
 pub mod progress;

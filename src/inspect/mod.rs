@@ -254,13 +254,7 @@ pub fn num(v: f64) -> String {
     }
     let a = v.abs();
     if (1e-4..1e6).contains(&a) {
-        let decimals = (5 - a.log10().floor() as i32).max(0) as usize;
-        let s = format!("{v:.decimals$}");
-        if s.contains('.') {
-            s.trim_end_matches('0').trim_end_matches('.').to_string()
-        } else {
-            s
-        }
+        crate::numfmt::fixed_trimmed(v, (5 - a.log10().floor() as i32).max(0) as usize)
     } else {
         format!("{v:.5e}")
     }

@@ -210,13 +210,7 @@ pub fn tick(v: &f64) -> String {
     }
     let mag = v.abs().log10().floor() as i32;
     let s = if (-4..5).contains(&mag) {
-        let decimals = (2 - mag).clamp(0, 6) as usize;
-        let s = format!("{v:.decimals$}");
-        if s.contains('.') {
-            s.trim_end_matches('0').trim_end_matches('.').to_string()
-        } else {
-            s
-        }
+        crate::numfmt::fixed_trimmed(v, (2 - mag).clamp(0, 6) as usize)
     } else {
         format!("{v:.1e}")
     };

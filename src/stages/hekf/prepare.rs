@@ -141,10 +141,7 @@ impl Plan {
 }
 
 fn sig(v: f64) -> String {
-    format!("{v:.4}")
-        .trim_end_matches('0')
-        .trim_end_matches('.')
-        .to_string()
+    crate::numfmt::fixed_trimmed(v, 4)
 }
 
 /// The filter's view of one run: measurements, noise, inputs, initial state.
