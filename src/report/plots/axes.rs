@@ -301,13 +301,16 @@ pub fn line<DB: DrawingBackend>(
     stretched(chart, points, style, None)
 }
 
+/// Dash length and gap of dashed lines, pixels.
+const DASH: (u32, u32) = (9, 6);
+
 /// Draws a dashed line through every finite stretch of `points`.
 pub fn dashed<DB: DrawingBackend>(
     chart: &mut Chart<'_, DB>,
     points: impl IntoIterator<Item = (f64, f64)>,
     style: ShapeStyle,
 ) -> Result<(), PlotError> {
-    stretched(chart, points, style, Some((9, 6)))
+    stretched(chart, points, style, Some(DASH))
 }
 
 /// Solid (`dash` None) or dashed (dash length, gap in pixels) lines through the finite
@@ -340,11 +343,7 @@ pub fn hline<DB: DrawingBackend>(
     if !y.is_finite() {
         return Ok(());
     }
-    if dash {
-        dashed(chart, [(x.lo, y), (x.hi, y)], style)
-    } else {
-        line(chart, [(x.lo, y), (x.hi, y)], style)
-    }
+    stretched(chart, [(x.lo, y), (x.hi, y)], style, dash.then_some(DASH))
 }
 
 /// A shaded band between `lower` and `upper` over `x` (all the same length), clamped to the
