@@ -222,11 +222,9 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutp
             known: &for_filter,
             analytic_added_mass: added,
             runs: &fit,
+            base_dir: &loaded.base_dir,
         };
-        let mut r = hekf::run(hc, &stage_inputs, progress)?;
-        for (summary, rec) in r.runs.iter_mut().zip(&fit) {
-            summary.file = record::report_path(&rec.source, &loaded.base_dir);
-        }
+        let r = hekf::run(hc, &stage_inputs, progress)?;
         progress.stage(&format!(
             "hekf: {} coefficients from {} run{} ({} passes)",
             r.estimated.len(),

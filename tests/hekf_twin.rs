@@ -203,6 +203,7 @@ fn identify(cfg: &HekfConfig, runs: &[Record]) -> hydroid::Result<HekfResult> {
                 nrd: -1.4532,
             }),
             runs,
+            base_dir: std::path::Path::new(""),
         },
         &mut hydroid::progress::Silent,
     )

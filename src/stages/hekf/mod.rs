@@ -60,6 +60,8 @@ pub struct StageInputs<'a> {
     pub analytic_added_mass: Option<AddedMass>,
     /// The identification runs.
     pub runs: &'a [Record],
+    /// The configuration's folder: run files are reported relative to it.
+    pub base_dir: &'a std::path::Path,
 }
 
 /// Runs the stage.
@@ -153,7 +155,7 @@ impl ModelVisitor for Identify<'_> {
         let mut runs = Vec::new();
         let mut summaries = Vec::new();
         for rec in inputs.runs {
-            let (data, summary) = prepare::run_data(model, cfg, &tuning, rec)?;
+            let (data, summary) = prepare::run_data(model, cfg, &tuning, rec, inputs.base_dir)?;
             runs.push(data);
             summaries.push(summary);
         }

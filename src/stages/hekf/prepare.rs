@@ -150,6 +150,7 @@ pub fn run_data<M: Model>(
     cfg: &HekfConfig,
     tuning: &Resolved,
     rec: &Record,
+    base_dir: &std::path::Path,
 ) -> Result<(RunData, RunSummary)> {
     let fail = |msg: String| {
         Error::numerical(
@@ -267,7 +268,7 @@ pub fn run_data<M: Model>(
     };
     let summary = RunSummary {
         name: rec.name.clone(),
-        file: rec.source.display().to_string(),
+        file: crate::record::report_path(&rec.source, base_dir),
         samples: k_len,
         duration: times.last().copied().unwrap_or(0.0) - times.first().copied().unwrap_or(0.0),
         mean_dt: dt,
