@@ -10,6 +10,7 @@ use crate::record::{self, Needs, Record};
 use crate::report::results::{compare, InputSummary, RunResult, StageResults};
 use crate::resim::{resimulate, ResimTrace};
 use crate::stages::hekf::{self, ModelName};
+use crate::warning::Warning;
 use sha2::{Digest, Sha256};
 use std::path::Path;
 
@@ -247,31 +248,53 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutp
             .chain(validation.iter().map(|r| (r, false)))
         {
             let (m, t) = resimulate(&spec, &final_set, rec, used)?;
-            if let Some(s) = &m.stopped {
-                warnings.push(format!(
-                    "re-simulation of '{}' stopped early: {s}",
-                    rec.name
-                ));
-            }
+            warnings.extend(crate::resim::warnings(&m, rec));
             resim_metrics.push(m);
             resim_traces.push((rec.clone(), t));
         }
         known.merge_stage(r.coefficients(), r.directions.clone());
         known.correlation = Some(r.correlation.clone());
-        warnings.extend(r.warnings.iter().map(|w| format!("hekf: {w}")));
+        warnings.extend(r.warnings.iter().cloned());
+        for run in &r.runs {
+            warnings.extend(run.warnings.iter().cloned());
+        }
         model_name = Some(hc.model);
         stages.hekf = Some(r);
     }
     // the reported set: what the stages and the configuration gave, completed by symmetry
     match model_name {
         Some(m) => complete_for(&mut known, m),
-        None => warnings.extend(known.complete(SYMMETRY)),
+        None => warnings.extend(known.complete(SYMMETRY).into_iter().map(|w| {
+            Warning::new(
+                "coefficients",
+                w,
+                "the coefficient set is incomplete: a re-simulation with it is not possible",
+            )
+        })),
     }
-    for i in &inputs {
-        for w in &i.record.warnings {
-            warnings.push(format!("{}: {w}", i.record.name));
-        }
+    // inputs first, then the stages in order
+    let mut all: Vec<Warning> = inputs
+        .iter()
+        .flat_map(|i| {
+            i.record.warnings.iter().map(|w| {
+                Warning::new(
+                    "input",
+                    w.clone(),
+                    "hydroid read the file as described here; check that this is what the \
+                     export meant",
+                )
+                .for_run(&i.record.name)
+            })
+        })
+        .collect();
+    if let Some(p) = &stages.polar {
+        all.extend(p.warnings.iter().cloned());
     }
+    if let Some(s) = &stages.surge {
+        all.extend(s.warnings.iter().cloned());
+    }
+    all.extend(warnings);
+    let warnings = all;
     let comparison = compare(&known, &analytic, cfg.reference.as_ref());
     let result = RunResult::new(
         loaded,

@@ -7,9 +7,17 @@ use crate::error::{Error, Result};
 use crate::models::{with_model, Model, ModelSpec, ModelVisitor};
 use crate::quantity::Quantity;
 use crate::record::Record;
-use crate::sim::{complete_coefficients, simulate, InputSeries};
+use crate::signal;
+use crate::sim::{complete_coefficients, simulate, steps_for, InputSeries};
+use crate::warning::Warning;
 use serde::Serialize;
 use std::collections::BTreeMap;
+
+/// An RMS error above this share of the signal's peak-to-peak range is a poor re-simulation.
+pub const POOR_RMS_SHARE: f64 = 0.1;
+
+/// A final position error above this percentage of the distance travelled is poor.
+pub const POOR_POSITION_PCT: f64 = 10.0;
 
 /// How well the model reproduces one run.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -84,11 +92,21 @@ impl ModelVisitor for Resim<'_> {
                 x0[i] = v[0];
             }
         }
-        // integrate sample by sample so that a divergence keeps the part before it
+        // integrate sample by sample so that a divergence keeps the part before it, in steps
+        // no longer than the regular interval nor 10 ms (a gap is crossed in such steps)
+        let regular = crate::sampling::median_interval(&times).unwrap_or(0.01);
+        let max_step = regular / (regular / 0.01 - 1e-9).ceil().max(1.0);
         let mut xs = vec![x0.clone()];
         let mut stopped = None;
         for k in 1..times.len() {
-            match simulate(model, &c, &xs[k - 1], &inputs, &times[k - 1..=k], 1) {
+            let Some(steps) = steps_for(times[k] - times[k - 1], max_step) else {
+                stopped = Some(format!(
+                    "the interval after t = {} s is too long to integrate",
+                    times[k - 1]
+                ));
+                break;
+            };
+            match simulate(model, &c, &xs[k - 1], &inputs, &times[k - 1..=k], steps) {
                 Ok(step) => xs.push(step[1].clone()),
                 Err(e) => {
                     stopped = Some(e.to_string());
@@ -110,9 +128,14 @@ impl ModelVisitor for Resim<'_> {
             let (Some(i), Some(meas)) = (model.state_index(q), rec.channel(q)) else {
                 continue;
             };
+            // gross outliers of the CFD data are not the model's error
             let n = xs.len();
-            let s: f64 = (0..n).map(|k| (xs[k][i] - meas[k]).powi(2)).sum();
-            rms.insert(q, (s / n as f64).sqrt());
+            let spikes = signal::outliers(&meas[..n]);
+            let used: Vec<usize> = (0..n)
+                .filter(|k| spikes.binary_search_by_key(k, |o| o.index).is_err())
+                .collect();
+            let s: f64 = used.iter().map(|&k| (xs[k][i] - meas[k]).powi(2)).sum();
+            rms.insert(q, (s / used.len().max(1) as f64).sqrt());
         }
         let (mut final_err, mut distance) = (None, None);
         if let (Some(ix), Some(iy), Some(mx), Some(my)) = (
@@ -148,4 +171,69 @@ impl ModelVisitor for Resim<'_> {
             },
         ))
     }
+}
+
+/// Warnings about one re-simulation: stopped early, or errors large against the motion
+/// (RMS above [`POOR_RMS_SHARE`] of a signal's range, or a final position error above
+/// [`POOR_POSITION_PCT`] % of the distance travelled).
+pub fn warnings(m: &ResimMetrics, rec: &Record) -> Vec<Warning> {
+    let what = if m.used_for_fit {
+        "a run used for the fit"
+    } else {
+        "a validation run"
+    };
+    let mut out = Vec::new();
+    if let Some(s) = &m.stopped {
+        out.push(
+            Warning::new(
+                "resimulation",
+                format!("the re-simulation stopped early: {s}"),
+                format!(
+                    "the identified model does not reproduce {what}; its coefficients should \
+                     not be used for prediction without understanding why"
+                ),
+            )
+            .for_run(&rec.name),
+        );
+    }
+    let mut poor = Vec::new();
+    for (q, rms) in &m.rms {
+        let Some(raw) = rec.channel(*q) else { continue };
+        let v = signal::cleaned(raw, &signal::outliers(raw));
+        let (lo, hi) = v
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+                (a.min(*x), b.max(*x))
+            });
+        let range = hi - lo;
+        if range > 0.0 && *rms > POOR_RMS_SHARE * range {
+            poor.push(format!(
+                "{q} (RMS error {:.0} % of its range)",
+                100.0 * rms / range
+            ));
+        }
+    }
+    if let Some(p) = m
+        .final_position_error_pct
+        .filter(|p| *p > POOR_POSITION_PCT)
+    {
+        poor.push(format!(
+            "the final position ({p:.0} % of the distance travelled)"
+        ));
+    }
+    if !poor.is_empty() {
+        out.push(
+            Warning::new(
+                "resimulation",
+                format!("poor re-simulation of {}", poor.join(", ")),
+                format!(
+                    "the identified model does not reproduce {what} although each coefficient \
+                     may look well determined: the model structure, a fixed coefficient or an \
+                     input is wrong, or the run lies outside what the fit runs covered"
+                ),
+            )
+            .for_run(&rec.name),
+        );
+    }
+    out
 }

@@ -88,7 +88,7 @@ fn bundled_example_runs_end_to_end() {
     }
     let r: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
-    assert_eq!(r["schema"], "hydroid-results/1");
+    assert_eq!(r["schema"], "hydroid-results/2");
     let coefs = r["coefficients"].as_array().unwrap();
     let get = |n: &str| coefs.iter().find(|c| c["name"] == n).unwrap();
     // every stage contributed, with a sigma

@@ -10,7 +10,9 @@ use hydroid::quantity::Quantity;
 use hydroid::record::Record;
 use hydroid::sim::config::{ExportColumn, ExportConfig, Manoeuvre, NoiseConfig, SimConfig, Step};
 use hydroid::sim::synth::synthesize;
-use hydroid::stages::hekf::{self, HekfConfig, HekfResult, ModelName, Preset, Prior};
+use hydroid::stages::hekf::{
+    self, Checks, HekfConfig, HekfResult, ModelName, Outliers, Preset, Prior,
+};
 use std::collections::BTreeMap;
 
 use hydroid::models::spheroid3::BOUNDED_TRUTH as TRUTH;
@@ -170,6 +172,9 @@ fn config(preset: Preset, model: ModelName) -> HekfConfig {
         prior: BTreeMap::new(),
         noise: BTreeMap::new(),
         process_noise: BTreeMap::new(),
+        gate: None,
+        outliers: Outliers::default(),
+        checks: Checks::default(),
         measure: None,
         runs: Vec::new(),
         validation: Vec::new(),

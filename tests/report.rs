@@ -285,7 +285,7 @@ fn results_json_matches_its_schema() {
     broken["resimulation"][0]["undocumented"] = serde_json::json!(1);
     assert!(!validator.is_valid(&broken));
     let mut broken = results.clone();
-    broken["schema"] = serde_json::json!("hydroid-results/2");
+    broken["schema"] = serde_json::json!("hydroid-results/3");
     assert!(!validator.is_valid(&broken));
     let mut broken = results;
     broken["inputs"][0]["sha256"] = serde_json::json!("not a hash");

@@ -12,7 +12,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 /// Version of the results.json layout; bumped on any incompatible change.
-pub const SCHEMA: &str = "hydroid-results/1";
+pub const SCHEMA: &str = "hydroid-results/2";
 
 /// Relative standard deviation above which a coefficient is flagged as uncertain.
 pub const UNCERTAIN: f64 = 0.1;
@@ -47,8 +47,8 @@ pub struct RunResult {
     pub stages: StageResults,
     /// The identified model re-simulated against each run.
     pub resimulation: Vec<ResimMetrics>,
-    /// Things the user should know.
-    pub warnings: Vec<String>,
+    /// Everything the user should know, from every stage and input, with what it means.
+    pub warnings: Vec<crate::warning::Warning>,
     /// The effective configuration (defaults and overrides applied).
     pub configuration: Config,
 }
@@ -227,7 +227,7 @@ impl RunResult {
         comparison: Vec<ComparisonRow>,
         stages: StageResults,
         resimulation: Vec<ResimMetrics>,
-        warnings: Vec<String>,
+        warnings: Vec<crate::warning::Warning>,
     ) -> Self {
         let c = &loaded.config;
         let v = &c.vehicle;

@@ -24,6 +24,20 @@ impl fmt::Display for SimError {
     }
 }
 
+/// Most RK4 steps one sample interval may take: a longer gap than `MAX_STEPS_PER_INTERVAL`
+/// times the step size is not integrated but reported (it would take hours, and no filter
+/// or simulation result across it would mean anything).
+pub const MAX_STEPS_PER_INTERVAL: usize = 1_000_000;
+
+/// RK4 steps for an interval `dt` so that no step exceeds `max_step`: ceil(dt / max_step),
+/// at least 1. A part per billion of slack keeps an interval equal to the step (up to
+/// rounding of the time stamps) at one step. None when the interval needs more than
+/// [`MAX_STEPS_PER_INTERVAL`] steps.
+pub fn steps_for(dt: f64, max_step: f64) -> Option<usize> {
+    let n = (dt / max_step - 1e-9).ceil().max(1.0);
+    (n <= MAX_STEPS_PER_INTERVAL as f64).then_some(n as usize)
+}
+
 /// The model's coefficient vector from a coefficient set, with the model's relations applied.
 /// Returns the names of free coefficients the set does not have.
 pub fn complete_coefficients<M: Model>(

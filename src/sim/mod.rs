@@ -8,7 +8,7 @@ pub mod integrate;
 pub mod synth;
 
 pub use inputs::InputSeries;
-pub use integrate::{complete_coefficients, simulate, SimError};
+pub use integrate::{complete_coefficients, simulate, steps_for, SimError, MAX_STEPS_PER_INTERVAL};
 
 use crate::error::Result;
 use crate::output::write_atomic;

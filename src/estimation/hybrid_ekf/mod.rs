@@ -49,8 +49,14 @@ pub struct HybridEkf {
     pub p: Vec<f64>,
     /// Process noise spectral density, diagonal (length n), per second.
     pub q: Vec<f64>,
-    /// RK4 sub-steps per sample interval.
-    pub substeps: usize,
+    /// Longest RK4 step, s: each sample interval is integrated in ceil(dt / max_step) equal
+    /// steps, so a gap in the data is crossed in steps no longer than the regular ones.
+    pub max_step: f64,
+    /// Innovation gate in standard deviations (0: none): a measurement whose innovation
+    /// exceeds `gate` times the square root of its predicted variance is not used
+    /// (Bar-Shalom, Li & Kirubarajan 2001, section 2.4.3, validation gate).
+    pub gate: f64,
+    rejected: Vec<(usize, f64)>,
     // work space
     f: Vec<f64>,
     fp: Vec<f64>,
@@ -78,7 +84,7 @@ impl HybridEkf {
         x0: Vec<f64>,
         p0: Vec<f64>,
         q: Vec<f64>,
-        substeps: usize,
+        max_step: f64,
     ) -> Self {
         assert!(nd <= n && x0.len() == n && p0.len() == n * n && q.len() == n);
         let z = |len| vec![0.0; len];
@@ -88,7 +94,9 @@ impl HybridEkf {
             x: x0,
             p: p0,
             q,
-            substeps: substeps.max(1),
+            max_step,
+            gate: 0.0,
+            rejected: Vec::new(),
             f: z(nd * n),
             fp: z(nd * n),
             dx: [z(nd), z(nd), z(nd), z(nd)],
@@ -137,11 +145,20 @@ impl HybridEkf {
         phi: Option<&mut [f64]>,
     ) -> Result<(), Divergence> {
         let (n, nd) = (self.n, self.nd);
-        let h = (t1 - t0) / self.substeps as f64;
+        let steps = crate::sim::steps_for(t1 - t0, self.max_step).ok_or_else(|| Divergence {
+            time: t0,
+            reason: format!(
+                "the interval from t = {t0} s to {t1} s would need more than {} RK4 steps of \
+                 {} s",
+                crate::sim::MAX_STEPS_PER_INTERVAL,
+                self.max_step
+            ),
+        })?;
+        let h = (t1 - t0) / steps as f64;
         if phi.is_some() {
             identity(&mut self.phi, n);
         }
-        for s in 0..self.substeps {
+        for s in 0..steps {
             let t = t0 + h * s as f64;
             sys.jacobian(t, &self.x, &mut self.dx[0], &mut self.f);
             // state: classical RK4 (the parameter part has zero derivative)
@@ -366,7 +383,7 @@ mod tests {
             vec![2.0, 0.7],
             vec![0.5, 0.0, 0.0, 1e-12],
             vec![0.0; 2],
-            20,
+            0.05,
         );
         f.predict(&mut sys, 0.0, 1.0, None).unwrap();
         assert!((f.x[0] - 2.0 * (-0.7f64).exp()).abs() < 1e-6);
@@ -383,7 +400,7 @@ mod tests {
             vec![1.0, 0.0],
             vec![1e-6, 0.0, 0.0, 1.0],
             vec![0.0; 2],
-            1,
+            0.01,
         );
         let dt = 0.01;
         let mut t = 0.0;
@@ -404,7 +421,7 @@ mod tests {
     #[test]
     fn a_bad_measurement_noise_is_reported_with_its_time() {
         let mut sys = Decay { calls: 0 };
-        let mut f = HybridEkf::new(2, 1, vec![1.0, 0.5], vec![0.0; 4], vec![0.0; 2], 1);
+        let mut f = HybridEkf::new(2, 1, vec![1.0, 0.5], vec![0.0; 4], vec![0.0; 2], 1.0);
         let e = f.update(&mut sys, 1.25, &[1.0], &[-1.0]).unwrap_err();
         assert_eq!(e.time, 1.25);
         assert!(e.to_string().contains("t = 1.2500"), "{e}");

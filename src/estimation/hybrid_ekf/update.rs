@@ -21,6 +21,7 @@ impl HybridEkf {
         debug_assert_eq!(m, sys.m());
         let w = &mut self.upd;
         w.resize(n, m);
+        self.rejected.clear();
         // H is usually a selection of states: then the update is done one measurement at a
         // time (exact for a linear h with diagonal R), each a rank-one Joseph update.
         if let Some(sel) = sys.selection() {
@@ -39,13 +40,25 @@ impl HybridEkf {
             return self.update_sequential(sys, t, r);
         }
         // H P (m x n), its transpose P H^T (n x m), S = H P H^T + R (m x m)
-        matmul(&w.h, &self.p, m, n, n, &mut w.hp);
-        transpose(&w.hp, m, n, &mut w.pht);
-        transpose(&w.h, m, n, &mut w.ht);
-        matmul(&w.hp, &w.ht, m, n, m, &mut w.s);
+        w.innovation_covariance(&self.p, r, n);
+        // A missing (NaN) or gated measurement: a zero row of H with a zero innovation is
+        // exactly no measurement (S is then block diagonal with r_k for that row).
+        let mut dropped = false;
         for k in 0..m {
-            w.s[k * m + k] += r[k];
-            w.s_diag[k] = w.s[k * m + k];
+            let missing = !w.nu[k].is_finite();
+            let gated =
+                !missing && self.gate > 0.0 && w.nu[k].powi(2) > self.gate.powi(2) * w.s_diag[k];
+            if missing || gated {
+                if gated {
+                    self.rejected.push((k, w.nu[k].abs() / w.s_diag[k].sqrt()));
+                }
+                w.nu[k] = 0.0;
+                w.h[k * n..(k + 1) * n].fill(0.0);
+                dropped = true;
+            }
+        }
+        if dropped {
+            w.innovation_covariance(&self.p, r, n);
         }
         w.ls.copy_from_slice(&w.s);
         cholesky(&mut w.ls, m).map_err(|i| Divergence {
@@ -127,6 +140,16 @@ impl HybridEkf {
             }
             // innovation against the current (partly updated) state
             let nu = w.nu[a] - (self.x[j] - w.yhat[a]);
+            if !nu.is_finite() {
+                // no measurement of this quantity at this sample (NaN: an excluded outlier)
+                w.nu[a] = 0.0;
+                continue;
+            }
+            if self.gate > 0.0 && nu * nu > self.gate * self.gate * s {
+                self.rejected.push((a, nu.abs() / s.sqrt()));
+                w.nu[a] = 0.0;
+                continue;
+            }
             nis += nu * nu / s;
             // p = P e_j (= row j, P symmetric), k = p / s
             row_j.copy_from_slice(&p[j * n..(j + 1) * n]);
@@ -170,9 +193,16 @@ impl HybridEkf {
         Ok(nis)
     }
 
-    /// The innovation y - h(x_prior) of the last update.
+    /// The innovation y - h(x_prior) of the last update (0 for a measurement that was
+    /// missing or rejected by the gate).
     pub fn innovation(&self) -> &[f64] {
         &self.upd.nu
+    }
+
+    /// The measurements the innovation gate rejected in the last update: index into y and
+    /// the innovation in standard deviations.
+    pub fn rejected(&self) -> &[(usize, f64)] {
+        &self.rejected
     }
 
     /// The diagonal of the innovation covariance S = H P H^T + R of the last update.
@@ -214,6 +244,19 @@ pub(super) struct UpdateWork {
 }
 
 impl UpdateWork {
+    /// H P, P H^T, H^T and S = H P H^T + R (with its diagonal) from H and P.
+    fn innovation_covariance(&mut self, p: &[f64], r: &[f64], n: usize) {
+        let m = self.m;
+        matmul(&self.h, p, m, n, n, &mut self.hp);
+        transpose(&self.hp, m, n, &mut self.pht);
+        transpose(&self.h, m, n, &mut self.ht);
+        matmul(&self.hp, &self.ht, m, n, m, &mut self.s);
+        for k in 0..m {
+            self.s[k * m + k] += r[k];
+            self.s_diag[k] = self.s[k * m + k];
+        }
+    }
+
     fn resize(&mut self, n: usize, m: usize) {
         if self.m == m && self.h.len() == m * n {
             return;

@@ -1,27 +1,22 @@
 //! The end of the report: every warning, and the files of the output folder.
 
-use crate::report::doc::{code, text, Document};
+use crate::report::doc::{code, strong, text, Document};
 use crate::report::plots::Figure;
 use crate::report::results::RunResult;
 
 pub fn write(d: &mut Document, r: &RunResult, figures: Option<&[Figure]>) {
     d.heading(2, "Warnings");
-    let mut items: Vec<_> = r.warnings.iter().map(|w| vec![text(w.clone())]).collect();
-    if let Some(p) = &r.stages.polar {
-        items.extend(p.warnings.iter().map(|w| vec![text(format!("polar: {w}"))]));
-    }
-    if let Some(s) = &r.stages.surge {
-        items.extend(s.warnings.iter().map(|w| vec![text(format!("surge: {w}"))]));
-    }
-    if let Some(h) = &r.stages.hekf {
-        for run in &h.runs {
-            items.extend(
-                run.warnings
-                    .iter()
-                    .map(|w| vec![text(format!("hekf run '{}': {w}", run.name))]),
-            );
-        }
-    }
+    let items: Vec<_> = r
+        .warnings
+        .iter()
+        .map(|w| {
+            vec![
+                strong(w.origin()),
+                text(format!(": {}. ", w.message.trim_end_matches('.'))),
+                text(w.meaning.clone()),
+            ]
+        })
+        .collect();
     if items.is_empty() {
         d.text("None.");
     } else {

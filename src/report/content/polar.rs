@@ -106,7 +106,12 @@ pub fn write<'a>(d: &mut Document<'a>, p: &PolarResult, figs: &Figures<'a>) {
         d.table(t);
     }
     if !p.warnings.is_empty() {
-        d.list(p.warnings.iter().map(|w| vec![text(w.clone())]).collect());
+        d.list(
+            p.warnings
+                .iter()
+                .map(|w| vec![text(format!("{}. {}", w.message, w.meaning))])
+                .collect(),
+        );
     }
     figs.put(d, "polar");
 }

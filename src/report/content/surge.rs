@@ -90,7 +90,12 @@ pub fn write<'a>(d: &mut Document<'a>, s: &SurgeResult, figs: &Figures<'a>) {
         d.table(t);
     }
     if !s.warnings.is_empty() {
-        d.list(s.warnings.iter().map(|w| vec![text(w.clone())]).collect());
+        d.list(
+            s.warnings
+                .iter()
+                .map(|w| vec![text(format!("{}. {}", w.message, w.meaning))])
+                .collect(),
+        );
     }
     figs.put(d, "surge_fit");
     figs.put(d, "surge_bins");

@@ -48,6 +48,45 @@ pub enum Preset {
     Paper,
 }
 
+/// The innovation gate when `hekf.gate` is not given, in standard deviations: far beyond
+/// any Gaussian innovation (p ~ 1e-15) even when the innovations are twice as large as the
+/// noise model says, yet far below a spike cell.
+pub const DEFAULT_GATE: f64 = 8.0;
+
+/// What to do with gross outliers of the measured quantities.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Outliers {
+    /// Leave them out of the filter and the noise estimate, and report their lines.
+    #[default]
+    Exclude,
+    /// Use them.
+    Keep,
+}
+
+impl Outliers {
+    fn is_default(&self) -> bool {
+        *self == Outliers::default()
+    }
+}
+
+/// What a failed plausibility check does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Checks {
+    /// A clear mistake (a frame, unit or sign that the data contradict) stops the run.
+    #[default]
+    Error,
+    /// Warn and run anyway.
+    Warn,
+}
+
+impl Checks {
+    fn is_default(&self) -> bool {
+        *self == Checks::default()
+    }
+}
+
 /// Prior for one estimated coefficient.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -95,6 +134,19 @@ pub struct HekfConfig {
     /// overrides the preset.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub process_noise: BTreeMap<String, f64>,
+    /// Innovation gate in standard deviations: a measurement whose innovation exceeds this
+    /// many standard deviations of its predicted spread is rejected and reported with its
+    /// file line (default [`DEFAULT_GATE`]; 0 switches the gate off).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gate: Option<f64>,
+    /// Gross outliers of the measured quantities: left out and reported (`exclude`, the
+    /// default) or used (`keep`).
+    #[serde(default, skip_serializing_if = "Outliers::is_default")]
+    pub outliers: Outliers,
+    /// Plausibility checks of the runs before filtering (frames, units, signs, inputs):
+    /// `error` (default) stops on a clear mistake, `warn` only warns.
+    #[serde(default, skip_serializing_if = "Checks::is_default")]
+    pub checks: Checks,
     /// Which quantities to use as measurements (default: every model output in the file).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub measure: Option<Vec<Quantity>>,
@@ -144,6 +196,17 @@ impl HekfConfig {
         }
         if let Some(n) = self.substeps {
             p.within("hekf.substeps", n as f64, 1.0, 1000.0);
+        }
+        if let Some(g) = self.gate {
+            if !(g.is_finite() && (g == 0.0 || g >= 3.0)) {
+                p.add(
+                    "hekf.gate",
+                    format!(
+                        "must be 0 (no gate) or at least 3 standard deviations, got {g}: a \
+                         tighter gate rejects good measurements"
+                    ),
+                );
+            }
         }
         for (q, c) in &self.noise {
             p.positive(&format!("hekf.noise.{q}"), c.si, "SI");

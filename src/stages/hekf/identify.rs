@@ -27,6 +27,8 @@ pub struct RunData {
     pub x0: Vec<f64>,
     /// Initial state covariance (nx x nx).
     pub p0: Vec<f64>,
+    /// 1-based file line of each sample (for messages).
+    pub lines: Vec<usize>,
 }
 
 impl RunData {
@@ -58,10 +60,19 @@ pub struct Setup {
     pub q: Vec<f64>,
     /// Filter passes.
     pub passes: usize,
-    /// RK4 sub-steps per sample.
+    /// RK4 sub-steps per regular sample interval (for the report).
     pub substeps: usize,
+    /// Longest RK4 step, s: every interval, a gap included, is integrated in steps no
+    /// longer than this.
+    pub max_step: f64,
     /// Run the smoother on the last pass.
     pub smoother: bool,
+    /// Innovation gate in standard deviations (0: none).
+    pub gate: f64,
+    /// The first pass (0-based) the gate applies in: 1 from a cold start, whose first pass
+    /// cannot predict the motion before the coefficients have converged; 0 when the passes
+    /// start from a converged estimate.
+    pub gate_from_pass: usize,
     /// Prior of passes after the first: at most this many times the previous pass's sigma
     /// (None: the configured prior every pass).
     pub repeat_prior_factor: Option<f64>,
@@ -93,7 +104,25 @@ pub struct RunTrace {
     pub innovations: Vec<f64>,
     /// Normalised innovation squared per sample.
     pub nis: Vec<f64>,
+    /// Measurements the innovation gate rejected.
+    pub rejected: Vec<Rejection>,
 }
+
+/// A measurement the innovation gate rejected.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Rejection {
+    /// Sample index in the run.
+    pub sample: usize,
+    /// Index of the measured quantity (into `RunData::measured`).
+    pub measurement: usize,
+    /// Its innovation in standard deviations of the predicted spread.
+    pub sigmas: f64,
+}
+
+/// Consecutive samples the gate may reject one quantity before the filter is taken to have
+/// lost track of it (a burst of bad data or a model that cannot follow the run, not
+/// isolated outliers).
+pub const MAX_GATED_RUN: usize = 25;
 
 /// Result of the identification.
 #[derive(Debug, Clone)]
@@ -180,9 +209,15 @@ pub fn identify<M: Model>(
                 for j in 0..nb {
                     p[(nx + j) * n + nx + j] = pzz[j];
                 }
-                filter = Some(HybridEkf::new(n, nx, x, p, q.clone(), setup.substeps));
+                filter = Some(HybridEkf::new(n, nx, x, p, q.clone(), setup.max_step));
             }
             let f = filter.as_mut().expect("created above");
+            f.gate = if pass >= setup.gate_from_pass {
+                setup.gate
+            } else {
+                0.0
+            };
+            let mut gated_run = vec![0usize; run.measured.len()];
             let k_len = run.len();
             let m = run.measured.len();
             let mut tr = RunTrace {
@@ -216,6 +251,8 @@ pub fn identify<M: Model>(
                 let nis = f
                     .update(&mut sys, t, &run.y[k * m..(k + 1) * m], &run.r)
                     .map_err(fail)?;
+                track_gate(f.rejected(), k, &mut gated_run, &mut tr.rejected)
+                    .map_err(|a| fail(lost_track(model, run, a, k)))?;
                 if let Some(s) = smoother.as_mut() {
                     s.x_post.extend_from_slice(&f.x);
                     s.p_post.extend_from_slice(&f.p);
@@ -281,4 +318,48 @@ pub fn identify<M: Model>(
         covariance,
         traces,
     })
+}
+
+/// Records the gate's rejections at sample `k` and counts consecutive ones per quantity;
+/// fails with the quantity's index when one has been rejected [`MAX_GATED_RUN`] times in a row.
+fn track_gate(
+    rejected: &[(usize, f64)],
+    k: usize,
+    run_length: &mut [usize],
+    out: &mut Vec<Rejection>,
+) -> Result<(), usize> {
+    for (a, len) in run_length.iter_mut().enumerate() {
+        match rejected.iter().find(|(i, _)| *i == a) {
+            Some(&(_, sigmas)) => {
+                *len += 1;
+                out.push(Rejection {
+                    sample: k,
+                    measurement: a,
+                    sigmas,
+                });
+                if *len >= MAX_GATED_RUN {
+                    return Err(a);
+                }
+            }
+            None => *len = 0,
+        }
+    }
+    Ok(())
+}
+
+/// The divergence of a filter that the gate has cut off from quantity `a` of `run`.
+fn lost_track<M: Model>(model: &M, run: &RunData, a: usize, k: usize) -> Divergence {
+    let q = model.states()[run.measured[a]].quantity;
+    let first = k + 1 - MAX_GATED_RUN;
+    Divergence {
+        time: run.times[k],
+        reason: format!(
+            "the filter lost track of {q}: the innovation gate rejected it at {MAX_GATED_RUN} \
+             samples in a row (lines {}-{}), so these are not isolated outliers but a model \
+             that cannot follow the run there (a wrong input, fixed coefficient, unit or \
+             frame) or a stretch of bad data",
+            run.lines.get(first).copied().unwrap_or(0),
+            run.lines.get(k).copied().unwrap_or(0)
+        ),
+    }
 }

@@ -2,6 +2,7 @@
 //! a vehicle model and estimated from CFD motion histories, the rest held fixed.
 
 mod config;
+mod consistency;
 pub mod identify;
 mod prepare;
 mod result;
@@ -9,7 +10,8 @@ mod sensitivity;
 pub mod system;
 pub mod tuning;
 
-pub use config::{HekfConfig, ModelName, Preset, Prior};
+pub use config::{Checks, HekfConfig, ModelName, Outliers, Preset, Prior, DEFAULT_GATE};
+mod plausibility;
 pub use result::{HekfResult, PassSummary, RunSummary, RunTraces};
 
 use crate::coefficients::CoefficientSet;
@@ -20,6 +22,9 @@ use crate::progress::Progress;
 use crate::quantity::Quantity;
 use crate::record::{Needs, Record};
 use identify::{identify, IdentifyError};
+
+/// The stage's name in messages and warnings.
+pub(crate) const STAGE: &str = "hekf";
 
 /// Quantities the stage reads from a run: time, every state the model could measure, and its
 /// inputs. (The 6-DOF quantities are read when present, to warn when a 3-DOF model ignores
@@ -120,6 +125,19 @@ pub fn preflight(
                         ));
                     }
                 }
+                if self.cfg.checks == Checks::Error {
+                    p.extend(
+                        plausibility::kinematics(r)
+                            .into_iter()
+                            .filter(|f| f.blocking)
+                            .map(|f| {
+                                format!(
+                                    "run '{}': {}; {} (hekf.checks = \"warn\" runs anyway)",
+                                    r.name, f.warning.message, f.warning.meaning
+                                )
+                            }),
+                    );
+                }
             }
             p
         }
@@ -155,13 +173,36 @@ impl ModelVisitor for Identify<'_> {
         let mut runs = Vec::new();
         let mut summaries = Vec::new();
         for rec in inputs.runs {
-            let (data, summary) = prepare::run_data(model, cfg, &tuning, rec, inputs.base_dir)?;
+            let (data, mut summary) = prepare::run_data(model, cfg, &tuning, rec, inputs.base_dir)?;
+            // blocking findings stopped the run in preflight unless checks = "warn"
+            summary.warnings.extend(
+                plausibility::kinematics(rec)
+                    .into_iter()
+                    .filter(|f| !f.blocking || cfg.checks == Checks::Warn)
+                    .map(|f| f.warning),
+            );
+            let start = plausibility::Start {
+                base: &plan.base,
+                est: &plan.est,
+                scale: &plan.scale,
+                initial: &plan.initial,
+            };
+            summary.warnings.extend(
+                plausibility::constant_inputs(model, rec, &data, &start)
+                    .into_iter()
+                    .map(|f| f.warning),
+            );
             runs.push(data);
             summaries.push(summary);
         }
         let setup = prepare::setup(model, cfg, &plan, &tuning, &runs)?;
         let id = identify(model, &setup, &runs, self.progress)
-            .map_err(|e| divergence_error(model, &plan, e))?;
+            .map_err(|e| divergence_error(model, &plan, &runs, &summaries, e))?;
+        let rejected: Vec<Vec<identify::Rejection>> = id
+            .traces
+            .last()
+            .map(|p| p.iter().map(|t| t.rejected.clone()).collect())
+            .unwrap_or_default();
         let last = id.passes.last().cloned().expect("at least one pass");
         let (upstream, failed) = sensitivity::upstream(
             model,
@@ -172,7 +213,7 @@ impl ModelVisitor for Identify<'_> {
             &plan.est_names,
             inputs.known,
         );
-        Ok(result::build(
+        let mut result = result::build(
             model,
             cfg,
             &plan,
@@ -184,17 +225,57 @@ impl ModelVisitor for Identify<'_> {
                 directions: upstream,
                 failed,
             },
-        ))
+        );
+        for ((run, data), rej) in result.runs.iter_mut().zip(&runs).zip(&rejected) {
+            run.warnings
+                .extend(consistency::gate_warning(model, data, rej));
+            run.warnings.extend(consistency::nis_warning(run));
+        }
+        Ok(result)
     }
 }
 
-fn divergence_error<M: Model>(model: &M, plan: &prepare::Plan, e: IdentifyError) -> Error {
+fn divergence_error<M: Model>(
+    model: &M,
+    plan: &prepare::Plan,
+    runs: &[identify::RunData],
+    summaries: &[RunSummary],
+    e: IdentifyError,
+) -> Error {
+    // what was noticed about the run before filtering, and a gap just before the failure
+    let mut likely: Vec<String> = summaries
+        .iter()
+        .filter(|s| s.name == e.run)
+        .flat_map(|s| s.warnings.iter())
+        .map(|w| format!("{}; {}", w.message, w.meaning))
+        .collect();
+    if let Some(run) = runs.iter().find(|r| r.name == e.run) {
+        if let Some(g) = crate::sampling::gaps(&run.times).into_iter().rfind(|g| {
+            let after = e.divergence.time - (g.start + g.length);
+            g.start <= e.divergence.time && after <= 5.0 * g.length
+        }) {
+            likely.push(format!(
+                "the failure came {} s after a gap of {} s in the time axis at t = {} s",
+                crate::report::table::num(e.divergence.time - g.start - g.length),
+                crate::report::table::num(g.length),
+                crate::report::table::num(g.start)
+            ));
+        }
+    }
+    let likely = if likely.is_empty() {
+        String::new()
+    } else {
+        format!(
+            "\nNoticed in this run before filtering:\n  - {}",
+            likely.join("\n  - ")
+        )
+    };
     Error::numerical(
         "hekf",
         format!(
             "run '{}', pass {}: {} (estimating {} with the {} model). Check the priors of \
              the estimated coefficients (hekf.prior), the measurement noise (hekf.noise) and \
-             the fixed coefficients.",
+             the fixed coefficients.{likely}",
             e.run,
             e.pass,
             e.divergence,

@@ -2,15 +2,20 @@
 //! and which are held fixed (and from where), priors, noise, initial states, inputs.
 
 use super::config::HekfConfig;
+use super::config::Outliers;
 use super::identify::{RunData, Setup};
 use super::result::RunSummary;
-use super::tuning::{noise_floor, noise_sigma, NoiseChoice, Resolved};
+use super::tuning::{NoiseChoice, Resolved};
+use super::STAGE;
 use crate::coefficients::{Coefficient, CoefficientSet};
 use crate::error::{Error, Result};
 use crate::models::Model;
 use crate::quantity::Quantity;
 use crate::record::Record;
+use crate::sampling::median_interval;
+use crate::signal::{self, noise_floor, noise_sigma};
 use crate::sim::inputs::InputSeries;
+use crate::warning::Warning;
 
 /// Which coefficients the filter estimates, which it holds fixed, and their priors.
 #[derive(Debug, Clone)]
@@ -208,16 +213,23 @@ pub fn run_data<M: Model>(
             y.push(rec.channel(*q).expect("checked")[k]);
         }
     }
-    // measurement noise
+    // measurement noise, from the data without their gross outliers (which are left out of
+    // the filter: a missing measurement, NaN in `y`, is skipped by the update)
     let mut noise = Vec::new();
     let mut r = Vec::new();
-    for q in &measured_q {
-        let values = rec.channel(*q).expect("checked");
-        let floor = noise_floor(values);
+    let mut warnings = Vec::new();
+    for (a, q) in measured_q.iter().enumerate() {
+        let raw = rec.channel(*q).expect("checked");
+        let spikes = match cfg.outliers {
+            Outliers::Exclude => signal::outliers(raw),
+            Outliers::Keep => Vec::new(),
+        };
+        let values = signal::cleaned(raw, &spikes);
+        let floor = noise_floor(&values);
         let (sigma, source) = match (tuning.fixed_r, cfg.noise.get(q)) {
             (Some(rv), _) => (rv.sqrt(), "paper preset".to_string()),
             (None, Some(c)) => (c.si, "configured".to_string()),
-            (None, None) => match noise_sigma(values) {
+            (None, None) => match noise_sigma(&values) {
                 Some(s) if s >= floor => (s, "estimated from the data".to_string()),
                 _ => (floor, "floor (the data look noise-free)".to_string()),
             },
@@ -228,6 +240,12 @@ pub fn run_data<M: Model>(
             sigma,
             source,
         });
+        if !spikes.is_empty() {
+            for o in &spikes {
+                y[o.index * m + a] = f64::NAN;
+            }
+            warnings.push(outlier_warning(*q, &spikes, rec));
+        }
     }
     let inputs = InputSeries::from_record(model.inputs(), rec).map_err(|q| {
         fail(format!(
@@ -242,11 +260,17 @@ pub fn run_data<M: Model>(
     for i in 0..nx {
         p0[i * nx + i] = 1.0;
     }
-    for (k, &i) in measured.iter().enumerate() {
-        x0[i] = y[k];
-        p0[i * nx + i] = tuning.p0_measured.unwrap_or(r[k]);
+    for (a, &i) in measured.iter().enumerate() {
+        // the first sample that is not an outlier
+        x0[i] = (0..k_len)
+            .map(|k| y[k * m + a])
+            .find(|v| v.is_finite())
+            .unwrap_or(0.0);
+        p0[i * nx + i] = tuning.p0_measured.unwrap_or(r[a]);
     }
-    let mut warnings = rec.warnings.clone();
+    if let Some(w) = gap_warning(&times, &rec.lines) {
+        warnings.push(w);
+    }
     if nx < 12 {
         warnings.extend(out_of_plane_warnings(rec));
     }
@@ -256,9 +280,14 @@ pub fn run_data<M: Model>(
         .map(|s| s.name)
         .collect();
     if !unmeasured.is_empty() {
-        warnings.push(format!(
-            "not measured: {} (start at 0 with sigma 1 SI unit)",
-            unmeasured.join(", ")
+        warnings.push(Warning::new(
+            STAGE,
+            format!(
+                "not measured: {} (start at 0 with sigma 1 SI unit)",
+                unmeasured.join(", ")
+            ),
+            "these states are inferred from the dynamics only; coefficients that act mainly \
+             through them are less well determined",
         ));
     }
     let dt = if k_len > 1 {
@@ -288,13 +317,86 @@ pub fn run_data<M: Model>(
             inputs,
             x0,
             p0,
+            lines: rec.lines.clone(),
         },
         summary,
     ))
 }
 
+/// The warning for the gross outliers of one measured quantity, naming their lines.
+fn outlier_warning(q: Quantity, spikes: &[signal::Outlier], rec: &Record) -> Warning {
+    const SHOWN: usize = 5;
+    let mut at: Vec<String> = spikes
+        .iter()
+        .take(SHOWN)
+        .map(|o| {
+            format!(
+                "line {} (t = {} s: {:e} where its neighbours give about {})",
+                rec.lines.get(o.index).copied().unwrap_or(0),
+                sig(rec.time().map_or(f64::NAN, |t| t[o.index])),
+                o.value,
+                sig(o.median)
+            )
+        })
+        .collect();
+    if spikes.len() > SHOWN {
+        at.push(format!("and {} more", spikes.len() - SHOWN));
+    }
+    Warning::new(
+        STAGE,
+        format!(
+            "{} outlier{} in {q} left out: {}",
+            spikes.len(),
+            if spikes.len() == 1 { "" } else { "s" },
+            at.join(", ")
+        ),
+        "these samples of this quantity are not used by the filter nor by the noise estimate; \
+         check the export there (hekf.outliers = \"keep\" uses them)",
+    )
+}
+
+/// The warning for the gaps in a run's time axis, naming where they are.
+fn gap_warning(times: &[f64], lines: &[usize]) -> Option<Warning> {
+    const SHOWN: usize = 5;
+    let gaps = crate::sampling::gaps(times);
+    if gaps.is_empty() {
+        return None;
+    }
+    let dt = median_interval(times).unwrap_or(0.0);
+    let mut at: Vec<String> = gaps
+        .iter()
+        .take(SHOWN)
+        .map(|g| {
+            format!(
+                "{} s after t = {} s (lines {}-{})",
+                sig(g.length),
+                sig(g.start),
+                lines.get(g.after).copied().unwrap_or(0),
+                lines.get(g.after + 1).copied().unwrap_or(0)
+            )
+        })
+        .collect();
+    if gaps.len() > SHOWN {
+        at.push(format!("and {} more", gaps.len() - SHOWN));
+    }
+    Some(Warning::new(
+        STAGE,
+        format!(
+            "{} gap{} in the time axis (regular sampling {} s): {}",
+            gaps.len(),
+            if gaps.len() == 1 { "" } else { "s" },
+            sig(dt),
+            at.join(", ")
+        ),
+        "no data constrain the estimate across a gap; the filter integrates through it in \
+         steps no longer than the regular ones, so the estimates stay unbiased but are less \
+         certain, and a gap longer than the motion's time scale can let the state drift far \
+         enough to diverge",
+    ))
+}
+
 /// Warns when a 3-DOF model is fed a run with out-of-plane motion that is not small.
-fn out_of_plane_warnings(rec: &Record) -> Vec<String> {
+fn out_of_plane_warnings(rec: &Record) -> Vec<Warning> {
     let peak = |q: Quantity| {
         rec.channel(q)
             .map(|v| v.iter().fold(0.0f64, |a, x| a.max(x.abs())))
@@ -312,14 +414,18 @@ fn out_of_plane_warnings(rec: &Record) -> Vec<String> {
     ] {
         if let Some(p) = peak(q) {
             if p > limit {
-                w.push(format!(
-                    "{q} reaches {:.3} (more than {what}): the 3-DOF model ignores it; \
+                w.push(Warning::new(
+                    STAGE,
+                    format!(
+                        "{q} reaches {:.3} (more than {what}): the 3-DOF model ignores it",
+                        if q.dim() == [0, 0, 0, 1] || q.dim() == [0, 0, -1, 1] {
+                            p.to_degrees()
+                        } else {
+                            p
+                        }
+                    ),
+                    "the horizontal-plane coefficients absorb the out-of-plane coupling; \
                      consider model = \"spheroid6\"",
-                    if q.dim() == [0, 0, 0, 1] || q.dim() == [0, 0, -1, 1] {
-                        p.to_degrees()
-                    } else {
-                        p
-                    }
                 ));
             }
         }
@@ -338,11 +444,12 @@ pub fn setup<M: Model>(
 ) -> Result<Setup> {
     let nx = model.nx();
     let nb = plan.est.len();
+    // the regular sampling interval: the median interval, which a gap does not move
     let dt = runs
         .iter()
-        .filter(|r| r.len() > 1)
-        .map(|r| (r.times[r.len() - 1] - r.times[0]) / (r.len() - 1) as f64)
+        .filter_map(|r| median_interval(&r.times))
         .fold(0.0f64, f64::max);
+    let substeps = tuning.substeps_for(dt);
     let mut q = vec![tuning.q_states; nx];
     if let Some(j) = tuning.state_jitter {
         for (i, qi) in q.iter_mut().enumerate() {
@@ -396,8 +503,11 @@ pub fn setup<M: Model>(
         prior_sigma: plan.prior_sigma.clone(),
         q,
         passes: tuning.passes,
-        substeps: tuning.substeps_for(dt),
+        substeps,
+        max_step: dt / substeps as f64,
         smoother: tuning.smoother,
+        gate: tuning.gate,
+        gate_from_pass: 1,
         repeat_prior_factor: tuning.repeat_prior_factor,
     })
 }

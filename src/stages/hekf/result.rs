@@ -8,6 +8,7 @@ use super::tuning::NoiseChoice;
 use crate::coefficients::{directions_of, Coefficient, Correlation, Direction, Source};
 use crate::estimation::nis::{summarize, NisSummary};
 use crate::models::Model;
+use crate::warning::Warning;
 use serde::Serialize;
 
 /// The estimate after one pass.
@@ -43,7 +44,7 @@ pub struct RunSummary {
     /// RMS of the innovations in the last pass, per measured quantity (SI).
     pub innovation_rms: Vec<f64>,
     /// Things to know about this run.
-    pub warnings: Vec<String>,
+    pub warnings: Vec<Warning>,
 }
 
 /// Per-sample traces of one run in the last pass, for plots (not written to results.json).
@@ -93,7 +94,7 @@ pub struct HekfResult {
     /// the fixed coefficients.
     pub sigma_filter: Vec<f64>,
     /// Things to know.
-    pub warnings: Vec<String>,
+    pub warnings: Vec<Warning>,
     /// Traces for plots.
     #[serde(skip)]
     pub traces: Vec<RunTraces>,
@@ -186,10 +187,14 @@ pub fn build<M: Model>(
     directions.extend(directions_of("hekf", &est, &cov_rows));
     let mut warnings = Vec::new();
     if !upstream.failed.is_empty() {
-        warnings.push(format!(
-            "the sensitivity to {} could not be computed (the filter failed with the fixed \
-             coefficients moved by one sigma); the sigmas leave it out",
-            upstream.failed.join(", ")
+        warnings.push(Warning::new(
+            super::STAGE,
+            format!(
+                "the sensitivity to {} could not be computed (the filter failed with the fixed \
+                 coefficients moved by one sigma)",
+                upstream.failed.join(", ")
+            ),
+            "the sigmas leave that uncertainty out and are too small",
         ));
     }
     let mut matrix = vec![vec![0.0; nb]; nb];

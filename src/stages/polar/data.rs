@@ -6,6 +6,7 @@ use crate::config::{FluidConfig, VehicleConfig};
 use crate::error::{InputError, Place, Result};
 use crate::quantity::Quantity;
 use crate::record::Record;
+use crate::warning::Warning;
 use serde::Serialize;
 
 /// One point of the polar, in body-axis coefficients.
@@ -48,7 +49,7 @@ pub fn points(
     vehicle: &VehicleConfig,
     fluid: &FluidConfig,
     records: &[Record],
-) -> Result<(Vec<PolarPoint>, Vec<String>)> {
+) -> Result<(Vec<PolarPoint>, Vec<Warning>)> {
     let mut out = Vec::new();
     let mut warnings = Vec::new();
     let conv = Converter {
@@ -84,12 +85,15 @@ pub fn points(
                 return Err(input(rec, "the record has no rows to average").into());
             }
             if rows.len() < 2 * BATCHES {
-                warnings.push(format!(
-                    "{}: only {} samples in the steady window; its standard error assumes \
-                     independent samples",
-                    rec.name,
-                    rows.len()
-                ));
+                warnings.push(
+                    Warning::new(
+                        super::STAGE,
+                        format!("only {} samples in the steady window", rows.len()),
+                        "the standard error of this point assumes independent samples; with \
+                         correlated CFD samples the polar's sigmas are too small",
+                    )
+                    .for_run(&rec.name),
+                );
             }
             let mut series = [vec![], vec![], vec![]];
             for i in rows.clone() {

@@ -14,6 +14,7 @@ mod config;
 mod data;
 pub mod fit;
 mod mapping;
+mod plausibility;
 mod result;
 
 pub use config::{
@@ -28,6 +29,7 @@ use crate::error::{Error, Result};
 use crate::quantity::Quantity;
 use crate::record::{Needs, Record};
 use crate::stages::spread::{spread, Spread};
+use crate::warning::Warning;
 use channel::fit_all;
 
 pub(crate) const STAGE: &str = "polar";
@@ -73,17 +75,25 @@ pub fn run(
     let used: Vec<&PolarPoint> = points.iter().filter(|p| p.used).collect();
     let skipped = points.len() - used.len();
     if skipped > 0 {
-        warnings.push(format!(
-            "{skipped} point(s) outside |alpha| <= {} deg were not fitted",
-            config.alpha_max_deg.unwrap_or(90.0)
+        warnings.push(Warning::new(
+            STAGE,
+            format!(
+                "{skipped} point(s) outside |alpha| <= {} deg were not fitted",
+                config.alpha_max_deg.unwrap_or(90.0)
+            ),
+            "the coefficients describe the fitted range only",
         ));
     }
     if used.is_empty() {
         return Err(Error::numerical(
             STAGE,
-            "no point lies within the fitting range polar.alpha_max_deg",
+            format!(
+                "no point lies within the fitting range polar.alpha_max_deg{}",
+                plausibility::degrees_as_radians_hint(&points)
+            ),
         ));
     }
+    warnings.extend(plausibility::alpha_range(&used));
     let q = 0.5 * fluid.rho * vehicle.reference_area; // paper eq. 5: q = 0.5 rho A_f
     let l_ref = vehicle.reference_length;
 
@@ -92,20 +102,32 @@ pub fn run(
     let directions = mapping::directions(&pooled.drag, &pooled.lift, &pooled.moment, q, l_ref);
     for ch in [&pooled.drag, &pooled.lift, &pooled.moment] {
         for c in &ch.binding_inequalities {
-            warnings.push(format!(
-                "the {} constraint {c} binds in the pooled fit: the data pull the other way",
-                ch.channel
+            warnings.push(Warning::new(
+                STAGE,
+                format!(
+                    "the {} constraint {c} binds in the pooled fit: the data pull the other way",
+                    ch.channel
+                ),
+                "the fitted coefficient sits on the constraint, so its sigma understates how \
+                 far the data would move it; check the signs of the exported coefficients",
             ));
         }
     }
     let alpha_span = used.iter().map(|p| p.alpha.abs()).fold(0.0, f64::max);
     for (name, fit) in [("lift", &config.lift), ("moment", &config.moment)] {
         if alpha_span > 15f64.to_radians() && !fit.cubic {
-            warnings.push(format!(
-                "the fitted points reach {:.1} deg: a straight line through C_{} there is not the \
-                 slope at zero; set polar.{name}.cubic = true or polar.alpha_max_deg",
-                alpha_span.to_degrees(),
-                if name == "lift" { "L" } else { "M" }
+            warnings.push(Warning::new(
+                STAGE,
+                format!(
+                    "the fitted points reach {:.1} deg: a straight line through C_{} there is \
+                     not the slope at zero",
+                    alpha_span.to_degrees(),
+                    if name == "lift" { "L" } else { "M" }
+                ),
+                format!(
+                    "the linear {name} coefficients are biased by the nonlinear part; set \
+                     polar.{name}.cubic = true or polar.alpha_max_deg"
+                ),
             ));
         }
     }
@@ -124,7 +146,12 @@ pub fn run(
                 mapping::coefficients(&f.drag, &f.lift, &f.moment, q, l_ref)
             });
             if let Some(e) = &error {
-                warnings.push(format!("no separate fit at {speed:.4} m/s: {e}"));
+                warnings.push(Warning::new(
+                    STAGE,
+                    format!("no separate fit at {speed:.4} m/s: {e}"),
+                    "the pooled coefficients stand, but their dependence on speed (Reynolds \
+                     number) is not checked at this speed",
+                ));
             }
             per_speed.push(SpeedFit {
                 speed,

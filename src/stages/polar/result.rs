@@ -145,7 +145,7 @@ pub struct PolarResult {
     /// Every point read, with `used` telling whether it was in the fitting range.
     pub points: Vec<PolarPoint>,
     /// Things worth reading.
-    pub warnings: Vec<String>,
+    pub warnings: Vec<crate::warning::Warning>,
     /// The coefficients' uncertainty as independent directions (for propagation through the
     /// later stages; summarised per coefficient in the report).
     #[serde(skip)]

@@ -3,10 +3,15 @@
 
 use super::estimate::Stack;
 use super::{MomentumCheck, RunResiduals};
+use crate::warning::Warning;
 
 /// The momentum balance m (u - u0) = integral (F + X_prop) dt of every run with an axial force
 /// and a thrust (Newton's second law along x); more than 5 % off gives a warning.
-pub(super) fn momentum(stack: &Stack, mass: f64, warnings: &mut Vec<String>) -> Vec<MomentumCheck> {
+pub(super) fn momentum(
+    stack: &Stack,
+    mass: f64,
+    warnings: &mut Vec<Warning>,
+) -> Vec<MomentumCheck> {
     let mut momentum = Vec::new();
     {
         for (k, r) in stack.runs.iter().enumerate() {
@@ -27,12 +32,19 @@ pub(super) fn momentum(stack: &Stack, mass: f64, warnings: &mut Vec<String>) -> 
                 });
             let relative = rms / (mass * (hi - lo)).max(f64::MIN_POSITIVE);
             if relative > 0.05 {
-                warnings.push(format!(
-                    "{}: the exported force and thrust do not account for the motion (momentum \
-                     balance off by {:.0} %): check vehicle.mass, the thrust and the sign of fx",
-                    stack.names[k],
-                    100.0 * relative
-                ));
+                warnings.push(
+                    Warning::new(
+                        super::STAGE,
+                        format!(
+                            "the exported force and thrust do not account for the motion \
+                             (momentum balance off by {:.0} %)",
+                            100.0 * relative
+                        ),
+                        "Xuu and Xud fitted from this force export are not reliable: check \
+                         vehicle.mass, the thrust and the sign of fx",
+                    )
+                    .for_run(&stack.names[k]),
+                );
             }
             momentum.push(MomentumCheck {
                 record: stack.names[k].clone(),

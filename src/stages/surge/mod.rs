@@ -35,6 +35,7 @@ use crate::config::VehicleConfig;
 use crate::error::{Error, Result};
 use crate::quantity::Quantity;
 use crate::record::{Needs, Record};
+use crate::warning::Warning;
 use estimate::{part, solve, stack};
 use std::ops::Range;
 
@@ -94,9 +95,14 @@ pub fn run(
                 )
             })?;
             if c.value >= 0.0 {
-                warnings.push(format!(
-                    "Xuu = {} kg/m is not negative: drag should oppose the motion",
-                    c.value
+                warnings.push(Warning::new(
+                    STAGE,
+                    format!(
+                        "Xuu = {} kg/m is not negative: drag should oppose the motion",
+                        c.value
+                    ),
+                    "Xud is fitted against a drag that pushes the body forward, so it absorbs \
+                     the error; check the polar stage or coefficients.Xuu",
                 ));
             }
             Some((
@@ -153,13 +159,20 @@ pub fn run(
     let (bins, bin_spread) = bins::speed_bins(config, &stack, mode, mass, xuu, &fit_all);
     if let Some(s) = &bin_spread {
         if s.p_value.is_some_and(|p| p < 0.01) {
-            warnings.push(format!(
-                "Xud differs between speed bins by more than their standard errors explain \
-                 (range {:.4} kg, chi2 = {:.1} on {} dof): the model (m - Xud) u_dot = Xuu u|u| \
-                 + X_prop with one Xuu does not hold over the whole speed range",
-                s.range,
-                s.chi2.unwrap_or(f64::NAN),
-                s.dof
+            warnings.push(Warning::new(
+                STAGE,
+                format!(
+                    "Xud differs between speed bins by more than their standard errors explain \
+                     (range {:.4} kg, chi2 = {:.1} on {} dof): the model (m - Xud) u_dot = \
+                     Xuu u|u| + X_prop with one Xuu does not hold over the whole speed range",
+                    s.range,
+                    s.chi2.unwrap_or(f64::NAN),
+                    s.dof
+                ),
+                "Xud absorbs the misfit of the drag term; its sigma from the fit alone is too \
+                 small. When Xuu comes from the polar, its uncertainty is carried into Xud's \
+                 sigma (see the uncertainty budget); a bias of Xuu of the order of its sigma \
+                 is the usual cause",
             ));
         }
     }
@@ -169,10 +182,15 @@ pub fn run(
     };
 
     if whole.xud.value > 0.0 {
-        warnings.push(format!(
-            "Xud = {:.4} kg is positive: an added mass makes the body harder to accelerate \
-             (Xud < 0); check the thrust, Xuu and the sign conventions",
-            whole.xud.value
+        warnings.push(Warning::new(
+            STAGE,
+            format!(
+                "Xud = {:.4} kg is positive: an added mass makes the body harder to \
+                 accelerate (Xud < 0)",
+                whole.xud.value
+            ),
+            "the surge fit is not physical: check the thrust, Xuu and the sign conventions \
+             before using Xud or anything the HEKF identifies with it",
         ));
     }
 
@@ -201,9 +219,13 @@ pub fn run(
         .map_or_else(|| checks::lag1(&residuals), |_| None);
     if let Some(r1) = residual_lag1 {
         if r1 > 0.5 {
-            warnings.push(format!(
-                "the residuals of u are strongly autocorrelated (lag-1 correlation {r1:.2}): a \
-                 systematic misfit remains and the standard deviations understate the error"
+            warnings.push(Warning::new(
+                STAGE,
+                format!(
+                    "the residuals of u are strongly autocorrelated (lag-1 correlation {r1:.2})"
+                ),
+                "a systematic misfit remains, so the standard deviations of the fit understate \
+                 the error of Xud",
             ));
         }
     }

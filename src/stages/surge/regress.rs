@@ -1,6 +1,7 @@
 //! Cumulative integrals and least squares with one free intercept per segment (a
 //! fixed-effects regression: each stretch of a run keeps its own u(t0)).
 
+use crate::lsq::Slopes;
 use nalgebra::{DMatrix, DVector};
 use std::ops::Range;
 
@@ -48,50 +49,12 @@ pub enum SegmentError {
     Singular,
 }
 
-/// Slopes of y = X theta (no intercept) by least squares on unit-norm columns, with the
-/// covariance sigma^2 (X'X)^-1 from `resid_dof` residual degrees of freedom.
-struct Slopes {
-    theta: Vec<f64>,
-    covariance: Vec<Vec<f64>>,
-    rss: f64,
-}
-
 fn scaled_least_squares(
     x: &DMatrix<f64>,
     y: &DVector<f64>,
     resid_dof: usize,
 ) -> Result<Slopes, SegmentError> {
-    let (n, p) = x.shape();
-    // Scale columns for the rank test.
-    let norms: Vec<f64> = (0..p).map(|j| x.column(j).norm()).collect();
-    if norms.iter().any(|v| *v == 0.0 || !v.is_finite()) {
-        return Err(SegmentError::Singular);
-    }
-    let xs = DMatrix::from_fn(n, p, |i, j| x[(i, j)] / norms[j]);
-    let svd = (xs.transpose() * &xs).svd(true, true);
-    let (smin, smax) = (svd.singular_values.min(), svd.singular_values.max());
-    if smin.is_nan() || smin <= 1e-13 * smax {
-        return Err(SegmentError::Singular);
-    }
-    let inv = svd
-        .pseudo_inverse(0.0)
-        .map_err(|_| SegmentError::Singular)?;
-    let theta_s = &inv * (xs.transpose() * y);
-    let theta = (0..p).map(|j| theta_s[j] / norms[j]).collect();
-    let rss = (y - &xs * &theta_s).norm_squared();
-    let s2 = rss / resid_dof as f64;
-    let covariance = (0..p)
-        .map(|i| {
-            (0..p)
-                .map(|j| s2 * inv[(i, j)] / (norms[i] * norms[j]))
-                .collect()
-        })
-        .collect();
-    Ok(Slopes {
-        theta,
-        covariance,
-        rss,
-    })
+    crate::lsq::scaled_least_squares(x, y, resid_dof).ok_or(SegmentError::Singular)
 }
 
 /// Fits y = c_s + X theta over `segments` (index ranges into `y` and each of `x`).

@@ -171,7 +171,7 @@ pub struct SurgeResult {
     /// Coefficients: Xud (and Xuu for `force`), `Source::Surge`.
     pub coefficients: Vec<Coefficient>,
     /// Things worth reading.
-    pub warnings: Vec<String>,
+    pub warnings: Vec<crate::warning::Warning>,
 }
 
 impl SurgeResult {

@@ -1,0 +1,173 @@
+//! What a sampled signal says about itself: its measurement noise, and its gross outliers.
+//!
+//! Gross outliers are spike cells (1e-320 or 1e308 in a velocity column, a value from another
+//! column), found before they can poison the measurement noise estimate or throw the filter
+//! off. A Hampel identifier (Pearson 2002, "Outliers in process modeling and identification", IEEE
+//! Trans. Control Syst. Technol. 10(1)): a sample is an outlier when it lies further than
+//! [`THRESHOLD`] scale units from the median of its neighbourhood (+-[`HALF_WINDOW`] samples).
+//! The scale is the larger of the neighbourhood's median absolute deviation (times 1.4826, its
+//! ratio to sigma for a normal variable) and the signal's measurement noise: on a smooth
+//! signal the first follows the local trend (a ramp of slope s gives 3 s dt), on a noisy one
+//! the second. Only gross errors are caught here; the filter's innovation gate catches the
+//! rest with the model's prediction.
+
+/// Measurement noise standard deviation of a sampled signal, estimated from its fourth
+/// differences: for white noise of variance s^2, d4 = y[k+2] - 4y[k+1] + 6y[k] - 4y[k-1] +
+/// y[k-2] has variance 70 s^2, while a smooth signal contributes only ~ y'''' dt^4. The
+/// median absolute value (times 1.4826, its ratio to sigma for a normal variable) makes the
+/// estimate robust to a few outliers. Returns None for fewer than 5 samples.
+pub fn noise_sigma(y: &[f64]) -> Option<f64> {
+    if y.len() < 5 {
+        return None;
+    }
+    let mut d: Vec<f64> = y
+        .windows(5)
+        .map(|w| (w[4] - 4.0 * w[3] + 6.0 * w[2] - 4.0 * w[1] + w[0]).abs())
+        .collect();
+    let mid = d.len() / 2;
+    let (_, median, _) = d.select_nth_unstable_by(mid, f64::total_cmp);
+    Some(1.4826 * *median / 70f64.sqrt())
+}
+
+/// The smallest measurement standard deviation hydroid uses for a signal: a part in 10^8 of
+/// its largest magnitude (and 1e-12 absolute), so that noise-free synthetic data do not make
+/// the innovation covariance singular.
+pub fn noise_floor(y: &[f64]) -> f64 {
+    let peak = y.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    (1e-8 * peak).max(1e-12)
+}
+
+/// Neighbours on each side of a sample.
+pub const HALF_WINDOW: usize = 3;
+
+/// Distance from the local median, in scale units, beyond which a sample is an outlier.
+pub const THRESHOLD: f64 = 10.0;
+
+/// One outlier.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Outlier {
+    /// Sample index.
+    pub index: usize,
+    /// The value.
+    pub value: f64,
+    /// The neighbourhood's median.
+    pub median: f64,
+}
+
+/// The gross outliers of `y`.
+pub fn outliers(y: &[f64]) -> Vec<Outlier> {
+    let noise = noise_sigma(y).unwrap_or(0.0);
+    let n = y.len();
+    if n < 2 * HALF_WINDOW + 1 {
+        return Vec::new();
+    }
+    let mut window = Vec::with_capacity(2 * HALF_WINDOW + 1);
+    let mut dev = Vec::with_capacity(2 * HALF_WINDOW + 1);
+    let mut out = Vec::new();
+    for k in 0..n {
+        // a full window, shifted inwards at the ends
+        let start = k.saturating_sub(HALF_WINDOW).min(n - 2 * HALF_WINDOW - 1);
+        window.clear();
+        window.extend_from_slice(&y[start..start + 2 * HALF_WINDOW + 1]);
+        let median = median_of(&mut window);
+        dev.clear();
+        dev.extend(window.iter().map(|v| (v - median).abs()));
+        let mad = median_of(&mut dev);
+        let scale = (1.4826 * mad).max(noise);
+        let d = (y[k] - median).abs();
+        // a non-finite sample is always an outlier; a zero scale (a constant neighbourhood)
+        // makes any departure one
+        if !y[k].is_finite() || (d > THRESHOLD * scale && d > 0.0) {
+            out.push(Outlier {
+                index: k,
+                value: y[k],
+                median,
+            });
+        }
+    }
+    out
+}
+
+/// `y` with its outliers replaced by their neighbourhood medians.
+pub fn cleaned(y: &[f64], outliers: &[Outlier]) -> Vec<f64> {
+    let mut c = y.to_vec();
+    for o in outliers {
+        c[o.index] = o.median;
+    }
+    c
+}
+
+/// The median (upper median for even lengths); non-finite values sort last.
+fn median_of(v: &mut [f64]) -> f64 {
+    let mid = v.len() / 2;
+    let (_, m, _) = v.select_nth_unstable_by(mid, |a, b| match (a.is_finite(), b.is_finite()) {
+        (true, true) => a.total_cmp(b),
+        (true, false) => std::cmp::Ordering::Less,
+        (false, true) => std::cmp::Ordering::Greater,
+        (false, false) => std::cmp::Ordering::Equal,
+    });
+    *m
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{rngs::StdRng, SeedableRng};
+    use rand_distr::{Distribution, Normal};
+
+    #[test]
+    fn noise_of_a_smooth_signal_is_recovered() {
+        let mut rng = StdRng::seed_from_u64(3);
+        let n = Normal::new(0.0, 1e-3).unwrap();
+        let y: Vec<f64> = (0..2000)
+            .map(|k| {
+                let t = k as f64 * 0.01;
+                3.0 * (0.3 * t).sin() + 0.5 * t + n.sample(&mut rng)
+            })
+            .collect();
+        let s = noise_sigma(&y).unwrap();
+        assert!((s / 1e-3 - 1.0).abs() < 0.1, "{s}");
+        let clean: Vec<f64> = (0..2000).map(|k| (k as f64 * 0.01).sin()).collect();
+        // a noise-free sine sampled at 10 ms: only its fourth derivative, ~ dt^4 = 1e-8
+        assert!(noise_sigma(&clean).unwrap() < 1e-8);
+        assert_eq!(noise_sigma(&[1.0, 2.0]), None);
+    }
+
+    fn signal(noise: f64) -> Vec<f64> {
+        let mut rng = StdRng::seed_from_u64(5);
+        let n = Normal::new(0.0, noise.max(1e-300)).unwrap();
+        (0..2000)
+            .map(|k| {
+                let t = k as f64 * 0.01;
+                // a kink at t = 10 s (a thrust step) must not look like an outlier
+                let kink = if t > 10.0 { 0.2 * (t - 10.0) } else { 0.0 };
+                3.0 * (0.3 * t).sin() + kink + if noise > 0.0 { n.sample(&mut rng) } else { 0.0 }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn spike_cells_are_found_and_nothing_else() {
+        for noise in [0.0, 1e-3] {
+            let mut y = signal(noise);
+            assert!(outliers(&y).is_empty(), "clean signal, noise {noise}");
+            y[500] = 1e-320;
+            y[1200] = 1e308;
+            y[1999] = -40.0;
+            let found: Vec<usize> = outliers(&y).iter().map(|o| o.index).collect();
+            assert_eq!(found, vec![500, 1200, 1999], "noise {noise}");
+            let c = cleaned(&y, &outliers(&y));
+            assert!((c[1200] - y[1199]).abs() < 0.05);
+        }
+    }
+
+    #[test]
+    fn two_adjacent_spikes_and_a_non_finite_value() {
+        let mut y = signal(1e-3);
+        y[700] = 50.0;
+        y[701] = 50.0;
+        y[900] = f64::NAN;
+        let found: Vec<usize> = outliers(&y).iter().map(|o| o.index).collect();
+        assert_eq!(found, vec![700, 701, 900]);
+    }
+}

@@ -1,0 +1,336 @@
+//! Cheap plausibility checks of a run before it is filtered, so that the common mistakes
+//! (a wrong velocity frame, knots read as m/s, a heading in the wrong unit or sign, two
+//! quantities mapped to one column, a constant input that does not fit the motion) are named
+//! as such instead of ending as "the sway-yaw mass matrix is singular" or, worse, as
+//! confident wrong coefficients.
+//!
+//! Kinematics need no coefficients: the positions must follow the body velocities rotated by
+//! the heading (x_dot + i y_dot = (u + i v) e^(i psi), Fossen 2011, eq. 2.40 in the
+//! horizontal plane), and the heading rate the yaw rate (psi_dot = (q sin phi + r cos phi) /
+//! cos theta, Fossen 2011, eq. 2.41; r when roll and pitch are not given). Each relation is
+//! fitted with a robust gain (medians of sample ratios, so that an outlier does not decide),
+//! and when it fails, the alternatives a user may have meant are fitted too and the one
+//! that holds is named.
+
+mod inputs;
+
+pub use inputs::{constant_inputs, Start};
+
+use super::STAGE;
+use crate::quantity::Quantity;
+use crate::record::Record;
+use crate::warning::Warning;
+
+/// A finding of a check: a warning, and whether it is a clear mistake that stops the run
+/// (with `hekf.checks = "error"`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Finding {
+    /// What was found and what it means.
+    pub warning: Warning,
+    /// A clear mistake: the data contradict the configuration and an alternative fits.
+    pub blocking: bool,
+}
+
+impl Finding {
+    fn new(rec: &Record, blocking: bool, message: String, meaning: String) -> Self {
+        Finding {
+            warning: Warning::new(STAGE, message, meaning).for_run(&rec.name),
+            blocking,
+        }
+    }
+}
+
+/// A relation holds when its robust gain is within this of 1 ...
+const GAIN_TOLERANCE: f64 = 0.15;
+/// ... and the median residual is below this share of the median signal.
+const GOOD_FIT: f64 = 0.25;
+
+/// Every check of a run's kinematics: duplicated columns, heading against yaw rate, positions
+/// against velocities.
+pub fn kinematics(rec: &Record) -> Vec<Finding> {
+    let mut out = duplicates(rec);
+    out.extend(heading_rate(rec));
+    out.extend(track(rec));
+    out
+}
+
+/// Two quantities with identical values: mapped to one column.
+fn duplicates(rec: &Record) -> Vec<Finding> {
+    let mut out = Vec::new();
+    let chans: Vec<(&Quantity, &Vec<f64>)> = rec
+        .channels
+        .iter()
+        .filter(|(q, v)| **q != Quantity::Time && v.iter().any(|x| *x != v[0]))
+        .collect();
+    for (i, (qa, a)) in chans.iter().enumerate() {
+        for (qb, b) in &chans[i + 1..] {
+            if a == b {
+                out.push(Finding::new(
+                    rec,
+                    true,
+                    format!(
+                        "{qa} and {qb} hold identical values in all {} rows",
+                        a.len()
+                    ),
+                    format!(
+                        "two quantities are almost certainly mapped to one column; check the \
+                         run's `columns` for {qa} and {qb}"
+                    ),
+                ));
+            }
+        }
+    }
+    out
+}
+
+/// Central-difference derivative at interior samples whose two intervals are regular (within
+/// 1 % of the median interval), as (sample index, derivative).
+fn derivative(times: &[f64], y: &[f64]) -> Vec<(usize, f64)> {
+    let Some(dt) = crate::sampling::median_interval(times) else {
+        return Vec::new();
+    };
+    (1..times.len().saturating_sub(1))
+        .filter(|&k| {
+            let (a, b) = (times[k] - times[k - 1], times[k + 1] - times[k]);
+            (a - dt).abs() < 0.01 * dt && (b - dt).abs() < 0.01 * dt
+        })
+        .map(|k| (k, (y[k + 1] - y[k - 1]) / (times[k + 1] - times[k - 1])))
+        .collect()
+}
+
+fn median(v: &mut [f64]) -> Option<f64> {
+    if v.is_empty() {
+        return None;
+    }
+    let mid = v.len() / 2;
+    let (_, m, _) = v.select_nth_unstable_by(mid, f64::total_cmp);
+    Some(*m)
+}
+
+/// A robust complex gain g with measured = g * predicted, and the median relative residual,
+/// from samples where the prediction is large (above a fifth of its 95th percentile).
+fn complex_gain(measured: &[(f64, f64)], predicted: &[(f64, f64)]) -> Option<((f64, f64), f64)> {
+    let mut mag: Vec<f64> = predicted.iter().map(|p| p.0.hypot(p.1)).collect();
+    if mag.is_empty() {
+        return None;
+    }
+    let idx95 = (0.95 * (mag.len() - 1) as f64) as usize;
+    let p95 = *mag.select_nth_unstable_by(idx95, f64::total_cmp).1;
+    if !(p95 > 0.0) {
+        return None;
+    }
+    let used: Vec<usize> = (0..predicted.len())
+        .filter(|&k| predicted[k].0.hypot(predicted[k].1) > 0.2 * p95)
+        .collect();
+    if used.len() < 10 {
+        return None;
+    }
+    // g_k = m_k / p_k (complex division)
+    let (mut re, mut im): (Vec<f64>, Vec<f64>) = used
+        .iter()
+        .map(|&k| {
+            let (a, b) = measured[k];
+            let (c, d) = predicted[k];
+            let den = c * c + d * d;
+            ((a * c + b * d) / den, (b * c - a * d) / den)
+        })
+        .unzip();
+    let g = (median(&mut re)?, median(&mut im)?);
+    let mut res: Vec<f64> = used
+        .iter()
+        .map(|&k| {
+            let (c, d) = predicted[k];
+            let (pr, pi) = (g.0 * c - g.1 * d, g.0 * d + g.1 * c);
+            (measured[k].0 - pr).hypot(measured[k].1 - pi)
+        })
+        .collect();
+    let mut size: Vec<f64> = used
+        .iter()
+        .map(|&k| measured[k].0.hypot(measured[k].1))
+        .collect();
+    let rel = median(&mut res)? / median(&mut size)?.max(f64::MIN_POSITIVE);
+    Some((g, rel))
+}
+
+/// Words for a gain that is a common unit factor.
+fn unit_factor(gain: f64) -> Option<&'static str> {
+    const KNOT: f64 = 1852.0 / 3600.0;
+    const FOOT: f64 = 0.3048;
+    const KMH: f64 = 1.0 / 3.6;
+    let known: [(f64, &str); 8] = [
+        (KNOT, "the velocities look like knots read as m/s"),
+        (1.0 / KNOT, "the velocities look like m/s read as knots"),
+        (
+            FOOT,
+            "the velocities look like ft/s read as m/s, or the positions like feet",
+        ),
+        (1.0 / FOOT, "the positions look like feet read as metres"),
+        (KMH, "the velocities look like km/h read as m/s"),
+        (
+            std::f64::consts::PI / 180.0,
+            "the rate looks like deg/s read as rad/s",
+        ),
+        (
+            180.0 / std::f64::consts::PI,
+            "the angle looks like degrees read as radians (or the rate like rad/s read as deg/s)",
+        ),
+        (
+            1000.0,
+            "one of the two looks like millimetres or kilometres",
+        ),
+    ];
+    known
+        .iter()
+        .find(|(f, _)| (gain / f - 1.0).abs() < 0.03)
+        .map(|(_, s)| *s)
+}
+
+/// The heading rate against the yaw rate.
+fn heading_rate(rec: &Record) -> Option<Finding> {
+    let times = rec.time()?;
+    let psi = rec.channel(Quantity::Yaw)?;
+    let r = rec.channel(Quantity::R)?;
+    // psi_dot = (q sin phi + r cos phi) / cos theta (Fossen 2011, eq. 2.41)
+    let euler = |k: usize| -> f64 {
+        match (
+            rec.channel(Quantity::Roll),
+            rec.channel(Quantity::Pitch),
+            rec.channel(Quantity::Q),
+        ) {
+            (Some(phi), Some(theta), Some(q)) => {
+                (q[k] * phi[k].sin() + r[k] * phi[k].cos()) / theta[k].cos()
+            }
+            _ => r[k],
+        }
+    };
+    let d = derivative(times, psi);
+    let measured: Vec<(f64, f64)> = d.iter().map(|&(_, v)| (v, 0.0)).collect();
+    let predicted: Vec<(f64, f64)> = d.iter().map(|&(k, _)| (euler(k), 0.0)).collect();
+    let ((g, _), rel) = complex_gain(&measured, &predicted)?;
+    if (g - 1.0).abs() < GAIN_TOLERANCE && rel < GOOD_FIT {
+        return None;
+    }
+    let fits = rel < GOOD_FIT;
+    let seen = format!(
+        "the heading rate d(yaw)/dt is {} times the yaw rate r (median relative residual {:.0} \
+         %)",
+        sig(g),
+        100.0 * rel
+    );
+    let (blocking, meaning) = if fits && (g + 1.0).abs() < GAIN_TOLERANCE {
+        (
+            true,
+            "heading and yaw rate follow opposite sign conventions (e.g. a compass heading \
+             clockwise from north with r positive to port): flip one of them with `scale = -1` \
+             in its column entry"
+                .to_string(),
+        )
+    } else if let Some(words) = fits.then(|| unit_factor(g.abs())).flatten() {
+        (
+            true,
+            format!(
+                "{words}: give the column's unit explicitly, e.g. `yaw = {{ column = \"...\", \
+                 unit = \"deg\" }}`"
+            ),
+        )
+    } else {
+        (
+            false,
+            "heading and yaw rate disagree; the filter will trust whichever has the smaller \
+             noise, and the coefficients absorb the rest: check both columns' units, signs and \
+             which columns they are"
+                .to_string(),
+        )
+    };
+    Some(Finding::new(rec, blocking, seen, meaning))
+}
+
+/// The positions against the velocities rotated by the heading.
+fn track(rec: &Record) -> Option<Finding> {
+    let times = rec.time()?;
+    let (x, y) = (rec.channel(Quantity::X)?, rec.channel(Quantity::Y)?);
+    let psi = rec.channel(Quantity::Yaw)?;
+    let (u, v) = (rec.channel(Quantity::U)?, rec.channel(Quantity::V)?);
+    let dx = derivative(times, x);
+    let dy = derivative(times, y);
+    let measured: Vec<(f64, f64)> = dx.iter().zip(&dy).map(|(a, b)| (a.1, b.1)).collect();
+    let rotate = |k: usize, sway: f64, heading: f64| -> (f64, f64) {
+        let (s, c) = (heading * psi[k]).sin_cos();
+        let (a, b) = (u[k], sway * v[k]);
+        (a * c - b * s, a * s + b * c)
+    };
+    let fit = |predict: &dyn Fn(usize) -> (f64, f64)| {
+        let p: Vec<(f64, f64)> = dx.iter().map(|&(k, _)| predict(k)).collect();
+        complex_gain(&measured, &p)
+    };
+    let holds = |(g, rel): ((f64, f64), f64)| {
+        (g.0 - 1.0).abs() < GAIN_TOLERANCE && g.1.abs() < GAIN_TOLERANCE && rel < GOOD_FIT
+    };
+    let configured = fit(&|k| rotate(k, 1.0, 1.0))?;
+    if holds(configured) {
+        return None;
+    }
+    let ((gr, gi), rel) = configured;
+    let gain = gr.hypot(gi);
+    let angle = gi.atan2(gr).to_degrees();
+    let seen = format!(
+        "dx/dt and dy/dt do not match u and v rotated by the heading: they are {} times the \
+         rotated velocities, turned by {:.0} deg (median relative residual {:.0} %)",
+        sig(gain),
+        angle,
+        100.0 * rel
+    );
+    let clear = |meaning: String| Some(Finding::new(rec, true, seen.clone(), meaning));
+    if rel < GOOD_FIT {
+        // the relation holds up to a factor or a turn
+        if angle.abs() > 10.0 {
+            return clear(format!(
+                "the heading seems offset by {angle:.0} deg from the x axis of the positions \
+                 (e.g. a compass heading from north with positions east-north): check which \
+                 axis the heading is measured from"
+            ));
+        }
+        if let Some(words) = unit_factor(gain) {
+            return clear(format!(
+                "{words}: give the columns' units explicitly, e.g. `u = {{ column = \"...\", \
+                 unit = \"kn\" }}`"
+            ));
+        }
+    }
+    type Predict<'a> = Box<dyn Fn(usize) -> (f64, f64) + 'a>;
+    let alternatives: [(Predict, &str); 3] = [
+        (
+            Box::new(|k| (u[k], v[k])),
+            "the velocity columns hold earth-frame velocities (dx/dt, dy/dt), not body \
+             velocities: set `velocity_frame = \"earth\"` for this run",
+        ),
+        (
+            Box::new(|k| rotate(k, 1.0, -1.0)),
+            "the heading has the opposite sign convention to the positions (e.g. clockwise \
+             while x-y is counter-clockwise): flip it with `scale = -1` in its column entry",
+        ),
+        (
+            Box::new(|k| rotate(k, -1.0, 1.0)),
+            "the sway velocity has the opposite sign convention (positive to port): flip it \
+             with `scale = -1` in its column entry",
+        ),
+    ];
+    for (predict, words) in &alternatives {
+        if fit(predict.as_ref()).is_some_and(holds) {
+            return clear(words.to_string());
+        }
+    }
+    Some(Finding::new(
+        rec,
+        false,
+        seen,
+        "positions, heading and velocities disagree and no simple mix-up explains it; the \
+         filter will fit a compromise and the coefficients absorb the rest: check the units, \
+         signs and frames of x, y, yaw, u and v"
+            .to_string(),
+    ))
+}
+
+fn sig(v: f64) -> String {
+    crate::report::table::num(v)
+}
