@@ -170,7 +170,23 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutp
             .map(|i| i.record.clone())
             .collect()
     };
+    // every warning is said as soon as it arises, and kept for results.json and the report
     let mut warnings = Vec::new();
+    say(
+        &mut warnings,
+        progress,
+        inputs.iter().flat_map(|i| {
+            i.record.warnings.iter().map(|w| {
+                Warning::new(
+                    "input",
+                    w.clone(),
+                    "hydroid read the file as described here; check that this is what the \
+                     export meant",
+                )
+                .for_run(&i.record.name)
+            })
+        }),
+    );
     let mut known = CoefficientSet::new();
     for (name, v) in &cfg.coefficients {
         known.insert(Coefficient::new(name, *v, None, Source::Config));
@@ -187,6 +203,7 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutp
             r.coefficients.len(),
             r.pooled.n_points
         ));
+        say(&mut warnings, progress, r.warnings.iter().cloned());
         stages.polar = Some(r);
     }
     if let Some(sc) = cfg.surge.as_ref().filter(|c| c.enabled) {
@@ -199,6 +216,7 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutp
             recs.len(),
             if recs.len() == 1 { "" } else { "s" }
         ));
+        say(&mut warnings, progress, r.warnings.iter().cloned());
         stages.surge = Some(r);
     }
     let mut resim_traces = Vec::new();
@@ -233,6 +251,14 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutp
             if fit.len() == 1 { "" } else { "s" },
             r.settings.passes
         ));
+        say(
+            &mut warnings,
+            progress,
+            r.runs
+                .iter()
+                .flat_map(|run| run.warnings.iter().cloned())
+                .chain(r.warnings.iter().cloned()),
+        );
         let mut final_set = for_filter.clone();
         final_set.merge_stage(r.coefficients(), r.directions.clone());
         final_set.correlation = Some(r.correlation.clone());
@@ -248,53 +274,29 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutp
             .chain(validation.iter().map(|r| (r, false)))
         {
             let (m, t) = resimulate(&spec, &final_set, rec, used)?;
-            warnings.extend(crate::resim::warnings(&m, rec));
+            say(&mut warnings, progress, crate::resim::warnings(&m, rec));
             resim_metrics.push(m);
             resim_traces.push((rec.clone(), t));
         }
         known.merge_stage(r.coefficients(), r.directions.clone());
         known.correlation = Some(r.correlation.clone());
-        warnings.extend(r.warnings.iter().cloned());
-        for run in &r.runs {
-            warnings.extend(run.warnings.iter().cloned());
-        }
         model_name = Some(hc.model);
         stages.hekf = Some(r);
     }
     // the reported set: what the stages and the configuration gave, completed by symmetry
     match model_name {
         Some(m) => complete_for(&mut known, m),
-        None => warnings.extend(known.complete(SYMMETRY).into_iter().map(|w| {
-            Warning::new(
-                "coefficients",
-                w,
-                "the coefficient set is incomplete: a re-simulation with it is not possible",
-            )
-        })),
-    }
-    // inputs first, then the stages in order
-    let mut all: Vec<Warning> = inputs
-        .iter()
-        .flat_map(|i| {
-            i.record.warnings.iter().map(|w| {
+        None => {
+            let incomplete = known.complete(SYMMETRY).into_iter().map(|w| {
                 Warning::new(
-                    "input",
-                    w.clone(),
-                    "hydroid read the file as described here; check that this is what the \
-                     export meant",
+                    "coefficients",
+                    w,
+                    "the coefficient set is incomplete: a re-simulation with it is not possible",
                 )
-                .for_run(&i.record.name)
-            })
-        })
-        .collect();
-    if let Some(p) = &stages.polar {
-        all.extend(p.warnings.iter().cloned());
+            });
+            say(&mut warnings, progress, incomplete);
+        }
     }
-    if let Some(s) = &stages.surge {
-        all.extend(s.warnings.iter().cloned());
-    }
-    all.extend(warnings);
-    let warnings = all;
     let comparison = compare(&known, &analytic, cfg.reference.as_ref());
     let result = RunResult::new(
         loaded,
@@ -313,6 +315,18 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutp
         result,
         resim_traces,
     })
+}
+
+/// Says each warning to `progress` as it arises and keeps it in `list`.
+fn say(
+    list: &mut Vec<Warning>,
+    progress: &mut dyn Progress,
+    warnings: impl IntoIterator<Item = Warning>,
+) {
+    for w in warnings {
+        progress.warning(&w);
+        list.push(w);
+    }
 }
 
 fn complete_for(set: &mut CoefficientSet, model: ModelName) {

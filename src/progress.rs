@@ -11,6 +11,12 @@ pub trait Progress {
     fn filter(&mut self, pass: usize, passes: usize, done: usize, total: usize) {
         let _ = (pass, passes, done, total);
     }
+
+    /// Something the user should know, said as soon as it arises (the run's result lists
+    /// every warning again).
+    fn warning(&mut self, warning: &crate::warning::Warning) {
+        let _ = warning;
+    }
 }
 
 /// Discards everything.

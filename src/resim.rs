@@ -89,7 +89,12 @@ impl ModelVisitor for Resim<'_> {
         let mut x0 = vec![0.0; states.len()];
         for (i, s) in states.iter().enumerate() {
             if let Some(v) = rec.channel(s.quantity) {
-                x0[i] = v[0];
+                // a gross outlier in the first sample is replaced by its neighbours' median
+                x0[i] = if signal::outliers(v).first().is_some_and(|o| o.index == 0) {
+                    signal::cleaned(v, &signal::outliers(v))[0]
+                } else {
+                    v[0]
+                };
             }
         }
         // integrate sample by sample so that a divergence keeps the part before it, in steps

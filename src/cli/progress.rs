@@ -33,6 +33,11 @@ impl Progress for Cli {
         super::note(line);
     }
 
+    fn warning(&mut self, w: &hydroid::warning::Warning) {
+        self.finish_bar();
+        super::note(&format!("warning: {w}"));
+    }
+
     fn filter(&mut self, pass: usize, passes: usize, done: usize, total: usize) {
         if !self.terminal {
             return;

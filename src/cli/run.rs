@@ -51,10 +51,16 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
             }
         }
     }
-    for w in &output.result.warnings {
-        note(&format!("warning: {w}"));
-    }
     report::table::write_text(out, &output.result)?;
     writeln!(out, "\nwrote {}", dir.display())?;
+    let n = output.result.warnings.len();
+    if n > 0 {
+        // the warnings were said as they arose (stderr); a reminder where the results are
+        note(&format!(
+            "{n} warning{} above (also in results.json and the report's Warnings section): read \
+             them before using these coefficients",
+            if n == 1 { "" } else { "s" }
+        ));
+    }
     Ok(0)
 }

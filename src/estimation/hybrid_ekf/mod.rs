@@ -56,7 +56,10 @@ pub struct HybridEkf {
     /// exceeds `gate` times the square root of its predicted variance is not used
     /// (Bar-Shalom, Li & Kirubarajan 2001, section 2.4.3, validation gate).
     pub gate: f64,
-    rejected: Vec<(usize, f64)>,
+    /// Measurements (indices into y) exempt from the gate: beyond it they are used, and
+    /// only reported in [`HybridEkf::beyond_gate`].
+    pub ungated: Vec<bool>,
+    beyond: Vec<GateEvent>,
     // work space
     f: Vec<f64>,
     fp: Vec<f64>,
@@ -96,7 +99,8 @@ impl HybridEkf {
             q,
             max_step,
             gate: 0.0,
-            rejected: Vec::new(),
+            ungated: Vec::new(),
+            beyond: Vec::new(),
             f: z(nd * n),
             fp: z(nd * n),
             dx: [z(nd), z(nd), z(nd), z(nd)],
@@ -333,6 +337,7 @@ pub(super) fn transpose(a: &[f64], r: usize, c: usize, out: &mut [f64]) {
 
 mod update;
 
+pub use update::GateEvent;
 use update::UpdateWork;
 
 #[cfg(test)]

@@ -21,7 +21,7 @@ impl HybridEkf {
         debug_assert_eq!(m, sys.m());
         let w = &mut self.upd;
         w.resize(n, m);
-        self.rejected.clear();
+        self.beyond.clear();
         // H is usually a selection of states: then the update is done one measurement at a
         // time (exact for a linear h with diagonal R), each a rank-one Joseph update.
         if let Some(sel) = sys.selection() {
@@ -46,12 +46,16 @@ impl HybridEkf {
         let mut dropped = false;
         for k in 0..m {
             let missing = !w.nu[k].is_finite();
-            let gated =
-                !missing && self.gate > 0.0 && w.nu[k].powi(2) > self.gate.powi(2) * w.s_diag[k];
+            let gated = !missing
+                && self.gate > 0.0
+                && w.nu[k].powi(2) > self.gate.powi(2) * w.s_diag[k]
+                && note_beyond(
+                    &mut self.beyond,
+                    &self.ungated,
+                    k,
+                    w.nu[k].abs() / w.s_diag[k].sqrt(),
+                );
             if missing || gated {
-                if gated {
-                    self.rejected.push((k, w.nu[k].abs() / w.s_diag[k].sqrt()));
-                }
                 w.nu[k] = 0.0;
                 w.h[k * n..(k + 1) * n].fill(0.0);
                 dropped = true;
@@ -145,8 +149,10 @@ impl HybridEkf {
                 w.nu[a] = 0.0;
                 continue;
             }
-            if self.gate > 0.0 && nu * nu > self.gate * self.gate * s {
-                self.rejected.push((a, nu.abs() / s.sqrt()));
+            if self.gate > 0.0
+                && nu * nu > self.gate * self.gate * s
+                && note_beyond(&mut self.beyond, &self.ungated, a, nu.abs() / s.sqrt())
+            {
                 w.nu[a] = 0.0;
                 continue;
             }
@@ -199,10 +205,10 @@ impl HybridEkf {
         &self.upd.nu
     }
 
-    /// The measurements the innovation gate rejected in the last update: index into y and
-    /// the innovation in standard deviations.
-    pub fn rejected(&self) -> &[(usize, f64)] {
-        &self.rejected
+    /// The measurements whose innovation lay beyond the gate in the last update, and whether
+    /// each was rejected (it was used when exempt, see [`HybridEkf::ungated`]).
+    pub fn beyond_gate(&self) -> &[GateEvent] {
+        &self.beyond
     }
 
     /// The diagonal of the innovation covariance S = H P H^T + R of the last update.
@@ -221,6 +227,28 @@ impl HybridEkf {
             reason: format!("the covariance lost positive definiteness (state {i})"),
         })
     }
+}
+
+/// A measurement whose innovation lay beyond the gate.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GateEvent {
+    /// Index into y.
+    pub measurement: usize,
+    /// The innovation in standard deviations of its predicted spread.
+    pub sigmas: f64,
+    /// Whether it was left out (false: exempt from the gate, used).
+    pub rejected: bool,
+}
+
+/// Records measurement `k` beyond the gate; true when it is to be rejected.
+fn note_beyond(events: &mut Vec<GateEvent>, ungated: &[bool], k: usize, sigmas: f64) -> bool {
+    let rejected = !ungated.get(k).copied().unwrap_or(false);
+    events.push(GateEvent {
+        measurement: k,
+        sigmas,
+        rejected,
+    });
+    rejected
 }
 
 /// Work space of the measurement update, sized for the current number of measurements.

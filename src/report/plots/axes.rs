@@ -98,9 +98,13 @@ impl Range {
         }
     }
 
-    /// As a plotters range.
+    /// As a plotters range, kept within +-1e300 so that its span stays finite (plotters'
+    /// tick search never ends on an infinite span, e.g. a 1e308 spike cell in the data).
     pub fn span_range(self) -> std::ops::Range<f64> {
-        self.lo..self.hi
+        const LIMIT: f64 = 1e300;
+        let lo = self.lo.clamp(-LIMIT, LIMIT);
+        let hi = self.hi.clamp(-LIMIT, LIMIT);
+        lo..hi
     }
 }
 
@@ -313,6 +317,19 @@ pub fn dashed<DB: DrawingBackend>(
     stretched(chart, points, style, Some(DASH))
 }
 
+/// Moves a point that lies far outside the panel (a spike cell of 1e308) to just outside
+/// it, so that its pixel coordinate stays a small integer; points inside are unchanged.
+fn clipper<DB: DrawingBackend>(chart: &Chart<'_, DB>) -> impl Fn((f64, f64)) -> (f64, f64) {
+    let (x, y) = (chart.x_range(), chart.y_range());
+    let (wx, wy) = (x.end - x.start, y.end - y.start);
+    move |(px, py)| {
+        (
+            px.clamp(x.start - wx, x.end + wx),
+            py.clamp(y.start - wy, y.end + wy),
+        )
+    }
+}
+
 /// Solid (`dash` None) or dashed (dash length, gap in pixels) lines through the finite
 /// stretches of `points`, thinned to the panel width.
 fn stretched<DB: DrawingBackend>(
@@ -322,7 +339,8 @@ fn stretched<DB: DrawingBackend>(
     dash: Option<(u32, u32)>,
 ) -> Result<(), PlotError> {
     let width = chart.plotting_area().dim_in_pixel().0 as usize;
-    for s in stretches(points) {
+    let clip = clipper(chart);
+    for s in stretches(points.into_iter().map(&clip)) {
         let pts = thin(&s, width.max(1));
         match dash {
             None => chart.draw_series(LineSeries::new(pts, style))?,
@@ -392,6 +410,8 @@ pub fn error_bar<DB: DrawingBackend>(
         return Ok(());
     }
     let cap = 5;
+    let clip = clipper(chart);
+    let ((x, lo), (_, hi)) = (clip((x, lo)), clip((x, hi)));
     chart.draw_series(std::iter::once(PathElement::new(
         vec![(x, lo), (x, hi)],
         style,
@@ -416,11 +436,12 @@ pub fn dots<DB: DrawingBackend>(
     radius: i32,
     style: ShapeStyle,
 ) -> Result<(), PlotError> {
+    let clip = clipper(chart);
     chart.draw_series(
         points
             .into_iter()
             .filter(|(x, y)| x.is_finite() && y.is_finite())
-            .map(|p| Circle::new(p, radius, style)),
+            .map(|p| Circle::new(clip(p), radius, style)),
     )?;
     Ok(())
 }
@@ -476,6 +497,15 @@ mod tests {
         let (x, y) = equal_aspect(Range::new(0.0, 1.0), Range::new(0.0, 4.0), (800, 400));
         assert!((x.span() / 800.0 - y.span() / 400.0).abs() < 1e-12);
         assert!(x.span() >= 1.0 && y.span() >= 4.0);
+    }
+
+    #[test]
+    fn a_huge_range_stays_finite_for_plotters() {
+        let r = Range::of([0.0, 1e308, -1e308]).unwrap().pad(0.05);
+        let s = r.span_range();
+        assert!((s.end - s.start).is_finite());
+        let keys = plotters::coord::types::RangedCoordf64::from(s).key_points(10);
+        assert!(!keys.is_empty() && keys.len() <= 10);
     }
 
     #[test]

@@ -2,7 +2,7 @@
 //! normalised innovation squared (Bar-Shalom, Li & Kirubarajan 2001, section 5.4), turned into
 //! a warning that says which measurement carries the excess and what it means for the sigmas.
 
-use super::identify::{Rejection, RunData};
+use super::identify::{Excursion, Rejection, RunData};
 use super::result::RunSummary;
 use super::STAGE;
 use crate::models::Model;
@@ -74,6 +74,59 @@ pub fn nis_warning(run: &RunSummary) -> Option<Warning> {
             .for_run(&run.name),
         )
     }
+}
+
+/// The warning for the stretches where a quantity stayed beyond the gate in the last pass.
+pub fn excursion_warning<M: Model>(
+    model: &M,
+    run: &RunData,
+    excursions: &[Excursion],
+    gate: f64,
+) -> Option<Warning> {
+    const SHOWN: usize = 5;
+    if excursions.is_empty() {
+        return None;
+    }
+    let line = |k: usize| run.lines.get(k).copied().unwrap_or(0);
+    let mut at: Vec<String> = excursions
+        .iter()
+        .take(SHOWN)
+        .map(|x| {
+            format!(
+                "{} at lines {}-{} (t = {}-{} s, up to {} sigma)",
+                model.states()[run.measured[x.measurement]].quantity,
+                line(x.first),
+                line(x.last),
+                sig3(run.times[x.first]),
+                sig3(run.times[x.last]),
+                sig3(x.peak)
+            )
+        })
+        .collect();
+    if excursions.len() > SHOWN {
+        at.push(format!("and {} more", excursions.len() - SHOWN));
+    }
+    let samples: usize = excursions.iter().map(|x| x.last + 1 - x.first).sum();
+    Some(
+        Warning::new(
+            STAGE,
+            format!(
+                "the innovations stayed beyond the {} sigma gate over {} stretch{} ({} \
+                 sample{}): {}",
+                crate::numfmt::fixed_trimmed(gate, 2),
+                excursions.len(),
+                if excursions.len() == 1 { "" } else { "es" },
+                samples,
+                if samples == 1 { "" } else { "s" },
+                at.join(", ")
+            ),
+            "not isolated outliers (they were used): the model departs from the data there by \
+             far more than the noise explains, e.g. after a gap, at a step of an input, or \
+             with a wrong input, fixed coefficient, unit or frame; the estimates absorb that \
+             misfit, so treat them as doubtful until the cause is known",
+        )
+        .for_run(&run.name),
+    )
 }
 
 /// The warning for the measurements the innovation gate rejected in the last pass, naming

@@ -2,6 +2,7 @@
 //! restarting from the last estimate with the prior covariance, then a smoother pass.
 
 use super::system::ModelSystem;
+use crate::estimation::hybrid_ekf::GateEvent;
 use crate::estimation::rts::Trace;
 use crate::estimation::{Divergence, HybridEkf};
 use crate::models::Model;
@@ -104,8 +105,10 @@ pub struct RunTrace {
     pub innovations: Vec<f64>,
     /// Normalised innovation squared per sample.
     pub nis: Vec<f64>,
-    /// Measurements the innovation gate rejected.
+    /// Measurements the innovation gate rejected as outliers.
     pub rejected: Vec<Rejection>,
+    /// Stretches where a quantity stayed beyond the gate (its measurements were used).
+    pub excursions: Vec<Excursion>,
 }
 
 /// A measurement the innovation gate rejected.
@@ -119,10 +122,95 @@ pub struct Rejection {
     pub sigmas: f64,
 }
 
-/// Consecutive samples the gate may reject one quantity before the filter is taken to have
-/// lost track of it (a burst of bad data or a model that cannot follow the run, not
-/// isolated outliers).
-pub const MAX_GATED_RUN: usize = 25;
+/// Consecutive samples one quantity may lie beyond the gate and still be taken for outliers.
+/// A longer stretch is the model departing from the data (after a gap, at a step input, a
+/// wrong input or coefficient): rejecting it would cut the filter off from the run, so the
+/// filter uses those measurements again and the stretch is reported as an excursion.
+pub const MAX_OUTLIER_RUN: usize = 3;
+
+/// A stretch of samples where one quantity's innovations lay beyond the gate (and were used).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Excursion {
+    /// Index of the measured quantity (into `RunData::measured`).
+    pub measurement: usize,
+    /// First and last sample of the stretch.
+    pub first: usize,
+    /// Last sample.
+    pub last: usize,
+    /// Largest innovation in standard deviations.
+    pub peak: f64,
+}
+
+/// Turns the gate's events into isolated rejections and excursions, sample by sample, and
+/// exempts a quantity from the gate while it is in an excursion.
+struct GateTracker {
+    streak: Vec<usize>,
+    open: Vec<Option<Excursion>>,
+}
+
+impl GateTracker {
+    fn new(m: usize) -> Self {
+        GateTracker {
+            streak: vec![0; m],
+            open: vec![None; m],
+        }
+    }
+
+    fn step(&mut self, k: usize, events: &[GateEvent], ungated: &mut [bool], tr: &mut RunTrace) {
+        for a in 0..self.streak.len() {
+            let ev = events.iter().find(|e| e.measurement == a);
+            if let Some(x) = self.open[a].as_mut() {
+                match ev {
+                    Some(e) => {
+                        x.last = k;
+                        x.peak = x.peak.max(e.sigmas);
+                    }
+                    None => {
+                        tr.excursions.push(*x);
+                        self.open[a] = None;
+                        ungated[a] = false;
+                    }
+                }
+                continue;
+            }
+            let Some(e) = ev else {
+                self.streak[a] = 0;
+                continue;
+            };
+            self.streak[a] += 1;
+            tr.rejected.push(Rejection {
+                sample: k,
+                measurement: a,
+                sigmas: e.sigmas,
+            });
+            if self.streak[a] >= MAX_OUTLIER_RUN {
+                // not outliers: an excursion from the first of them on
+                let first = k + 1 - self.streak[a];
+                let mut peak: f64 = 0.0;
+                tr.rejected.retain(|r| {
+                    let mine = r.measurement == a && r.sample >= first;
+                    if mine {
+                        peak = peak.max(r.sigmas);
+                    }
+                    !mine
+                });
+                self.open[a] = Some(Excursion {
+                    measurement: a,
+                    first,
+                    last: k,
+                    peak,
+                });
+                self.streak[a] = 0;
+                ungated[a] = true;
+            }
+        }
+    }
+
+    /// Closes the excursions still open at the end of a run.
+    fn finish(self, tr: &mut RunTrace) {
+        tr.excursions.extend(self.open.into_iter().flatten());
+    }
+}
 
 /// Result of the identification.
 #[derive(Debug, Clone)]
@@ -217,7 +305,8 @@ pub fn identify<M: Model>(
             } else {
                 0.0
             };
-            let mut gated_run = vec![0usize; run.measured.len()];
+            f.ungated = vec![false; run.measured.len()];
+            let mut gate = GateTracker::new(run.measured.len());
             let k_len = run.len();
             let m = run.measured.len();
             let mut tr = RunTrace {
@@ -251,8 +340,8 @@ pub fn identify<M: Model>(
                 let nis = f
                     .update(&mut sys, t, &run.y[k * m..(k + 1) * m], &run.r)
                     .map_err(fail)?;
-                track_gate(f.rejected(), k, &mut gated_run, &mut tr.rejected)
-                    .map_err(|a| fail(lost_track(model, run, a, k)))?;
+                let events = f.beyond_gate().to_vec();
+                gate.step(k, &events, &mut f.ungated, &mut tr);
                 if let Some(s) = smoother.as_mut() {
                     s.x_post.extend_from_slice(&f.x);
                     s.p_post.extend_from_slice(&f.p);
@@ -270,6 +359,7 @@ pub fn identify<M: Model>(
                     progress.filter(pass + 1, setup.passes, done, total);
                 }
             }
+            gate.finish(&mut tr);
             if let Some(&t_end) = run.times.last() {
                 f.check_covariance(t_end).map_err(fail)?;
             }
@@ -318,48 +408,4 @@ pub fn identify<M: Model>(
         covariance,
         traces,
     })
-}
-
-/// Records the gate's rejections at sample `k` and counts consecutive ones per quantity;
-/// fails with the quantity's index when one has been rejected [`MAX_GATED_RUN`] times in a row.
-fn track_gate(
-    rejected: &[(usize, f64)],
-    k: usize,
-    run_length: &mut [usize],
-    out: &mut Vec<Rejection>,
-) -> Result<(), usize> {
-    for (a, len) in run_length.iter_mut().enumerate() {
-        match rejected.iter().find(|(i, _)| *i == a) {
-            Some(&(_, sigmas)) => {
-                *len += 1;
-                out.push(Rejection {
-                    sample: k,
-                    measurement: a,
-                    sigmas,
-                });
-                if *len >= MAX_GATED_RUN {
-                    return Err(a);
-                }
-            }
-            None => *len = 0,
-        }
-    }
-    Ok(())
-}
-
-/// The divergence of a filter that the gate has cut off from quantity `a` of `run`.
-fn lost_track<M: Model>(model: &M, run: &RunData, a: usize, k: usize) -> Divergence {
-    let q = model.states()[run.measured[a]].quantity;
-    let first = k + 1 - MAX_GATED_RUN;
-    Divergence {
-        time: run.times[k],
-        reason: format!(
-            "the filter lost track of {q}: the innovation gate rejected it at {MAX_GATED_RUN} \
-             samples in a row (lines {}-{}), so these are not isolated outliers but a model \
-             that cannot follow the run there (a wrong input, fixed coefficient, unit or \
-             frame) or a stretch of bad data",
-            run.lines.get(first).copied().unwrap_or(0),
-            run.lines.get(k).copied().unwrap_or(0)
-        ),
-    }
 }

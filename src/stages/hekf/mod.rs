@@ -198,10 +198,14 @@ impl ModelVisitor for Identify<'_> {
         let setup = prepare::setup(model, cfg, &plan, &tuning, &runs)?;
         let id = identify(model, &setup, &runs, self.progress)
             .map_err(|e| divergence_error(model, &plan, &runs, &summaries, e))?;
-        let rejected: Vec<Vec<identify::Rejection>> = id
+        let gated: Vec<(Vec<identify::Rejection>, Vec<identify::Excursion>)> = id
             .traces
             .last()
-            .map(|p| p.iter().map(|t| t.rejected.clone()).collect())
+            .map(|p| {
+                p.iter()
+                    .map(|t| (t.rejected.clone(), t.excursions.clone()))
+                    .collect()
+            })
             .unwrap_or_default();
         let last = id.passes.last().cloned().expect("at least one pass");
         let (upstream, failed) = sensitivity::upstream(
@@ -226,10 +230,15 @@ impl ModelVisitor for Identify<'_> {
                 failed,
             },
         );
-        for ((run, data), rej) in result.runs.iter_mut().zip(&runs).zip(&rejected) {
+        for ((run, data), (rej, exc)) in result.runs.iter_mut().zip(&runs).zip(&gated) {
             run.warnings
                 .extend(consistency::gate_warning(model, data, rej));
+            run.warnings
+                .extend(consistency::excursion_warning(model, data, exc, setup.gate));
             run.warnings.extend(consistency::nis_warning(run));
+            for w in run.warnings.iter_mut().filter(|w| w.run.is_none()) {
+                w.run = Some(run.name.clone());
+            }
         }
         Ok(result)
     }

@@ -83,19 +83,43 @@ fn duplicates(rec: &Record) -> Vec<Finding> {
     out
 }
 
-/// Central-difference derivative at interior samples whose two intervals are regular (within
-/// 1 % of the median interval), as (sample index, derivative).
-fn derivative(times: &[f64], y: &[f64]) -> Vec<(usize, f64)> {
+/// Samples per window of the integral checks: increments over a few samples average the
+/// measurement noise out of the comparison.
+const WINDOW: usize = 5;
+
+/// Non-overlapping windows (first, last sample) of [`WINDOW`] regular intervals (each within
+/// 1 % of the median interval).
+fn windows(times: &[f64]) -> Vec<(usize, usize)> {
     let Some(dt) = crate::sampling::median_interval(times) else {
         return Vec::new();
     };
-    (1..times.len().saturating_sub(1))
-        .filter(|&k| {
-            let (a, b) = (times[k] - times[k - 1], times[k + 1] - times[k]);
-            (a - dt).abs() < 0.01 * dt && (b - dt).abs() < 0.01 * dt
-        })
-        .map(|k| (k, (y[k + 1] - y[k - 1]) / (times[k + 1] - times[k - 1])))
-        .collect()
+    let regular = |k: usize| (times[k + 1] - times[k] - dt).abs() < 0.01 * dt;
+    let mut out = Vec::new();
+    let mut k = 0;
+    while k + WINDOW < times.len() {
+        match (k..k + WINDOW).find(|&j| !regular(j)) {
+            Some(j) => k = j + 1,
+            None => {
+                out.push((k, k + WINDOW));
+                k += WINDOW;
+            }
+        }
+    }
+    out
+}
+
+/// The increment of `y` over a window and the integral of `rate(k)` over it (trapezoid):
+/// y(t1) - y(t0) = integral of y_dot dt.
+fn increment(
+    times: &[f64],
+    (a, b): (usize, usize),
+    y: &[f64],
+    rate: impl Fn(usize) -> f64,
+) -> (f64, f64) {
+    let integral = (a..b)
+        .map(|k| 0.5 * (rate(k) + rate(k + 1)) * (times[k + 1] - times[k]))
+        .sum();
+    (y[b] - y[a], integral)
 }
 
 fn median(v: &mut [f64]) -> Option<f64> {
@@ -203,17 +227,21 @@ fn heading_rate(rec: &Record) -> Option<Finding> {
             _ => r[k],
         }
     };
-    let d = derivative(times, psi);
-    let measured: Vec<(f64, f64)> = d.iter().map(|&(_, v)| (v, 0.0)).collect();
-    let predicted: Vec<(f64, f64)> = d.iter().map(|&(k, _)| (euler(k), 0.0)).collect();
+    let (measured, predicted): (Vec<(f64, f64)>, Vec<(f64, f64)>) = windows(times)
+        .into_iter()
+        .map(|w| {
+            let (m, p) = increment(times, w, psi, euler);
+            ((m, 0.0), (p, 0.0))
+        })
+        .unzip();
     let ((g, _), rel) = complex_gain(&measured, &predicted)?;
     if (g - 1.0).abs() < GAIN_TOLERANCE && rel < GOOD_FIT {
         return None;
     }
     let fits = rel < GOOD_FIT;
     let seen = format!(
-        "the heading rate d(yaw)/dt is {} times the yaw rate r (median relative residual {:.0} \
-         %)",
+        "the heading changes {} times as fast as the yaw rate r says (median relative \
+         residual {:.0} %)",
         sig(g),
         100.0 * rel
     );
@@ -229,8 +257,8 @@ fn heading_rate(rec: &Record) -> Option<Finding> {
         (
             true,
             format!(
-                "{words}: give the column's unit explicitly, e.g. `yaw = {{ column = \"...\", \
-                 unit = \"deg\" }}`"
+                "{words}: give the column's unit explicitly, e.g. `unit = \"deg\"` or \
+                 `unit = \"deg/s\"` in its column entry"
             ),
         )
     } else {
@@ -251,16 +279,26 @@ fn track(rec: &Record) -> Option<Finding> {
     let (x, y) = (rec.channel(Quantity::X)?, rec.channel(Quantity::Y)?);
     let psi = rec.channel(Quantity::Yaw)?;
     let (u, v) = (rec.channel(Quantity::U)?, rec.channel(Quantity::V)?);
-    let dx = derivative(times, x);
-    let dy = derivative(times, y);
-    let measured: Vec<(f64, f64)> = dx.iter().zip(&dy).map(|(a, b)| (a.1, b.1)).collect();
+    let wins = windows(times);
+    let measured: Vec<(f64, f64)> = wins
+        .iter()
+        .map(|&(a, b)| (x[b] - x[a], y[b] - y[a]))
+        .collect();
     let rotate = |k: usize, sway: f64, heading: f64| -> (f64, f64) {
         let (s, c) = (heading * psi[k]).sin_cos();
         let (a, b) = (u[k], sway * v[k]);
         (a * c - b * s, a * s + b * c)
     };
+    // x(t1) - x(t0) + i (y(t1) - y(t0)) = integral of the predicted earth velocity
     let fit = |predict: &dyn Fn(usize) -> (f64, f64)| {
-        let p: Vec<(f64, f64)> = dx.iter().map(|&(k, _)| predict(k)).collect();
+        let p: Vec<(f64, f64)> = wins
+            .iter()
+            .map(|&w| {
+                let re = increment(times, w, x, |k| predict(k).0).1;
+                let im = increment(times, w, y, |k| predict(k).1).1;
+                (re, im)
+            })
+            .collect();
         complex_gain(&measured, &p)
     };
     let holds = |(g, rel): ((f64, f64), f64)| {
@@ -274,29 +312,14 @@ fn track(rec: &Record) -> Option<Finding> {
     let gain = gr.hypot(gi);
     let angle = gi.atan2(gr).to_degrees();
     let seen = format!(
-        "dx/dt and dy/dt do not match u and v rotated by the heading: they are {} times the \
-         rotated velocities, turned by {:.0} deg (median relative residual {:.0} %)",
+        "the positions do not move as u and v rotated by the heading say: they move {} times \
+         as far, turned by {:.0} deg (median relative residual {:.0} %)",
         sig(gain),
         angle,
         100.0 * rel
     );
     let clear = |meaning: String| Some(Finding::new(rec, true, seen.clone(), meaning));
-    if rel < GOOD_FIT {
-        // the relation holds up to a factor or a turn
-        if angle.abs() > 10.0 {
-            return clear(format!(
-                "the heading seems offset by {angle:.0} deg from the x axis of the positions \
-                 (e.g. a compass heading from north with positions east-north): check which \
-                 axis the heading is measured from"
-            ));
-        }
-        if let Some(words) = unit_factor(gain) {
-            return clear(format!(
-                "{words}: give the columns' units explicitly, e.g. `u = {{ column = \"...\", \
-                 unit = \"kn\" }}`"
-            ));
-        }
-    }
+    // a mix-up that explains the data exactly comes first
     type Predict<'a> = Box<dyn Fn(usize) -> (f64, f64) + 'a>;
     let alternatives: [(Predict, &str); 3] = [
         (
@@ -318,6 +341,22 @@ fn track(rec: &Record) -> Option<Finding> {
     for (predict, words) in &alternatives {
         if fit(predict.as_ref()).is_some_and(holds) {
             return clear(words.to_string());
+        }
+    }
+    if rel < GOOD_FIT {
+        // the relation holds up to a factor or a turn
+        if let Some(words) = unit_factor(gain).filter(|_| angle.abs() < 10.0) {
+            return clear(format!(
+                "{words}: give the columns' units explicitly, e.g. `u = {{ column = \"...\", \
+                 unit = \"kn\" }}`"
+            ));
+        }
+        if angle.abs() >= 10.0 && (gain - 1.0).abs() < GAIN_TOLERANCE {
+            return clear(format!(
+                "the heading seems offset by {angle:.0} deg from the x axis of the positions \
+                 (e.g. a compass heading from north with positions east-north): check which \
+                 axis the heading is measured from"
+            ));
         }
     }
     Some(Finding::new(

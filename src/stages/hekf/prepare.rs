@@ -244,7 +244,7 @@ pub fn run_data<M: Model>(
             for o in &spikes {
                 y[o.index * m + a] = f64::NAN;
             }
-            warnings.push(outlier_warning(*q, &spikes, rec));
+            warnings.push(outlier_warning(*q, &spikes, rec).for_run(&rec.name));
         }
     }
     let inputs = InputSeries::from_record(model.inputs(), rec).map_err(|q| {
@@ -269,7 +269,7 @@ pub fn run_data<M: Model>(
         p0[i * nx + i] = tuning.p0_measured.unwrap_or(r[a]);
     }
     if let Some(w) = gap_warning(&times, &rec.lines) {
-        warnings.push(w);
+        warnings.push(w.for_run(&rec.name));
     }
     if nx < 12 {
         warnings.extend(out_of_plane_warnings(rec));

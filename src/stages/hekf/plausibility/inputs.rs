@@ -200,9 +200,11 @@ fn check_one<M: Model>(
                 num(sigma)
             ),
             format!(
-                "with a wrong constant {q} the filter makes the estimated coefficients absorb \
-                 the difference and reports them with small sigmas: check the {q} of this run \
-                 (or map a column for it)"
+                "either the {q} is wrong or a coefficient held fixed in the {state} equation \
+                 (from an earlier stage or the configuration) is; either way the filter makes \
+                 the estimated coefficients absorb the difference and reports them with small \
+                 sigmas: check the {q} of this run (or map a column for it) and the fixed \
+                 coefficients"
             ),
         )
         .for_run(&rec.name),
