@@ -2,7 +2,7 @@
 
 use super::{note, progress, CmdResult};
 use hydroid::error::{Error, InputError, Place};
-use hydroid::output::Staging;
+use hydroid::output::{Protected, Replace, Staging};
 use hydroid::report::{self, RerunManifest};
 use hydroid::{config, pipeline};
 use std::io::Write;
@@ -20,6 +20,10 @@ pub struct Args {
     /// Run even if input files changed since the recorded run.
     #[arg(long)]
     allow_changed_inputs: bool,
+    /// Replace the output folder even if it changed since hydroid wrote it (files added,
+    /// edited or removed there are lost). A folder hydroid did not write is never replaced.
+    #[arg(long)]
+    force: bool,
 }
 
 fn read_json<T: serde::de::DeserializeOwned>(path: &Path) -> hydroid::Result<T> {
@@ -46,13 +50,17 @@ struct Recorded {
 
 /// Runs the command.
 pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
+    hydroid::output::clean_up_on_signals()?;
     let dir = &args.outdir;
     let manifest: RerunManifest = read_json(&dir.join(report::RERUN_JSON))?;
     let inputs: Vec<Recorded> = read_json(&dir.join(report::INPUTS_JSON))?;
     let config_path = dir.join(report::CONFIG_TOML);
     let text = config::read(&config_path)?;
-    // The recorded configuration already has the overrides applied.
-    let mut loaded = config::load_str(&manifest.config, &text, &[])?;
+    // The recorded configuration already has the overrides applied. Its problems are placed
+    // in the recorded file (OUTDIR/config.toml, whose lines differ from the source's); its
+    // relative paths are resolved from the source configuration's folder, which the manifest
+    // holds as an absolute path, so a rerun works from any working folder.
+    let mut loaded = config::load_str(&config_path, &text, &[])?;
     loaded.base_dir = manifest.base_dir.clone();
     loaded.overrides = manifest.overrides.clone();
     let mut changed = Vec::new();
@@ -87,8 +95,19 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
         }
     }
     let target = args.out.clone().unwrap_or_else(|| dir.clone());
-    let staging = Staging::new(&target)?;
+    // the inputs and the source configuration are protected; the recorded configuration is
+    // part of the output folder a rerun replaces (it has been read)
+    let mut protected = Protected::for_inputs(&loaded);
+    if let Some(name) = manifest.config.file_name() {
+        protected.config(&manifest.base_dir.join(name));
+    }
+    let staging = Staging::guarded(&target, &protected, Replace::forced(args.force))?;
+    for s in staging.swept() {
+        note(s);
+    }
     let output = pipeline::run(&loaded, &mut progress::Cli::new())?;
+    // the new output records the source configuration, as the first run did
+    loaded.path = manifest.config.clone();
     report::write(&staging, &loaded, &output)?;
     let written = staging.commit()?;
     writeln!(
