@@ -56,12 +56,28 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
     let inputs: Vec<Recorded> = read_json(&dir.join(report::INPUTS_JSON))?;
     let config_path = dir.join(report::CONFIG_TOML);
     let text = config::read(&config_path)?;
-    // The recorded configuration already has the overrides applied. Its problems are placed
-    // in the recorded file (OUTDIR/config.toml, whose lines differ from the source's); its
-    // relative paths are resolved from the source configuration's folder, which the manifest
-    // holds as an absolute path, so a rerun works from any working folder.
-    let mut loaded = config::load_str(&config_path, &text, &[])?;
-    loaded.base_dir = manifest.base_dir.clone();
+    // The recorded configuration (overrides applied) is read as if it were in the source
+    // configuration's folder, which the manifest holds as an absolute path: its relative
+    // paths resolve from there whatever the working folder. Its problems are placed in the
+    // recorded file (OUTDIR/config.toml), whose lines they count.
+    let source = manifest
+        .base_dir
+        .join(manifest.config.file_name().unwrap_or_default());
+    let mut loaded = config::load_str(&source, &text, &[]).map_err(|e| match e {
+        Error::Config(problems) => Error::Config(
+            problems
+                .into_iter()
+                .map(|mut p| {
+                    if p.file == source {
+                        p.file = config_path.clone();
+                    }
+                    p
+                })
+                .collect(),
+        ),
+        e => e,
+    })?;
+    loaded.path = config_path.clone();
     loaded.overrides = manifest.overrides.clone();
     let mut changed = Vec::new();
     for i in &inputs {
