@@ -72,7 +72,6 @@ impl Staging {
     /// [`Replace::EvenIfChanged`]). Abandoned staging folders beside it are swept first.
     pub fn guarded(target: &Path, protected: &Protected, replace: Replace) -> Result<Self> {
         let target = protected.check_path(target)?;
-        check_replaceable(&target, replace)?;
         let (Some(parent), Some(name)) = (target.parent(), target.file_name()) else {
             return Err(Error::Usage(format!(
                 "{}: not a folder an output can be written to",
@@ -81,7 +80,9 @@ impl Staging {
         };
         let name = name.to_string_lossy().into_owned();
         create_parent(parent)?;
+        // first, as it may put back an output a killed run had moved aside
         let swept = sweep(parent);
+        check_replaceable(&target, replace)?;
         let pid = std::process::id();
         let root = staging_path(parent, &name, pid);
         std::fs::create_dir(&root).map_err(|e| {
