@@ -131,8 +131,9 @@ fn diff(
     d
 }
 
-/// A run fast enough for a test: one filter pass, no figures.
-const QUICK: [&str; 4] = ["--set", "hekf.passes=1", "--set", "output.plots=false"];
+/// A run fast enough for a test (a fraction of a second in debug): polar and surge stages
+/// with their figures, no filter (its inputs are protected all the same).
+const QUICK: [&str; 2] = ["--set", "hekf.enabled=false"];
 
 fn run_ok(ex: &Example, cwd: &str, args: &[&str]) -> Output {
     let mut a = vec!["run", "configs/spheroid.toml"];
