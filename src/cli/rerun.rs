@@ -2,7 +2,7 @@
 
 use super::{note, progress, CmdResult};
 use hydroid::error::{Error, InputError, Place};
-use hydroid::output::Staging;
+use hydroid::output::{Protected, Replace, Staging};
 use hydroid::report::{self, RerunManifest};
 use hydroid::{config, pipeline};
 use std::io::Write;
@@ -20,6 +20,10 @@ pub struct Args {
     /// Run even if input files changed since the recorded run.
     #[arg(long)]
     allow_changed_inputs: bool,
+    /// Replace the output folder even if it changed since hydroid wrote it (files added,
+    /// edited or removed there are lost). A folder hydroid did not write is never replaced.
+    #[arg(long)]
+    force: bool,
 }
 
 fn read_json<T: serde::de::DeserializeOwned>(path: &Path) -> hydroid::Result<T> {
@@ -46,14 +50,34 @@ struct Recorded {
 
 /// Runs the command.
 pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
+    hydroid::output::clean_up_on_signals()?;
     let dir = &args.outdir;
     let manifest: RerunManifest = read_json(&dir.join(report::RERUN_JSON))?;
     let inputs: Vec<Recorded> = read_json(&dir.join(report::INPUTS_JSON))?;
     let config_path = dir.join(report::CONFIG_TOML);
     let text = config::read(&config_path)?;
-    // The recorded configuration already has the overrides applied.
-    let mut loaded = config::load_str(&manifest.config, &text, &[])?;
-    loaded.base_dir = manifest.base_dir.clone();
+    // The recorded configuration (overrides applied) is read as if it were in the source
+    // configuration's folder, which the manifest holds as an absolute path: its relative
+    // paths resolve from there whatever the working folder. Its problems are placed in the
+    // recorded file (OUTDIR/config.toml), whose lines they count.
+    let source = manifest
+        .base_dir
+        .join(manifest.config.file_name().unwrap_or_default());
+    let mut loaded = config::load_str(&source, &text, &[]).map_err(|e| match e {
+        Error::Config(problems) => Error::Config(
+            problems
+                .into_iter()
+                .map(|mut p| {
+                    if p.file == source {
+                        p.file = config_path.clone();
+                    }
+                    p
+                })
+                .collect(),
+        ),
+        e => e,
+    })?;
+    loaded.path = config_path.clone();
     loaded.overrides = manifest.overrides.clone();
     let mut changed = Vec::new();
     for i in &inputs {
@@ -87,8 +111,19 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
         }
     }
     let target = args.out.clone().unwrap_or_else(|| dir.clone());
-    let staging = Staging::new(&target)?;
+    // the inputs and the source configuration are protected; the recorded configuration is
+    // part of the output folder a rerun replaces (it has been read)
+    let mut protected = Protected::for_inputs(&loaded);
+    if let Some(name) = manifest.config.file_name() {
+        protected.config(&manifest.base_dir.join(name));
+    }
+    let staging = Staging::guarded(&target, &protected, Replace::forced(args.force))?;
+    for s in staging.swept() {
+        note(s);
+    }
     let output = pipeline::run(&loaded, &mut progress::Cli::new())?;
+    // the new output records the source configuration, as the first run did
+    loaded.path = manifest.config.clone();
     report::write(&staging, &loaded, &output)?;
     let written = staging.commit()?;
     writeln!(

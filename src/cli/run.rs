@@ -1,7 +1,7 @@
 //! `hydroid run CONFIG`: run every enabled stage and write the output folder.
 
 use super::{note, progress, CmdResult};
-use hydroid::output::Staging;
+use hydroid::output::{Protected, Replace, Staging};
 use hydroid::{config, pipeline, report};
 use std::io::Write;
 use std::path::PathBuf;
@@ -17,16 +17,29 @@ pub struct Args {
     /// Override a configuration key, e.g. `--set hekf.passes=3` (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     set: Vec<String>,
+    /// Replace the output folder even if it changed since hydroid wrote it (files added,
+    /// edited or removed there are lost). A folder hydroid did not write is never replaced.
+    #[arg(long)]
+    force: bool,
 }
 
 /// Runs the command.
 pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
+    hydroid::output::clean_up_on_signals()?;
     let loaded = config::load(&args.config, &args.set)?;
     let out_dir = args
         .out
         .clone()
         .unwrap_or_else(|| loaded.resolve(&loaded.config.output.dir));
-    let staging = Staging::new(&out_dir)?;
+    // before any stage runs: the user is not made to wait for a refusal
+    let staging = Staging::guarded(
+        &out_dir,
+        &Protected::for_config(&loaded),
+        Replace::forced(args.force),
+    )?;
+    for s in staging.swept() {
+        note(s);
+    }
     let output = pipeline::run(&loaded, &mut progress::Cli::new())?;
     report::write(&staging, &loaded, &output)?;
     let dir = staging.commit()?;

@@ -1,6 +1,7 @@
 //! `hydroid simulate SIMCONFIG`: write a synthetic CFD export from a model.
 
 use super::CmdResult;
+use hydroid::output::Replace;
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -13,11 +14,20 @@ pub struct Args {
     /// Output file (default: `export.file` of the configuration, relative to it).
     #[arg(long)]
     out: Option<PathBuf>,
+    /// Overwrite an export hydroid wrote even if it was changed since (a file hydroid did not
+    /// write is never overwritten).
+    #[arg(long)]
+    force: bool,
 }
 
 /// Runs the command.
 pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
-    let (path, rows) = hydroid::sim::run_file(&args.config, args.out.as_deref())?;
+    hydroid::output::clean_up_on_signals()?;
+    let (path, rows) = hydroid::sim::run_file(
+        &args.config,
+        args.out.as_deref(),
+        Replace::forced(args.force),
+    )?;
     writeln!(out, "wrote {} ({rows} rows)", path.display())?;
     Ok(0)
 }

@@ -68,8 +68,8 @@ pub fn write(staging: &Staging, loaded: &LoadedConfig, out: &RunOutput) -> Resul
 /// Writes report.md and, with `plots`, the figures and report.html.
 pub fn write_reports(staging: &Staging, out: &RunOutput, plots: bool) -> Result<()> {
     let figures = if plots {
-        let dir = staging.dir().join(plots::PLOTS_DIR);
-        std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
+        // created inside the staging folder only (never re-created after a signal removed it)
+        let dir = staging.create_dir(plots::PLOTS_DIR)?;
         let figures = plots::render_all(out, Some(&dir))?;
         for f in &figures {
             staging.write(&f.svg_path(), f.svg.as_bytes())?;

@@ -11,11 +11,17 @@ pub use inputs::InputSeries;
 pub use integrate::{complete_coefficients, simulate, steps_for, SimError, MAX_STEPS_PER_INTERVAL};
 
 use crate::error::Result;
-use crate::output::write_atomic;
+use crate::output::{write_export, Replace};
 use std::path::{Path, PathBuf};
 
 /// Runs a simulation configuration and writes its export; returns the file and row count.
-pub fn run_file(config_path: &Path, out: Option<&Path>) -> Result<(PathBuf, usize)> {
+/// An existing file is overwritten only if hydroid wrote it and it is unchanged (or changed,
+/// with [`Replace::EvenIfChanged`]); never the configuration (see `output::exports`).
+pub fn run_file(
+    config_path: &Path,
+    out: Option<&Path>,
+    replace: Replace,
+) -> Result<(PathBuf, usize)> {
     let loaded = config::load(config_path)?;
     let cols = synth::synthesize(&loaded.config)?;
     let title = loaded
@@ -28,7 +34,7 @@ pub fn run_file(config_path: &Path, out: Option<&Path>) -> Result<(PathBuf, usiz
         Some(p) => p.to_path_buf(),
         None => loaded.base_dir.join(&loaded.config.export.file),
     };
-    write_atomic(&path, text.as_bytes())?;
+    write_export(&path, text.as_bytes(), &[config_path], replace)?;
     let rows = cols.values().next().map_or(0, Vec::len);
     Ok((path, rows))
 }

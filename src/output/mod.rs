@@ -1,0 +1,71 @@
+//! Writing outputs without ever losing a user's files.
+//!
+//! * An output folder is assembled under a temporary name next to its target and put in
+//!   place whole ([`Staging`]), so a failed or interrupted run never leaves a half-written
+//!   result.
+//! * It replaces only an earlier hydroid output, recognised by the marker hydroid writes into
+//!   every output folder ([`marker`]) and unchanged since (or changed, when forced); never a
+//!   folder without the marker, a file or a link, and never a protected place: the
+//!   configuration, an input or a folder holding one, the working folder or one above it,
+//!   the home folder, the root ([`Protected`]).
+//! * Synthetic exports are overwritten only when a record beside them says hydroid wrote
+//!   them, unchanged ([`exports`]).
+//! * SIGINT and SIGTERM remove what was being written ([`signals`]); what a killed process
+//!   left is swept by the next run ([`sweep`]).
+//!
+//! docs/outputs.md describes the rules as a user meets them.
+
+pub mod exports;
+pub mod marker;
+pub mod paths;
+pub mod protect;
+pub mod signals;
+pub mod staging;
+pub mod swap;
+pub mod sweep;
+
+pub use exports::write_export;
+pub use protect::Protected;
+pub use signals::clean_up_on_signals;
+pub use staging::{Replace, Staging};
+
+use crate::error::{Error, Result};
+use std::path::Path;
+
+/// Writes `bytes` to `path` atomically (temporary file in the same folder, then rename). The
+/// temporary file is removed if a signal ends the process meanwhile. The caller decides
+/// whether `path` may be replaced ([`write_export`] does for exports).
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    let dir = path
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    let name = path
+        .file_name()
+        .map_or_else(|| "out".into(), |n| n.to_string_lossy().into_owned());
+    let tmp = dir.join(format!(".{name}.tmp-{}", std::process::id()));
+    signals::register(&tmp);
+    let written = std::fs::write(&tmp, bytes)
+        .map_err(|e| Error::io(&tmp, e))
+        .and_then(|()| std::fs::rename(&tmp, path).map_err(|e| Error::io(path, e)));
+    if written.is_err() {
+        signals::remove(&tmp);
+    }
+    signals::forget(&tmp);
+    written
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn atomic_write_leaves_no_temporary() {
+        let root = tempfile::tempdir().unwrap();
+        let p = root.path().join("a.csv");
+        write_atomic(&p, b"x").unwrap();
+        assert_eq!(std::fs::read_to_string(&p).unwrap(), "x");
+        assert_eq!(std::fs::read_dir(root.path()).unwrap().count(), 1);
+    }
+}

@@ -1,0 +1,322 @@
+//! An output folder assembled under a temporary name next to its target and put in place
+//! whole, under the rules of [`super`]: it never replaces anything but an unchanged hydroid
+//! output (or a changed one when forced), nor a protected place.
+//!
+//! Layout while a run writes `PARENT/NAME`:
+//!
+//! ```text
+//! PARENT/.NAME.partial-PID/
+//!     .hydroid-staging    staging marker, locked by the running process (see super::sweep)
+//!     out/                the output being written; becomes PARENT/NAME
+//!     old/                during a replacement without atomic exchange: the old output
+//! ```
+
+use super::marker::{inspect, Found, Marker, MARKER};
+use super::protect::Protected;
+use super::signals;
+use super::sweep::{staging_path, sweep, StagingMarker, ASIDE, STAGING_FORMAT, STAGING_MARKER};
+use crate::error::{Error, Result};
+use std::fs::File;
+use std::io::Write;
+use std::path::{Component, Path, PathBuf};
+
+/// Whether an existing hydroid output that changed since it was written may be replaced.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Replace {
+    /// Only an output exactly as hydroid wrote it (the default).
+    #[default]
+    IfUnchanged,
+    /// Also a hydroid output with files added, changed or removed (`--force`).
+    EvenIfChanged,
+}
+
+impl Replace {
+    /// `--force` given or not.
+    pub fn forced(force: bool) -> Self {
+        if force {
+            Replace::EvenIfChanged
+        } else {
+            Replace::IfUnchanged
+        }
+    }
+}
+
+/// An output folder being assembled. Files go into a staging folder next to the target;
+/// [`Staging::commit`] puts it in place of the target, and dropping without committing
+/// removes the staging folder.
+#[derive(Debug)]
+pub struct Staging {
+    /// The resolved target.
+    target: PathBuf,
+    /// `.NAME.partial-PID`.
+    root: PathBuf,
+    /// `root/out`.
+    out: PathBuf,
+    replace: Replace,
+    /// What the sweep of abandoned staging folders did.
+    swept: Vec<String>,
+    /// The staging marker, locked while this process lives.
+    _lock: File,
+    done: bool,
+}
+
+impl Staging {
+    /// Starts assembling `target`, protecting only the working and home folders (a run
+    /// protects its configuration and inputs too: [`Staging::guarded`]).
+    pub fn new(target: &Path) -> Result<Self> {
+        Self::guarded(target, &Protected::new(), Replace::IfUnchanged)
+    }
+
+    /// Starts assembling `target` after checking that it may be written: not a protected
+    /// place, and nothing there but an unchanged hydroid output (or a changed one with
+    /// [`Replace::EvenIfChanged`]). Abandoned staging folders beside it are swept first.
+    pub fn guarded(target: &Path, protected: &Protected, replace: Replace) -> Result<Self> {
+        let target = protected.check_path(target)?;
+        let (Some(parent), Some(name)) = (target.parent(), target.file_name()) else {
+            return Err(Error::Usage(format!(
+                "{}: not a folder an output can be written to",
+                target.display()
+            )));
+        };
+        let name = name.to_string_lossy().into_owned();
+        create_parent(parent)?;
+        // first, as it may put back an output a killed run had moved aside
+        let swept = sweep(parent);
+        check_replaceable(&target, replace)?;
+        let pid = std::process::id();
+        let root = staging_path(parent, &name, pid);
+        std::fs::create_dir(&root).map_err(|e| {
+            if e.kind() == std::io::ErrorKind::AlreadyExists {
+                Error::Usage(format!(
+                    "{}: a staging folder of this name already exists and is in use or not \
+                     hydroid's; remove it yourself if no hydroid is running",
+                    root.display()
+                ))
+            } else {
+                Error::Usage(format!(
+                    "cannot write in {}: {e} (the output goes to {})",
+                    parent.display(),
+                    target.display()
+                ))
+            }
+        })?;
+        signals::register(&root);
+        let lock = match lock_staging(&root, &name, pid) {
+            Ok(l) => l,
+            Err(e) => {
+                signals::forget(&root);
+                signals::remove(&root);
+                return Err(e);
+            }
+        };
+        let s = Staging {
+            out: root.join("out"),
+            root,
+            target,
+            replace,
+            swept,
+            _lock: lock,
+            done: false,
+        };
+        std::fs::create_dir(&s.out).map_err(|e| Error::io(&s.out, e))?;
+        Ok(s)
+    }
+
+    /// The folder to write into.
+    pub fn dir(&self) -> &Path {
+        &self.out
+    }
+
+    /// What was done to abandoned staging folders beside the target, one line each (for
+    /// the user to read).
+    pub fn swept(&self) -> &[String] {
+        &self.swept
+    }
+
+    /// Where the output goes (resolved).
+    pub fn target(&self) -> &Path {
+        &self.target
+    }
+
+    /// Creates a sub-folder (path relative to the output) and returns it. Only folders below
+    /// the staging folder are created: if it was removed (a signal), this fails.
+    pub fn create_dir(&self, rel: &str) -> Result<PathBuf> {
+        let mut path = self.out.clone();
+        for c in Path::new(rel).components() {
+            let Component::Normal(n) = c else {
+                return Err(Error::Usage(format!(
+                    "'{rel}': not a path inside the output folder"
+                )));
+            };
+            path.push(n);
+            match std::fs::create_dir(&path) {
+                Ok(()) => {}
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists && path.is_dir() => {}
+                Err(e) => return Err(Error::io(&path, e)),
+            }
+        }
+        Ok(path)
+    }
+
+    /// Writes a file (path relative to the folder).
+    pub fn write(&self, rel: &str, bytes: &[u8]) -> Result<()> {
+        let dir = match rel.rsplit_once('/') {
+            Some((d, _)) => self.create_dir(d)?,
+            None => self.out.clone(),
+        };
+        let name = rel.rsplit('/').next().unwrap_or(rel);
+        if name.is_empty() || name == "." || name == ".." || name == MARKER {
+            return Err(Error::Usage(format!(
+                "'{rel}': not a file name hydroid writes"
+            )));
+        }
+        let path = dir.join(name);
+        std::fs::write(&path, bytes).map_err(|e| Error::io(&path, e))
+    }
+
+    /// Puts the staged folder in place of the target (checked again: it may have changed
+    /// while the run went on), with its marker; the old output is removed only once the new
+    /// one is in place.
+    pub fn commit(mut self) -> Result<PathBuf> {
+        {
+            // a signal now waits until the folders are where they belong
+            let _moving = signals::lock();
+            check_replaceable(&self.target, self.replace)?;
+            Marker::of_folder(&self.out)?.write(&self.out)?;
+            super::swap::replace(&self.out, &self.target, &self.root.join(ASIDE))?;
+            self.done = true;
+        }
+        // what is left (the staging marker and the old output) is garbage now
+        signals::remove(&self.root);
+        signals::forget(&self.root);
+        Ok(self.target.clone())
+    }
+}
+
+impl Drop for Staging {
+    fn drop(&mut self) {
+        if !self.done {
+            signals::remove(&self.root);
+            signals::forget(&self.root);
+        }
+    }
+}
+
+/// Refuses a target that holds anything but a hydroid output that may be replaced.
+fn check_replaceable(target: &Path, replace: Replace) -> Result<()> {
+    match inspect(target)? {
+        Found::Nothing | Found::Unchanged => Ok(()),
+        Found::Changed(_) if replace == Replace::EvenIfChanged => Ok(()),
+        Found::Changed(changes) => {
+            const SHOWN: usize = 20;
+            let mut list = changes
+                .iter()
+                .take(SHOWN)
+                .map(|c| format!("\n  - {c}"))
+                .collect::<String>();
+            if changes.len() > SHOWN {
+                list.push_str(&format!("\n  - and {} more", changes.len() - SHOWN));
+            }
+            Err(Error::Usage(format!(
+                "refusing to replace {}: it is a hydroid output, but it changed since hydroid \
+                 wrote it:{list}\nkeep what you need and use --force to replace it anyway, or \
+                 choose another --out",
+                target.display()
+            )))
+        }
+        Found::Foreign(why) => Err(Error::Usage(format!(
+            "refusing to replace {}: {why}. hydroid only replaces an output folder it wrote \
+             (one with an unchanged {MARKER}), with or without --force; choose another --out \
+             (or output.dir), or move or delete it yourself",
+            target.display()
+        ))),
+    }
+}
+
+/// Creates the folder an output goes into (and those above it), with a clear message.
+fn create_parent(parent: &Path) -> Result<()> {
+    std::fs::create_dir_all(parent).map_err(|e| {
+        Error::Usage(format!(
+            "cannot create the folder {} for the output: {e}",
+            parent.display()
+        ))
+    })
+}
+
+/// Creates the staging marker, locks it, then says what it is (in that order: a sweep never
+/// sees a valid marker unlocked).
+fn lock_staging(root: &Path, name: &str, pid: u32) -> Result<File> {
+    let path = root.join(STAGING_MARKER);
+    let mut f = File::create_new(&path).map_err(|e| Error::io(&path, e))?;
+    f.lock().map_err(|e| Error::io(&path, e))?;
+    let m = StagingMarker {
+        format: STAGING_FORMAT.into(),
+        target: name.into(),
+        pid,
+    };
+    let text = serde_json::to_vec(&m).map_err(|e| Error::Usage(e.to_string()))?;
+    f.write_all(&text).map_err(|e| Error::io(&path, e))?;
+    Ok(f)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn entries(d: &Path) -> usize {
+        std::fs::read_dir(d).unwrap().count()
+    }
+
+    #[test]
+    fn staged_folder_replaces_the_old_one_only_on_commit() {
+        let root = tempfile::tempdir().unwrap();
+        let target = root.path().join("out");
+        let s = Staging::new(&target).unwrap();
+        s.write("old.txt", b"old").unwrap();
+        s.commit().unwrap();
+        {
+            let s = Staging::new(&target).unwrap();
+            s.write("results.json", b"{}").unwrap();
+            // dropped without commit: the old output stays, the staging folder goes
+        }
+        assert!(target.join("old.txt").exists());
+        assert_eq!(entries(root.path()), 1);
+        let s = Staging::new(&target).unwrap();
+        s.write("plots/a.svg", b"<svg/>").unwrap();
+        s.commit().unwrap();
+        assert!(!target.join("old.txt").exists());
+        assert!(target.join("plots/a.svg").exists());
+        assert!(target.join(MARKER).exists());
+        assert_eq!(entries(root.path()), 1);
+    }
+
+    #[test]
+    fn a_changed_output_is_replaced_only_when_forced() {
+        let root = tempfile::tempdir().unwrap();
+        let target = root.path().join("out");
+        let s = Staging::new(&target).unwrap();
+        s.write("results.json", b"{}").unwrap();
+        s.commit().unwrap();
+        std::fs::write(target.join("notes.txt"), "mine").unwrap();
+        let e = Staging::new(&target).unwrap_err().to_string();
+        assert!(
+            e.contains("added: notes.txt") && e.contains("--force"),
+            "{e}"
+        );
+        let s = Staging::guarded(&target, &Protected::new(), Replace::EvenIfChanged).unwrap();
+        s.commit().unwrap();
+        assert!(!target.join("notes.txt").exists());
+    }
+
+    #[test]
+    fn a_change_during_the_run_is_seen_at_commit() {
+        let root = tempfile::tempdir().unwrap();
+        let target = root.path().join("out");
+        Staging::new(&target).unwrap().commit().unwrap();
+        let s = Staging::new(&target).unwrap();
+        std::fs::write(target.join("notes.txt"), "mine").unwrap();
+        assert!(s.commit().is_err());
+        assert!(target.join("notes.txt").exists());
+        assert_eq!(entries(root.path()), 1);
+    }
+}
