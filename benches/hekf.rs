@@ -50,6 +50,7 @@ fn run_data(m: &Spheroid3, c: &[f64]) -> RunData {
         r,
         inputs,
         p0,
+        lines: Vec::new(),
     }
 }
 
@@ -77,7 +78,10 @@ fn bench(c: &mut Criterion) {
         q,
         passes: 1,
         substeps: 1,
+        max_step: 0.01,
         smoother: false,
+        gate: 0.0,
+        gate_from_pass: 1,
         repeat_prior_factor: Some(100.0),
     };
     let mut g = c.benchmark_group("hekf");

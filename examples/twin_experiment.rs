@@ -62,6 +62,7 @@ fn main() {
         inputs,
         x0: y[..6].to_vec(),
         p0,
+        lines: Vec::new(),
     };
     let est_names = ["Yvd", "Yrd", "Nrd", "Nvv", "Nrr", "Yrr"];
     let est: Vec<usize> = est_names
@@ -88,7 +89,10 @@ fn main() {
         q,
         passes,
         substeps,
+        max_step: dt / substeps as f64,
         smoother: false,
+        gate: 0.0,
+        gate_from_pass: 1,
         repeat_prior_factor: Some(100.0),
     };
     let t0 = std::time::Instant::now();

@@ -380,7 +380,7 @@ fn six_dof_model_agrees_with_three_dof_on_a_nearly_planar_run() {
         r3.runs[0]
             .warnings
             .iter()
-            .all(|w| !w.contains("3-DOF model ignores")),
+            .all(|w| !w.message.contains("3-DOF model ignores")),
         "{:?}",
         r3.runs[0].warnings
     );

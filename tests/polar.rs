@@ -250,7 +250,7 @@ fn a_nonnegative_binds_on_a_concave_polar() {
     assert!(close(d.value("c").unwrap(), beta[1], 1e-9));
     assert_eq!(d.std_error("a"), Some(0.0));
     assert!(d.binding_inequalities[0].contains("a >= 0"));
-    assert!(bound.warnings.iter().any(|w| w.contains("a >= 0")));
+    assert!(bound.warnings.iter().any(|w| w.message.contains("a >= 0")));
 }
 
 #[test]
@@ -594,7 +594,7 @@ fn cubic_term_recovers_the_slope_of_a_wide_sweep() {
     assert!(linear
         .warnings
         .iter()
-        .any(|w| w.contains("polar.lift.cubic")));
+        .any(|w| w.message.contains("polar.lift.cubic")));
     let cubic = run(
         &config("[lift]\ncubic = true\n"),
         std::slice::from_ref(&rec),

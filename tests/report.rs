@@ -217,7 +217,7 @@ fn report_md_links_every_figure_and_holds_the_comparison_table() {
     assert!(!surge.warnings.is_empty());
     for w in &surge.warnings {
         assert!(
-            md.contains(&table::escape_markdown(w)),
+            md.contains(&table::escape_markdown(&w.message)),
             "warning missing: {w}"
         );
     }

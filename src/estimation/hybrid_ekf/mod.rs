@@ -396,6 +396,27 @@ mod tests {
     }
 
     #[test]
+    fn a_gap_is_crossed_in_steps_no_longer_than_the_regular_ones() {
+        // samples every 10 ms, then a 3 s gap: integrated in 300 steps of 10 ms, not one
+        let mut sys = Decay { calls: 0 };
+        let mut f = HybridEkf::new(
+            2,
+            1,
+            vec![2.0, 0.7],
+            vec![0.5, 0.0, 0.0, 1e-12],
+            vec![0.0; 2],
+            0.01,
+        );
+        f.predict(&mut sys, 1.0, 4.0, None).unwrap();
+        assert_eq!(sys.calls, 4 * 300, "RK4 calls");
+        assert!((f.x[0] - 2.0 * (-0.7f64 * 3.0).exp()).abs() < 1e-9, "{}", f.x[0]);
+        assert!((f.p[0] - 0.5 * (-1.4f64 * 3.0).exp()).abs() < 1e-9);
+        // an absurd gap is an error naming it, not hours of integration
+        let e = f.predict(&mut sys, 4.0, 1e9, None).unwrap_err();
+        assert!(e.reason.contains("would need more than"), "{e}");
+    }
+
+    #[test]
     fn identifies_a_decay_rate() {
         let a_true: f64 = 0.8;
         let mut sys = Decay { calls: 0 };
