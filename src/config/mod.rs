@@ -339,7 +339,10 @@ impl Config {
         if let Some(s) = &self.hekf {
             s.validate(self, p);
         }
-        if self.enabled_stages().is_empty() {
+        let stage_unusable = ["polar", "surge", "hekf"]
+            .iter()
+            .any(|s| p.is_poisoned(s) || p.is_poisoned(&format!("{s}.enabled")));
+        if self.enabled_stages().is_empty() && !stage_unusable {
             p.add_unplaced(
                 None,
                 "nothing to run: enable at least one of polar, surge, hekf (a [polar], \

@@ -102,7 +102,7 @@ impl Problems {
         if !(value.is_finite() && value > 0.0) {
             self.add(
                 key,
-                format!("must be a positive number ({unit}), got {value}"),
+                format!("must be a positive number ({unit}), got {}", short(value)),
             );
         }
     }
@@ -110,14 +110,25 @@ impl Problems {
     /// Requires a finite value.
     pub fn finite(&mut self, key: &str, value: f64) {
         if !value.is_finite() {
-            self.add(key, format!("must be a finite number, got {value}"));
+            self.add(
+                key,
+                format!("must be a finite number, got {}", short(value)),
+            );
         }
     }
 
     /// Requires a value within [lo, hi].
     pub fn within(&mut self, key: &str, value: f64, lo: f64, hi: f64) {
         if !(value.is_finite() && value >= lo && value <= hi) {
-            self.add(key, format!("must be between {lo} and {hi}, got {value}"));
+            self.add(
+                key,
+                format!(
+                    "must be between {} and {}, got {}",
+                    short(lo),
+                    short(hi),
+                    short(value)
+                ),
+            );
         }
     }
 
@@ -162,7 +173,8 @@ impl Problems {
             self.add(
                 key,
                 format!(
-                    "{value} {unit} is outside the plausible range {} to {} {unit}; {hint}",
+                    "{} {unit} is outside the plausible range {} to {} {unit}; {hint}",
+                    short(value),
                     short(lo),
                     short(hi)
                 ),
@@ -251,9 +263,9 @@ impl Problems {
     }
 }
 
-/// A bound written short: `0.5`, `2000`, `1e-6`, `1e9`.
+/// A number written short: `0.5`, `-50`, `2000`, `1e-6`, `1e9`, `NaN`.
 pub(crate) fn short(v: f64) -> String {
-    if v == 0.0 || (1e-3..1e6).contains(&v.abs()) {
+    if v == 0.0 || !v.is_finite() || (1e-3..1e6).contains(&v.abs()) {
         format!("{v}")
     } else {
         format!("{v:e}")
