@@ -28,7 +28,23 @@ fn problems(path: &Path, text: &str) -> Option<String> {
         .file_name()
         .is_some_and(|n| n.to_string_lossy().starts_with("sim_"));
     let r = if sim {
-        hydroid::sim::config::load_str(path, text).map(|_| ())
+        // through a file, as `hydroid simulate` reads it
+        let dir = tempfile::tempdir().unwrap();
+        let file = dir.path().join(path.file_name().unwrap());
+        std::fs::write(&file, text).unwrap();
+        hydroid::sim::config::load(&file)
+            .map(|_| ())
+            .map_err(|e| match e {
+                Error::Config(list) => Error::Config(
+                    list.into_iter()
+                        .map(|mut p| {
+                            p.file = path.to_path_buf();
+                            p
+                        })
+                        .collect(),
+                ),
+                e => e,
+            })
     } else {
         hydroid::config::load_str(path, text, &[]).map(|_| ())
     };
