@@ -31,15 +31,19 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
         if let Some(t) = &c.title {
             writeln!(out, "title: {t}")?;
         }
-        writeln!(
-            out,
-            "vehicle: {} (m = {} kg, L = {} m, A_ref = {} m^2, L_ref = {} m)",
-            c.vehicle.name,
-            c.vehicle.mass,
-            c.vehicle.length,
-            c.vehicle.reference_area,
-            c.vehicle.reference_length
-        )?;
+        if l.touches_unusable("vehicle") {
+            writeln!(out, "vehicle: (see the problems below)")?;
+        } else {
+            writeln!(
+                out,
+                "vehicle: {} (m = {} kg, L = {} m, A_ref = {} m^2, L_ref = {} m)",
+                c.vehicle.name,
+                c.vehicle.mass,
+                c.vehicle.length,
+                c.vehicle.reference_area,
+                c.vehicle.reference_length
+            )?;
+        }
         let stages = c.enabled_stages();
         writeln!(
             out,

@@ -321,13 +321,13 @@ impl Config {
         for (name, val) in &self.coefficients {
             let key = format!("coefficients.{name}");
             p.known_coefficient(&key, name);
-            p.finite(&key, *val);
+            p.coefficient_sized(&key, *val);
         }
         if let Some(r) = &self.reference {
             for (name, val) in &r.values {
                 let key = format!("reference.values.{name}");
                 p.known_coefficient(&key, name);
-                p.finite(&key, *val);
+                p.coefficient_sized(&key, *val);
             }
         }
         if let Some(s) = &self.polar {

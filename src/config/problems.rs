@@ -117,6 +117,23 @@ impl Problems {
         }
     }
 
+    /// Requires a finite coefficient-sized value: |value| at most [`MAX_COEFFICIENT`].
+    pub fn coefficient_sized(&mut self, key: &str, value: f64) {
+        if !value.is_finite() {
+            self.finite(key, value);
+        } else if value.abs() > MAX_COEFFICIENT {
+            self.add(
+                key,
+                format!(
+                    "{} is larger than any coefficient of a real vehicle (at most {} in SI; \
+                     a 300 m ship's N_rdot is about 1e13 kg m^2)",
+                    short(value),
+                    short(MAX_COEFFICIENT)
+                ),
+            );
+        }
+    }
+
     /// Requires a value within [lo, hi].
     pub fn within(&mut self, key: &str, value: f64, lo: f64, hi: f64) {
         if !(value.is_finite() && value >= lo && value <= hi) {
@@ -262,6 +279,9 @@ impl Problems {
         Some(doc.raw()[..start].matches('\n').count() + 1)
     }
 }
+
+/// Largest magnitude of a coefficient, prior or process noise value, SI.
+pub const MAX_COEFFICIENT: f64 = 1e15;
 
 /// A number written short: `0.5`, `-50`, `2000`, `1e-6`, `1e9`, `NaN`.
 pub(crate) fn short(v: f64) -> String {

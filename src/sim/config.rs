@@ -21,13 +21,14 @@ use std::path::{Path, PathBuf};
 /// Bounds on what one simulation may ask for.
 pub mod limits {
     /// Most rows an export may have. Ten million samples is ten times a long CFD run (1e4 s
-    /// at 10 ms) and about 1 GB of text; the columns are held in memory while the text is
-    /// written (measured in docs/simulate.md).
+    /// at 10 ms): 850 MB of text and 2.2 GB of memory while it is written (measured in
+    /// docs/simulate.md).
     pub const MAX_ROWS: u64 = 10_000_000;
     /// Most RK4 sub-steps per exported sample.
     pub const MAX_SUBSTEPS: u64 = 10_000;
-    /// Most RK4 steps in all (rows times sub-steps): about a minute of integration.
-    pub const MAX_RK4_STEPS: u64 = 200_000_000;
+    /// Most RK4 steps in all (rows times sub-steps): about a minute of integration on two
+    /// busy cores (docs/simulate.md).
+    pub const MAX_RK4_STEPS: u64 = 50_000_000;
     /// Most significant digits written: 17 round-trip any f64 exactly.
     pub const MAX_DIGITS: u64 = 17;
 }
@@ -263,7 +264,7 @@ impl SimFile {
         for (name, v) in &self.coefficients {
             let key = format!("coefficients.{name}");
             p.known_coefficient(&key, name);
-            p.finite(&key, *v);
+            p.coefficient_sized(&key, *v);
         }
         let spec = ModelSpec {
             name: self.model,

@@ -144,9 +144,10 @@ impl HekfConfig {
             }
             if let Some(s) = prior.sigma {
                 p.positive(&format!("{key}.sigma"), s, "SI");
+                p.coefficient_sized(&format!("{key}.sigma"), s);
             }
             if let Some(v) = prior.initial {
-                p.finite(&format!("{key}.initial"), v);
+                p.coefficient_sized(&format!("{key}.initial"), v);
             }
         }
         if let Some(n) = self.passes {
@@ -175,11 +176,11 @@ impl HekfConfig {
             }
         }
         for (name, q) in &self.process_noise {
+            let key = format!("hekf.process_noise.{name}");
             if !(q.is_finite() && *q >= 0.0) {
-                p.add(
-                    &format!("hekf.process_noise.{name}"),
-                    format!("must be zero or positive, got {q}"),
-                );
+                p.add(&key, format!("must be zero or positive, got {q}"));
+            } else {
+                p.coefficient_sized(&key, *q);
             }
         }
         if self.runs.is_empty() {

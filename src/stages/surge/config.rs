@@ -128,7 +128,10 @@ impl SurgeConfig {
             for (i, e) in edges.iter().enumerate() {
                 p.finite(&format!("surge.speed_bin_edges[{i}]"), *e);
             }
-            if let Some(i) = edges.windows(2).position(|w| !(w[1] > w[0])) {
+            if let Some(i) = edges
+                .windows(2)
+                .position(|w| w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater))
+            {
                 p.add(
                     &format!("surge.speed_bin_edges[{}]", i + 1),
                     format!(
