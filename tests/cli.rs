@@ -267,8 +267,8 @@ const BAD: &[Bad] = &[
     },
     Bad {
         file: "bad_unit.toml",
-        code: 1,
-        says: &["turn_paper.csv", "column 4 'Heading'", "'degs'"],
+        code: 2,
+        says: &[":34: hekf.runs[0].columns.yaw.unit", "'degs'"],
     },
     Bad {
         file: "missing_column.toml",

@@ -52,8 +52,8 @@ pub const MAX_COLUMN_INDEX: u64 = 1_000_000;
 impl InputSpec {
     /// Adds every problem with this input (at key path `key`, e.g. `hekf.runs[0]`) to `p`,
     /// except whether its file exists: constants finite and of their quantity's dimension,
-    /// column numbers from 1, scales finite and not zero, names listed once, no quantity
-    /// both a column and a constant.
+    /// column units known and of their quantity's dimension, column numbers from 1, scales
+    /// finite and not zero, names listed once, no quantity both a column and a constant.
     pub fn validate(&self, key: &str, p: &mut super::Problems) {
         if self.file.as_os_str().is_empty() {
             p.add(&format!("{key}.file"), "is empty; name the export to read");
@@ -86,6 +86,15 @@ impl InputSpec {
                         &format!("{k}.scale"),
                         format!("must be a finite number other than 0, got {f}"),
                     );
+                }
+            }
+            if let Some(u) = &c.unit {
+                let dim = match Unit::parse(u) {
+                    Ok(unit) => check_dim(&unit, q.dim()).map_err(|m| format!("{q}: {m}")),
+                    Err(e) => Err(e.to_string()),
+                };
+                if let Err(m) = dim {
+                    p.add(&format!("{k}.unit"), m);
                 }
             }
             if c.column.is_none() && c.index.is_none() {
