@@ -13,8 +13,9 @@ use super::{overrides, words, Problems};
 use serde::de::DeserializeOwned;
 use toml_edit::{DocumentMut, Value};
 
-/// At most this many repairs; a file with more problems gets the first ones and a note.
-const MAX_ROUNDS: usize = 2000;
+/// At most this many repairs (each re-reads the document); a file with more problems gets
+/// the first ones and a note.
+const MAX_ROUNDS: usize = 500;
 
 /// Deserializes `text` (with `--set` `overrides` applied) into `T`, adding every problem to
 /// `p`. Returns a value whenever the repairs let it deserialize; it is only fit for
@@ -29,7 +30,8 @@ pub fn read_collecting<T: DeserializeOwned>(
         Err(e) => {
             let e: toml_edit::TomlError = e;
             let line = e.span().map(|s| line_of_offset(text, s.start));
-            p.add_unplaced(line, format!("TOML syntax: {}", e.message().trim()));
+            let message = e.message().trim().replace('\n', "; ");
+            p.add_unplaced(line, format!("TOML syntax: {message}"));
             return None;
         }
     };
@@ -63,13 +65,8 @@ pub fn read_collecting<T: DeserializeOwned>(
                 p.add(&tkey, format!("the required key `{field}` is missing"));
             }
             p.poison(&tkey);
-            let first = if matches!(target.last(), Some(Seg::Index(_))) {
-                TABLE
-            } else {
-                0
-            };
-            placeholders.push((tkey, first));
-            if !set(&mut doc, &target, placeholder(first)) {
+            placeholders.push((tkey, 0));
+            if !set(&mut doc, &target, placeholder(0)) {
                 return None;
             }
             continue;
@@ -124,8 +121,7 @@ pub fn read_collecting<T: DeserializeOwned>(
     None
 }
 
-/// Index of the table placeholder, and one past the last placeholder.
-const TABLE: usize = 5;
+/// One past the last placeholder: the candidates are exhausted (or a name was chosen).
 const NAMED: usize = 6;
 
 /// The placeholders tried in turn for a value whose type is not known.
@@ -182,7 +178,7 @@ fn suggestion(message: &str) -> Option<&str> {
 }
 
 /// 1-based line of a byte offset.
-pub fn line_of_offset(text: &str, offset: usize) -> usize {
+fn line_of_offset(text: &str, offset: usize) -> usize {
     let end = offset.min(text.len());
     let end = (0..=end)
         .rev()

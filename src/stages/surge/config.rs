@@ -133,7 +133,7 @@ impl SurgeConfig {
                 .position(|w| w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater))
             {
                 p.add(
-                    &format!("surge.speed_bin_edges[{}]", i + 1),
+                    "surge.speed_bin_edges",
                     format!(
                         "edges must increase, but edge {} ({} m/s) is not above edge {} ({} m/s)",
                         i + 2,
