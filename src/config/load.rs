@@ -80,7 +80,7 @@ pub fn load_lenient(
 ) -> (Option<LoadedConfig>, Vec<ConfigProblem>) {
     let mut p = Problems::new(path, text);
     let Some(config) = read_collecting::<Config>(&mut p, text, overrides) else {
-        return (None, p.list);
+        return (None, p.in_file_order());
     };
     config.validate(&mut p);
     let base_dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
@@ -93,7 +93,7 @@ pub fn load_lenient(
             overrides: overrides.to_vec(),
             unusable,
         }),
-        p.list,
+        p.in_file_order(),
     )
 }
 

@@ -92,6 +92,13 @@ impl Problems {
         self.overridden.push((key.to_string(), spec.to_string()));
     }
 
+    /// The problems in the order of the file (those without a line last, in the order
+    /// found).
+    pub fn in_file_order(mut self) -> Vec<ConfigProblem> {
+        self.list.sort_by_key(|p| p.line.unwrap_or(usize::MAX));
+        self.list
+    }
+
     /// True when nothing was found.
     pub fn is_empty(&self) -> bool {
         self.list.is_empty()

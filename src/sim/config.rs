@@ -181,7 +181,7 @@ pub fn load_str(path: &Path, text: &str) -> Result<LoadedSim> {
             base_dir: path.parent().map(Path::to_path_buf).unwrap_or_default(),
             layout,
         }),
-        _ => Err(Error::Config(p.list)),
+        _ => Err(Error::Config(p.in_file_order())),
     }
 }
 
