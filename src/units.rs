@@ -356,6 +356,58 @@ pub fn dim_to_string(dim: Dim) -> String {
     }
 }
 
+/// Dimensions with a name: (dimension, words, SI unit, an example value with its unit).
+const NAMED_DIMS: &[(Dim, &str, &str, &str)] = &[
+    (DIMENSIONLESS, "a pure number", "-", "0.5"),
+    ([1, 0, 0, 0], "a mass", "kg", "50 kg"),
+    ([0, 1, 0, 0], "a length", "m", "1.2 m"),
+    ([0, 2, 0, 0], "an area", "m^2", "0.0314 m^2"),
+    ([0, 0, 1, 0], "a time", "s", "20 s"),
+    ([0, 0, 0, 1], "an angle", "rad", "4 deg"),
+    ([0, 1, -1, 0], "a speed", "m/s", "3 m/s"),
+    ([0, 1, -2, 0], "an acceleration", "m/s^2", "0.5 m/s^2"),
+    ([0, 0, -1, 1], "an angular rate", "rad/s", "2 deg/s"),
+    ([0, 0, -1, 0], "a frequency", "1/s", "2 Hz"),
+    ([1, 1, -2, 0], "a force", "N", "22 N"),
+    ([1, 2, -2, 0], "a moment", "N m", "5 N m"),
+    ([1, 2, 0, 0], "a moment of inertia", "kg m^2", "3.7 kg m^2"),
+    ([1, -3, 0, 0], "a density", "kg/m^3", "1025 kg/m^3"),
+    ([1, -1, -1, 0], "a dynamic viscosity", "Pa s", "0.001 Pa s"),
+    ([1, -1, -2, 0], "a pressure", "Pa", "1000 Pa"),
+    ([1, 2, -3, 0], "a power", "W", "100 W"),
+];
+
+/// A dimension in words with its SI unit, e.g. `a speed (m/s)`.
+pub fn dim_words(dim: Dim) -> String {
+    match NAMED_DIMS.iter().find(|(d, ..)| *d == dim) {
+        Some((_, words, si, _)) => format!("{words} ({si})"),
+        None => format!("a quantity in {}", dim_to_string(dim)),
+    }
+}
+
+/// An example value of a dimension with its unit, e.g. `22 N`.
+pub fn dim_example(dim: Dim) -> String {
+    match NAMED_DIMS.iter().find(|(d, ..)| *d == dim) {
+        Some((.., example)) => (*example).to_string(),
+        None => format!("1 {}", dim_to_string(dim)),
+    }
+}
+
+/// Checks that `unit` measures `expected`; the error says what the unit measures and what
+/// was expected, e.g. `unit 'm/s' is a speed (m/s); expected a force (N), e.g. "22 N"`.
+/// Angles may be given in any angle unit (rad, deg, rev): they share one dimension.
+pub fn check_dim(unit: &Unit, expected: Dim) -> Result<(), String> {
+    if unit.dim == expected {
+        return Ok(());
+    }
+    Err(format!(
+        "unit '{unit}' is {}; expected {}, e.g. \"{}\"",
+        dim_words(unit.dim),
+        dim_words(expected),
+        dim_example(expected)
+    ))
+}
+
 /// Removes 2 pi jumps from a sampled angle (radians) in place, so that a heading that
 /// passes +-180 deg becomes continuous. Jumps larger than pi between samples are taken as
 /// wraps; NaNs are left alone and do not reset the running offset.
@@ -439,6 +491,21 @@ mod tests {
         assert!(Unit::parse("(m").is_err());
         let e = Unit::parse("m/").unwrap_err();
         assert!(e.to_string().contains("m/"));
+    }
+
+    #[test]
+    fn dimensions_in_words() {
+        assert_eq!(dim_words([0, 1, -1, 0]), "a speed (m/s)");
+        assert_eq!(dim_example([1, 1, -2, 0]), "22 N");
+        assert!(dim_words([3, 0, 0, 0]).contains("kg^3"));
+        let e = check_dim(&u("m/s"), [1, 1, -2, 0]).unwrap_err();
+        assert!(
+            e.contains("'m/s' is a speed (m/s)") && e.contains("a force"),
+            "{e}"
+        );
+        assert!(check_dim(&u("deg"), [0, 0, 0, 1]).is_ok());
+        assert!(check_dim(&u("rpm"), [0, 0, -1, 1]).is_ok());
+        assert!(check_dim(&u("deg"), [0, 1, -1, 0]).is_err());
     }
 
     #[test]

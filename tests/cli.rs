@@ -198,12 +198,12 @@ const BAD: &[Bad] = &[
     Bad {
         file: "wrong_type.toml",
         code: 2,
-        says: &[":3", "invalid type", "expected f64"],
+        says: &[":3", "vehicle.mass", "\"fifty\" is not a number"],
     },
     Bad {
         file: "missing_mass.toml",
         code: 2,
-        says: &["missing field `mass`"],
+        says: &["vehicle.mass", "required key `mass` is missing"],
     },
     Bad {
         file: "zero_area.toml",
@@ -267,8 +267,8 @@ const BAD: &[Bad] = &[
     },
     Bad {
         file: "bad_unit.toml",
-        code: 1,
-        says: &["turn_paper.csv", "column 4 'Heading'", "'degs'"],
+        code: 2,
+        says: &[":34: hekf.runs[0].columns.yaw.unit", "'degs'"],
     },
     Bad {
         file: "missing_column.toml",

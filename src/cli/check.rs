@@ -31,15 +31,19 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
         if let Some(t) = &c.title {
             writeln!(out, "title: {t}")?;
         }
-        writeln!(
-            out,
-            "vehicle: {} (m = {} kg, L = {} m, A_ref = {} m^2, L_ref = {} m)",
-            c.vehicle.name,
-            c.vehicle.mass,
-            c.vehicle.length,
-            c.vehicle.reference_area,
-            c.vehicle.reference_length
-        )?;
+        if l.touches_unusable("vehicle") {
+            writeln!(out, "vehicle: (see the problems below)")?;
+        } else {
+            writeln!(
+                out,
+                "vehicle: {} (m = {} kg, L = {} m, A_ref = {} m^2, L_ref = {} m)",
+                c.vehicle.name,
+                c.vehicle.mass,
+                c.vehicle.length,
+                c.vehicle.reference_area,
+                c.vehicle.reference_length
+            )?;
+        }
         let stages = c.enabled_stages();
         writeln!(
             out,
@@ -61,6 +65,11 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
         }
         writeln!(out, "inputs:")?;
         for (key, spec, needs) in pipeline::stage_inputs(c) {
+            if l.touches_unusable(&key) {
+                // a key of this input could not be used: already a configuration problem
+                writeln!(out, "  {key}: not read (its configuration has a problem)")?;
+                continue;
+            }
             let full = l.resolve(&spec.file);
             if !full.is_file() {
                 // already a configuration problem
@@ -104,7 +113,8 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
             }
         }
     }
-    if let Some(l) = &loaded {
+    // the stage checks need every key usable: with a placeholder they would mislead
+    if let Some(l) = loaded.as_ref().filter(|l| l.unusable.is_empty()) {
         config_problems.extend(pipeline::preflight(l, &usable));
     }
     if config_problems.is_empty() && input_problems.is_empty() {

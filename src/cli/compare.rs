@@ -21,29 +21,91 @@ pub struct Args {
 #[derive(serde::Deserialize)]
 struct Results {
     coefficients: Vec<Coefficient>,
+    /// The vehicle and fluid summary (absent in files of other tools).
+    #[serde(default)]
+    vehicle: serde_json::Map<String, serde_json::Value>,
+    /// The effective configuration, for the model.
+    #[serde(default)]
+    configuration: serde_json::Value,
 }
 
-fn read(path: &Path) -> hydroid::Result<Vec<Coefficient>> {
+impl Results {
+    /// What says which vehicle and model the coefficients belong to, by name.
+    fn identity(&self) -> Vec<(String, String)> {
+        let mut v: Vec<(String, String)> = self
+            .vehicle
+            .iter()
+            .filter(|(k, _)| k.as_str() != "q") // derived from rho and reference_area
+            .map(|(k, x)| (format!("vehicle {k}"), plain(x)))
+            .collect();
+        if let Some(m) = self.configuration.pointer("/hekf/model") {
+            v.push(("hekf model".into(), plain(m)));
+        }
+        v
+    }
+}
+
+fn plain(v: &serde_json::Value) -> String {
+    match v {
+        serde_json::Value::String(s) => s.clone(),
+        serde_json::Value::Null => "none".into(),
+        other => other.to_string(),
+    }
+}
+
+/// Where the two runs describe different vehicles or models: "vehicle mass: 50 vs 60".
+fn differences(a: &Results, b: &Results) -> Vec<String> {
+    let (ia, ib) = (a.identity(), b.identity());
+    let get = |v: &[(String, String)], k: &str| {
+        v.iter()
+            .find(|(n, _)| n == k)
+            .map_or_else(|| "none".to_string(), |(_, x)| x.clone())
+    };
+    let mut keys: Vec<&String> = ia.iter().chain(&ib).map(|(k, _)| k).collect();
+    keys.dedup();
+    let mut seen = BTreeSet::new();
+    keys.into_iter()
+        .filter(|k| seen.insert(k.as_str()))
+        .filter_map(|k| {
+            let (x, y) = (get(&ia, k), get(&ib, k));
+            (x != y).then(|| format!("{k}: {x} (A) vs {y} (B)"))
+        })
+        .collect()
+}
+
+fn read(path: &Path) -> hydroid::Result<Results> {
     let file = if path.is_dir() {
         path.join("results.json")
     } else {
         path.to_path_buf()
     };
     let text = std::fs::read_to_string(&file).map_err(|e| Error::io(&file, e))?;
-    let r: Results = serde_json::from_str(&text).map_err(|e| -> Error {
+    serde_json::from_str(&text).map_err(|e| -> Error {
         InputError::new(
-            Place::line(&file, e.line()),
-            format!("not a hydroid results.json: {e}"),
+            Place::line(&file, e.line()).with_column(e.column()),
+            "not a hydroid results.json",
         )
+        .expected("the results.json of a hydroid run, or its output folder")
         .into()
-    })?;
-    Ok(r.coefficients)
+    })
 }
 
 /// Runs the command.
 pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
-    let a = read(&args.a)?;
-    let b = read(&args.b)?;
+    let (ra, rb) = (read(&args.a)?, read(&args.b)?);
+    let differ = differences(&ra, &rb);
+    if !differ.is_empty() {
+        let head = "warning: A and B are runs of different vehicles or models, so their \
+                    coefficients need not agree:";
+        eprintln!("{head}");
+        writeln!(out, "{head}")?;
+        for d in &differ {
+            eprintln!("  {d}");
+            writeln!(out, "  {d}")?;
+        }
+        writeln!(out)?;
+    }
+    let (a, b) = (ra.coefficients, rb.coefficients);
     let names: BTreeSet<&str> = a.iter().chain(&b).map(|c| c.name.as_str()).collect();
     let find = |v: &[Coefficient], n: &str| v.iter().find(|c| c.name == n).cloned();
     let cell = |c: &Option<Coefficient>| match c {

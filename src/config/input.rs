@@ -2,7 +2,7 @@
 
 use crate::formats::{Format, FormatChoice};
 use crate::quantity::Quantity;
-use crate::units::Unit;
+use crate::units::{check_dim, Dim, Unit};
 use serde::de::{self, Deserializer, MapAccess, Visitor};
 use serde::{Deserialize, Serialize, Serializer};
 use std::collections::BTreeMap;
@@ -46,7 +46,69 @@ pub struct InputSpec {
     pub velocity_frame: VelocityFrame,
 }
 
+/// Highest 1-based column number a column map may name (a CFD export has far fewer).
+pub const MAX_COLUMN_INDEX: u64 = 1_000_000;
+
 impl InputSpec {
+    /// Adds every problem with this input (at key path `key`, e.g. `hekf.runs[0]`) to `p`,
+    /// except whether its file exists: constants finite and of their quantity's dimension,
+    /// column units known and of their quantity's dimension, column numbers from 1, scales
+    /// finite and not zero, names listed once, no quantity both a column and a constant.
+    pub fn validate(&self, key: &str, p: &mut super::Problems) {
+        if self.file.as_os_str().is_empty() {
+            p.add(&format!("{key}.file"), "is empty; name the export to read");
+        }
+        for (q, c) in &self.constants {
+            if let Err(m) = c.expect_dim(q.dim()) {
+                p.add(&format!("{key}.constants.{q}"), m);
+            }
+            if self.columns.contains_key(q) {
+                p.add(
+                    &format!("{key}.constants.{q}"),
+                    format!("{q} is given both as a column (columns.{q}) and as a constant"),
+                );
+            }
+        }
+        for (q, c) in &self.columns {
+            let k = format!("{key}.columns.{q}");
+            if let Some(i) = c.index {
+                p.count_within(
+                    &format!("{k}.index"),
+                    i as u64,
+                    1,
+                    MAX_COLUMN_INDEX,
+                    "1-based",
+                );
+            }
+            if let Some(f) = c.scale {
+                if !(f.is_finite() && f != 0.0) {
+                    p.add(
+                        &format!("{k}.scale"),
+                        format!("must be a finite number other than 0, got {f}"),
+                    );
+                }
+            }
+            if let Some(u) = &c.unit {
+                let dim = match Unit::parse(u) {
+                    Ok(unit) => check_dim(&unit, q.dim()).map_err(|m| format!("{q}: {m}")),
+                    Err(e) => Err(e.to_string()),
+                };
+                if let Err(m) = dim {
+                    p.add(&format!("{k}.unit"), m);
+                }
+            }
+            if c.column.is_none() && c.index.is_none() {
+                p.add(
+                    &k,
+                    "names no column: give `column` (a name) or `index` (from 1)",
+                );
+            }
+        }
+        if let Some(names) = &self.names {
+            p.no_duplicates(&format!("{key}.names"), names.iter().map(String::as_str));
+        }
+    }
+
     /// The name for reports: the configured one, or the file name.
     pub fn display_name(&self) -> String {
         self.name.clone().unwrap_or_else(|| {
@@ -192,31 +254,45 @@ impl Constant {
         }
     }
 
-    /// Parses `"22 N"`, `"4 deg"` or `"3.0"`.
+    /// Parses `"22 N"`, `"4 deg"` or `"3.0"` (a bare number is SI). The number must be
+    /// finite; the unit is only parsed here: [`Constant::expect_dim`] checks that it fits.
     pub fn parse(text: &str) -> Result<Self, String> {
         let t = text.trim();
         let split = t
             .find(|c: char| c.is_whitespace() || (c.is_alphabetic() && c != 'e' && c != 'E'))
             .unwrap_or(t.len());
         let (num, unit) = t.split_at(split);
-        let value: f64 = num
-            .trim()
-            .parse()
-            .map_err(|_| format!("'{t}' is not a number with an optional unit, like \"4 deg\""))?;
+        let value: f64 = num.trim().parse().map_err(|_| {
+            format!("\"{t}\" is not a number with an optional unit, like \"4 deg\"")
+        })?;
         let unit = unit.trim();
-        if unit.is_empty() {
-            return Ok(Constant {
-                text: t.to_string(),
-                si: value,
-                unit: None,
-            });
+        let (si, unit) = if unit.is_empty() {
+            (value, None)
+        } else {
+            let u = Unit::parse(unit).map_err(|e| e.to_string())?;
+            (u.to_si(value), Some(u))
+        };
+        if !si.is_finite() {
+            return Err(format!("\"{t}\" is not a finite number"));
         }
-        let u = Unit::parse(unit).map_err(|e| e.to_string())?;
         Ok(Constant {
             text: t.to_string(),
-            si: u.to_si(value),
-            unit: Some(u),
+            si,
+            unit,
         })
+    }
+
+    /// Checks that the value is finite and that its unit measures `dim` (a bare number is
+    /// SI and fits any dimension); the error names the unit, what it measures and what was
+    /// expected.
+    pub fn expect_dim(&self, dim: Dim) -> Result<(), String> {
+        if !self.si.is_finite() {
+            return Err(format!("must be a finite number, got {}", self.text));
+        }
+        match &self.unit {
+            Some(u) => check_dim(u, dim).map_err(|m| format!("\"{}\": {m}", self.text)),
+            None => Ok(()),
+        }
     }
 }
 
@@ -266,6 +342,18 @@ mod tests {
         assert!((Constant::parse("3kn").unwrap().si - 3.0 * 1852.0 / 3600.0).abs() < 1e-12);
         assert!(Constant::parse("fast").is_err());
         assert!(Constant::parse("4 parsecs").is_err());
+        assert!(Constant::parse("nan N").is_err());
+        assert!(Constant::parse("1e999 N").is_err());
+        let thrust = crate::quantity::Quantity::Thrust.dim();
+        for wrong in ["22 m/s", "22 kg", "22 s"] {
+            let e = Constant::parse(wrong)
+                .unwrap()
+                .expect_dim(thrust)
+                .unwrap_err();
+            assert!(e.contains("expected a force"), "{e}");
+        }
+        assert!(Constant::parse("22").unwrap().expect_dim(thrust).is_ok());
+        assert!(Constant::parse("22 kN").unwrap().expect_dim(thrust).is_ok());
     }
 
     #[test]

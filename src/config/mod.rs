@@ -1,10 +1,16 @@
 //! The TOML run configuration: schema, loading with every problem listed, `--set` overrides,
 //! and validation. Every key is documented in docs/config.md.
 
+mod collect;
 mod input;
 mod load;
+mod overrides;
+mod paths;
 mod problems;
+pub(crate) mod si;
+mod words;
 
+pub(crate) use collect::read_collecting;
 pub use input::{ColumnSpec, Constant, FormatSetting, InputSpec, VelocityFrame};
 pub use load::{load, load_lenient, load_str, read, LoadedConfig};
 pub use problems::Problems;
@@ -56,29 +62,54 @@ pub struct VehicleConfig {
     #[serde(default = "default_vehicle_name")]
     pub name: String,
     /// Mass, kg.
+    #[serde(deserialize_with = "si::value::<_, si::Mass>")]
     pub mass: f64,
     /// Overall length, m.
+    #[serde(deserialize_with = "si::value::<_, si::Length>")]
     pub length: f64,
     /// Maximum diameter (twice the minor semi-axis for a spheroid), m.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        deserialize_with = "si::option::<_, si::Length>",
+        skip_serializing_if = "Option::is_none"
+    )]
     pub diameter: Option<f64>,
     /// Roll moment of inertia about the origin, kg m^2.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        deserialize_with = "si::option::<_, si::Inertia>",
+        skip_serializing_if = "Option::is_none"
+    )]
     pub ixx: Option<f64>,
     /// Pitch moment of inertia about the origin, kg m^2.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        deserialize_with = "si::option::<_, si::Inertia>",
+        skip_serializing_if = "Option::is_none"
+    )]
     pub iyy: Option<f64>,
     /// Yaw moment of inertia about the origin, kg m^2.
+    #[serde(deserialize_with = "si::value::<_, si::Inertia>")]
     pub izz: f64,
     /// Reference area for force coefficients, m^2 (the paper uses the frontal area pi b^2).
+    #[serde(deserialize_with = "si::value::<_, si::Area>")]
     pub reference_area: f64,
     /// Reference length for moment coefficients, m (C_M = M / (0.5 rho U^2 A_ref L_ref)).
+    #[serde(deserialize_with = "si::value::<_, si::Length>")]
     pub reference_length: f64,
     /// Buoyancy, N (defaults to the weight: neutrally buoyant).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        deserialize_with = "si::option::<_, si::Force>",
+        skip_serializing_if = "Option::is_none"
+    )]
     pub buoyancy: Option<f64>,
     /// Height of the centre of buoyancy above the centre of gravity (BG), m.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        deserialize_with = "si::option::<_, si::Length>",
+        skip_serializing_if = "Option::is_none"
+    )]
     pub bg: Option<f64>,
 }
 
@@ -91,8 +122,10 @@ fn default_vehicle_name() -> String {
 #[serde(deny_unknown_fields)]
 pub struct FluidConfig {
     /// Density, kg/m^3.
+    #[serde(deserialize_with = "si::value::<_, si::Density>")]
     pub rho: f64,
     /// Dynamic viscosity, Pa s.
+    #[serde(deserialize_with = "si::value::<_, si::Viscosity>")]
     pub mu: f64,
 }
 
@@ -142,47 +175,159 @@ pub struct ReferenceConfig {
     pub values: BTreeMap<String, f64>,
 }
 
-impl Config {
-    /// Checks values and names (not input files) and adds every problem to `p`.
+/// Plausible ranges: values outside them are almost surely a unit or typing mistake (a
+/// density of 1.025 given in t/m^3, a viscosity of 1e-6 that is the kinematic one). hydroid
+/// models vehicles moving in water, so the fluid ranges are those of water, fresh to brine,
+/// 0 to 100 deg C (documented in docs/config.md).
+pub mod plausible {
+    /// Vehicle mass, kg: a 1 g model to a 1 million tonne ship.
+    pub const MASS: (f64, f64) = (1e-3, 1e9);
+    /// Vehicle length, m.
+    pub const LENGTH: (f64, f64) = (0.01, 1000.0);
+    /// Vehicle diameter, m (and smaller than the length).
+    pub const DIAMETER: (f64, f64) = (1e-3, 500.0);
+    /// Water density, kg/m^3.
+    pub const RHO: (f64, f64) = (500.0, 2000.0);
+    /// Dynamic viscosity of water, Pa s (2.8e-4 at 100 deg C, 1.8e-3 at 0 deg C).
+    pub const MU: (f64, f64) = (1e-4, 0.1);
+    /// Reference area as a multiple of length^2 (a frontal area is about 1e-2 L^2).
+    pub const AREA_PER_L2: (f64, f64) = (1e-6, 100.0);
+    /// Reference length as a multiple of the length.
+    pub const LREF_PER_L: (f64, f64) = (1e-3, 100.0);
+    /// Radius of gyration sqrt(I / m) as a multiple of the length.
+    pub const GYRATION_PER_L: (f64, f64) = (1e-4, 1.0);
+    /// Buoyancy as a multiple of the weight.
+    pub const BUOYANCY_PER_WEIGHT: (f64, f64) = (0.1, 10.0);
+}
+
+/// Standard gravity, m/s^2 (the weight that buoyancy is compared with).
+const G: f64 = 9.80665;
+
+impl VehicleConfig {
+    /// Adds every problem with the vehicle (keys `vehicle.*`) to `p`.
     pub fn validate(&self, p: &mut Problems) {
-        let v = &self.vehicle;
-        p.positive("vehicle.mass", v.mass, "kg");
-        p.positive("vehicle.length", v.length, "m");
-        p.positive("vehicle.izz", v.izz, "kg m^2");
-        p.positive("vehicle.reference_area", v.reference_area, "m^2");
-        p.positive("vehicle.reference_length", v.reference_length, "m");
-        if let Some(d) = v.diameter {
-            p.positive("vehicle.diameter", d, "m");
-            if d >= v.length && v.length > 0.0 {
+        let ok = |p: &Problems, k: &str| !p.is_poisoned(k);
+        let m_ok = p.plausible("vehicle.mass", self.mass, plausible::MASS, "kg", "")
+            && ok(p, "vehicle.mass");
+        let l_ok = p.plausible("vehicle.length", self.length, plausible::LENGTH, "m", "")
+            && ok(p, "vehicle.length");
+        let (l, m) = (self.length, self.mass);
+        if let Some(d) = self.diameter {
+            if p.plausible("vehicle.diameter", d, plausible::DIAMETER, "m", "") && l_ok && d >= l {
                 p.add(
                     "vehicle.diameter",
+                    format!("diameter {d} m is not smaller than the length {l} m"),
+                );
+            }
+        }
+        for (key, val) in [
+            ("ixx", self.ixx),
+            ("iyy", self.iyy),
+            ("izz", Some(self.izz)),
+        ] {
+            let Some(i) = val else { continue };
+            let key = format!("vehicle.{key}");
+            p.positive(&key, i, "kg m^2");
+            let (lo, hi) = plausible::GYRATION_PER_L;
+            let k = (i / m).sqrt();
+            if i.is_finite() && i > 0.0 && m_ok && l_ok && !(k >= lo * l && k <= hi * l) {
+                p.add(
+                    &key,
                     format!(
-                        "diameter {d} m is not smaller than the length {} m",
-                        v.length
+                        "{i} kg m^2 gives a radius of gyration sqrt(I/m) = {k:.3e} m, outside \
+                         the plausible {lo} to {hi} times the length ({:.3e} to {:.3e} m); \
+                         check the value and its unit",
+                        lo * l,
+                        hi * l
                     ),
                 );
             }
         }
-        for (key, val) in [("ixx", v.ixx), ("iyy", v.iyy), ("buoyancy", v.buoyancy)] {
-            if let Some(x) = val {
-                p.positive(&format!("vehicle.{key}"), x, "SI");
+        let relative = |range: (f64, f64), scale: f64| {
+            if l_ok {
+                (range.0 * scale, range.1 * scale)
+            } else {
+                (f64::MIN_POSITIVE, f64::MAX)
+            }
+        };
+        p.plausible(
+            "vehicle.reference_area",
+            self.reference_area,
+            relative(plausible::AREA_PER_L2, l * l),
+            "m^2",
+            "",
+        );
+        p.plausible(
+            "vehicle.reference_length",
+            self.reference_length,
+            relative(plausible::LREF_PER_L, l),
+            "m",
+            "",
+        );
+        if let Some(b) = self.buoyancy {
+            let w = m * G;
+            let range = if m_ok {
+                let (lo, hi) = plausible::BUOYANCY_PER_WEIGHT;
+                (lo * w, hi * w)
+            } else {
+                (f64::MIN_POSITIVE, f64::MAX)
+            };
+            p.plausible(
+                "vehicle.buoyancy",
+                b,
+                range,
+                "N",
+                "buoyancy is compared with the weight m g",
+            );
+        }
+        if let Some(bg) = self.bg {
+            p.finite("vehicle.bg", bg);
+            if bg.is_finite() && l_ok && bg.abs() >= l {
+                p.add(
+                    "vehicle.bg",
+                    format!("|bg| = {} m is not smaller than the length {l} m", bg.abs()),
+                );
             }
         }
-        if let Some(bg) = v.bg {
-            p.finite("vehicle.bg", bg);
-        }
-        p.positive("fluid.rho", self.fluid.rho, "kg/m^3");
-        p.positive("fluid.mu", self.fluid.mu, "Pa s");
+    }
+}
+
+impl FluidConfig {
+    /// Adds every problem with the fluid (keys `fluid.*`) to `p`.
+    pub fn validate(&self, p: &mut Problems) {
+        p.plausible(
+            "fluid.rho",
+            self.rho,
+            plausible::RHO,
+            "kg/m^3",
+            "water is 998 to 1030 kg/m^3; a value near 1 is in g/cm^3 or t/m^3",
+        );
+        p.plausible(
+            "fluid.mu",
+            self.mu,
+            plausible::MU,
+            "Pa s",
+            "water is 2.8e-4 to 1.8e-3 Pa s; a value near 1e-6 is the kinematic viscosity nu \
+             in m^2/s",
+        );
+    }
+}
+
+impl Config {
+    /// Checks values and names (not input files) and adds every problem to `p`.
+    pub fn validate(&self, p: &mut Problems) {
+        self.vehicle.validate(p);
+        self.fluid.validate(p);
         for (name, val) in &self.coefficients {
             let key = format!("coefficients.{name}");
             p.known_coefficient(&key, name);
-            p.finite(&key, *val);
+            p.coefficient_sized(&key, *val);
         }
         if let Some(r) = &self.reference {
             for (name, val) in &r.values {
                 let key = format!("reference.values.{name}");
                 p.known_coefficient(&key, name);
-                p.finite(&key, *val);
+                p.coefficient_sized(&key, *val);
             }
         }
         if let Some(s) = &self.polar {
@@ -193,6 +338,16 @@ impl Config {
         }
         if let Some(s) = &self.hekf {
             s.validate(self, p);
+        }
+        let stage_unusable = ["polar", "surge", "hekf"]
+            .iter()
+            .any(|s| p.is_poisoned(s) || p.is_poisoned(&format!("{s}.enabled")));
+        if self.enabled_stages().is_empty() && !stage_unusable {
+            p.add_unplaced(
+                None,
+                "nothing to run: enable at least one of polar, surge, hekf (a [polar], \
+                 [surge] or [hekf] section with enabled = true, the default)",
+            );
         }
     }
 

@@ -1,24 +1,44 @@
 //! The `hydroid simulate` configuration: a model, its coefficients, a manoeuvre, seeded noise
 //! and the export layout. Documented in docs/simulate.md.
+//!
+//! The file is read like a run configuration (every problem listed with its line, units
+//! checked against each key's dimension), then checked against limits that keep a
+//! simulation finite in time and memory: see [`limits`].
 
-use crate::config::{Constant, FluidConfig, VehicleConfig};
-use crate::error::{ConfigProblem, Error, Result};
+use crate::config::{read_collecting, si, Constant, FluidConfig, Problems, VehicleConfig};
+use crate::error::{Error, Result};
 use crate::formats::Format;
+use crate::models::{with_model, Model, ModelSpec, ModelVisitor, Scales};
 use crate::quantity::Quantity;
 use crate::stages::hekf::ModelName;
+use crate::units::{check_dim, Unit};
+use serde::de::{self, DeserializeSeed, Deserializer, MapAccess, Visitor};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
+use std::fmt;
 use std::path::{Path, PathBuf};
 
+/// Bounds on what one simulation may ask for.
+pub mod limits {
+    /// Most rows an export may have. Ten million samples is ten times a long CFD run (1e4 s
+    /// at 10 ms): 850 MB of text and 2.2 GB of memory while it is written (measured in
+    /// docs/simulate.md).
+    pub const MAX_ROWS: u64 = 10_000_000;
+    /// Most RK4 sub-steps per exported sample.
+    pub const MAX_SUBSTEPS: u64 = 10_000;
+    /// Most RK4 steps in all (rows times sub-steps): about a minute of integration on two
+    /// busy cores (docs/simulate.md).
+    pub const MAX_RK4_STEPS: u64 = 50_000_000;
+    /// Most significant digits written: 17 round-trip any f64 exactly.
+    pub const MAX_DIGITS: u64 = 17;
+}
+
 /// A whole simulation configuration.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct SimConfig {
     /// Title written into the export's header where the layout has one.
-    #[serde(default)]
     pub title: Option<String>,
     /// The model that plays the CFD solver.
-    #[serde(default)]
     pub model: ModelName,
     /// The vehicle.
     pub vehicle: VehicleConfig,
@@ -29,15 +49,14 @@ pub struct SimConfig {
     /// What to simulate.
     pub manoeuvre: Manoeuvre,
     /// Measurement noise added to the export.
-    #[serde(default)]
     pub noise: NoiseConfig,
     /// How to write it.
     pub export: ExportConfig,
 }
 
 /// The manoeuvre.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, tag = "kind", rename_all = "snake_case")]
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
 pub enum Manoeuvre {
     /// A time history from an initial state with constant or stepped inputs.
     TimeHistory {
@@ -46,16 +65,12 @@ pub enum Manoeuvre {
         /// Sampling interval of the export, s.
         dt: f64,
         /// RK4 steps per sample (default 10).
-        #[serde(default = "ten")]
         substeps: usize,
-        /// Initial state by quantity (SI or with units); missing states start at 0.
-        #[serde(default)]
+        /// Initial state by quantity (SI); missing states start at 0.
         initial: BTreeMap<Quantity, Constant>,
         /// Inputs at the start, by quantity.
-        #[serde(default)]
         inputs: BTreeMap<Quantity, Constant>,
         /// Input changes: at `time`, the listed inputs take new values.
-        #[serde(default)]
         steps: Vec<Step>,
     },
     /// Steady polars implied by the coefficients (paper eq. 5 inverted) over a sweep of
@@ -68,17 +83,12 @@ pub enum Manoeuvre {
         /// Moment reference length used to define C_M, m.
         moment_reference_length: f64,
         /// Cubic terms added to C_L and C_M (per rad^3), to mimic nonlinear polars.
-        #[serde(default)]
         cubic: BTreeMap<Quantity, f64>,
     },
 }
 
-fn ten() -> usize {
-    10
-}
-
 /// An input change.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Step {
     /// When, s.
     pub time: f64,
@@ -88,10 +98,9 @@ pub struct Step {
 }
 
 /// Seeded Gaussian noise per exported quantity.
-#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Default, Serialize)]
 pub struct NoiseConfig {
     /// Random seed (fixed, so exports are reproducible).
-    #[serde(default)]
     pub seed: u64,
     /// Standard deviation per quantity (SI or with units).
     #[serde(flatten)]
@@ -147,86 +156,726 @@ pub struct LoadedSim {
     pub layout: Format,
 }
 
-/// Reads and checks a simulation configuration.
+/// The layouts `simulate` writes.
+const LAYOUTS: [Format; 5] = [
+    Format::Delimited,
+    Format::Cfx,
+    Format::StarCcm,
+    Format::Fluent,
+    Format::OpenFoamSixDof,
+];
+
+/// Reads and checks a simulation configuration; every problem is listed.
 pub fn load(path: &Path) -> Result<LoadedSim> {
-    let problem = |line: Option<usize>, key: Option<&str>, message: String| ConfigProblem {
-        file: path.to_path_buf(),
-        line,
-        key: key.map(str::to_string),
-        message,
-    };
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| Error::Config(vec![problem(None, None, format!("cannot read: {e}"))]))?;
-    let config: SimConfig = toml::from_str(&text).map_err(|e| {
-        let line = e.span().map(|s| text[..s.start].matches('\n').count() + 1);
-        Error::Config(vec![problem(line, None, e.message().trim().to_string())])
-    })?;
-    let mut problems = Vec::new();
-    let layout = match Format::from_name(&config.export.layout) {
-        Some(
-            f @ (Format::Delimited
-            | Format::Cfx
-            | Format::StarCcm
-            | Format::Fluent
-            | Format::OpenFoamSixDof),
-        ) => f,
-        _ => {
-            problems.push(problem(
-                None,
-                Some("export.layout"),
-                format!(
-                    "cannot write layout '{}'; choose delimited, cfx, starccm, fluent or \
-                     openfoam-sixdof",
-                    config.export.layout
-                ),
-            ));
-            Format::Delimited
-        }
-    };
-    for (name, v) in &config.coefficients {
-        if let Err(m) = crate::config::check_coefficient_name(name) {
-            problems.push(problem(None, Some(&format!("coefficients.{name}")), m));
-        }
-        if !v.is_finite() {
-            problems.push(problem(
-                None,
-                Some(&format!("coefficients.{name}")),
-                "not finite".into(),
-            ));
-        }
+    load_str(path, &crate::config::read(path)?)
+}
+
+/// Like [`load`], from text already read (`path` places messages and resolves paths).
+pub fn load_str(path: &Path, text: &str) -> Result<LoadedSim> {
+    let mut p = Problems::new(path, text);
+    let file = read_collecting::<SimFile>(&mut p, text, &[]);
+    let checked = file.and_then(|f| f.check(&mut p));
+    match checked {
+        Some((config, layout)) if p.is_empty() => Ok(LoadedSim {
+            config,
+            base_dir: path.parent().map(Path::to_path_buf).unwrap_or_default(),
+            layout,
+        }),
+        _ => Err(Error::Config(p.in_file_order())),
     }
-    if let Manoeuvre::TimeHistory { duration, dt, .. } = &config.manoeuvre {
-        if !(*dt > 0.0 && *duration > *dt) {
-            problems.push(problem(
-                None,
-                Some("manoeuvre"),
-                format!("need 0 < dt < duration, got dt = {dt}, duration = {duration}"),
-            ));
-        }
+}
+
+/// The file as written: every manoeuvre key optional, so that each kind can say which keys
+/// it needs and which it does not use.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SimFile {
+    #[serde(default)]
+    title: Option<String>,
+    #[serde(default)]
+    model: ModelName,
+    vehicle: VehicleConfig,
+    fluid: FluidConfig,
+    coefficients: BTreeMap<String, f64>,
+    manoeuvre: ManoeuvreFile,
+    #[serde(default)]
+    noise: NoiseConfig,
+    export: ExportConfig,
+}
+
+#[derive(Deserialize, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+enum Kind {
+    TimeHistory,
+    PolarSweep,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ManoeuvreFile {
+    kind: Kind,
+    #[serde(default, deserialize_with = "si::option::<_, si::Time>")]
+    duration: Option<f64>,
+    #[serde(default, deserialize_with = "si::option::<_, si::Time>")]
+    dt: Option<f64>,
+    #[serde(default)]
+    substeps: Option<u64>,
+    #[serde(default)]
+    initial: Option<BTreeMap<Quantity, Constant>>,
+    #[serde(default)]
+    inputs: Option<BTreeMap<Quantity, Constant>>,
+    #[serde(default)]
+    steps: Option<Vec<Step>>,
+    #[serde(default)]
+    alpha_deg: Option<Vec<f64>>,
+    #[serde(default, deserialize_with = "si::list::<_, si::Speed>")]
+    speeds: Option<Vec<f64>>,
+    #[serde(default, deserialize_with = "si::option::<_, si::Length>")]
+    moment_reference_length: Option<f64>,
+    #[serde(default)]
+    cubic: Option<BTreeMap<Quantity, f64>>,
+}
+
+/// The quantities a manoeuvre produces, and which of them the model integrates or takes as
+/// inputs.
+struct Produces {
+    states: Vec<Quantity>,
+    inputs: Vec<Quantity>,
+    all: Vec<Quantity>,
+}
+
+struct Signature;
+
+impl ModelVisitor for Signature {
+    type Output = (Vec<Quantity>, Vec<Quantity>);
+    fn visit<M: Model>(self, model: &M) -> Self::Output {
+        (
+            model.states().iter().map(|s| s.quantity).collect(),
+            model.inputs().to_vec(),
+        )
     }
-    for c in &config.export.columns {
-        if let Some(u) = &c.unit {
-            match crate::units::Unit::parse(u) {
-                Ok(unit) if unit.dim == c.quantity.dim() => {}
-                Ok(unit) => problems.push(problem(
-                    None,
-                    Some("export.columns"),
-                    format!(
-                        "unit '{u}' ({}) does not fit {}",
-                        crate::units::dim_to_string(unit.dim),
-                        c.quantity
-                    ),
-                )),
-                Err(e) => problems.push(problem(None, Some("export.columns"), e.to_string())),
+}
+
+impl SimFile {
+    /// Checks everything and builds the configuration; None when a part is unusable.
+    fn check(self, p: &mut Problems) -> Option<(SimConfig, Format)> {
+        self.vehicle.validate(p);
+        self.fluid.validate(p);
+        for (name, v) in &self.coefficients {
+            let key = format!("coefficients.{name}");
+            p.known_coefficient(&key, name);
+            p.coefficient_sized(&key, *v);
+        }
+        let spec = ModelSpec {
+            name: self.model,
+            vehicle: &self.vehicle,
+            scales: Scales::for_vehicle(&self.vehicle, &self.fluid, None),
+        };
+        let (states, inputs) = with_model(&spec, Signature);
+        let produces = match self.manoeuvre.kind {
+            Kind::TimeHistory => Produces {
+                all: std::iter::once(Quantity::Time)
+                    .chain(states.iter().copied())
+                    .chain(inputs.iter().copied())
+                    .collect(),
+                states,
+                inputs,
+            },
+            Kind::PolarSweep => Produces {
+                states: Vec::new(),
+                inputs: Vec::new(),
+                all: vec![
+                    Quantity::Speed,
+                    Quantity::Alpha,
+                    Quantity::Cd,
+                    Quantity::Cl,
+                    Quantity::Cm,
+                ],
+            },
+        };
+        let manoeuvre = self.manoeuvre.check(self.model, &produces, p);
+        check_noise(&self.noise, &produces, p);
+        let layout = check_export(&self.export, &produces, p);
+        Some((
+            SimConfig {
+                title: self.title,
+                model: self.model,
+                vehicle: self.vehicle,
+                fluid: self.fluid,
+                coefficients: self.coefficients,
+                manoeuvre: manoeuvre?,
+                noise: self.noise,
+                export: self.export,
+            },
+            layout?,
+        ))
+    }
+}
+
+impl ManoeuvreFile {
+    fn check(self, model: ModelName, produces: &Produces, p: &mut Problems) -> Option<Manoeuvre> {
+        let kind = match self.kind {
+            Kind::TimeHistory => "time_history",
+            Kind::PolarSweep => "polar_sweep",
+        };
+        let unused = |p: &mut Problems, key: &str, given: bool| {
+            if given {
+                p.add(
+                    &format!("manoeuvre.{key}"),
+                    format!("is not used by a {kind} manoeuvre"),
+                );
+            }
+        };
+        let required = |p: &mut Problems, key: &str, unit: &str| {
+            p.add(
+                &format!("manoeuvre.{key}"),
+                format!("a {kind} manoeuvre needs `{key}` ({unit})"),
+            );
+        };
+        match self.kind {
+            Kind::TimeHistory => {
+                unused(p, "alpha_deg", self.alpha_deg.is_some());
+                unused(p, "speeds", self.speeds.is_some());
+                unused(
+                    p,
+                    "moment_reference_length",
+                    self.moment_reference_length.is_some(),
+                );
+                unused(p, "cubic", self.cubic.is_some());
+                let (Some(duration), Some(dt)) = (self.duration, self.dt) else {
+                    if self.duration.is_none() {
+                        required(p, "duration", "s");
+                    }
+                    if self.dt.is_none() {
+                        required(p, "dt", "s");
+                    }
+                    return None;
+                };
+                let substeps = self.substeps.unwrap_or(10);
+                let initial = self.initial.unwrap_or_default();
+                let inputs = self.inputs.unwrap_or_default();
+                let steps = self.steps.unwrap_or_default();
+                let ok = check_timing(duration, dt, substeps, p);
+                let model_name = model.to_string();
+                for (q, c) in &initial {
+                    let key = format!("manoeuvre.initial.{q}");
+                    member(p, &key, *q, &produces.states, "a state", &model_name);
+                    if let Err(m) = c.expect_dim(q.dim()) {
+                        p.add(&key, m);
+                    }
+                }
+                for (q, c) in &inputs {
+                    let key = format!("manoeuvre.inputs.{q}");
+                    member(p, &key, *q, &produces.inputs, "an input", &model_name);
+                    if let Err(m) = c.expect_dim(q.dim()) {
+                        p.add(&key, m);
+                    }
+                }
+                for (i, s) in steps.iter().enumerate() {
+                    let key = format!("manoeuvre.steps[{i}]");
+                    if !(s.time >= 0.0 && s.time <= duration) {
+                        p.add(
+                            &format!("{key}.time"),
+                            format!(
+                                "must be within the manoeuvre, 0 to {duration} s, got {}",
+                                s.time
+                            ),
+                        );
+                    }
+                    if s.values.is_empty() {
+                        p.add(&key, "changes no input: give e.g. thrust = \"30 N\"");
+                    }
+                    for (q, c) in &s.values {
+                        let k = format!("{key}.{q}");
+                        member(p, &k, *q, &produces.inputs, "an input", &model_name);
+                        if let Err(m) = c.expect_dim(q.dim()) {
+                            p.add(&k, m);
+                        }
+                        if let Some(j) = steps[..i]
+                            .iter()
+                            .position(|o| o.time == s.time && o.values.contains_key(q))
+                        {
+                            p.add(
+                                &k,
+                                format!(
+                                    "steps {} and {} both set {q} at {} s",
+                                    j + 1,
+                                    i + 1,
+                                    s.time
+                                ),
+                            );
+                        }
+                    }
+                }
+                ok.then_some(Manoeuvre::TimeHistory {
+                    duration,
+                    dt,
+                    substeps: substeps as usize,
+                    initial,
+                    inputs,
+                    steps,
+                })
+            }
+            Kind::PolarSweep => {
+                for (key, given) in [
+                    ("duration", self.duration.is_some()),
+                    ("dt", self.dt.is_some()),
+                    ("substeps", self.substeps.is_some()),
+                    ("initial", self.initial.is_some()),
+                    ("inputs", self.inputs.is_some()),
+                    ("steps", self.steps.is_some()),
+                ] {
+                    unused(p, key, given);
+                }
+                if self.alpha_deg.is_none() {
+                    required(p, "alpha_deg", "a list of angles in degrees");
+                }
+                if self.speeds.is_none() {
+                    required(p, "speeds", "a list of speeds in m/s");
+                }
+                let (Some(alpha_deg), Some(speeds), Some(l_ref)) =
+                    (self.alpha_deg, self.speeds, self.moment_reference_length)
+                else {
+                    if self.moment_reference_length.is_none() {
+                        required(p, "moment_reference_length", "m");
+                    }
+                    return None;
+                };
+                let mut ok = true;
+                for (key, list) in [("alpha_deg", &alpha_deg), ("speeds", &speeds)] {
+                    if list.is_empty() {
+                        p.add(&format!("manoeuvre.{key}"), "is empty");
+                        ok = false;
+                    }
+                    let text: Vec<String> = list.iter().map(|v| v.to_string()).collect();
+                    p.no_duplicates(&format!("manoeuvre.{key}"), text.iter().map(String::as_str));
+                }
+                for (i, a) in alpha_deg.iter().enumerate() {
+                    if !(a.is_finite() && a.abs() <= 180.0) {
+                        p.add(
+                            &format!("manoeuvre.alpha_deg[{i}]"),
+                            format!("must be an angle from -180 to 180 degrees, got {a}"),
+                        );
+                        ok = false;
+                    }
+                }
+                for (i, u) in speeds.iter().enumerate() {
+                    if !(u.is_finite() && *u > 0.0) {
+                        p.positive(&format!("manoeuvre.speeds[{i}]"), *u, "m/s");
+                        ok = false;
+                    }
+                }
+                p.positive("manoeuvre.moment_reference_length", l_ref, "m");
+                let cubic = self.cubic.unwrap_or_default();
+                for (q, v) in &cubic {
+                    let key = format!("manoeuvre.cubic.{q}");
+                    if !matches!(q, Quantity::Cl | Quantity::Cm) {
+                        p.add(
+                            &key,
+                            format!("cubic terms exist for cl and cm only, not {q}"),
+                        );
+                    }
+                    p.finite(&key, *v);
+                }
+                let rows = alpha_deg.len() as u64 * speeds.len() as u64;
+                if rows > limits::MAX_ROWS {
+                    p.add(
+                        "manoeuvre.alpha_deg",
+                        format!(
+                            "{rows} angles times speeds is more than the {} rows an export may have",
+                            limits::MAX_ROWS
+                        ),
+                    );
+                    ok = false;
+                }
+                ok.then_some(Manoeuvre::PolarSweep {
+                    alpha_deg,
+                    speeds,
+                    moment_reference_length: l_ref,
+                    cubic,
+                })
             }
         }
     }
-    if !problems.is_empty() {
-        return Err(Error::Config(problems));
+}
+
+/// Checks duration, dt and sub-steps against [`limits`]; true when a simulation of them is
+/// bounded.
+fn check_timing(duration: f64, dt: f64, substeps: u64, p: &mut Problems) -> bool {
+    let mut ok = true;
+    if !(duration.is_finite() && duration > 0.0) {
+        p.positive("manoeuvre.duration", duration, "s");
+        ok = false;
     }
-    Ok(LoadedSim {
-        config,
-        base_dir: path.parent().map(Path::to_path_buf).unwrap_or_default(),
-        layout,
+    if !(dt.is_finite() && dt > 0.0) {
+        p.positive("manoeuvre.dt", dt, "s");
+        ok = false;
+    } else if ok && dt > duration {
+        p.add(
+            "manoeuvre.dt",
+            format!("the sampling interval {dt} s is longer than the duration {duration} s"),
+        );
+        ok = false;
+    }
+    let before = p.list.len();
+    p.count_within(
+        "manoeuvre.substeps",
+        substeps,
+        1,
+        limits::MAX_SUBSTEPS,
+        "RK4 steps per sample",
+    );
+    ok &= p.list.len() == before;
+    if ok {
+        let rows = (duration / dt).round() + 1.0;
+        if rows > limits::MAX_ROWS as f64 {
+            p.add(
+                "manoeuvre.dt",
+                format!(
+                    "duration / dt = {duration} s / {dt} s gives {rows:.3e} samples, more than \
+                     the {} an export may have; use a longer dt or a shorter duration",
+                    limits::MAX_ROWS
+                ),
+            );
+            return false;
+        }
+        let steps = rows * substeps as f64;
+        if steps > limits::MAX_RK4_STEPS as f64 {
+            p.add(
+                "manoeuvre.substeps",
+                format!(
+                    "{rows} samples times {substeps} sub-steps is {steps:.3e} RK4 steps, more \
+                     than the {:e} allowed (about a minute of integration); use fewer sub-steps",
+                    limits::MAX_RK4_STEPS as f64
+                ),
+            );
+            return false;
+        }
+    }
+    ok
+}
+
+fn member(p: &mut Problems, key: &str, q: Quantity, allowed: &[Quantity], what: &str, model: &str) {
+    if !allowed.contains(&q) {
+        let names: Vec<&str> = allowed.iter().map(|q| q.key()).collect();
+        p.add(
+            key,
+            format!(
+                "{q} is not {what} of the {model} model ({})",
+                if names.is_empty() {
+                    "it has none".to_string()
+                } else {
+                    names.join(", ")
+                }
+            ),
+        );
+    }
+}
+
+fn check_noise(noise: &NoiseConfig, produces: &Produces, p: &mut Problems) {
+    for (q, c) in &noise.sigma {
+        let key = format!("noise.{q}");
+        if *q == Quantity::Time || !produces.all.contains(q) {
+            let names: Vec<&str> = produces
+                .all
+                .iter()
+                .filter(|q| **q != Quantity::Time)
+                .map(|q| q.key())
+                .collect();
+            p.add(
+                &key,
+                format!(
+                    "this manoeuvre does not produce {q} with noise (it gives {})",
+                    names.join(", ")
+                ),
+            );
+        }
+        match c.expect_dim(q.dim()) {
+            Ok(()) if c.si > 0.0 => {}
+            Ok(()) => p.add(
+                &key,
+                format!(
+                    "a noise standard deviation must be positive, got {}; leave {q} out for no \
+                     noise",
+                    c.text
+                ),
+            ),
+            Err(m) => p.add(&key, m),
+        }
+    }
+}
+
+/// Characters a delimited separator may not be: they occur in numbers, quotes or line ends.
+const NOT_SEPARATORS: &str = "0123456789.-+eE\"'\n\r";
+
+fn check_export(e: &ExportConfig, produces: &Produces, p: &mut Problems) -> Option<Format> {
+    let layout = Format::from_name(&e.layout).filter(|f| LAYOUTS.contains(f));
+    if layout.is_none() {
+        let names: Vec<&str> = LAYOUTS.iter().map(|f| f.name()).collect();
+        p.add(
+            "export.layout",
+            format!(
+                "cannot write layout '{}'{}; choose one of {}",
+                e.layout,
+                crate::suggest::did_you_mean(&e.layout, names.iter().copied()),
+                names.join(", ")
+            ),
+        );
+    }
+    p.count_within(
+        "export.digits",
+        e.digits as u64,
+        1,
+        limits::MAX_DIGITS,
+        "significant digits; 17 keep every bit of a number",
+    );
+    let mut separator = ',';
+    if let Some(s) = &e.separator {
+        let mut chars = s.chars();
+        match (chars.next(), chars.next()) {
+            (Some(c), None) if !NOT_SEPARATORS.contains(c) => separator = c,
+            _ => p.add(
+                "export.separator",
+                format!(
+                    "must be one character that cannot occur in a number or a name, such as \
+                     \",\", \";\" or a tab; got {s:?} (not a digit, '.', '-', '+', 'e', a quote \
+                     or a line end)"
+                ),
+            ),
+        }
+        if layout.is_some_and(|f| f != Format::Delimited) {
+            p.add(
+                "export.separator",
+                format!("is used by the delimited layout only, not by {}", e.layout),
+            );
+        }
+    }
+    if e.columns.is_empty() {
+        p.add("export.columns", "lists no column to write");
+    }
+    p.no_duplicates("export.columns", e.columns.iter().map(|c| c.name.as_str()));
+    let name_breaks = match layout {
+        Some(Format::Delimited) => Some(separator),
+        Some(Format::Cfx) => Some(','),
+        _ => None,
+    };
+    for (i, c) in e.columns.iter().enumerate() {
+        let key = format!("export.columns[{i}]");
+        if !produces.all.contains(&c.quantity) {
+            let names: Vec<&str> = produces.all.iter().map(|q| q.key()).collect();
+            p.add(
+                &format!("{key}.quantity"),
+                format!(
+                    "this manoeuvre does not produce {} (it gives {})",
+                    c.quantity,
+                    names.join(", ")
+                ),
+            );
+        }
+        if c.name.trim().is_empty()
+            || c.name.contains(['"', '\n', '\r'])
+            || name_breaks.is_some_and(|s| c.name.contains(s))
+        {
+            p.add(
+                &format!("{key}.name"),
+                format!(
+                    "{:?} cannot be written as a column name: it must not be empty nor hold a \
+                     quote, a line end or the separator",
+                    c.name
+                ),
+            );
+        }
+        if let Some(u) = &c.unit {
+            match Unit::parse(u) {
+                Ok(unit) => {
+                    if let Err(m) = check_dim(&unit, c.quantity.dim()) {
+                        p.add(&format!("{key}.unit"), format!("{} {m}", c.quantity));
+                    }
+                }
+                Err(err) => p.add(&format!("{key}.unit"), err.to_string()),
+            }
+        }
+    }
+    layout
+}
+
+/// A key of a `steps` entry: `time`, or an input quantity.
+enum StepKey {
+    Time,
+    Value(Quantity),
+}
+
+/// A key of `[noise]`: `seed`, or a quantity.
+enum NoiseKey {
+    Seed,
+    Sigma(Quantity),
+}
+
+/// Reads a map key: one of `fixed` or a quantity; an unknown key names the valid ones.
+fn quantity_key<'de, D: Deserializer<'de>>(
+    d: D,
+    fixed: &str,
+) -> Result<Option<Quantity>, D::Error> {
+    let s = String::deserialize(d)?;
+    if s == fixed {
+        return Ok(None);
+    }
+    Quantity::from_key(&s).map(Some).ok_or_else(|| {
+        let valid: Vec<String> = std::iter::once(fixed)
+            .chain(Quantity::ALL.iter().map(|q| q.key()))
+            .map(|k| format!("`{k}`"))
+            .collect();
+        de::Error::custom(format!(
+            "unknown field `{s}`, expected one of {}",
+            valid.join(", ")
+        ))
     })
+}
+
+impl<'de> Deserialize<'de> for StepKey {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        Ok(quantity_key(d, "time")?.map_or(StepKey::Time, StepKey::Value))
+    }
+}
+
+impl<'de> Deserialize<'de> for NoiseKey {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        Ok(quantity_key(d, "seed")?.map_or(NoiseKey::Seed, NoiseKey::Sigma))
+    }
+}
+
+/// A time in s, or a string with a unit of time.
+struct Seconds;
+
+impl<'de> DeserializeSeed<'de> for Seconds {
+    type Value = f64;
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> std::result::Result<f64, D::Error> {
+        si::value::<D, si::Time>(d)
+    }
+}
+
+impl<'de> Deserialize<'de> for Step {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = Step;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a table such as { time = 10.0, thrust = \"30 N\" }")
+            }
+            fn visit_map<A: MapAccess<'de>>(
+                self,
+                mut map: A,
+            ) -> std::result::Result<Step, A::Error> {
+                let mut time = None;
+                let mut values = BTreeMap::new();
+                while let Some(k) = map.next_key::<StepKey>()? {
+                    match k {
+                        StepKey::Time => time = Some(map.next_value_seed(Seconds)?),
+                        StepKey::Value(q) => {
+                            values.insert(q, map.next_value::<Constant>()?);
+                        }
+                    }
+                }
+                let time = time.ok_or_else(|| de::Error::missing_field("time"))?;
+                Ok(Step { time, values })
+            }
+        }
+        d.deserialize_map(V)
+    }
+}
+
+impl<'de> Deserialize<'de> for NoiseConfig {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = NoiseConfig;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a table of a seed and standard deviations by quantity")
+            }
+            fn visit_map<A: MapAccess<'de>>(
+                self,
+                mut map: A,
+            ) -> std::result::Result<NoiseConfig, A::Error> {
+                let mut n = NoiseConfig::default();
+                while let Some(k) = map.next_key::<NoiseKey>()? {
+                    match k {
+                        NoiseKey::Seed => n.seed = map.next_value()?,
+                        NoiseKey::Sigma(q) => {
+                            n.sigma.insert(q, map.next_value::<Constant>()?);
+                        }
+                    }
+                }
+                Ok(n)
+            }
+        }
+        d.deserialize_map(V)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn example() -> String {
+        std::fs::read_to_string("configs/simulate/turn_validation.toml").unwrap()
+    }
+
+    fn problems(text: &str) -> String {
+        match load_str(Path::new("configs/simulate/x.toml"), text) {
+            Ok(_) => String::new(),
+            Err(e) => e.to_string(),
+        }
+    }
+
+    #[test]
+    fn the_bundled_configurations_load() {
+        for f in ["polar_sweep", "surge_run", "turn_paper", "turn_validation"] {
+            let path = format!("configs/simulate/{f}.toml");
+            load(Path::new(&path)).unwrap_or_else(|e| panic!("{f}: {e}"));
+        }
+    }
+
+    #[test]
+    fn limits_and_units_are_checked() {
+        let t = example();
+        let e = problems(&t.replace("dt = 0.05", "dt = 1e-9"));
+        assert!(e.contains("manoeuvre.dt") && e.contains("10000000"), "{e}");
+        let e = problems(&t.replace("duration = 25.0", "duration = 1e12"));
+        assert!(e.contains("samples, more than"), "{e}");
+        let e = problems(&t.replace("dt = 0.05", "dt = 0.05\nsubsteps = 100000000"));
+        assert!(
+            e.contains("manoeuvre.substeps") && e.contains("10000"),
+            "{e}"
+        );
+        let e = problems(&t.replace("dt = 0.05", "dt = 0.05\nsubsteps = 0"));
+        assert!(
+            e.contains("manoeuvre.substeps: must be a whole number from 1"),
+            "{e}"
+        );
+        let e = problems(&t.replace("u = 2.0", "u = \"3 deg\""));
+        assert!(
+            e.contains("manoeuvre.initial.u") && e.contains("an angle"),
+            "{e}"
+        );
+        let e = problems(&t.replace("yaw = \"0.05 deg\"", "yaw = \"0.05 m/s\""));
+        assert!(
+            e.contains("noise.yaw") && e.contains("a speed (m/s)"),
+            "{e}"
+        );
+        for sep in ["\".\"", "\"ab\"", "\"\"", "\"1\"", "\"\\n\""] {
+            let e = problems(&t.replace(
+                "layout = \"starccm\"",
+                &format!("layout = \"delimited\"\nseparator = {sep}"),
+            ));
+            assert!(
+                e.contains("export.separator: must be one character"),
+                "{sep}: {e}"
+            );
+        }
+        let e = problems(&t.replace("layout = \"starccm\"", "layout = \"starccm\"\ndigits = 0"));
+        assert!(
+            e.contains("export.digits") && e.contains("from 1 to 17"),
+            "{e}"
+        );
+    }
 }

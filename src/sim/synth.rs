@@ -97,25 +97,9 @@ impl ModelVisitor for History<'_> {
             })?;
             x0[i] = v.si;
         }
+        // bounded by the loader (sim::config::limits)
         let n = (duration / dt).round() as usize + 1;
         let times: Vec<f64> = (0..n).map(|k| k as f64 * dt).collect();
-        // inputs: start values, then steps (held between steps)
-        let mut series = Vec::new();
-        for q in model.inputs() {
-            let start = inputs.get(q).map_or(0.0, |c| c.si);
-            let mut v = vec![start; n];
-            let mut sorted: Vec<_> = steps.iter().filter(|s| s.values.contains_key(q)).collect();
-            sorted.sort_by(|a, b| a.time.total_cmp(&b.time));
-            for s in sorted {
-                let val = s.values[q].si;
-                for (k, t) in times.iter().enumerate() {
-                    if *t >= s.time - 1e-12 {
-                        v[k] = val;
-                    }
-                }
-            }
-            series.push(v);
-        }
         for q in inputs
             .keys()
             .chain(steps.iter().flat_map(|s| s.values.keys()))
@@ -133,24 +117,62 @@ impl ModelVisitor for History<'_> {
                 )));
             }
         }
+        // inputs: start values, then steps (held between steps), in one sweep per input
+        let series: Vec<Input> = model
+            .inputs()
+            .iter()
+            .map(|q| Input::Series(stepped(q, inputs, steps, &times)))
+            .collect();
         let input_series = InputSeries {
-            t: times.clone(),
-            inputs: series.iter().map(|v| Input::Series(v.clone())).collect(),
+            t: times,
+            inputs: series,
         };
         // inputs are linear between samples, as the filter and re-simulation read them: a
         // step at a sample time ramps over the interval before it
-        let xs = simulate(model, &c, &x0, &input_series, &times, *substeps)
+        let xs = simulate(model, &c, &x0, &input_series, &input_series.t, *substeps)
             .map_err(|e| Error::numerical("simulate", e.to_string()))?;
+        let InputSeries {
+            t: times,
+            inputs: series,
+        } = input_series;
         let mut cols = Columns::new();
         cols.insert(Quantity::Time, times);
         for (i, s) in model.states().iter().enumerate() {
             cols.insert(s.quantity, xs.iter().map(|x| x[i]).collect());
         }
         for (q, v) in model.inputs().iter().zip(series) {
-            cols.insert(*q, v);
+            if let Input::Series(v) = v {
+                cols.insert(*q, v);
+            }
         }
         Ok(cols)
     }
+}
+
+/// The values of input `q` at `times`: its start value, then each step's value from the
+/// step's time on (steps in time order; one pass over the times).
+fn stepped(
+    q: &Quantity,
+    start: &BTreeMap<Quantity, crate::config::Constant>,
+    steps: &[super::config::Step],
+    times: &[f64],
+) -> Vec<f64> {
+    let mut changes: Vec<(f64, f64)> = steps
+        .iter()
+        .filter_map(|s| s.values.get(q).map(|c| (s.time, c.si)))
+        .collect();
+    changes.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut value = start.get(q).map_or(0.0, |c| c.si);
+    let mut next = changes.iter().peekable();
+    times
+        .iter()
+        .map(|t| {
+            while let Some((_, v)) = next.next_if(|(at, _)| *t >= at - 1e-12) {
+                value = *v;
+            }
+            value
+        })
+        .collect()
 }
 
 /// The steady polar implied by the coefficients: paper eq. 5 inverted with q = 0.5 rho A_ref,

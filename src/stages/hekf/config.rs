@@ -157,6 +157,11 @@ pub struct HekfConfig {
     pub validation: Vec<InputSpec>,
 }
 
+/// Most filter passes (`hekf.passes`).
+pub const MAX_PASSES: u64 = 100;
+/// Most RK4 sub-steps per sample (`hekf.substeps`).
+pub const MAX_SUBSTEPS: u64 = 1000;
+
 impl HekfConfig {
     /// Adds every problem with this section to `p`.
     pub fn validate(&self, config: &Config, p: &mut Problems) {
@@ -176,9 +181,14 @@ impl HekfConfig {
         for (i, name) in self.estimate.iter().enumerate() {
             p.known_coefficient(&format!("hekf.estimate[{i}]"), name);
         }
+        p.no_duplicates("hekf.estimate", self.estimate.iter().map(String::as_str));
+        if let Some(m) = &self.measure {
+            p.no_duplicates("hekf.measure", m.iter().map(|q| q.key()));
+        }
+        let estimate_known = !p.is_poisoned("hekf.estimate");
         for (name, prior) in &self.prior {
             let key = format!("hekf.prior.{name}");
-            if !self.estimate.contains(name) {
+            if estimate_known && !self.estimate.contains(name) {
                 p.add(
                     &key,
                     format!("'{name}' has a prior but is not in hekf.estimate"),
@@ -186,16 +196,29 @@ impl HekfConfig {
             }
             if let Some(s) = prior.sigma {
                 p.positive(&format!("{key}.sigma"), s, "SI");
+                p.coefficient_sized(&format!("{key}.sigma"), s);
             }
             if let Some(v) = prior.initial {
-                p.finite(&format!("{key}.initial"), v);
+                p.coefficient_sized(&format!("{key}.initial"), v);
             }
         }
         if let Some(n) = self.passes {
-            p.within("hekf.passes", n as f64, 1.0, 100.0);
+            p.count_within(
+                "hekf.passes",
+                n as u64,
+                1,
+                MAX_PASSES,
+                "each pass runs the filter over every run",
+            );
         }
         if let Some(n) = self.substeps {
-            p.within("hekf.substeps", n as f64, 1.0, 1000.0);
+            p.count_within(
+                "hekf.substeps",
+                n as u64,
+                1,
+                MAX_SUBSTEPS,
+                "RK4 steps per sample; more only cost time",
+            );
         }
         if let Some(g) = self.gate {
             if !(g.is_finite() && (g == 0.0 || g >= 3.0)) {
@@ -209,22 +232,29 @@ impl HekfConfig {
             }
         }
         for (q, c) in &self.noise {
-            p.positive(&format!("hekf.noise.{q}"), c.si, "SI");
+            let key = format!("hekf.noise.{q}");
+            match c.expect_dim(q.dim()) {
+                Ok(()) => p.positive(&key, c.si, q.si_symbol()),
+                Err(m) => p.add(&key, m),
+            }
         }
         for (name, q) in &self.process_noise {
+            let key = format!("hekf.process_noise.{name}");
             if !(q.is_finite() && *q >= 0.0) {
-                p.add(
-                    &format!("hekf.process_noise.{name}"),
-                    format!("must be zero or positive, got {q}"),
-                );
+                p.add(&key, format!("must be zero or positive, got {q}"));
+            } else {
+                p.coefficient_sized(&key, *q);
             }
         }
         if self.runs.is_empty() {
             p.add("hekf.runs", "no run to identify from");
         }
-        for (key, r) in self.inputs() {
+        let inputs = self.inputs();
+        for (key, r) in &inputs {
+            r.validate(key, p);
             p.existing_file(&format!("{key}.file"), &r.file);
         }
+        p.no_duplicate_files(&inputs);
     }
 
     /// The input files this section names.

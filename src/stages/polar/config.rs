@@ -282,9 +282,12 @@ impl PolarConfig {
         if self.runs.is_empty() {
             p.add("polar.runs", "no run to fit");
         }
-        for (i, r) in self.runs.iter().enumerate() {
-            p.existing_file(&format!("polar.runs[{i}].file"), &r.file);
+        let inputs = self.inputs();
+        for (key, r) in &inputs {
+            r.validate(key, p);
+            p.existing_file(&format!("{key}.file"), &r.file);
         }
+        p.no_duplicate_files(&inputs);
         if let Some(a) = self.alpha_max_deg {
             if !(a.is_finite() && a > 0.0 && a <= 90.0) {
                 p.add(
@@ -293,7 +296,10 @@ impl PolarConfig {
                 );
             }
         }
-        if !(self.steady_fraction > 0.0 && self.steady_fraction <= 1.0) {
+        if !(self.steady_fraction.is_finite()
+            && self.steady_fraction > 0.0
+            && self.steady_fraction <= 1.0)
+        {
             p.add(
                 "polar.steady_fraction",
                 format!(

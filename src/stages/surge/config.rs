@@ -1,6 +1,6 @@
 //! `[surge]` configuration.
 
-use crate::config::{yes, Config, InputSpec, Problems};
+use crate::config::{si, yes, Config, InputSpec, Problems};
 use serde::{Deserialize, Serialize};
 
 /// `[surge]` configuration (see docs/stages.md for every key with an example).
@@ -19,23 +19,39 @@ pub struct SurgeConfig {
     #[serde(default)]
     pub drag_from: DragFrom,
     /// Ignore samples before this time, s (e.g. a start-up transient).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        deserialize_with = "si::option::<_, si::Time>",
+        skip_serializing_if = "Option::is_none"
+    )]
     pub t_start: Option<f64>,
     /// Ignore samples after this time, s.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        deserialize_with = "si::option::<_, si::Time>",
+        skip_serializing_if = "Option::is_none"
+    )]
     pub t_end: Option<f64>,
     /// Number of equal-width speed bins between the lowest and highest speed of the runs
     /// (default 4; ignored when `speed_bin_edges` is given), -.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub speed_bins: Option<usize>,
     /// Explicit speed bin edges, m/s, increasing.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        deserialize_with = "si::list::<_, si::Speed>",
+        skip_serializing_if = "Option::is_none"
+    )]
     pub speed_bin_edges: Option<Vec<f64>>,
     /// Fit differences over non-overlapping windows of this length, s, instead of the whole
     /// integral: needed when an integrated column is noisy (the `fx` force, or a fluctuating
     /// `thrust` column), whose noise the running integral accumulates into a random walk.
     /// Default: the whole integral for `coefficients`, 0.5 s for `force`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        deserialize_with = "si::option::<_, si::Time>",
+        skip_serializing_if = "Option::is_none"
+    )]
     pub window: Option<f64>,
     /// Fewest consecutive samples for a stretch of a run to count in a speed bin (default 20), -.
     #[serde(default = "default_min_bin_samples")]
@@ -70,9 +86,12 @@ impl SurgeConfig {
         if self.runs.is_empty() {
             p.add("surge.runs", "no run to fit");
         }
-        for (i, r) in self.runs.iter().enumerate() {
-            p.existing_file(&format!("surge.runs[{i}].file"), &r.file);
+        let inputs = self.inputs();
+        for (key, r) in &inputs {
+            r.validate(key, p);
+            p.existing_file(&format!("{key}.file"), &r.file);
         }
+        p.no_duplicate_files(&inputs);
         if let Some(t) = self.t_start {
             p.finite("surge.t_start", t);
         }
@@ -91,7 +110,7 @@ impl SurgeConfig {
             p.positive("surge.window", w, "s");
         }
         if let Some(n) = self.speed_bins {
-            p.within("surge.speed_bins", n as f64, 1.0, 100.0);
+            p.count_within("surge.speed_bins", n as u64, 1, 100, "");
             if self.speed_bin_edges.is_some() {
                 p.add(
                     "surge.speed_bins",
@@ -109,18 +128,28 @@ impl SurgeConfig {
             for (i, e) in edges.iter().enumerate() {
                 p.finite(&format!("surge.speed_bin_edges[{i}]"), *e);
             }
-            if edges.windows(2).any(|w| w[1] <= w[0]) {
+            if let Some(i) = edges
+                .windows(2)
+                .position(|w| w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater))
+            {
                 p.add(
                     "surge.speed_bin_edges",
-                    format!("edges must increase, got {edges:?}"),
+                    format!(
+                        "edges must increase, but edge {} ({} m/s) is not above edge {} ({} m/s)",
+                        i + 2,
+                        edges[i + 1],
+                        i + 1,
+                        edges[i]
+                    ),
                 );
             }
         }
-        p.within(
+        p.count_within(
             "surge.min_bin_samples",
-            self.min_bin_samples as f64,
-            3.0,
-            1e9,
+            self.min_bin_samples as u64,
+            3,
+            u64::MAX,
+            "a stretch needs samples to integrate over",
         );
     }
 

@@ -1,0 +1,273 @@
+//! Key paths in a TOML document (`hekf.runs[0].constants.thrust`): finding the key at a
+//! byte span the TOML reader reports, and removing or replacing the value at a path.
+
+use std::ops::Range;
+use toml_edit::{DocumentMut, Item, Table, TableLike, Value};
+
+/// One step of a key path.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Seg {
+    /// A key in a table.
+    Key(String),
+    /// A 0-based position in a list or an array of tables.
+    Index(usize),
+}
+
+impl Seg {
+    /// The dotted form, `a.b[0].c`.
+    pub fn join(path: &[Seg]) -> String {
+        let mut s = String::new();
+        for seg in path {
+            match seg {
+                Seg::Key(k) => {
+                    if !s.is_empty() {
+                        s.push('.');
+                    }
+                    s.push_str(k);
+                }
+                Seg::Index(i) => s.push_str(&format!("[{i}]")),
+            }
+        }
+        s
+    }
+}
+
+/// A node of the document with its place.
+pub struct Entry {
+    /// Where it is.
+    pub path: Vec<Seg>,
+    /// Its span (a table's header, a value's text).
+    pub span: Option<Range<usize>>,
+    /// The span of the key that names it, if any.
+    pub key_span: Option<Range<usize>>,
+    /// Why the value cannot be used in any configuration (not finite, a date), if so.
+    pub unusable: Option<String>,
+}
+
+/// Every table and value of `text` with its path; empty when `text` is not TOML.
+pub fn entries(text: &str) -> Vec<Entry> {
+    let Ok(doc) = toml_edit::Document::parse(text.to_string()) else {
+        return Vec::new();
+    };
+    let mut out = Vec::new();
+    walk_table(doc.as_table(), &mut Vec::new(), &mut out);
+    out
+}
+
+fn walk_table(t: &dyn TableLike, path: &mut Vec<Seg>, out: &mut Vec<Entry>) {
+    for (k, item) in t.iter() {
+        let key_span = t.key(k).and_then(|key| key.span());
+        path.push(Seg::Key(k.to_string()));
+        walk_item(item, key_span, path, out);
+        path.pop();
+    }
+}
+
+fn walk_item(
+    item: &Item,
+    key_span: Option<Range<usize>>,
+    path: &mut Vec<Seg>,
+    out: &mut Vec<Entry>,
+) {
+    match item {
+        Item::None => {}
+        Item::Table(t) => {
+            out.push(Entry {
+                path: path.clone(),
+                span: t.span(),
+                key_span,
+                unusable: None,
+            });
+            walk_table(t, path, out);
+        }
+        Item::ArrayOfTables(a) => {
+            out.push(Entry {
+                path: path.clone(),
+                span: a.span(),
+                key_span,
+                unusable: None,
+            });
+            for (i, t) in a.iter().enumerate() {
+                path.push(Seg::Index(i));
+                out.push(Entry {
+                    path: path.clone(),
+                    span: t.span(),
+                    key_span: None,
+                    unusable: None,
+                });
+                walk_table(t, path, out);
+                path.pop();
+            }
+        }
+        Item::Value(v) => walk_value(v, key_span, path, out),
+    }
+}
+
+fn walk_value(
+    v: &Value,
+    key_span: Option<Range<usize>>,
+    path: &mut Vec<Seg>,
+    out: &mut Vec<Entry>,
+) {
+    let unusable = match v {
+        Value::Float(f) if !f.value().is_finite() => Some(format!(
+            "{} is not a finite number; give a value (SI, or a string with a unit)",
+            f.display_repr()
+        )),
+        Value::Datetime(_) => Some("a date or time is not a value hydroid uses here".to_string()),
+        _ => None,
+    };
+    out.push(Entry {
+        path: path.clone(),
+        span: v.span(),
+        key_span,
+        unusable,
+    });
+    match v {
+        Value::Array(a) => {
+            for (i, e) in a.iter().enumerate() {
+                path.push(Seg::Index(i));
+                walk_value(e, None, path, out);
+                path.pop();
+            }
+        }
+        Value::InlineTable(t) => walk_table(t, path, out),
+        _ => {}
+    }
+}
+
+/// The path at `span`, and whether the span is a key (rather than a value or a table).
+/// An empty span at the start is the whole document (a key missing at the top level).
+pub fn locate(entries: &[Entry], span: Option<Range<usize>>) -> Option<(Vec<Seg>, bool)> {
+    let span = span?;
+    if span.is_empty() && span.start == 0 {
+        return Some((Vec::new(), false));
+    }
+    if let Some(e) = entries.iter().find(|e| e.key_span.as_ref() == Some(&span)) {
+        return Some((e.path.clone(), true));
+    }
+    let mut best: Option<(usize, &Entry)> = None;
+    for e in entries {
+        let Some(s) = &e.span else { continue };
+        if s.start <= span.start && span.end <= s.end {
+            let len = s.end - s.start;
+            // the smallest enclosing node; on a tie the deeper one (found later)
+            if best.is_none_or(|(b, _)| len <= b) {
+                best = Some((len, e));
+            }
+        }
+    }
+    best.map(|(_, e)| (e.path.clone(), false))
+}
+
+enum Node<'a> {
+    Item(&'a mut Item),
+    Table(&'a mut Table),
+    Value(&'a mut Value),
+}
+
+fn child<'a>(node: Node<'a>, seg: &Seg) -> Option<Node<'a>> {
+    match (node, seg) {
+        (Node::Item(Item::Table(t)) | Node::Table(t), Seg::Key(k)) => t.get_mut(k).map(Node::Item),
+        (Node::Item(Item::ArrayOfTables(a)), Seg::Index(i)) => a.get_mut(*i).map(Node::Table),
+        (Node::Item(Item::Value(v)) | Node::Value(v), seg) => match (v, seg) {
+            (Value::Array(a), Seg::Index(i)) => a.get_mut(*i).map(Node::Value),
+            (Value::InlineTable(t), Seg::Key(k)) => t.get_mut(k).map(Node::Value),
+            _ => None,
+        },
+        _ => None,
+    }
+}
+
+fn parent<'a>(doc: &'a mut DocumentMut, path: &[Seg]) -> Option<Node<'a>> {
+    let mut node = Node::Item(doc.as_item_mut());
+    for seg in path {
+        node = child(node, seg)?;
+    }
+    Some(node)
+}
+
+/// Puts `value` at `path` (replacing what is there); false if the place does not exist.
+pub fn set(doc: &mut DocumentMut, path: &[Seg], value: Value) -> bool {
+    let Some((last, head)) = path.split_last() else {
+        return false;
+    };
+    let Some(node) = parent(doc, head) else {
+        return false;
+    };
+    match (node, last) {
+        (Node::Item(Item::Table(t)) | Node::Table(t), Seg::Key(k)) => {
+            t.insert(k, Item::Value(value));
+            true
+        }
+        (Node::Item(Item::ArrayOfTables(a)), Seg::Index(i)) => match a.get_mut(*i) {
+            Some(t) => {
+                *t = Table::new();
+                true
+            }
+            None => false,
+        },
+        (Node::Item(Item::Value(v)) | Node::Value(v), seg) => match (v, seg) {
+            (Value::Array(a), Seg::Index(i)) if *i < a.len() => {
+                a.replace(*i, value);
+                true
+            }
+            (Value::InlineTable(t), Seg::Key(k)) => {
+                t.insert(k, value);
+                true
+            }
+            _ => false,
+        },
+        _ => false,
+    }
+}
+
+/// Removes the key at `path`; false if there is none.
+pub fn remove(doc: &mut DocumentMut, path: &[Seg]) -> bool {
+    let Some((Seg::Key(k), head)) = path.split_last() else {
+        return false;
+    };
+    match parent(doc, head) {
+        Some(Node::Item(Item::Table(t)) | Node::Table(t)) => t.remove(k).is_some(),
+        Some(Node::Item(Item::Value(Value::InlineTable(t))))
+        | Some(Node::Value(Value::InlineTable(t))) => t.remove(k).is_some(),
+        _ => false,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn spans_to_paths_and_back() {
+        let text = "[a]\nx = 1\n[[r]]\nf = \"u\"\nc = { t = [1, 2] }\n";
+        let list = entries(text);
+        let at = |s: &str| {
+            let i = text.find(s).unwrap();
+            locate(&list, Some(i..i + s.len())).map(|(p, k)| (Seg::join(&p), k))
+        };
+        assert_eq!(at("x"), Some(("a.x".into(), true)));
+        assert_eq!(at("\"u\""), Some(("r[0].f".into(), false)));
+        assert_eq!(at("2"), Some(("r[0].c.t[1]".into(), false)));
+        assert_eq!(at("[[r]]"), Some(("r[0]".into(), false)));
+        let mut doc: DocumentMut = text.parse().unwrap();
+        let path = |s: &str| -> Vec<Seg> {
+            s.split('.')
+                .flat_map(|p| match p.parse::<usize>() {
+                    Ok(i) => vec![Seg::Index(i)],
+                    Err(_) => vec![Seg::Key(p.to_string())],
+                })
+                .collect()
+        };
+        assert!(set(&mut doc, &path("r.0.c.t.1"), Value::from(7)));
+        assert!(remove(&mut doc, &path("a.x")));
+        assert!(set(&mut doc, &path("a.y"), Value::from("z")));
+        assert!(!remove(&mut doc, &path("a.nothing")));
+        let s = doc.to_string();
+        assert!(
+            s.contains("t = [1, 7]") && s.contains("y = \"z\"") && !s.contains("x = 1"),
+            "{s}"
+        );
+    }
+}

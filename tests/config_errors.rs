@@ -1,0 +1,314 @@
+//! Bad configurations, run and simulate: every problem is listed at once with its file, line
+//! and key, units are checked against each key's dimension, limits are named, and no message
+//! shows Rust's vocabulary.
+//!
+//! Each file in tests/fixtures/configs/errors/ says what must be reported in `# expect:`
+//! lines at its top (`file:line: key: message`, or a fragment without a place).
+
+use hydroid::error::Error;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// Fragments that belong to Rust, not to a message for a naval architect.
+const FORBIDDEN: &[&str] = &[
+    "usize", "isize", "u32", "u64", "f64", "struct ", "Some(", "None", "untagged", "borrowed", "::",
+];
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn fixtures() -> PathBuf {
+    PathBuf::from("tests/fixtures/configs/errors")
+}
+
+/// Loads a run or (for `sim_*` files) a simulate configuration; the problems, one a line.
+fn problems(path: &Path, text: &str) -> Option<String> {
+    let sim = path
+        .file_name()
+        .is_some_and(|n| n.to_string_lossy().starts_with("sim_"));
+    let r = if sim {
+        // through a file, as `hydroid simulate` reads it
+        let dir = tempfile::tempdir().unwrap();
+        let file = dir.path().join(path.file_name().unwrap());
+        std::fs::write(&file, text).unwrap();
+        hydroid::sim::config::load(&file)
+            .map(|_| ())
+            .map_err(|e| match e {
+                Error::Config(list) => Error::Config(
+                    list.into_iter()
+                        .map(|mut p| {
+                            p.file = path.to_path_buf();
+                            p
+                        })
+                        .collect(),
+                ),
+                e => e,
+            })
+    } else {
+        hydroid::config::load_str(path, text, &[]).map(|_| ())
+    };
+    match r {
+        Ok(()) => None,
+        Err(Error::Config(list)) => Some(
+            list.iter()
+                .map(|p| p.to_string())
+                .collect::<Vec<_>>()
+                .join("\n"),
+        ),
+        Err(e) => panic!("{}: not a configuration error: {e}", path.display()),
+    }
+}
+
+fn assert_words(context: &str, message: &str) {
+    for f in FORBIDDEN {
+        assert!(
+            !message.contains(f),
+            "{context}: '{f}' in the message\n{message}"
+        );
+    }
+}
+
+#[test]
+fn every_fixture_reports_what_it_expects_and_in_words() {
+    std::env::set_current_dir(root()).unwrap();
+    let mut files: Vec<PathBuf> = std::fs::read_dir(fixtures())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    files.sort();
+    assert!(files.len() >= 15, "{} fixtures", files.len());
+    let mut failures = Vec::new();
+    for f in files {
+        let text = std::fs::read_to_string(&f).unwrap();
+        let expect: Vec<&str> = text
+            .lines()
+            .filter_map(|l| l.strip_prefix("# expect: "))
+            .collect();
+        assert!(!expect.is_empty(), "{}: no expectation", f.display());
+        let Some(got) = problems(&f, &text) else {
+            failures.push(format!("{} loads without a problem", f.display()));
+            continue;
+        };
+        for e in &expect {
+            if !got.contains(e) {
+                failures.push(format!("{}: expected\n  {e}\nin\n{got}", f.display()));
+            }
+        }
+        // each expectation is one problem, and nothing else is reported
+        if got.lines().count() != expect.len() {
+            failures.push(format!(
+                "{}: not the problems expected:\n{got}",
+                f.display()
+            ));
+        }
+        assert_words(&f.display().to_string(), &got);
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+}
+
+/// Replaces the value on the first line that sets `key` with `value`.
+fn with_value(text: &str, line: usize, value: &str) -> String {
+    text.lines()
+        .enumerate()
+        .map(|(i, l)| {
+            if i == line {
+                let (k, _) = l.split_once('=').unwrap();
+                format!("{k}= {value}")
+            } else {
+                l.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+#[test]
+fn wrong_values_for_every_key_are_reported_in_words() {
+    std::env::set_current_dir(root()).unwrap();
+    let values = [
+        "\"text\"",
+        "true",
+        "[1, 2]",
+        "{ a = 1 }",
+        "-1",
+        "0",
+        "2.5",
+        "nan",
+        "-inf",
+        "\"3 furlongs\"",
+        "\"3 deg\"",
+        "1979-05-27",
+    ];
+    let mut checked = 0;
+    for (name, file) in [
+        ("run", "tests/fixtures/configs/base.toml"),
+        ("sim", "configs/simulate/turn_validation.toml"),
+        ("sim", "configs/simulate/polar_sweep.toml"),
+    ] {
+        let text = std::fs::read_to_string(file).unwrap();
+        let path = Path::new(file).with_file_name(format!("{name}_mutated.toml"));
+        for (i, line) in text.lines().enumerate() {
+            let l = line.trim_start();
+            if l.starts_with('#') || l.starts_with('[') || !l.contains('=') || l.ends_with('[') {
+                continue;
+            }
+            for v in values {
+                let bad = with_value(&text, i, v);
+                if let Some(m) = problems(&path, &bad) {
+                    assert_words(&format!("{file} line {} = {v}", i + 1), &m);
+                    checked += 1;
+                }
+            }
+        }
+    }
+    assert!(checked > 300, "{checked}");
+}
+
+#[test]
+fn a_type_error_leaves_the_rest_checked() {
+    std::env::set_current_dir(root()).unwrap();
+    let text = std::fs::read_to_string("tests/fixtures/configs/base.toml").unwrap();
+    // a required key of the wrong type in every section, and a semantic problem in each
+    let bad = text
+        .replace("length = 1.2", "length = [1.2]")
+        .replace("mu = 0.0009", "mu = \"thin\"")
+        .replace("rho = 1025.0", "rho = 10250.0")
+        .replace("file = \"", "file = 3\nname = \"")
+        .replace("estimate = [\"Yvd\"", "passes = 1000\nestimate = [\"Yvdd\"");
+    let path = Path::new("tests/fixtures/configs/all_at_once.toml");
+    let got = problems(path, &bad).unwrap();
+    for e in [
+        "all_at_once.toml:4: vehicle.length: expected a number in SI units or a string with a unit",
+        "fluid.mu: \"thin\" is not a number",
+        "fluid.rho: 10250 kg/m^3 is outside the plausible range",
+        "hekf.runs[0].file: expected text in quotes, got the whole number 3",
+        "hekf.passes: must be a whole number from 1 to 100",
+        "hekf.estimate[0]: unknown coefficient 'Yvdd'; did you mean 'Yvd'?",
+    ] {
+        assert!(got.contains(e), "expected\n  {e}\nin\n{got}");
+    }
+    assert_eq!(got.lines().count(), 6, "{got}");
+}
+
+fn hydroid(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_hydroid"))
+        .args(args)
+        .current_dir(root())
+        .output()
+        .expect("the hydroid binary runs")
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+#[test]
+fn nothing_to_run_is_refused_by_check_and_run() {
+    let f = "tests/fixtures/configs/errors/every_stage_disabled.toml";
+    let o = hydroid(&["check", f]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stderr).contains("nothing to run"),
+        "{}",
+        text(&o.stderr)
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = hydroid(&["run", f, "--out", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
+    assert!(!out.exists());
+}
+
+#[test]
+fn simulate_refuses_unbounded_requests_quickly_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    for f in [
+        "sim_duration_huge",
+        "sim_dt_1e-9",
+        "sim_substeps_huge",
+        "sim_separator_dot",
+    ] {
+        let out = dir.path().join(format!("{f}.csv"));
+        let start = std::time::Instant::now();
+        let o = hydroid(&[
+            "simulate",
+            &format!("tests/fixtures/configs/errors/{f}.toml"),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        let e = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{f}: {e}");
+        assert!(
+            !e.contains("panicked") && !e.contains("memory allocation"),
+            "{f}: {e}"
+        );
+        assert!(
+            start.elapsed().as_secs() < 20,
+            "{f} took {:?}",
+            start.elapsed()
+        );
+        assert!(!out.exists(), "{f} wrote");
+    }
+}
+
+#[test]
+fn set_messages_name_the_override_in_words() {
+    let o = hydroid(&[
+        "check",
+        "tests/fixtures/configs/base.toml",
+        "--set",
+        "hekf.estimate[0]=3",
+        "--set",
+        "vehicle.mass[0]=1",
+        "--set",
+        "hekf.passes=\"many\"",
+    ]);
+    let e = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{e}");
+    assert!(
+        e.contains("--set vehicle.mass[0]=1: 'mass' is not a list that [0] can index"),
+        "{e}"
+    );
+    assert!(
+        e.contains("hekf.passes: (from --set hekf.passes=\"many\") expected a whole number"),
+        "{e}"
+    );
+    assert_words("--set", &e);
+}
+
+/// A minimal results.json of a run of `vehicle` with `model`.
+fn results(dir: &Path, name: &str, mass: f64, model: &str) -> PathBuf {
+    let p = dir.join(format!("{name}.json"));
+    let json = format!(
+        r#"{{"coefficients": [], "vehicle": {{"name": "sub", "mass": {mass}, "length": 1.2,
+            "q": 16.1}}, "configuration": {{"hekf": {{"model": "{model}"}}}}}}"#
+    );
+    std::fs::write(&p, json).unwrap();
+    p
+}
+
+#[test]
+fn compare_warns_about_different_vehicles_and_models() {
+    let dir = tempfile::tempdir().unwrap();
+    let a = results(dir.path(), "a", 50.0, "spheroid3");
+    let b = results(dir.path(), "b", 60.0, "spheroid6");
+    let o = hydroid(&["compare", a.to_str().unwrap(), b.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    for s in [text(&o.stderr), text(&o.stdout)] {
+        assert!(s.contains("different vehicles or models"), "{s}");
+        assert!(s.contains("vehicle mass: 50 (A) vs 60 (B)"), "{s}");
+        assert!(
+            s.contains("hekf model: spheroid3 (A) vs spheroid6 (B)"),
+            "{s}"
+        );
+        assert!(!s.contains("vehicle length"), "{s}");
+    }
+    let same = results(dir.path(), "c", 50.0, "spheroid3");
+    let o = hydroid(&["compare", a.to_str().unwrap(), same.to_str().unwrap()]);
+    assert!(
+        !text(&o.stderr).contains("different"),
+        "{}",
+        text(&o.stderr)
+    );
+}
