@@ -78,8 +78,7 @@ fn stderr(o: &Output) -> String {
 }
 
 fn results(dir: &Path) -> Value {
-    serde_json::from_str(&std::fs::read_to_string(dir.join("out/results.json")).unwrap())
-        .unwrap()
+    serde_json::from_str(&std::fs::read_to_string(dir.join("out/results.json")).unwrap()).unwrap()
 }
 
 /// The results.json warnings whose message contains `fragment`.
@@ -165,38 +164,63 @@ fn the_bundled_example_says_its_warnings_with_their_meaning() {
     assert!(o.status.success(), "{}", stderr(&o));
     let e = stderr(&o);
     // the surge stage's warning and the failed NIS test reach the console ...
-    assert!(e.contains("warning: surge: Xud differs between speed bins"), "{e}");
-    assert!(e.contains("the innovations are inconsistent with the noise model"), "{e}");
-    assert!(e.contains("meaning: the model, with the coefficients held fixed"), "{e}");
+    assert!(
+        e.contains("warning: surge: Xud differs between speed bins"),
+        "{e}"
+    );
+    assert!(
+        e.contains("the innovations are inconsistent with the noise model"),
+        "{e}"
+    );
+    assert!(
+        e.contains("meaning: the model, with the coefficients held fixed"),
+        "{e}"
+    );
     assert!(e.contains("warnings above (also in results.json"), "{e}");
     // ... results.json ...
     let r = results(dir.path());
     let nis = warnings_with(&r, "mean NIS");
     assert_eq!(nis.len(), 1, "{:#?}", r["warnings"]);
     assert_eq!(nis[0]["stage"], "hekf");
-    assert!(nis[0]["run"].as_str().unwrap().starts_with("paper manoeuvre"));
+    assert!(nis[0]["run"]
+        .as_str()
+        .unwrap()
+        .starts_with("paper manoeuvre"));
     assert!(nis[0]["meaning"].as_str().unwrap().contains("too small"));
     assert_eq!(warnings_with(&r, "speed bins")[0]["stage"], "surge");
     // ... and the report's Warnings section
     let md = std::fs::read_to_string(dir.path().join("out/report.md")).unwrap();
     let section = &md[md.find("## Warnings").unwrap()..];
     assert!(section.contains("mean NIS 12.3"), "{section}");
-    assert!(section.contains("Xud differs between speed bins"), "{section}");
+    assert!(
+        section.contains("Xud differs between speed bins"),
+        "{section}"
+    );
 }
 
 #[test]
 fn a_wrong_constant_thrust_is_named_not_hidden() {
     let dir = example();
-    let o = run(dir.path(), &["--set", "hekf.runs[0].constants.thrust=\"30 N\""]);
+    let o = run(
+        dir.path(),
+        &["--set", "hekf.runs[0].constants.thrust=\"30 N\""],
+    );
     let e = stderr(&o);
-    assert!(e.contains("the constant thrust of 30.00 N does not fit the motion"), "{e}");
+    assert!(
+        e.contains("the constant thrust of 30.00 N does not fit the motion"),
+        "{e}"
+    );
     assert!(e.contains("implies 21.8"), "{e}");
     assert!(e.contains("mean NIS"), "{e}");
     let r = results(dir.path());
     assert_eq!(warnings_with(&r, "does not fit the motion").len(), 1);
     assert_eq!(warnings_with(&r, "stayed beyond the 8 sigma gate").len(), 1);
     // the validation run, re-simulated with these coefficients, says so too
-    assert!(!warnings_with(&r, "poor re-simulation").is_empty(), "{:#?}", r["warnings"]);
+    assert!(
+        !warnings_with(&r, "poor re-simulation").is_empty(),
+        "{:#?}",
+        r["warnings"]
+    );
 }
 
 #[test]
@@ -253,7 +277,10 @@ fn spike_cells_are_left_out_and_named_by_line() {
     let u = warnings_with(&r, "outliers in u left out");
     assert_eq!(u.len(), 1, "{:#?}", r["warnings"]);
     let m = u[0]["message"].as_str().unwrap();
-    assert!(m.contains("line 6 (t = 0 s: 1e308") && m.contains("line 1206"), "{m}");
+    assert!(
+        m.contains("line 6 (t = 0 s: 1e308") && m.contains("line 1206"),
+        "{m}"
+    );
     let v = warnings_with(&r, "1 outlier in v left out: line 706");
     assert_eq!(v.len(), 1, "{:#?}", r["warnings"]);
     assert!(warnings_with(&r, "re-simulation").is_empty());
@@ -292,9 +319,15 @@ fn earth_frame_velocities_under_a_body_label_are_named() {
     let o = run(dir.path(), &[]);
     let e = stderr(&o);
     assert_eq!(o.status.code(), Some(2), "{e}");
-    assert!(e.contains("set `velocity_frame = \"earth\"` for this run"), "{e}");
+    assert!(
+        e.contains("set `velocity_frame = \"earth\"` for this run"),
+        "{e}"
+    );
     // told it is earth-frame, the run goes through
-    let o = run(dir.path(), &["--set", "hekf.runs[0].velocity_frame=\"earth\""]);
+    let o = run(
+        dir.path(),
+        &["--set", "hekf.runs[0].velocity_frame=\"earth\""],
+    );
     assert!(o.status.success(), "{}", stderr(&o));
 }
 
@@ -303,14 +336,20 @@ fn knots_under_a_metre_per_second_label_are_named() {
     let dir = example();
     edit_rows(&dir.path().join(TURN), |_, c| {
         for k in [U, V] {
-            c[k] = format!("{:.9}", c[k].trim().parse::<f64>().unwrap() * 3600.0 / 1852.0);
+            c[k] = format!(
+                "{:.9}",
+                c[k].trim().parse::<f64>().unwrap() * 3600.0 / 1852.0
+            );
         }
         true
     });
     let o = run(dir.path(), &[]);
     let e = stderr(&o);
     assert_eq!(o.status.code(), Some(2), "{e}");
-    assert!(e.contains("the velocities look like knots read as m/s"), "{e}");
+    assert!(
+        e.contains("the velocities look like knots read as m/s"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -369,6 +408,9 @@ fn a_polar_in_radians_under_a_degree_label_is_named() {
     let o = run(dir.path(), &["--set", "hekf.enabled=false"]);
     assert!(o.status.success(), "{}", stderr(&o));
     let e = stderr(&o);
-    assert!(e.contains("as radians they would span -12.0 to 12.0 deg"), "{e}");
+    assert!(
+        e.contains("as radians they would span -12.0 to 12.0 deg"),
+        "{e}"
+    );
     assert!(e.contains("57.3 times too large"), "{e}");
 }

@@ -594,7 +594,7 @@ fn cubic_term_recovers_the_slope_of_a_wide_sweep() {
     assert!(linear
         .warnings
         .iter()
-        .any(|w| w.message.contains("polar.lift.cubic")));
+        .any(|w| w.meaning.contains("polar.lift.cubic")));
     let cubic = run(
         &config("[lift]\ncubic = true\n"),
         std::slice::from_ref(&rec),

@@ -165,7 +165,10 @@ fn a_wrong_xuu_shows_up_as_a_spread_between_speed_bins() {
         .any(|w| w.message.contains("differs between speed bins")));
     // The whole-run residuals show the misfit as well.
     assert!(r.residual_lag1.unwrap() > 0.5);
-    assert!(r.warnings.iter().any(|w| w.message.contains("autocorrelated")));
+    assert!(r
+        .warnings
+        .iter()
+        .any(|w| w.message.contains("autocorrelated")));
 }
 
 #[test]
@@ -337,7 +340,10 @@ fn a_force_export_with_the_wrong_sign_is_flagged() {
         &[rec],
     );
     assert!(r.momentum[0].relative > 0.05);
-    assert!(r.warnings.iter().any(|w| w.message.contains("momentum balance")));
+    assert!(r
+        .warnings
+        .iter()
+        .any(|w| w.message.contains("momentum balance")));
     assert!(r.warnings.iter().any(|w| w.message.contains("is positive")));
 }
 

@@ -409,7 +409,11 @@ mod tests {
         );
         f.predict(&mut sys, 1.0, 4.0, None).unwrap();
         assert_eq!(sys.calls, 4 * 300, "RK4 calls");
-        assert!((f.x[0] - 2.0 * (-0.7f64 * 3.0).exp()).abs() < 1e-9, "{}", f.x[0]);
+        assert!(
+            (f.x[0] - 2.0 * (-0.7f64 * 3.0).exp()).abs() < 1e-9,
+            "{}",
+            f.x[0]
+        );
         assert!((f.p[0] - 0.5 * (-1.4f64 * 3.0).exp()).abs() < 1e-9);
         // an absurd gap is an error naming it, not hours of integration
         let e = f.predict(&mut sys, 4.0, 1e9, None).unwrap_err();

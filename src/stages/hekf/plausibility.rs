@@ -140,7 +140,7 @@ fn complex_gain(measured: &[(f64, f64)], predicted: &[(f64, f64)]) -> Option<((f
     }
     let idx95 = (0.95 * (mag.len() - 1) as f64) as usize;
     let p95 = *mag.select_nth_unstable_by(idx95, f64::total_cmp).1;
-    if !(p95 > 0.0) {
+    if p95.is_nan() || p95 <= 0.0 {
         return None;
     }
     let used: Vec<usize> = (0..predicted.len())
@@ -227,7 +227,8 @@ fn heading_rate(rec: &Record) -> Option<Finding> {
             _ => r[k],
         }
     };
-    let (measured, predicted): (Vec<(f64, f64)>, Vec<(f64, f64)>) = windows(times)
+    type Pairs = Vec<(f64, f64)>;
+    let (measured, predicted): (Pairs, Pairs) = windows(times)
         .into_iter()
         .map(|w| {
             let (m, p) = increment(times, w, psi, euler);
