@@ -1,0 +1,98 @@
+//! What the command line prints and where: `--verbose` and `--quiet`, `--json` on stdout with
+//! everything else on stderr, and unchanged exit codes.
+
+mod common;
+
+use common::{hydroid, text};
+
+/// The bundled example without the HEKF (well under a second), into a temporary folder, with
+/// an input read in the earth frame so that the run has a warning.
+fn quick_run(extra: &[&str]) -> (tempfile::TempDir, std::process::Output) {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let mut args = vec![
+        "run",
+        "configs/spheroid.toml",
+        "--out",
+        out.to_str().unwrap(),
+        "--set",
+        "hekf.enabled=false",
+        "--set",
+        "surge.runs[0].velocity_frame=\"earth\"",
+        "--set",
+        "surge.runs[0].constants={yaw=0}",
+    ];
+    args.extend_from_slice(extra);
+    let o = hydroid(&args);
+    (dir, o)
+}
+
+#[test]
+fn quiet_prints_only_warnings_and_keeps_the_table() {
+    let (_dir, o) = quick_run(&["--quiet"]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let stderr = text(&o.stderr);
+    assert_eq!(
+        stderr.trim(),
+        "warning: surge run: velocities rotated from the earth frame into the body frame"
+    );
+    assert!(text(&o.stdout).contains("Yuvl"), "{}", text(&o.stdout));
+    // the same run without --quiet says what each stage did
+    let (_dir, o) = quick_run(&[]);
+    assert!(text(&o.stderr).contains("polar: 7 coefficients"));
+    // --quiet is global: it may come before the command, and excludes --verbose
+    let o = hydroid(&["-q", "--verbose", "check", "configs/spheroid.toml"]);
+    assert_eq!(o.status.code(), Some(2));
+}
+
+#[test]
+fn filter_details_with_verbose() {
+    // without --verbose: see run_json_prints_results_json_and_only_that
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = hydroid(&[
+        "run",
+        "configs/spheroid.toml",
+        "--out",
+        out.to_str().unwrap(),
+        "--set",
+        "hekf.passes=1",
+        "--verbose",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let verbose = text(&o.stderr);
+    assert_eq!(verbose.matches("hekf prior: ").count(), 6, "{verbose}");
+    assert_eq!(verbose.matches("hekf noise of ").count(), 6, "{verbose}");
+    assert!(verbose.contains("hekf settings: hydroid preset, 1 passes"));
+}
+
+#[test]
+fn run_json_prints_results_json_and_only_that() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = hydroid(&[
+        "run",
+        "configs/spheroid.toml",
+        "--out",
+        out.to_str().unwrap(),
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("stdout is JSON");
+    assert_eq!(v["schema"], "hydroid-results/1");
+    assert_eq!(o.stdout, std::fs::read(out.join("results.json")).unwrap());
+    let stderr = text(&o.stderr);
+    assert!(
+        stderr.contains(&format!("wrote {}", out.display())),
+        "{stderr}"
+    );
+    // the filter's details are for --verbose only
+    assert!(stderr.contains("hekf: 6 coefficients"), "{stderr}");
+    for detail in ["hekf settings:", "hekf prior:", "hekf noise of"] {
+        assert!(!stderr.contains(detail), "{stderr}");
+    }
+    // a failed run: the same exit code as without --json, nothing on stdout
+    let o = hydroid(&["run", "configs/missing.toml", "--json"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(o.stdout.is_empty());
+}
