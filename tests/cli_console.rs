@@ -96,3 +96,41 @@ fn run_json_prints_results_json_and_only_that() {
     assert_eq!(o.status.code(), Some(2));
     assert!(o.stdout.is_empty());
 }
+
+#[test]
+fn coefficients_lists_the_catalogue_and_one_model() {
+    let o = hydroid(&["coefficients"]);
+    assert_eq!(o.status.code(), Some(0));
+    let all = text(&o.stdout);
+    assert!(all.contains("Xud") && all.contains("Kpp") && all.contains("kg m^2"));
+    assert!(
+        all.contains("derived: paper eq. 4: Xvr = -Yvd (spheroid3)"),
+        "{all}"
+    );
+    let o = hydroid(&["coefficients", "spheroid3"]);
+    assert_eq!(o.status.code(), Some(0));
+    let one = text(&o.stdout);
+    assert!(one.contains("states: u [m/s], v [m/s], r [rad/s]"), "{one}");
+    assert!(one.contains("psi (column yaw) [rad]"), "{one}");
+    assert!(one.contains("inputs: thrust [N]"), "{one}");
+    assert!(!one.contains("Kpp"), "{one}");
+    let o = hydroid(&["coefficients", "spheroid6", "--json"]);
+    assert_eq!(o.status.code(), Some(0));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("stdout is JSON");
+    assert_eq!(v["model"]["name"], "spheroid6");
+    assert_eq!(v["model"]["states"].as_array().unwrap().len(), 12);
+    let kpp = v["coefficients"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|c| c["name"] == "Kpp")
+        .unwrap();
+    assert_eq!(kpp["unit"], "kg m^2");
+    assert_eq!(kpp["given_by"][0]["source"], "hekf");
+    let o = hydroid(&["coefficients", "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("stdout is JSON");
+    assert_eq!(v["models"].as_array().unwrap().len(), 2);
+    let o = hydroid(&["coefficients", "spheroid7"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(text(&o.stderr).contains("did you mean 'spheroid3'"));
+}

@@ -2,6 +2,7 @@
 
 mod analytic;
 mod check;
+mod coefficients;
 mod compare;
 mod inspect;
 mod progress;
@@ -43,6 +44,7 @@ enum Command {
     Analytic(analytic::Args),
     Rerun(rerun::Args),
     Compare(compare::Args),
+    Coefficients(coefficients::Args),
 }
 
 /// Parses the command line, runs the command and returns the exit code.
@@ -66,6 +68,7 @@ pub fn main() -> i32 {
         Command::Analytic(a) => analytic::run(a, &mut out),
         Command::Rerun(a) => rerun::run(a, &mut out, say),
         Command::Compare(a) => compare::run(a, &mut out),
+        Command::Coefficients(a) => coefficients::run(a, &mut out),
     };
     let _ = out.flush();
     match result {
