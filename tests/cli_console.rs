@@ -134,3 +134,112 @@ fn coefficients_lists_the_catalogue_and_one_model() {
     assert_eq!(o.status.code(), Some(2));
     assert!(text(&o.stderr).contains("did you mean 'spheroid3'"));
 }
+
+/// Fills in every `FILL-IN` file of a template with a small delimited export whose columns
+/// are the ones the template maps (units in the headers), as a user would.
+fn fill_in(config: &std::path::Path) {
+    let text = std::fs::read_to_string(config).unwrap();
+    let doc: toml::Table = toml::from_str(&text).unwrap();
+    let mut filled = text.clone();
+    for stage in ["polar", "surge", "hekf"] {
+        let Some(runs) = doc.get(stage).and_then(|s| s.get("runs")) else {
+            continue;
+        };
+        for run in runs.as_array().unwrap() {
+            let placeholder = run["file"].as_str().unwrap();
+            assert!(placeholder.starts_with("FILL-IN"), "{placeholder}");
+            let columns = run["columns"].as_table().unwrap();
+            let header: Vec<String> = columns
+                .iter()
+                .map(|(q, name)| {
+                    let unit = hydroid::quantity::Quantity::from_key(q)
+                        .unwrap()
+                        .si_symbol();
+                    let name = name.as_str().unwrap();
+                    if unit == "-" {
+                        name.to_string()
+                    } else {
+                        format!("{name} [{unit}]")
+                    }
+                })
+                .collect();
+            let mut csv = header.join(",") + "\n";
+            for i in 0..50 {
+                let row: Vec<String> = columns
+                    .keys()
+                    .map(|q| match q.as_str() {
+                        "time" => format!("{}", 0.01 * i as f64),
+                        "alpha" => format!("{}", 0.01 * (i as f64 - 25.0)),
+                        _ => format!("{}", 1.0 + 0.001 * i as f64),
+                    })
+                    .collect();
+                csv += &(row.join(",") + "\n");
+            }
+            let name = format!("{stage}.csv");
+            std::fs::write(config.parent().unwrap().join(&name), csv).unwrap();
+            filled = filled.replace(placeholder, &name);
+        }
+    }
+    std::fs::write(config, filled).unwrap();
+}
+
+#[test]
+fn init_writes_a_template_check_accepts_once_filled_in() {
+    let dir = tempfile::tempdir().unwrap();
+    let project = dir.path().join("project");
+    let o = hydroid(&["init", project.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let config = project.join("hydroid.toml");
+    // the template and nothing else
+    assert_eq!(std::fs::read_dir(&project).unwrap().count(), 1);
+    let template = std::fs::read(&config).unwrap();
+    // as written, check names every file to fill in
+    let o = hydroid(&["check", config.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert_eq!(
+        text(&o.stderr).matches("FILL-IN").count(),
+        3,
+        "{}",
+        text(&o.stderr)
+    );
+    // never overwritten, not even by a second init
+    let o = hydroid(&["init", project.to_str().unwrap(), "--model", "spheroid6"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        text(&o.stderr).contains("already exists"),
+        "{}",
+        text(&o.stderr)
+    );
+    assert_eq!(std::fs::read(&config).unwrap(), template);
+    fill_in(&config);
+    let o = hydroid(&["check", config.to_str().unwrap()]);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}{}",
+        text(&o.stdout),
+        text(&o.stderr)
+    );
+
+    // the 6-DOF model with the filter alone: what no stage gives is asked for
+    let config = dir.path().join("six.toml");
+    let o = hydroid(&[
+        "init",
+        config.to_str().unwrap(),
+        "--stages",
+        "hekf",
+        "--model",
+        "spheroid6",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    fill_in(&config);
+    let o = hydroid(&["check", config.to_str().unwrap()]);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}{}",
+        text(&o.stdout),
+        text(&o.stderr)
+    );
+    assert!(text(&o.stdout).contains("spheroid6 model"));
+}

@@ -4,6 +4,7 @@ mod analytic;
 mod check;
 mod coefficients;
 mod compare;
+mod init;
 mod inspect;
 mod progress;
 mod rerun;
@@ -45,6 +46,7 @@ enum Command {
     Rerun(rerun::Args),
     Compare(compare::Args),
     Coefficients(coefficients::Args),
+    Init(init::Args),
 }
 
 /// Parses the command line, runs the command and returns the exit code.
@@ -69,6 +71,7 @@ pub fn main() -> i32 {
         Command::Rerun(a) => rerun::run(a, &mut out, say),
         Command::Compare(a) => compare::run(a, &mut out),
         Command::Coefficients(a) => coefficients::run(a, &mut out),
+        Command::Init(a) => init::run(a, &mut out, say),
     };
     let _ = out.flush();
     match result {
