@@ -255,3 +255,63 @@ fn init_writes_a_template_check_accepts_once_filled_in() {
     );
     assert!(text(&o.stdout).contains("spheroid6 model"));
 }
+
+#[test]
+fn check_json_lists_what_would_run_and_every_problem() {
+    let o = hydroid(&["check", "configs/spheroid.toml", "--json"]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("stdout is JSON");
+    assert_eq!(v["ok"], true);
+    assert_eq!(v["problems"], serde_json::json!([]));
+    assert_eq!(
+        v["would_run"]["stages"],
+        serde_json::json!(["polar", "surge", "hekf"])
+    );
+    assert_eq!(v["would_run"]["hekf"]["model"], "spheroid3");
+    let inputs = v["inputs"].as_array().unwrap();
+    assert_eq!(inputs.len(), 4);
+    assert!(
+        inputs.iter().all(|i| i["status"] == "usable"),
+        "{inputs:#?}"
+    );
+    assert_eq!(inputs[1]["rows"], 2001);
+
+    // configuration problems: exit code 2, each with its line and key
+    let o = hydroid(&[
+        "check",
+        "tests/fixtures/configs/three_mistakes.toml",
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(o.stderr.is_empty(), "{}", text(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("stdout is JSON");
+    assert_eq!(v["ok"], false);
+    let problems = v["problems"].as_array().unwrap();
+    assert_eq!(problems.len(), 3, "{problems:#?}");
+    let mass = problems
+        .iter()
+        .find(|p| p["key"] == "vehicle.mass")
+        .unwrap();
+    assert_eq!(mass["line"], 3);
+    assert!(mass["file"]
+        .as_str()
+        .unwrap()
+        .ends_with("three_mistakes.toml"));
+    assert!(mass["message"].as_str().unwrap().contains("positive"));
+
+    // a bad input file only: exit code 1, the problem placed in the file
+    let o = hydroid(&[
+        "check",
+        "configs/spheroid.toml",
+        "--json",
+        "--set",
+        "hekf.runs[0].file=\"../tests/fixtures/bad/ragged_row.csv\"",
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("stdout is JSON");
+    let p = &v["problems"][0];
+    assert_eq!(p["key"], "hekf.runs[0]");
+    assert_eq!(p["line"], 4);
+    assert!(p["file"].as_str().unwrap().ends_with("ragged_row.csv"));
+    assert_eq!(v["inputs"][2]["status"], "unusable");
+}

@@ -1,6 +1,6 @@
 //! `hydroid coefficients [MODEL]`: the coefficient catalogue (docs/coefficients.md).
 
-use super::CmdResult;
+use super::{json, CmdResult};
 use hydroid::catalogue::{self, Entry};
 use hydroid::Error;
 use std::io::Write;
@@ -26,7 +26,7 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
                 .iter()
                 .map(|m| catalogue::model(*m))
                 .collect();
-            json(
+            json::write(
                 out,
                 &serde_json::json!({ "coefficients": entries, "models": models }),
             )?;
@@ -41,7 +41,7 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
         .filter(|e| model.coefficients.iter().any(|c| c.name == e.name))
         .collect();
     if args.json {
-        json(
+        json::write(
             out,
             &serde_json::json!({ "model": model, "coefficients": of_model }),
         )?;
@@ -50,12 +50,5 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
         let owned: Vec<Entry> = of_model.into_iter().cloned().collect();
         write!(out, "{}", catalogue::text(&owned))?;
     }
-    Ok(0)
-}
-
-fn json(out: &mut impl Write, value: &serde_json::Value) -> CmdResult {
-    let text = serde_json::to_string_pretty(value)
-        .map_err(|e| Error::Usage(format!("cannot format JSON: {e}")))?;
-    writeln!(out, "{text}")?;
     Ok(0)
 }

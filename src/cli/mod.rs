@@ -6,6 +6,7 @@ mod coefficients;
 mod compare;
 mod init;
 mod inspect;
+mod json;
 mod progress;
 mod rerun;
 mod run;
