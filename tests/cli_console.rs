@@ -315,3 +315,40 @@ fn check_json_lists_what_would_run_and_every_problem() {
     assert!(p["file"].as_str().unwrap().ends_with("ragged_row.csv"));
     assert_eq!(v["inputs"][2]["status"], "unusable");
 }
+
+#[test]
+fn compare_json_gives_the_differences() {
+    let dir = tempfile::tempdir().unwrap();
+    let write = |name: &str, coefficients: serde_json::Value| {
+        let p = dir.path().join(name);
+        std::fs::write(
+            &p,
+            serde_json::json!({ "coefficients": coefficients }).to_string(),
+        )
+        .unwrap();
+        p.to_str().unwrap().to_string()
+    };
+    let coef = |name: &str, value: f64, sigma: f64| serde_json::json!({"name": name, "value": value, "sigma": sigma, "unit": "kg", "source": "hekf"});
+    let a = write(
+        "a.json",
+        serde_json::json!([coef("Yvd", -23.0, 0.3), coef("Nvv", 10.0, 0.5)]),
+    );
+    let b = write("b.json", serde_json::json!([coef("Yvd", -23.5, 0.4)]));
+    let o = hydroid(&["compare", &a, &b, "--json"]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("stdout is JSON");
+    let rows = v["coefficients"].as_array().unwrap();
+    let yvd = rows.iter().find(|r| r["name"] == "Yvd").unwrap();
+    assert_eq!(yvd["difference"], -0.5);
+    assert_eq!(yvd["difference_in_sigma"], -1.0);
+    assert_eq!(yvd["b"]["sigma"], 0.4);
+    let nvv = rows.iter().find(|r| r["name"] == "Nvv").unwrap();
+    assert!(nvv["b"].is_null() && nvv["difference"].is_null());
+    // a failure keeps its exit code and leaves stdout empty
+    let missing = dir.path().join("none.json");
+    let o = hydroid(&["compare", &a, missing.to_str().unwrap(), "--json"]);
+    let plain = hydroid(&["compare", &a, missing.to_str().unwrap()]);
+    assert_eq!(o.status.code(), plain.status.code());
+    assert_ne!(o.status.code(), Some(0));
+    assert!(o.stdout.is_empty());
+}
