@@ -352,3 +352,52 @@ fn compare_json_gives_the_differences() {
     assert_ne!(o.status.code(), Some(0));
     assert!(o.stdout.is_empty());
 }
+
+/// The bundled configuration in a temporary folder, with its validation run's thrust given by
+/// `thrust` (TOML lines for its input table) instead of its thrust column.
+fn validation_thrust_as(thrust: &str) -> (tempfile::TempDir, std::path::PathBuf) {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(root.join("configs/spheroid.toml")).unwrap();
+    let exports = root.join("cfd_exports").display().to_string() + "/";
+    let text = text
+        .replace("../cfd_exports/", &exports)
+        .replace("thrust = \"Thrust Monitor: Force\"\n", "")
+        .replace(
+            "turn_validation.csv\"\n",
+            &format!("turn_validation.csv\"\n{thrust}\n"),
+        );
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("steps.toml");
+    std::fs::write(&config, text).unwrap();
+    (dir, config)
+}
+
+#[test]
+fn steps_give_a_time_varying_input_the_file_has_no_column_for() {
+    let (_dir, config) = validation_thrust_as(
+        "constants = { thrust = \"15 N\" }\nsteps = [{ time = 10.0, thrust = \"30 N\" }]",
+    );
+    let o = hydroid(&["check", config.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stdout).contains("thrust [N]"),
+        "{}",
+        text(&o.stdout)
+    );
+    // a unit that is not a force is named with its line
+    let (_dir, config) = validation_thrust_as(
+        "constants = { thrust = \"15 N\" }\nsteps = [{ time = 10.0, thrust = \"30 deg\" }]",
+    );
+    let line = 1 + std::fs::read_to_string(&config)
+        .unwrap()
+        .lines()
+        .position(|l| l.starts_with("steps = "))
+        .unwrap();
+    let o = hydroid(&["check", config.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    let stderr = text(&o.stderr);
+    assert!(
+        stderr.contains(&format!("steps.toml:{line}: the step at 10 s gives thrust = \"30 deg\", but deg is not a unit of thrust")),
+        "{stderr}"
+    );
+}

@@ -21,6 +21,10 @@ use std::path::PathBuf;
 /// [constants]
 /// thrust = "22 N"
 /// ```
+///
+/// A quantity that changes in steps and has no column can be given as `steps` (the syntax of
+/// `hydroid simulate`): `constants = { thrust = "15 N" }` from the start, then
+/// `steps = [{ time = 10.0, thrust = "30 N" }]`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct InputSpec {
@@ -41,6 +45,15 @@ pub struct InputSpec {
     /// Quantities that are constant over the run and not in the file (e.g. `thrust = "22 N"`).
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub constants: BTreeMap<Quantity, Constant>,
+    /// Quantities that change in steps over the run and are not in the file: at each step's
+    /// time (s) the listed quantities take its values and hold them; before the first step a
+    /// quantity has its value in `constants`. Times increase.
+    #[serde(
+        default,
+        skip_serializing_if = "Vec::is_empty",
+        deserialize_with = "increasing_steps"
+    )]
+    pub steps: Vec<Step>,
     /// Frame of the velocity columns: `body` (default) or `earth`.
     #[serde(default)]
     pub velocity_frame: VelocityFrame,
@@ -169,6 +182,63 @@ impl<'de> Deserialize<'de> for ColumnSpecRepr {
         }
         d.deserialize_any(V)
     }
+}
+
+/// A change of time-varying inputs: at `time` (s) the listed quantities take new values and
+/// hold them until the next change. The same in a run configuration (an input's `steps`) and
+/// a simulation (`manoeuvre.steps`); a value's unit must fit its quantity.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Step {
+    /// When, s.
+    pub time: f64,
+    /// New values by quantity.
+    #[serde(flatten)]
+    pub values: BTreeMap<Quantity, Constant>,
+}
+
+impl<'de> Deserialize<'de> for Step {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        #[derive(Deserialize)]
+        struct Raw {
+            time: f64,
+            #[serde(flatten)]
+            values: BTreeMap<Quantity, Constant>,
+        }
+        let Raw { time, values } = Raw::deserialize(d)?;
+        if !time.is_finite() {
+            return Err(de::Error::custom(format!("step time {time} is not finite")));
+        }
+        if values.is_empty() {
+            return Err(de::Error::custom(format!(
+                "the step at {time} s changes nothing: give a quantity and its value, e.g. \
+                 {{ time = {time}, thrust = \"30 N\" }}"
+            )));
+        }
+        for (q, c) in &values {
+            if let Some(u) = c.unit.as_ref().filter(|u| u.dim != q.dim()) {
+                return Err(de::Error::custom(format!(
+                    "the step at {time} s gives {q} = \"{}\", but {} is not a unit of {q} \
+                     (SI unit {})",
+                    c.text,
+                    u.text,
+                    q.si_symbol()
+                )));
+            }
+        }
+        Ok(Step { time, values })
+    }
+}
+
+/// Deserializes steps whose times increase.
+fn increasing_steps<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<Step>, D::Error> {
+    let steps = Vec::<Step>::deserialize(d)?;
+    if let Some(w) = steps.windows(2).find(|w| w[1].time <= w[0].time) {
+        return Err(de::Error::custom(format!(
+            "steps must be in increasing time: {} s then {} s",
+            w[0].time, w[1].time
+        )));
+    }
+    Ok(steps)
 }
 
 /// A constant value, given as a number in SI or as a string with a unit (`"4 deg"`).

@@ -5,7 +5,7 @@ mod input;
 mod load;
 mod problems;
 
-pub use input::{ColumnSpec, Constant, FormatSetting, InputSpec, VelocityFrame};
+pub use input::{ColumnSpec, Constant, FormatSetting, InputSpec, Step, VelocityFrame};
 pub use load::{load, load_lenient, load_str, read, LoadedConfig};
 pub use problems::Problems;
 

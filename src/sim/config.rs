@@ -77,15 +77,8 @@ fn ten() -> usize {
     10
 }
 
-/// An input change.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Step {
-    /// When, s.
-    pub time: f64,
-    /// New input values by quantity.
-    #[serde(flatten)]
-    pub values: BTreeMap<Quantity, Constant>,
-}
+/// An input change (the same as a run configuration's `steps`).
+pub use crate::config::Step;
 
 /// Seeded Gaussian noise per exported quantity.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]

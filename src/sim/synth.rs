@@ -2,7 +2,7 @@
 //! coefficients imply), with seeded measurement noise, as SI columns ready to export.
 
 use super::config::{Manoeuvre, SimConfig};
-use super::inputs::{Input, InputSeries};
+use super::inputs::{changes_of, stepped, Input, InputSeries};
 use super::integrate::{complete_coefficients, simulate};
 use crate::coefficients::{Coefficient, CoefficientSet, Source};
 use crate::error::{Error, Result};
@@ -103,18 +103,7 @@ impl ModelVisitor for History<'_> {
         let mut series = Vec::new();
         for q in model.inputs() {
             let start = inputs.get(q).map_or(0.0, |c| c.si);
-            let mut v = vec![start; n];
-            let mut sorted: Vec<_> = steps.iter().filter(|s| s.values.contains_key(q)).collect();
-            sorted.sort_by(|a, b| a.time.total_cmp(&b.time));
-            for s in sorted {
-                let val = s.values[q].si;
-                for (k, t) in times.iter().enumerate() {
-                    if *t >= s.time - 1e-12 {
-                        v[k] = val;
-                    }
-                }
-            }
-            series.push(v);
+            series.push(stepped(start, &changes_of(steps, *q), &times));
         }
         for q in inputs
             .keys()
