@@ -28,9 +28,9 @@ pub(super) fn momentum(stack: &Stack, mass: f64, warnings: &mut Vec<String>) -> 
             let relative = rms / (mass * (hi - lo)).max(f64::MIN_POSITIVE);
             if relative > 0.05 {
                 warnings.push(format!(
-                    "{}: the exported force and thrust do not account for the motion (the \
-                     momentum imbalance is {} the momentum change): check vehicle.mass, the \
-                     thrust and the sign of fx",
+                    "{}: the exported force and thrust do not account for the motion (momentum \
+                     balance off by {} the momentum change): check vehicle.mass, the thrust \
+                     and the sign of fx",
                     stack.names[k],
                     crate::numfmt::proportion(relative)
                 ));
