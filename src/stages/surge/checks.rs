@@ -29,9 +29,10 @@ pub(super) fn momentum(stack: &Stack, mass: f64, warnings: &mut Vec<String>) -> 
             if relative > 0.05 {
                 warnings.push(format!(
                     "{}: the exported force and thrust do not account for the motion (momentum \
-                     balance off by {:.0} %): check vehicle.mass, the thrust and the sign of fx",
+                     balance off by {} the momentum change): check vehicle.mass, the thrust \
+                     and the sign of fx",
                     stack.names[k],
-                    100.0 * relative
+                    crate::numfmt::proportion(relative)
                 ));
             }
             momentum.push(MomentumCheck {
