@@ -397,7 +397,7 @@ fn steps_give_a_time_varying_input_the_file_has_no_column_for() {
     assert_eq!(o.status.code(), Some(2));
     let stderr = text(&o.stderr);
     assert!(
-        stderr.contains(&format!("steps.toml:{line}: the step at 10 s gives thrust = \"30 deg\", but deg is not a unit of thrust")),
+        stderr.contains(&format!("steps.toml:{line}: hekf.validation[0].steps[0]: the step at 10 s gives thrust = \"30 deg\": unit 'deg' is an angle")),
         "{stderr}"
     );
 }

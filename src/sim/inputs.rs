@@ -253,7 +253,10 @@ mod tests {
         .unwrap_err();
         assert!(e.contains("increasing time: 10 s then 5 s"), "{e}");
         let e = validation_turn(false, "steps = [{ time = 10, thrust = \"30 deg\" }]").unwrap_err();
-        assert!(e.contains("deg is not a unit of thrust (SI unit N)"), "{e}");
+        assert!(
+            e.contains("thrust = \"30 deg\": unit 'deg' is an angle (rad); expected a force"),
+            "{e}"
+        );
         let e = validation_turn(false, "steps = [{ time = 10 }]").unwrap_err();
         assert!(e.contains("changes nothing"), "{e}");
     }
