@@ -10,6 +10,7 @@
 
 pub mod ad;
 pub mod analytic;
+pub mod catalogue;
 pub mod coefficients;
 pub mod config;
 pub mod error;

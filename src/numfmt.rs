@@ -11,9 +11,54 @@ pub fn fixed_trimmed(v: f64, decimals: usize) -> String {
     }
 }
 
+/// `v` (> 0) rounded to two significant digits.
+fn two_digits(v: f64) -> f64 {
+    let step = 10f64.powi(v.log10().floor() as i32 - 1);
+    (v / step).round() * step
+}
+
+/// A fraction as a percentage with two significant digits (0.1637 -> "16 %", 0.0052 ->
+/// "0.52 %", 8.43 -> "840 %").
+pub fn percent(fraction: f64) -> String {
+    let p = 100.0 * fraction.abs();
+    if !p.is_finite() || p == 0.0 {
+        return format!("{p} %");
+    }
+    let p = two_digits(p);
+    let decimals = (1 - p.log10().floor() as i32).max(0) as usize;
+    format!("{} %", fixed_trimmed(p, decimals))
+}
+
+/// How large `ratio` (>= 0) is next to the thing it is a ratio of, to be followed by that
+/// thing: up to 10, a percentage ("16 % of" the value); beyond, a factor with two significant
+/// digits ("13 times", "1.3e9 times" the value, rather than "131003125175 % of" it).
+pub fn proportion(ratio: f64) -> String {
+    let r = ratio.abs();
+    if r <= 10.0 || !r.is_finite() {
+        format!("{} of", percent(r))
+    } else if r < 1000.0 {
+        format!("{} times", two_digits(r))
+    } else {
+        format!("{r:.1e} times")
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn ratios_read_sensibly_at_any_size() {
+        assert_eq!(proportion(0.1637), "16 % of");
+        assert_eq!(proportion(0.8443), "84 % of");
+        assert_eq!(proportion(0.0052), "0.52 % of");
+        assert_eq!(proportion(0.0123), "1.2 % of");
+        assert_eq!(proportion(8.43), "840 % of");
+        assert_eq!(proportion(10.0), "1000 % of");
+        assert_eq!(proportion(12.6), "13 times");
+        assert_eq!(proportion(1310031251.75), "1.3e9 times");
+        assert_eq!(percent(0.0), "0 %");
+    }
 
     #[test]
     fn trailing_zeros_go_integer_zeros_stay() {

@@ -115,7 +115,8 @@ pub fn from_table(mut table: Table, spec: &InputSpec, needs: &Needs) -> Result<R
     let wanted = needs.required.iter().chain(needs.optional).copied();
     let mut seen = Vec::new();
     for q in wanted.chain(spec.columns.keys().copied()) {
-        if seen.contains(&q) || constants.contains_key(&q) {
+        let stepped = spec.steps.iter().any(|s| s.values.contains_key(&q));
+        if seen.contains(&q) || constants.contains_key(&q) || stepped {
             continue;
         }
         seen.push(q);
@@ -219,6 +220,16 @@ pub fn from_table(mut table: Table, spec: &InputSpec, needs: &Needs) -> Result<R
                 format!("time does not increase ({} then {})", t[i - 1], t[i]),
             ));
         }
+    }
+
+    // quantities given as steps: sampled at the time stamps, as if the file had a column
+    let time = channels.get(&Quantity::Time).map(Vec::as_slice);
+    let sampled = crate::sim::inputs::sampled_steps(spec, time)
+        .map_err(|m| InputError::new(file_place.clone(), m))?;
+    for (q, values) in sampled {
+        constants.remove(&q);
+        units.insert(q, q.si_symbol().to_string());
+        channels.insert(q, values);
     }
 
     let mut warnings = table.warnings.clone();
@@ -348,6 +359,7 @@ mod tests {
             names: None,
             columns: cols.iter().cloned().collect(),
             constants: BTreeMap::new(),
+            steps: Vec::new(),
             velocity_frame: VelocityFrame::Body,
         }
     }

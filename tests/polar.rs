@@ -12,7 +12,7 @@ use rand::SeedableRng;
 use rand_distr::{Distribution, Normal};
 use std::path::Path;
 
-// Paper Table 3 (self-consistent reading, docs/spheroid-hekf.md section 2), alpha in rad.
+// Paper Table 3 (self-consistent reading, docs/paper.md, static polars), alpha in rad.
 const A: f64 = 0.293;
 const B: f64 = -0.0273;
 const C: f64 = 0.0826;

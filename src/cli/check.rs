@@ -1,8 +1,10 @@
 //! `hydroid check CONFIG`: validate a configuration and every input it names.
 
-use super::CmdResult;
+use super::{json, CmdResult};
 use hydroid::error::Error;
+use hydroid::report::results::InputSummary;
 use hydroid::{config, pipeline};
+use serde_json::{json, Value};
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -17,14 +19,22 @@ pub struct Args {
     /// Override a configuration key, e.g. `--set hekf.passes=3` (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     set: Vec<String>,
+    /// Print machine-readable JSON on stdout: what would run, every input, and the problems
+    /// as {file, line, column, key, message}; the exit code is the same.
+    #[arg(long)]
+    json: bool,
 }
 
 /// Runs the command.
-pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
+pub fn run(args: Args, stdout: &mut impl Write) -> CmdResult {
     let text = config::read(&args.config)?;
     let (loaded, mut config_problems) = config::load_lenient(&args.config, &text, &args.set);
     let mut input_problems = Vec::new();
     let mut usable = Vec::new();
+    // the text is printed at the end, unless --json prints JSON instead
+    let mut text = Vec::new();
+    let out = &mut text;
+    let mut inputs_json = Vec::new();
     if let Some(l) = &loaded {
         let c = &l.config;
         writeln!(out, "configuration: {}", l.path.display())?;
@@ -74,6 +84,7 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
             if !full.is_file() {
                 // already a configuration problem
                 writeln!(out, "  {key}: {} (missing)", spec.file.display())?;
+                inputs_json.push(json!({ "key": key, "file": spec.file, "status": "missing" }));
                 continue;
             }
             match pipeline::load_input(l, &key, spec, &needs) {
@@ -104,11 +115,19 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
                     for w in &r.warnings {
                         writeln!(out, "      warning: {w}")?;
                     }
+                    let mut summary =
+                        serde_json::to_value(InputSummary::from_loaded(&li, &l.base_dir))
+                            .unwrap_or_default();
+                    summary["status"] = "usable".into();
+                    summary["warnings"] = json!(r.warnings);
+                    inputs_json.push(summary);
                     usable.push(li);
                 }
                 Err(e) => {
                     writeln!(out, "  {key}: {} (cannot be used)", spec.file.display())?;
-                    input_problems.push(e);
+                    inputs_json
+                        .push(json!({ "key": key, "file": spec.file, "status": "unusable" }));
+                    input_problems.push((key, e));
                 }
             }
         }
@@ -117,8 +136,50 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
     if let Some(l) = loaded.as_ref().filter(|l| l.unusable.is_empty()) {
         config_problems.extend(pipeline::preflight(l, &usable));
     }
-    if config_problems.is_empty() && input_problems.is_empty() {
-        writeln!(out, "ok: the configuration and every input are usable")?;
+    let ok = config_problems.is_empty() && input_problems.is_empty();
+    let code = if ok {
+        0
+    } else if config_problems.is_empty() {
+        Error::numerical("check", "").exit_code()
+    } else {
+        Error::Config(Vec::new()).exit_code()
+    };
+    if args.json {
+        let problems: Vec<Value> = config_problems
+            .iter()
+            .map(json::config_problem)
+            .chain(
+                input_problems
+                    .iter()
+                    .map(|(k, e)| json::input_problem(k, e)),
+            )
+            .collect();
+        let plan = loaded.as_ref().map(|l| {
+            let c = &l.config;
+            json!({
+                "title": c.title,
+                "vehicle": c.vehicle,
+                "stages": c.enabled_stages(),
+                "hekf": c.hekf.as_ref().filter(|h| h.enabled).map(|h| json!({
+                    "model": h.model,
+                    "preset": h.preset,
+                    "estimate": h.estimate,
+                })),
+            })
+        });
+        let report = json!({
+            "configuration": args.config,
+            "ok": ok,
+            "would_run": plan,
+            "inputs": inputs_json,
+            "problems": problems,
+        });
+        json::write(stdout, &report)?;
+        return Ok(code);
+    }
+    stdout.write_all(&text)?;
+    if ok {
+        writeln!(stdout, "ok: the configuration and every input are usable")?;
         return Ok(0);
     }
     let total = config_problems.len() + input_problems.len();
@@ -129,13 +190,8 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
     for p in &config_problems {
         eprintln!("  - {p}");
     }
-    for e in &input_problems {
+    for (_, e) in &input_problems {
         eprintln!("  - {e}");
     }
-    let code = if config_problems.is_empty() {
-        Error::numerical("check", "").exit_code()
-    } else {
-        Error::Config(Vec::new()).exit_code()
-    };
     Ok(code)
 }

@@ -1,6 +1,6 @@
 //! `hydroid compare A/results.json B/results.json`: coefficient-by-coefficient differences.
 
-use super::CmdResult;
+use super::{json, CmdResult};
 use hydroid::coefficients::Coefficient;
 use hydroid::error::{Error, InputError, Place};
 use hydroid::report::table::num;
@@ -16,6 +16,10 @@ pub struct Args {
     a: PathBuf,
     /// results.json of the second run (or its output folder).
     b: PathBuf,
+    /// Print machine-readable JSON: every coefficient with its value in A and B, the
+    /// difference B - A and that difference in units of the combined sigma.
+    #[arg(long)]
+    json: bool,
 }
 
 #[derive(serde::Deserialize)]
@@ -123,28 +127,49 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
         "(B - A)/sigma".into(),
         "unit".into(),
     ]];
+    let mut differences = Vec::new();
     for n in names {
         let (ca, cb) = (find(&a, n), find(&b, n));
-        let (diff, z) = match (&ca, &cb) {
+        // B - A, and in units of the combined sigma (when either has one)
+        let (d, z) = match (&ca, &cb) {
             (Some(x), Some(y)) => {
                 let d = y.value - x.value;
                 let s = (x.sigma.unwrap_or(0.0).powi(2) + y.sigma.unwrap_or(0.0).powi(2)).sqrt();
-                (
-                    num(d),
-                    if s > 0.0 {
-                        format!("{:+.2}", d / s)
-                    } else {
-                        "-".into()
-                    },
-                )
+                (Some(d), (s > 0.0).then(|| d / s))
             }
-            _ => ("-".into(), "-".into()),
+            _ => (None, None),
         };
         let unit = ca
             .as_ref()
             .or(cb.as_ref())
             .map_or(String::new(), |c| c.unit.clone());
-        rows.push([n.to_string(), cell(&ca), cell(&cb), diff, z, unit]);
+        let side = |c: &Option<Coefficient>| {
+            c.as_ref().map(
+                |c| serde_json::json!({ "value": c.value, "sigma": c.sigma, "source": c.source }),
+            )
+        };
+        differences.push(serde_json::json!({
+            "name": n,
+            "unit": unit,
+            "a": side(&ca),
+            "b": side(&cb),
+            "difference": d,
+            "difference_in_sigma": z,
+        }));
+        rows.push([
+            n.to_string(),
+            cell(&ca),
+            cell(&cb),
+            d.map_or_else(|| "-".into(), num),
+            z.map_or_else(|| "-".into(), |z| format!("{z:+.2}")),
+            unit,
+        ]);
+    }
+    if args.json {
+        return json::write(
+            out,
+            &serde_json::json!({ "a": args.a, "b": args.b, "coefficients": differences }),
+        );
     }
     let mut width = [0usize; 6];
     for r in &rows {

@@ -1,6 +1,6 @@
 //! `hydroid inspect FILE`: what hydroid reads from one export.
 
-use super::{note, CmdResult};
+use super::{warning, CmdResult};
 use hydroid::formats::{Format, FormatChoice};
 use hydroid::Error;
 use std::io::Write;
@@ -40,7 +40,7 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
             .map_err(|e| Error::Usage(format!("cannot write the report as JSON: {e}")))?;
         writeln!(out, "{text}")?;
         for w in &report.warnings {
-            note(&format!("warning: {w}"));
+            warning(w);
         }
     } else {
         report.write_text(out)?;

@@ -2,8 +2,11 @@
 
 mod analytic;
 mod check;
+mod coefficients;
 mod compare;
+mod init;
 mod inspect;
+mod json;
 mod progress;
 mod rerun;
 mod run;
@@ -22,6 +25,14 @@ use std::io::Write;
 #[derive(Debug, Parser)]
 #[command(name = "hydroid", version, about, long_about, max_term_width = 100)]
 pub struct Cli {
+    /// Also print the HEKF's settings, the prior of every estimated coefficient and the
+    /// measurement noise of every run (on stderr).
+    #[arg(long, short = 'v', global = true, conflicts_with = "quiet")]
+    verbose: bool,
+    /// Print only warnings and errors on stderr: no stage lines, no progress. Results still
+    /// go to stdout.
+    #[arg(long, short = 'q', global = true)]
+    quiet: bool,
     #[command(subcommand)]
     command: Command,
 }
@@ -35,6 +46,8 @@ enum Command {
     Analytic(analytic::Args),
     Rerun(rerun::Args),
     Compare(compare::Args),
+    Coefficients(coefficients::Args),
+    Init(init::Args),
 }
 
 /// Parses the command line, runs the command and returns the exit code.
@@ -47,16 +60,19 @@ pub fn main() -> i32 {
             return code;
         }
     };
+    let say = Say::new(cli.verbose, cli.quiet);
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
     let result = match cli.command {
-        Command::Run(a) => run::run(a, &mut out),
+        Command::Run(a) => run::run(a, &mut out, say),
         Command::Check(a) => check::run(a, &mut out),
         Command::Inspect(a) => inspect::run(a, &mut out),
         Command::Simulate(a) => simulate::run(a, &mut out),
         Command::Analytic(a) => analytic::run(a, &mut out),
-        Command::Rerun(a) => rerun::run(a, &mut out),
+        Command::Rerun(a) => rerun::run(a, &mut out, say),
         Command::Compare(a) => compare::run(a, &mut out),
+        Command::Coefficients(a) => coefficients::run(a, &mut out),
+        Command::Init(a) => init::run(a, &mut out, say),
     };
     let _ = out.flush();
     match result {
@@ -99,7 +115,58 @@ impl From<std::io::Error> for CliError {
 /// Result of a command: the exit code, or an error.
 pub type CmdResult = Result<i32, CliError>;
 
-/// Writes a note to stderr (progress and warnings; results go to stdout).
-pub fn note(msg: &str) {
+/// How much a command says on stderr (results go to stdout whatever it is).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Verbosity {
+    /// Warnings and errors only (`--quiet`).
+    Quiet,
+    /// Warnings, errors, stage lines and progress.
+    Normal,
+    /// Also the details a user tuning the filter wants (`--verbose`).
+    Verbose,
+}
+
+/// Writes messages to stderr at the verbosity the user chose.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Say {
+    /// The chosen verbosity.
+    pub verbosity: Verbosity,
+}
+
+impl Say {
+    /// From the `--verbose` and `--quiet` flags (clap makes them exclusive).
+    pub fn new(verbose: bool, quiet: bool) -> Self {
+        let verbosity = if quiet {
+            Verbosity::Quiet
+        } else if verbose {
+            Verbosity::Verbose
+        } else {
+            Verbosity::Normal
+        };
+        Say { verbosity }
+    }
+
+    /// A message for the normal level: what was done (stage lines, where output went).
+    pub fn note(self, msg: &str) {
+        if self.verbosity >= Verbosity::Normal {
+            note(msg);
+        }
+    }
+
+    /// A message only `--verbose` shows.
+    pub fn detail(self, msg: &str) {
+        if self.verbosity >= Verbosity::Verbose {
+            note(msg);
+        }
+    }
+}
+
+/// Writes a warning to stderr, whatever the verbosity.
+pub fn warning(msg: &str) {
+    note(&format!("warning: {msg}"));
+}
+
+/// Writes a line to stderr.
+fn note(msg: &str) {
     let _ = writeln!(std::io::stderr(), "{msg}");
 }

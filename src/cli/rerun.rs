@@ -1,6 +1,6 @@
 //! `hydroid rerun OUTDIR`: run again exactly what made an output folder.
 
-use super::{note, progress, CmdResult};
+use super::{progress, warning, CmdResult, Say};
 use hydroid::error::{Error, InputError, Place};
 use hydroid::output::{Protected, Replace, Staging};
 use hydroid::report::{self, RerunManifest};
@@ -49,7 +49,7 @@ struct Recorded {
 }
 
 /// Runs the command.
-pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
+pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
     hydroid::output::clean_up_on_signals()?;
     let dir = &args.outdir;
     let manifest: RerunManifest = read_json(&dir.join(report::RERUN_JSON))?;
@@ -107,7 +107,7 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
             .into());
         }
         for c in &changed {
-            note(&format!("warning: {c}"));
+            warning(c);
         }
     }
     let target = args.out.clone().unwrap_or_else(|| dir.clone());
@@ -119,9 +119,9 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
     }
     let staging = Staging::guarded(&target, &protected, Replace::forced(args.force))?;
     for s in staging.swept() {
-        note(s);
+        say.note(s);
     }
-    let output = pipeline::run(&loaded, &mut progress::Cli::new())?;
+    let output = pipeline::run(&loaded, &mut progress::Cli::new(say))?;
     // the new output records the source configuration, as the first run did
     loaded.path = manifest.config.clone();
     report::write(&staging, &loaded, &output)?;

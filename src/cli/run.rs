@@ -1,6 +1,6 @@
 //! `hydroid run CONFIG`: run every enabled stage and write the output folder.
 
-use super::{note, progress, CmdResult};
+use super::{progress, CmdResult, Say};
 use hydroid::output::{Protected, Replace, Staging};
 use hydroid::{config, pipeline, report};
 use std::io::Write;
@@ -21,10 +21,14 @@ pub struct Args {
     /// edited or removed there are lost). A folder hydroid did not write is never replaced.
     #[arg(long)]
     force: bool,
+    /// Print results.json (the file written to the output folder) on stdout instead of the
+    /// table; every other message goes to stderr.
+    #[arg(long)]
+    json: bool,
 }
 
 /// Runs the command.
-pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
+pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
     hydroid::output::clean_up_on_signals()?;
     let loaded = config::load(&args.config, &args.set)?;
     let out_dir = args
@@ -38,22 +42,22 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
         Replace::forced(args.force),
     )?;
     for s in staging.swept() {
-        note(s);
+        say.note(s);
     }
-    let output = pipeline::run(&loaded, &mut progress::Cli::new())?;
+    let output = pipeline::run(&loaded, &mut progress::Cli::new(say))?;
     report::write(&staging, &loaded, &output)?;
     let dir = staging.commit()?;
     if let Some(h) = &output.result.stages.hekf {
-        note(&format!(
+        say.detail(&format!(
             "hekf settings: {} preset, {} passes, {} RK4 sub-steps per sample",
             h.preset, h.settings.passes, h.settings.substeps
         ));
         for t in &h.tuning {
-            note(&format!("hekf prior: {t}"));
+            say.detail(&format!("hekf prior: {t}"));
         }
         for run in &h.runs {
             for n in &run.noise {
-                note(&format!(
+                say.detail(&format!(
                     "hekf noise of {} in '{}': sigma {:.3e} {} ({})",
                     n.quantity,
                     run.name,
@@ -64,14 +68,20 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
             }
         }
     }
-    report::table::write_text(out, &output.result)?;
-    writeln!(out, "\nwrote {}", dir.display())?;
+    if args.json {
+        // byte for byte the results.json written (it ends with a newline)
+        out.write_all(&report::to_json(&output.result)?)?;
+        say.note(&format!("wrote {}", dir.display()));
+    } else {
+        report::table::write_text(out, &output.result)?;
+        writeln!(out, "\nwrote {}", dir.display())?;
+    }
+    // the warnings were said as they arose; a reminder of where they are kept
     let n = output.result.warnings.len();
     if n > 0 {
-        // the warnings were said as they arose (stderr); a reminder where the results are
-        note(&format!(
-            "{n} warning{} above (also in results.json and the report's Warnings section): read \
-             them before using these coefficients",
+        say.note(&format!(
+            "{n} warning{} above (also in results.json and the report's Warnings section): \
+             read them before using these coefficients",
             if n == 1 { "" } else { "s" }
         ));
     }

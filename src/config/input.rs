@@ -21,6 +21,10 @@ use std::path::PathBuf;
 /// [constants]
 /// thrust = "22 N"
 /// ```
+///
+/// A quantity that changes in steps and has no column can be given as `steps` (the syntax of
+/// `hydroid simulate`): `constants = { thrust = "15 N" }` from the start, then
+/// `steps = [{ time = 10.0, thrust = "30 N" }]`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct InputSpec {
@@ -41,6 +45,15 @@ pub struct InputSpec {
     /// Quantities that are constant over the run and not in the file (e.g. `thrust = "22 N"`).
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub constants: BTreeMap<Quantity, Constant>,
+    /// Quantities that change in steps over the run and are not in the file: at each step's
+    /// time (s) the listed quantities take its values and hold them; before the first step a
+    /// quantity has its value in `constants`. Times increase.
+    #[serde(
+        default,
+        skip_serializing_if = "Vec::is_empty",
+        deserialize_with = "increasing_steps"
+    )]
+    pub steps: Vec<Step>,
     /// Frame of the velocity columns: `body` (default) or `earth`.
     #[serde(default)]
     pub velocity_frame: VelocityFrame,
@@ -231,6 +244,111 @@ impl<'de> Deserialize<'de> for ColumnSpecRepr {
         }
         d.deserialize_any(V)
     }
+}
+
+/// A change of time-varying inputs: at `time` (s) the listed quantities take new values and
+/// hold them until the next change. The same in a run configuration (an input's `steps`) and
+/// a simulation (`manoeuvre.steps`); a value's unit must fit its quantity.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Step {
+    /// When, s.
+    pub time: f64,
+    /// New values by quantity.
+    #[serde(flatten)]
+    pub values: BTreeMap<Quantity, Constant>,
+}
+
+impl<'de> Deserialize<'de> for Step {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = Step;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a table such as { time = 10.0, thrust = \"30 N\" }")
+            }
+            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Step, A::Error> {
+                let mut time = None;
+                let mut values = BTreeMap::new();
+                while let Some(k) = map.next_key::<StepKey>()? {
+                    match k {
+                        StepKey::Time => time = Some(map.next_value_seed(Seconds)?),
+                        StepKey::Value(q) => {
+                            values.insert(q, map.next_value::<Constant>()?);
+                        }
+                    }
+                }
+                let time: f64 = time.ok_or_else(|| de::Error::missing_field("time"))?;
+                if values.is_empty() {
+                    return Err(de::Error::custom(format!(
+                        "the step at {time} s changes nothing: give a quantity and its value, \
+                         e.g. {{ time = {time}, thrust = \"30 N\" }}"
+                    )));
+                }
+                for (q, c) in &values {
+                    c.expect_dim(q.dim()).map_err(|m| {
+                        de::Error::custom(format!("the step at {time} s gives {q} = {m}"))
+                    })?;
+                }
+                Ok(Step { time, values })
+            }
+        }
+        d.deserialize_map(V)
+    }
+}
+
+/// A key of a `steps` entry: `time`, or a quantity.
+enum StepKey {
+    Time,
+    Value(Quantity),
+}
+
+impl<'de> Deserialize<'de> for StepKey {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        Ok(quantity_key(d, "time")?.map_or(StepKey::Time, StepKey::Value))
+    }
+}
+
+/// Reads a map key: `fixed` (None) or a quantity; an unknown key names the valid ones.
+pub(crate) fn quantity_key<'de, D: Deserializer<'de>>(
+    d: D,
+    fixed: &str,
+) -> Result<Option<Quantity>, D::Error> {
+    let s = String::deserialize(d)?;
+    if s == fixed {
+        return Ok(None);
+    }
+    Quantity::from_key(&s).map(Some).ok_or_else(|| {
+        let valid: Vec<String> = std::iter::once(fixed)
+            .chain(Quantity::ALL.iter().map(|q| q.key()))
+            .map(|k| format!("`{k}`"))
+            .collect();
+        de::Error::custom(format!(
+            "unknown field `{s}`, expected one of {}",
+            valid.join(", ")
+        ))
+    })
+}
+
+/// A time in s, or a string with a unit of time.
+struct Seconds;
+
+impl<'de> de::DeserializeSeed<'de> for Seconds {
+    type Value = f64;
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<f64, D::Error> {
+        super::si::value::<D, super::si::Time>(d)
+    }
+}
+
+/// Deserializes steps whose times increase.
+fn increasing_steps<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<Step>, D::Error> {
+    let steps = Vec::<Step>::deserialize(d)?;
+    if let Some(w) = steps.windows(2).find(|w| w[1].time <= w[0].time) {
+        return Err(de::Error::custom(format!(
+            "steps must be in increasing time: {} s then {} s",
+            w[0].time, w[1].time
+        )));
+    }
+    Ok(steps)
 }
 
 /// A constant value, given as a number in SI or as a string with a unit (`"4 deg"`).

@@ -11,7 +11,8 @@ pub(crate) mod si;
 mod words;
 
 pub(crate) use collect::read_collecting;
-pub use input::{ColumnSpec, Constant, FormatSetting, InputSpec, VelocityFrame};
+pub(crate) use input::quantity_key;
+pub use input::{ColumnSpec, Constant, FormatSetting, InputSpec, Step, VelocityFrame};
 pub use load::{load, load_lenient, load_str, read, LoadedConfig};
 pub use problems::Problems;
 

@@ -56,9 +56,60 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     written
 }
 
+/// Writes `bytes` to a new file at `path`, refusing when anything is there already (a file,
+/// a folder, a link, even a dangling one): for a file hydroid creates once and never replaces,
+/// such as the template of `hydroid init`. Missing folders above it are created. The file is
+/// removed if writing it fails or a signal ends the process meanwhile.
+pub fn write_new(path: &Path, bytes: &[u8]) -> Result<()> {
+    use std::io::Write;
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    }
+    let mut file = match std::fs::File::create_new(path) {
+        Ok(f) => f,
+        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
+            return Err(Error::Usage(format!(
+                "refusing to write {}: it already exists (hydroid never overwrites it); choose \
+                 another name or move it away first",
+                path.display()
+            )))
+        }
+        Err(e) => return Err(Error::io(path, e)),
+    };
+    // registered only once created: a signal must never remove what was there before
+    signals::register(path);
+    let written = file
+        .write_all(bytes)
+        .and_then(|()| file.sync_all())
+        .map_err(|e| Error::io(path, e));
+    if written.is_err() {
+        signals::remove(path);
+    }
+    signals::forget(path);
+    written
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_new_file_never_replaces_anything() {
+        let root = tempfile::tempdir().unwrap();
+        let p = root.path().join("sub/a.toml");
+        write_new(&p, b"x").unwrap();
+        assert_eq!(std::fs::read_to_string(&p).unwrap(), "x");
+        let e = write_new(&p, b"y").unwrap_err().to_string();
+        assert!(e.contains("already exists"), "{e}");
+        assert_eq!(std::fs::read_to_string(&p).unwrap(), "x");
+        #[cfg(unix)]
+        {
+            let link = root.path().join("dangling.toml");
+            std::os::unix::fs::symlink(root.path().join("nowhere"), &link).unwrap();
+            assert!(write_new(&link, b"y").is_err());
+            assert!(!root.path().join("nowhere").exists());
+        }
+    }
 
     #[test]
     fn atomic_write_leaves_no_temporary() {

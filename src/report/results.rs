@@ -180,12 +180,7 @@ pub fn compare(
             let r = reference.and_then(|r| r.values.get(&c.name).copied());
             let mut flags = Vec::new();
             if let Some(s) = c.sigma {
-                if c.value != 0.0 && s / c.value.abs() > UNCERTAIN {
-                    flags.push(format!(
-                        "uncertain: sigma is {:.0} % of the value",
-                        100.0 * s / c.value.abs()
-                    ));
-                }
+                flags.extend(uncertain(c.value, s));
             }
             if let Some(corr) = &set.correlation {
                 if let Some(i) = corr.names.iter().position(|n| *n == c.name) {
@@ -214,6 +209,28 @@ pub fn compare(
             }
         })
         .collect()
+}
+
+/// The flag of a coefficient whose sigma is large next to its value, if it is.
+fn uncertain(value: f64, sigma: f64) -> Option<String> {
+    // a value of exactly 0 has no relative sigma
+    if sigma <= 0.0 || !sigma.is_finite() || value == 0.0 {
+        return None;
+    }
+    let r = sigma / value.abs();
+    let consequence = if r > 10.0 {
+        ": the value is not distinguishable from zero"
+    } else if r >= 1.0 {
+        ": zero is within one sigma"
+    } else {
+        ""
+    };
+    (r > UNCERTAIN).then(|| {
+        format!(
+            "uncertain: sigma is {} the value{consequence}",
+            crate::numfmt::proportion(r)
+        )
+    })
 }
 
 impl RunResult {
@@ -258,5 +275,31 @@ impl RunResult {
             warnings,
             configuration: c.clone(),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::uncertain;
+
+    #[test]
+    fn uncertain_flags_read_sensibly() {
+        assert_eq!(uncertain(-1.760, 0.05), None);
+        assert_eq!(
+            uncertain(-1.760, 0.2859).as_deref(),
+            Some("uncertain: sigma is 16 % of the value")
+        );
+        assert_eq!(
+            uncertain(0.5, 1.2).as_deref(),
+            Some("uncertain: sigma is 240 % of the value: zero is within one sigma")
+        );
+        assert_eq!(
+            uncertain(1e-10, 0.131003125175).as_deref(),
+            Some(
+                "uncertain: sigma is 1.3e9 times the value: the value is not distinguishable \
+                 from zero"
+            )
+        );
+        assert_eq!(uncertain(0.0, 1.0), None);
     }
 }

@@ -2,6 +2,7 @@
 //! aligned text for the terminal and as Markdown for report.md.
 
 use super::results::{ComparisonRow, RunResult};
+use crate::coefficients::{Source, CATALOG};
 use std::io::{self, Write};
 
 /// Significant-figure formatting used in every table: 4 significant digits, plain for
@@ -19,8 +20,61 @@ pub fn num(v: f64) -> String {
     }
 }
 
+/// A relative difference in percent: two decimals, or two significant digits in scientific
+/// notation from 1000 % (ten times the other value) on.
 fn pct(v: Option<f64>) -> String {
-    v.map_or_else(|| "-".into(), |p| format!("{p:+.2} %"))
+    v.map_or_else(
+        || "-".into(),
+        |p| {
+            if p.abs() < 1000.0 {
+                format!("{p:+.2} %")
+            } else {
+                format!("{p:+.1e} %")
+            }
+        },
+    )
+}
+
+/// The groups of the table, in pipeline order: each stage, then the values that did not come
+/// from a stage (Fossen's formulas, the configuration), then those derived by symmetry.
+const GROUPS: [&[Source]; 5] = [
+    &[Source::Polar],
+    &[Source::Surge],
+    &[Source::Hekf],
+    &[Source::Analytic, Source::Config],
+    &[Source::Symmetry],
+];
+
+/// The comparison rows in the table's order: grouped by source in pipeline order
+/// ([`GROUPS`]), and within a group in the catalogue's order (added mass, surge, sway, yaw,
+/// heave and pitch, roll; the polar's coefficients as in paper eq. 5).
+pub fn ordered(r: &RunResult) -> Vec<&ComparisonRow> {
+    in_table_order(&r.comparison)
+}
+
+/// `rows` in the table's order (see [`ordered`]).
+fn in_table_order(rows: &[ComparisonRow]) -> Vec<&ComparisonRow> {
+    let group = |source: &str| {
+        GROUPS
+            .iter()
+            .position(|g| g.iter().any(|s| s.to_string() == source))
+            .unwrap_or(GROUPS.len())
+    };
+    let in_catalogue = |name: &str| {
+        CATALOG
+            .iter()
+            .position(|c| c.name == name)
+            .unwrap_or(CATALOG.len())
+    };
+    let mut rows: Vec<&ComparisonRow> = rows.iter().collect();
+    rows.sort_by(|a, b| {
+        (group(&a.source), in_catalogue(&a.name), &a.name).cmp(&(
+            group(&b.source),
+            in_catalogue(&b.name),
+            &b.name,
+        ))
+    });
+    rows
 }
 
 fn value(row: &ComparisonRow) -> String {
@@ -56,7 +110,8 @@ const HEADER: [&str; 8] = [
 
 /// Writes the comparison table as aligned text, flags below it.
 pub fn write_text(out: &mut impl Write, r: &RunResult) -> io::Result<()> {
-    let rows: Vec<[String; 8]> = r.comparison.iter().map(cells).collect();
+    let ordered = ordered(r);
+    let rows: Vec<[String; 8]> = ordered.iter().map(|row| cells(row)).collect();
     let mut width = HEADER.map(|h| h.chars().count());
     for row in &rows {
         for (w, c) in width.iter_mut().zip(row) {
@@ -77,7 +132,7 @@ pub fn write_text(out: &mut impl Write, r: &RunResult) -> io::Result<()> {
     for row in &rows {
         writeln!(out, "{}", line(row))?;
     }
-    for row in &r.comparison {
+    for row in &ordered {
         for f in &row.flags {
             writeln!(out, "  {}: {f}", row.name)?;
         }
@@ -106,10 +161,10 @@ pub fn comparison_header(r: &RunResult) -> Vec<String> {
     .to_vec()
 }
 
-/// The rows of the comparison table (as in [`comparison_header`]).
+/// The rows of the comparison table (as in [`comparison_header`]), in [`ordered`] order.
 pub fn comparison_rows(r: &RunResult) -> Vec<Vec<String>> {
-    r.comparison
-        .iter()
+    ordered(r)
+        .into_iter()
         .map(|row| {
             let mut c = cells(row).to_vec();
             c.push(row.flags.join("; "));
@@ -180,6 +235,51 @@ mod tests {
             t,
             "| a\\|b | n |\n|---|---:|\n| x\\*y\\_z \\<b\\> | 1 2 |\n"
         );
+    }
+
+    #[test]
+    fn rows_grouped_by_stage_in_pipeline_order() {
+        let row = |name: &str, source: &str| ComparisonRow {
+            name: name.into(),
+            unit: String::new(),
+            value: 1.0,
+            sigma: None,
+            source: source.into(),
+            analytic: None,
+            error_vs_analytic_pct: None,
+            reference: None,
+            error_vs_reference_pct: None,
+            flags: Vec::new(),
+            budget: Default::default(),
+        };
+        // alphabetical, as the coefficient set gives them
+        let rows = [
+            row("Kpp", "config"),
+            row("Nrd", "hekf"),
+            row("Nuva", "symmetry"),
+            row("Nuvl", "polar"),
+            row("Xud", "surge"),
+            row("Xuu", "polar"),
+            row("Xvr", "symmetry"),
+            row("Yvd", "hekf"),
+            row("Zwd", "analytic"),
+        ];
+        let names: Vec<&str> = in_table_order(&rows)
+            .iter()
+            .map(|r| r.name.as_str())
+            .collect();
+        assert_eq!(
+            names,
+            ["Xuu", "Nuvl", "Xud", "Yvd", "Nrd", "Zwd", "Kpp", "Xvr", "Nuva"]
+        );
+    }
+
+    #[test]
+    fn huge_relative_differences_in_scientific_notation() {
+        assert_eq!(pct(Some(22.4137)), "+22.41 %");
+        assert_eq!(pct(Some(-999.0)), "-999.00 %");
+        assert_eq!(pct(Some(131003125175.0)), "+1.3e11 %");
+        assert_eq!(pct(None), "-");
     }
 
     #[test]

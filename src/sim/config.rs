@@ -5,14 +5,16 @@
 //! checked against each key's dimension), then checked against limits that keep a
 //! simulation finite in time and memory: see [`limits`].
 
-use crate::config::{read_collecting, si, Constant, FluidConfig, Problems, VehicleConfig};
+use crate::config::{
+    quantity_key, read_collecting, si, Constant, FluidConfig, Problems, VehicleConfig,
+};
 use crate::error::{Error, Result};
 use crate::formats::Format;
 use crate::models::{with_model, Model, ModelSpec, ModelVisitor, Scales};
 use crate::quantity::Quantity;
 use crate::stages::hekf::ModelName;
 use crate::units::{check_dim, Unit};
-use serde::de::{self, DeserializeSeed, Deserializer, MapAccess, Visitor};
+use serde::de::{Deserializer, MapAccess, Visitor};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::fmt;
@@ -87,15 +89,8 @@ pub enum Manoeuvre {
     },
 }
 
-/// An input change.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Step {
-    /// When, s.
-    pub time: f64,
-    /// New input values by quantity.
-    #[serde(flatten)]
-    pub values: BTreeMap<Quantity, Constant>,
-}
+/// An input change (the same as a run configuration's `steps`).
+pub use crate::config::Step;
 
 /// Seeded Gaussian noise per exported quantity.
 #[derive(Debug, Clone, PartialEq, Default, Serialize)]
@@ -699,88 +694,15 @@ fn check_export(e: &ExportConfig, produces: &Produces, p: &mut Problems) -> Opti
     layout
 }
 
-/// A key of a `steps` entry: `time`, or an input quantity.
-enum StepKey {
-    Time,
-    Value(Quantity),
-}
-
 /// A key of `[noise]`: `seed`, or a quantity.
 enum NoiseKey {
     Seed,
     Sigma(Quantity),
 }
 
-/// Reads a map key: one of `fixed` or a quantity; an unknown key names the valid ones.
-fn quantity_key<'de, D: Deserializer<'de>>(
-    d: D,
-    fixed: &str,
-) -> Result<Option<Quantity>, D::Error> {
-    let s = String::deserialize(d)?;
-    if s == fixed {
-        return Ok(None);
-    }
-    Quantity::from_key(&s).map(Some).ok_or_else(|| {
-        let valid: Vec<String> = std::iter::once(fixed)
-            .chain(Quantity::ALL.iter().map(|q| q.key()))
-            .map(|k| format!("`{k}`"))
-            .collect();
-        de::Error::custom(format!(
-            "unknown field `{s}`, expected one of {}",
-            valid.join(", ")
-        ))
-    })
-}
-
-impl<'de> Deserialize<'de> for StepKey {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
-        Ok(quantity_key(d, "time")?.map_or(StepKey::Time, StepKey::Value))
-    }
-}
-
 impl<'de> Deserialize<'de> for NoiseKey {
     fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
         Ok(quantity_key(d, "seed")?.map_or(NoiseKey::Seed, NoiseKey::Sigma))
-    }
-}
-
-/// A time in s, or a string with a unit of time.
-struct Seconds;
-
-impl<'de> DeserializeSeed<'de> for Seconds {
-    type Value = f64;
-    fn deserialize<D: Deserializer<'de>>(self, d: D) -> std::result::Result<f64, D::Error> {
-        si::value::<D, si::Time>(d)
-    }
-}
-
-impl<'de> Deserialize<'de> for Step {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
-        struct V;
-        impl<'de> Visitor<'de> for V {
-            type Value = Step;
-            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-                f.write_str("a table such as { time = 10.0, thrust = \"30 N\" }")
-            }
-            fn visit_map<A: MapAccess<'de>>(
-                self,
-                mut map: A,
-            ) -> std::result::Result<Step, A::Error> {
-                let mut time = None;
-                let mut values = BTreeMap::new();
-                while let Some(k) = map.next_key::<StepKey>()? {
-                    match k {
-                        StepKey::Time => time = Some(map.next_value_seed(Seconds)?),
-                        StepKey::Value(q) => {
-                            values.insert(q, map.next_value::<Constant>()?);
-                        }
-                    }
-                }
-                let time = time.ok_or_else(|| de::Error::missing_field("time"))?;
-                Ok(Step { time, values })
-            }
-        }
-        d.deserialize_map(V)
     }
 }
 

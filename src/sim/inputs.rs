@@ -1,5 +1,87 @@
 //! Model inputs (thrust, rudder, rpm ...) over time: constants or sampled series, linearly
-//! interpolated between samples and held beyond the ends.
+//! interpolated between samples and held beyond the ends; inputs given as steps, sampled.
+
+use crate::config::{InputSpec, Step};
+use crate::quantity::Quantity;
+
+/// One input held between steps, at each of `times`: `start` until the first change, then
+/// each change's value from its time on (a change within 1e-12 s after a sample applies from
+/// that sample). `changes` are (time, value) in the order they apply.
+pub fn stepped(start: f64, changes: &[(f64, f64)], times: &[f64]) -> Vec<f64> {
+    // one pass over the times (changes in time order)
+    let mut value = start;
+    let mut next = changes.iter().peekable();
+    times
+        .iter()
+        .map(|t| {
+            while let Some((_, v)) = next.next_if(|(at, _)| *t >= at - 1e-12) {
+                value = *v;
+            }
+            value
+        })
+        .collect()
+}
+
+/// The changes of `q` in `steps`, (time, SI value), in time order (steps at the same time in
+/// the order given).
+pub fn changes_of(steps: &[Step], q: Quantity) -> Vec<(f64, f64)> {
+    let mut changes: Vec<(f64, f64)> = steps
+        .iter()
+        .filter_map(|s| s.values.get(&q).map(|c| (s.time, c.si)))
+        .collect();
+    changes.sort_by(|a, b| a.0.total_cmp(&b.0));
+    changes
+}
+
+/// The quantities an input gives as `steps`, each sampled at the record's time stamps `time`
+/// (s) in hydroid's internal unit, starting from its value in `constants`. An error says
+/// what is wrong: steps without a time column, a quantity also mapped to a column, or one
+/// with no value before its first step.
+pub fn sampled_steps(
+    spec: &InputSpec,
+    time: Option<&[f64]>,
+) -> Result<Vec<(Quantity, Vec<f64>)>, String> {
+    let mut quantities: Vec<Quantity> = spec
+        .steps
+        .iter()
+        .flat_map(|s| s.values.keys().copied())
+        .collect();
+    quantities.sort();
+    quantities.dedup();
+    if quantities.is_empty() {
+        return Ok(Vec::new());
+    }
+    let Some(time) = time.filter(|t| !t.is_empty()) else {
+        return Err("`steps` need a time column to be sampled at".into());
+    };
+    let mut out = Vec::new();
+    for q in quantities {
+        if spec.columns.contains_key(&q) {
+            return Err(format!(
+                "{q} is given both as a column and as steps: keep one"
+            ));
+        }
+        let changes = changes_of(&spec.steps, q);
+        let start = match spec.constants.get(&q) {
+            Some(c) => c.si,
+            None if changes[0].0 <= time[0] + 1e-12 => changes[0].1,
+            None => {
+                return Err(format!(
+                    "{q} changes first at {} s but the run starts at {} s: give its value from \
+                     the start in `constants` ({q} = ...) or a step at the start",
+                    changes[0].0, time[0]
+                ))
+            }
+        };
+        let factor = q.internal_unit().factor;
+        let values = stepped(start, &changes, time)
+            .into_iter()
+            .map(|v| v / factor)
+            .collect();
+        out.push((q, values));
+    }
+    Ok(out)
+}
 
 /// The inputs of a model over time.
 #[derive(Debug, Clone, PartialEq)]
@@ -97,6 +179,87 @@ impl InputSeries {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::record::{self, Needs};
+
+    /// The bundled validation turn (15 N, then 30 N from 10 s) read with `extra` added to its
+    /// input table and its thrust column mapped or not.
+    fn validation_turn(thrust_column: bool, extra: &str) -> Result<record::Record, String> {
+        let mut text = String::from(
+            "file = \"cfd_exports/turn_validation.csv\"\n\
+             [columns]\n\
+             time = \"Physical Time: Physical Time\"\n\
+             u = \"u Monitor: Expression\"\n",
+        );
+        if thrust_column {
+            text.push_str("thrust = \"Thrust Monitor: Force\"\n");
+        }
+        let text = format!("{extra}\n{text}");
+        let spec: InputSpec = toml::from_str(&text).map_err(|e| e.message().to_string())?;
+        let needs = Needs {
+            required: &[Quantity::Time, Quantity::U, Quantity::Thrust],
+            optional: &[],
+            min_rows: 10,
+        };
+        record::load(
+            &spec,
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")),
+            &needs,
+        )
+        .map_err(|e| e.to_string())
+    }
+
+    #[test]
+    fn steps_sample_like_the_column_they_replace() {
+        let column = validation_turn(true, "").unwrap();
+        let steps = validation_turn(
+            false,
+            "constants = { thrust = \"15 N\" }\nsteps = [{ time = 10.0, thrust = \"0.03 kN\" }]",
+        )
+        .unwrap();
+        assert_eq!(
+            steps.channel(Quantity::Thrust),
+            column.channel(Quantity::Thrust)
+        );
+        assert!(!steps.constants.contains_key(&Quantity::Thrust));
+        // the first step at the start gives the value before it
+        let from_zero = validation_turn(
+            false,
+            "steps = [{ time = 0, thrust = \"15 N\" }, { time = 10, thrust = \"30 N\" }]",
+        )
+        .unwrap();
+        assert_eq!(
+            from_zero.channel(Quantity::Thrust),
+            column.channel(Quantity::Thrust)
+        );
+    }
+
+    #[test]
+    fn bad_steps_are_named() {
+        let e = validation_turn(false, "steps = [{ time = 10.0, thrust = \"30 N\" }]").unwrap_err();
+        assert!(
+            e.contains("thrust changes first at 10 s but the run starts at 0 s"),
+            "{e}"
+        );
+        let e = validation_turn(
+            true,
+            "steps = [{ time = 0, thrust = 15 }, { time = 10.0, thrust = 30 }]",
+        )
+        .unwrap_err();
+        assert!(e.contains("both as a column and as steps"), "{e}");
+        let e = validation_turn(
+            false,
+            "steps = [{ time = 10, thrust = \"30 N\" }, { time = 5, thrust = \"1 N\" }]",
+        )
+        .unwrap_err();
+        assert!(e.contains("increasing time: 10 s then 5 s"), "{e}");
+        let e = validation_turn(false, "steps = [{ time = 10, thrust = \"30 deg\" }]").unwrap_err();
+        assert!(
+            e.contains("thrust = \"30 deg\": unit 'deg' is an angle (rad); expected a force"),
+            "{e}"
+        );
+        let e = validation_turn(false, "steps = [{ time = 10 }]").unwrap_err();
+        assert!(e.contains("changes nothing"), "{e}");
+    }
 
     #[test]
     fn interpolates_and_holds() {

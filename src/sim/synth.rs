@@ -2,7 +2,7 @@
 //! coefficients imply), with seeded measurement noise, as SI columns ready to export.
 
 use super::config::{Manoeuvre, SimConfig};
-use super::inputs::{Input, InputSeries};
+use super::inputs::{changes_of, stepped, Input, InputSeries};
 use super::integrate::{complete_coefficients, simulate};
 use crate::coefficients::{Coefficient, CoefficientSet, Source};
 use crate::error::{Error, Result};
@@ -121,7 +121,10 @@ impl ModelVisitor for History<'_> {
         let series: Vec<Input> = model
             .inputs()
             .iter()
-            .map(|q| Input::Series(stepped(q, inputs, steps, &times)))
+            .map(|q| {
+                let start = inputs.get(q).map_or(0.0, |c| c.si);
+                Input::Series(stepped(start, &changes_of(steps, *q), &times))
+            })
             .collect();
         let input_series = InputSeries {
             t: times,
@@ -147,32 +150,6 @@ impl ModelVisitor for History<'_> {
         }
         Ok(cols)
     }
-}
-
-/// The values of input `q` at `times`: its start value, then each step's value from the
-/// step's time on (steps in time order; one pass over the times).
-fn stepped(
-    q: &Quantity,
-    start: &BTreeMap<Quantity, crate::config::Constant>,
-    steps: &[super::config::Step],
-    times: &[f64],
-) -> Vec<f64> {
-    let mut changes: Vec<(f64, f64)> = steps
-        .iter()
-        .filter_map(|s| s.values.get(q).map(|c| (s.time, c.si)))
-        .collect();
-    changes.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let mut value = start.get(q).map_or(0.0, |c| c.si);
-    let mut next = changes.iter().peekable();
-    times
-        .iter()
-        .map(|t| {
-            while let Some((_, v)) = next.next_if(|(at, _)| *t >= at - 1e-12) {
-                value = *v;
-            }
-            value
-        })
-        .collect()
 }
 
 /// The steady polar implied by the coefficients: paper eq. 5 inverted with q = 0.5 rho A_ref,

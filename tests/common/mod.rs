@@ -53,3 +53,22 @@ pub fn fluid() -> FluidConfig {
         mu: 0.0009,
     }
 }
+
+/// Runs the `hydroid` binary in `dir` with `args`.
+pub fn hydroid_in(dir: &std::path::Path, args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_hydroid"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("the hydroid binary runs")
+}
+
+/// Runs the `hydroid` binary in the repository's root with `args`.
+pub fn hydroid(args: &[&str]) -> std::process::Output {
+    hydroid_in(std::path::Path::new(env!("CARGO_MANIFEST_DIR")), args)
+}
+
+/// Bytes a command printed, as text.
+pub fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}

@@ -5,7 +5,7 @@ use super::Figures;
 use crate::report::doc::{code, text, Col, Document, Table};
 use crate::report::plots::budget::{lines, stages_of};
 use crate::report::results::RunResult;
-use crate::report::table::{comparison_header, comparison_rows, num};
+use crate::report::table::{comparison_header, comparison_rows, num, ordered};
 
 pub fn write<'a>(d: &mut Document<'a>, r: &RunResult, figs: &Figures<'a>) {
     d.heading(2, "Coefficients");
@@ -24,7 +24,7 @@ pub fn write<'a>(d: &mut Document<'a>, r: &RunResult, figs: &Figures<'a>) {
     let header = comparison_header(r);
     let flags = header.len() - 1;
     let mut t = Table::new(header).col(flags, Col::Text);
-    for (row, cells) in r.comparison.iter().zip(comparison_rows(r)) {
+    for (row, cells) in ordered(r).into_iter().zip(comparison_rows(r)) {
         if row.flags.is_empty() {
             t.row(cells);
         } else {

@@ -159,7 +159,7 @@ impl Plot for Budget {
             ))?;
             let rel = l
                 .relative
-                .map(|r| format!(" ({:.1} % of |value|)", 100.0 * r))
+                .map(|r| format!(" ({} |value|)", crate::numfmt::proportion(r)))
                 .unwrap_or_default();
             area.draw(&Text::new(
                 format!("σ = {}{rel}", num(l.sigma)),

@@ -89,6 +89,11 @@ pub fn provides() -> Vec<&'static str> {
     MAPS.iter().map(|m| m.name).collect()
 }
 
+/// Each coefficient this mapping gives with its relation to the fitted constants.
+pub fn relations() -> Vec<(&'static str, &'static str)> {
+    MAPS.iter().map(|m| (m.name, m.relation)).collect()
+}
+
 /// The gradient g of a coefficient with respect to its channel's constants (in `fit.names`
 /// order): the coefficient is g'x.
 fn gradient(m: &Map, fit: &ChannelFit, q: f64, l_ref: f64) -> Vec<f64> {

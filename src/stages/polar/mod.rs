@@ -39,6 +39,12 @@ pub fn provides() -> Vec<&'static str> {
     mapping::provides()
 }
 
+/// Each coefficient this stage estimates with its relation to the fitted polar constants
+/// (paper eq. 5), for the coefficient catalogue.
+pub fn relations() -> Vec<(&'static str, &'static str)> {
+    mapping::relations()
+}
+
 /// What the stage reads from each record.
 pub fn needs(config: &PolarConfig) -> Needs<'static> {
     match config.data {

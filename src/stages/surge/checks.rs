@@ -37,8 +37,8 @@ pub(super) fn momentum(
                         super::STAGE,
                         format!(
                             "the exported force and thrust do not account for the motion \
-                             (momentum balance off by {:.0} %)",
-                            100.0 * relative
+                             (momentum balance off by {} the momentum change)",
+                            crate::numfmt::proportion(relative)
                         ),
                         "Xuu and Xud fitted from this force export are not reliable: check \
                          vehicle.mass, the thrust and the sign of fx",

@@ -46,7 +46,12 @@ pub const MIN_RUN_SAMPLES: usize = 10;
 
 /// The coefficients this stage estimates: Xud, and Xuu when it fits the drag too.
 pub fn provides(config: &SurgeConfig) -> &'static [&'static str] {
-    match config.drag_from {
+    provides_with(config.drag_from)
+}
+
+/// The coefficients the stage estimates with its drag taken from `drag_from`.
+pub fn provides_with(drag_from: DragFrom) -> &'static [&'static str] {
+    match drag_from {
         DragFrom::Coefficients => &["Xud"],
         DragFrom::Force => &["Xud", "Xuu"],
     }

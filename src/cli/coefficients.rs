@@ -1,0 +1,54 @@
+//! `hydroid coefficients [MODEL]`: the coefficient catalogue (docs/coefficients.md).
+
+use super::{json, CmdResult};
+use hydroid::catalogue::{self, Entry};
+use hydroid::Error;
+use std::io::Write;
+
+/// List every coefficient hydroid knows: name, meaning, SI unit, the stages that can give it
+/// and the relations that derive it. With a model name (spheroid3, spheroid6), only that
+/// model's coefficients, with its states and inputs.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// A model (`hekf.model`): spheroid3 or spheroid6.
+    model: Option<String>,
+    /// Print machine-readable JSON instead of text.
+    #[arg(long)]
+    json: bool,
+}
+
+/// Runs the command.
+pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
+    let entries = catalogue::entries();
+    let Some(name) = &args.model else {
+        if args.json {
+            let models: Vec<_> = catalogue::MODELS
+                .iter()
+                .map(|m| catalogue::model(*m))
+                .collect();
+            json::write(
+                out,
+                &serde_json::json!({ "coefficients": entries, "models": models }),
+            )?;
+        } else {
+            write!(out, "{}", catalogue::text(&entries))?;
+        }
+        return Ok(0);
+    };
+    let model = catalogue::model(catalogue::model_named(name).map_err(Error::Usage)?);
+    let of_model: Vec<&Entry> = entries
+        .iter()
+        .filter(|e| model.coefficients.iter().any(|c| c.name == e.name))
+        .collect();
+    if args.json {
+        json::write(
+            out,
+            &serde_json::json!({ "model": model, "coefficients": of_model }),
+        )?;
+    } else {
+        writeln!(out, "{}", catalogue::model_text(&model))?;
+        let owned: Vec<Entry> = of_model.into_iter().cloned().collect();
+        write!(out, "{}", catalogue::text(&owned))?;
+    }
+    Ok(0)
+}

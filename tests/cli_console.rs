@@ -1,0 +1,403 @@
+//! What the command line prints and where: `--verbose` and `--quiet`, `--json` on stdout with
+//! everything else on stderr, and unchanged exit codes.
+
+mod common;
+
+use common::{hydroid, text};
+
+/// The bundled example without the HEKF (well under a second), into a temporary folder, with
+/// an input read in the earth frame so that the run has a warning.
+fn quick_run(extra: &[&str]) -> (tempfile::TempDir, std::process::Output) {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let mut args = vec![
+        "run",
+        "configs/spheroid.toml",
+        "--out",
+        out.to_str().unwrap(),
+        "--set",
+        "hekf.enabled=false",
+        "--set",
+        "surge.runs[0].velocity_frame=\"earth\"",
+        "--set",
+        "surge.runs[0].constants={yaw=0}",
+    ];
+    args.extend_from_slice(extra);
+    let o = hydroid(&args);
+    (dir, o)
+}
+
+#[test]
+fn quiet_prints_only_warnings_and_keeps_the_table() {
+    let (_dir, o) = quick_run(&["--quiet"]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let stderr = text(&o.stderr);
+    assert_eq!(
+        stderr.trim(),
+        "warning: surge run: velocities rotated from the earth frame into the body frame"
+    );
+    // the results table stays on stdout, grouped by stage in pipeline order
+    let table = text(&o.stdout);
+    let names: Vec<&str> = table
+        .lines()
+        .skip(1)
+        .take_while(|l| !l.is_empty() && !l.starts_with(' '))
+        .filter_map(|l| l.split_whitespace().next())
+        .collect();
+    assert_eq!(
+        names,
+        ["Xuu", "Xuv", "Xvv", "Yvv", "Yuvd", "Yuvl", "Nuvl", "Xud", "Yur", "Yuv"],
+        "{table}"
+    );
+    // the same run without --quiet says what each stage did
+    let (_dir, o) = quick_run(&[]);
+    assert!(text(&o.stderr).contains("polar: 7 coefficients"));
+    // --quiet is global: it may come before the command, and excludes --verbose
+    let o = hydroid(&["-q", "--verbose", "check", "configs/spheroid.toml"]);
+    assert_eq!(o.status.code(), Some(2));
+}
+
+#[test]
+fn filter_details_with_verbose() {
+    // without --verbose: see run_json_prints_results_json_and_only_that
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = hydroid(&[
+        "run",
+        "configs/spheroid.toml",
+        "--out",
+        out.to_str().unwrap(),
+        "--set",
+        "hekf.passes=1",
+        "--verbose",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let verbose = text(&o.stderr);
+    assert_eq!(verbose.matches("hekf prior: ").count(), 6, "{verbose}");
+    assert_eq!(verbose.matches("hekf noise of ").count(), 6, "{verbose}");
+    assert!(verbose.contains("hekf settings: hydroid preset, 1 passes"));
+}
+
+#[test]
+fn run_json_prints_results_json_and_only_that() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = hydroid(&[
+        "run",
+        "configs/spheroid.toml",
+        "--out",
+        out.to_str().unwrap(),
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("stdout is JSON");
+    assert_eq!(v["schema"], "hydroid-results/1");
+    assert_eq!(o.stdout, std::fs::read(out.join("results.json")).unwrap());
+    let stderr = text(&o.stderr);
+    assert!(
+        stderr.contains(&format!("wrote {}", out.display())),
+        "{stderr}"
+    );
+    // the filter's details are for --verbose only
+    assert!(stderr.contains("hekf: 6 coefficients"), "{stderr}");
+    for detail in ["hekf settings:", "hekf prior:", "hekf noise of"] {
+        assert!(!stderr.contains(detail), "{stderr}");
+    }
+    // a failed run: the same exit code as without --json, nothing on stdout
+    let o = hydroid(&["run", "configs/missing.toml", "--json"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(o.stdout.is_empty());
+}
+
+#[test]
+fn coefficients_lists_the_catalogue_and_one_model() {
+    let o = hydroid(&["coefficients"]);
+    assert_eq!(o.status.code(), Some(0));
+    let all = text(&o.stdout);
+    assert!(all.contains("Xud") && all.contains("Kpp") && all.contains("kg m^2"));
+    assert!(
+        all.contains("derived: paper eq. 4: Xvr = -Yvd (spheroid3)"),
+        "{all}"
+    );
+    let o = hydroid(&["coefficients", "spheroid3"]);
+    assert_eq!(o.status.code(), Some(0));
+    let one = text(&o.stdout);
+    assert!(one.contains("states: u [m/s], v [m/s], r [rad/s]"), "{one}");
+    assert!(one.contains("psi (column yaw) [rad]"), "{one}");
+    assert!(one.contains("inputs: thrust [N]"), "{one}");
+    assert!(!one.contains("Kpp"), "{one}");
+    let o = hydroid(&["coefficients", "spheroid6", "--json"]);
+    assert_eq!(o.status.code(), Some(0));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("stdout is JSON");
+    assert_eq!(v["model"]["name"], "spheroid6");
+    assert_eq!(v["model"]["states"].as_array().unwrap().len(), 12);
+    let kpp = v["coefficients"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|c| c["name"] == "Kpp")
+        .unwrap();
+    assert_eq!(kpp["unit"], "kg m^2");
+    assert_eq!(kpp["given_by"][0]["source"], "hekf");
+    let o = hydroid(&["coefficients", "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("stdout is JSON");
+    assert_eq!(v["models"].as_array().unwrap().len(), 2);
+    let o = hydroid(&["coefficients", "spheroid7"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(text(&o.stderr).contains("did you mean 'spheroid3'"));
+}
+
+/// Fills in every `FILL-IN` file of a template with a small delimited export whose columns
+/// are the ones the template maps (units in the headers), as a user would.
+fn fill_in(config: &std::path::Path) {
+    let text = std::fs::read_to_string(config).unwrap();
+    let doc: toml::Table = toml::from_str(&text).unwrap();
+    let mut filled = text.clone();
+    for stage in ["polar", "surge", "hekf"] {
+        let Some(runs) = doc.get(stage).and_then(|s| s.get("runs")) else {
+            continue;
+        };
+        for run in runs.as_array().unwrap() {
+            let placeholder = run["file"].as_str().unwrap();
+            assert!(placeholder.starts_with("FILL-IN"), "{placeholder}");
+            let columns = run["columns"].as_table().unwrap();
+            let header: Vec<String> = columns
+                .iter()
+                .map(|(q, name)| {
+                    let unit = hydroid::quantity::Quantity::from_key(q)
+                        .unwrap()
+                        .si_symbol();
+                    let name = name.as_str().unwrap();
+                    if unit == "-" {
+                        name.to_string()
+                    } else {
+                        format!("{name} [{unit}]")
+                    }
+                })
+                .collect();
+            let mut csv = header.join(",") + "\n";
+            for i in 0..50 {
+                let row: Vec<String> = columns
+                    .keys()
+                    .map(|q| match q.as_str() {
+                        "time" => format!("{}", 0.01 * i as f64),
+                        "alpha" => format!("{}", 0.01 * (i as f64 - 25.0)),
+                        _ => format!("{}", 1.0 + 0.001 * i as f64),
+                    })
+                    .collect();
+                csv += &(row.join(",") + "\n");
+            }
+            let name = format!("{stage}.csv");
+            std::fs::write(config.parent().unwrap().join(&name), csv).unwrap();
+            filled = filled.replace(placeholder, &name);
+        }
+    }
+    std::fs::write(config, filled).unwrap();
+}
+
+#[test]
+fn init_writes_a_template_check_accepts_once_filled_in() {
+    let dir = tempfile::tempdir().unwrap();
+    let project = dir.path().join("project");
+    let o = hydroid(&["init", project.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let config = project.join("hydroid.toml");
+    // the template and nothing else
+    assert_eq!(std::fs::read_dir(&project).unwrap().count(), 1);
+    let template = std::fs::read(&config).unwrap();
+    // as written, check names every file to fill in
+    let o = hydroid(&["check", config.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert_eq!(
+        text(&o.stderr).matches("FILL-IN").count(),
+        3,
+        "{}",
+        text(&o.stderr)
+    );
+    // never overwritten, not even by a second init
+    let o = hydroid(&["init", project.to_str().unwrap(), "--model", "spheroid6"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        text(&o.stderr).contains("already exists"),
+        "{}",
+        text(&o.stderr)
+    );
+    assert_eq!(std::fs::read(&config).unwrap(), template);
+    fill_in(&config);
+    let o = hydroid(&["check", config.to_str().unwrap()]);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}{}",
+        text(&o.stdout),
+        text(&o.stderr)
+    );
+
+    // the 6-DOF model with the filter alone: what no stage gives is asked for
+    let config = dir.path().join("six.toml");
+    let o = hydroid(&[
+        "init",
+        config.to_str().unwrap(),
+        "--stages",
+        "hekf",
+        "--model",
+        "spheroid6",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    fill_in(&config);
+    let o = hydroid(&["check", config.to_str().unwrap()]);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}{}",
+        text(&o.stdout),
+        text(&o.stderr)
+    );
+    assert!(text(&o.stdout).contains("spheroid6 model"));
+}
+
+#[test]
+fn check_json_lists_what_would_run_and_every_problem() {
+    let o = hydroid(&["check", "configs/spheroid.toml", "--json"]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("stdout is JSON");
+    assert_eq!(v["ok"], true);
+    assert_eq!(v["problems"], serde_json::json!([]));
+    assert_eq!(
+        v["would_run"]["stages"],
+        serde_json::json!(["polar", "surge", "hekf"])
+    );
+    assert_eq!(v["would_run"]["hekf"]["model"], "spheroid3");
+    let inputs = v["inputs"].as_array().unwrap();
+    assert_eq!(inputs.len(), 4);
+    assert!(
+        inputs.iter().all(|i| i["status"] == "usable"),
+        "{inputs:#?}"
+    );
+    assert_eq!(inputs[1]["rows"], 2001);
+
+    // configuration problems: exit code 2, each with its line and key
+    let o = hydroid(&[
+        "check",
+        "tests/fixtures/configs/three_mistakes.toml",
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(o.stderr.is_empty(), "{}", text(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("stdout is JSON");
+    assert_eq!(v["ok"], false);
+    let problems = v["problems"].as_array().unwrap();
+    assert_eq!(problems.len(), 3, "{problems:#?}");
+    let mass = problems
+        .iter()
+        .find(|p| p["key"] == "vehicle.mass")
+        .unwrap();
+    assert_eq!(mass["line"], 3);
+    assert!(mass["file"]
+        .as_str()
+        .unwrap()
+        .ends_with("three_mistakes.toml"));
+    assert!(mass["message"].as_str().unwrap().contains("positive"));
+
+    // a bad input file only: exit code 1, the problem placed in the file
+    let o = hydroid(&[
+        "check",
+        "configs/spheroid.toml",
+        "--json",
+        "--set",
+        "hekf.runs[0].file=\"../tests/fixtures/bad/ragged_row.csv\"",
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("stdout is JSON");
+    let p = &v["problems"][0];
+    assert_eq!(p["key"], "hekf.runs[0]");
+    assert_eq!(p["line"], 4);
+    assert!(p["file"].as_str().unwrap().ends_with("ragged_row.csv"));
+    assert_eq!(v["inputs"][2]["status"], "unusable");
+}
+
+#[test]
+fn compare_json_gives_the_differences() {
+    let dir = tempfile::tempdir().unwrap();
+    let write = |name: &str, coefficients: serde_json::Value| {
+        let p = dir.path().join(name);
+        std::fs::write(
+            &p,
+            serde_json::json!({ "coefficients": coefficients }).to_string(),
+        )
+        .unwrap();
+        p.to_str().unwrap().to_string()
+    };
+    let coef = |name: &str, value: f64, sigma: f64| serde_json::json!({"name": name, "value": value, "sigma": sigma, "unit": "kg", "source": "hekf"});
+    let a = write(
+        "a.json",
+        serde_json::json!([coef("Yvd", -23.0, 0.3), coef("Nvv", 10.0, 0.5)]),
+    );
+    let b = write("b.json", serde_json::json!([coef("Yvd", -23.5, 0.4)]));
+    let o = hydroid(&["compare", &a, &b, "--json"]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("stdout is JSON");
+    let rows = v["coefficients"].as_array().unwrap();
+    let yvd = rows.iter().find(|r| r["name"] == "Yvd").unwrap();
+    assert_eq!(yvd["difference"], -0.5);
+    assert_eq!(yvd["difference_in_sigma"], -1.0);
+    assert_eq!(yvd["b"]["sigma"], 0.4);
+    let nvv = rows.iter().find(|r| r["name"] == "Nvv").unwrap();
+    assert!(nvv["b"].is_null() && nvv["difference"].is_null());
+    // a failure keeps its exit code and leaves stdout empty
+    let missing = dir.path().join("none.json");
+    let o = hydroid(&["compare", &a, missing.to_str().unwrap(), "--json"]);
+    let plain = hydroid(&["compare", &a, missing.to_str().unwrap()]);
+    assert_eq!(o.status.code(), plain.status.code());
+    assert_ne!(o.status.code(), Some(0));
+    assert!(o.stdout.is_empty());
+}
+
+/// The bundled configuration in a temporary folder, with its validation run's thrust given by
+/// `thrust` (TOML lines for its input table) instead of its thrust column.
+fn validation_thrust_as(thrust: &str) -> (tempfile::TempDir, std::path::PathBuf) {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(root.join("configs/spheroid.toml")).unwrap();
+    let exports = root.join("cfd_exports").display().to_string() + "/";
+    let text = text
+        .replace("../cfd_exports/", &exports)
+        .replace("thrust = \"Thrust Monitor: Force\"\n", "")
+        .replace(
+            "turn_validation.csv\"\n",
+            &format!("turn_validation.csv\"\n{thrust}\n"),
+        );
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("steps.toml");
+    std::fs::write(&config, text).unwrap();
+    (dir, config)
+}
+
+#[test]
+fn steps_give_a_time_varying_input_the_file_has_no_column_for() {
+    let (_dir, config) = validation_thrust_as(
+        "constants = { thrust = \"15 N\" }\nsteps = [{ time = 10.0, thrust = \"30 N\" }]",
+    );
+    let o = hydroid(&["check", config.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stdout).contains("thrust [N]"),
+        "{}",
+        text(&o.stdout)
+    );
+    // a unit that is not a force is named with its line
+    let (_dir, config) = validation_thrust_as(
+        "constants = { thrust = \"15 N\" }\nsteps = [{ time = 10.0, thrust = \"30 deg\" }]",
+    );
+    let line = 1 + std::fs::read_to_string(&config)
+        .unwrap()
+        .lines()
+        .position(|l| l.starts_with("steps = "))
+        .unwrap();
+    let o = hydroid(&["check", config.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    let stderr = text(&o.stderr);
+    assert!(
+        stderr.contains(&format!("steps.toml:{line}: hekf.validation[0].steps[0]: the step at 10 s gives thrust = \"30 deg\": unit 'deg' is an angle")),
+        "{stderr}"
+    );
+}
