@@ -32,10 +32,20 @@ fn quiet_prints_only_warnings_and_keeps_the_table() {
     let (_dir, o) = quick_run(&["--quiet"]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
     let stderr = text(&o.stderr);
-    assert_eq!(
-        stderr.trim(),
-        "warning: surge run: velocities rotated from the earth frame into the body frame"
+    // warnings (each with its meaning) and nothing else
+    assert!(
+        stderr.starts_with(
+            "warning: input, run 'surge run': velocities rotated from the earth \
+                            frame into the body frame"
+        ),
+        "{stderr}"
     );
+    for line in stderr.lines() {
+        assert!(
+            line.starts_with("warning: ") || line.starts_with("  meaning: "),
+            "{line}"
+        );
+    }
     // the results table stays on stdout, grouped by stage in pipeline order
     let table = text(&o.stdout);
     let names: Vec<&str> = table
@@ -91,7 +101,7 @@ fn run_json_prints_results_json_and_only_that() {
     ]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("stdout is JSON");
-    assert_eq!(v["schema"], "hydroid-results/1");
+    assert_eq!(v["schema"], "hydroid-results/2");
     assert_eq!(o.stdout, std::fs::read(out.join("results.json")).unwrap());
     let stderr = text(&o.stderr);
     assert!(
@@ -177,12 +187,14 @@ fn fill_in(config: &std::path::Path) {
                 .collect();
             let mut csv = header.join(",") + "\n";
             for i in 0..50 {
+                // distinct columns: identical ones would be taken for one column mapped twice
                 let row: Vec<String> = columns
                     .keys()
-                    .map(|q| match q.as_str() {
+                    .enumerate()
+                    .map(|(k, q)| match q.as_str() {
                         "time" => format!("{}", 0.01 * i as f64),
                         "alpha" => format!("{}", 0.01 * (i as f64 - 25.0)),
-                        _ => format!("{}", 1.0 + 0.001 * i as f64),
+                        _ => format!("{}", 1.0 + 0.001 * (k + 1) as f64 * i as f64),
                     })
                     .collect();
                 csv += &(row.join(",") + "\n");

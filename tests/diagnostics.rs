@@ -372,7 +372,7 @@ fn heading_units_and_signs_and_shared_columns_are_named() {
     );
     stopped_before_filtering(
         &["hekf.runs[0].columns.v=\"Velocity u\""],
-        "u and v hold identical values in all 2001 rows",
+        "u, v hold identical values in all 2001 rows",
     );
 }
 

@@ -54,30 +54,39 @@ pub fn kinematics(rec: &Record) -> Vec<Finding> {
     out
 }
 
-/// Two quantities with identical values: mapped to one column.
+/// Quantities with identical values: one column mapped to several quantities.
 fn duplicates(rec: &Record) -> Vec<Finding> {
-    let mut out = Vec::new();
     let chans: Vec<(&Quantity, &Vec<f64>)> = rec
         .channels
         .iter()
         .filter(|(q, v)| **q != Quantity::Time && v.iter().any(|x| *x != v[0]))
         .collect();
-    for (i, (qa, a)) in chans.iter().enumerate() {
-        for (qb, b) in &chans[i + 1..] {
-            if a == b {
-                out.push(Finding::new(
-                    rec,
-                    true,
-                    format!(
-                        "{qa} and {qb} hold identical values in all {} rows",
-                        a.len()
-                    ),
-                    format!(
-                        "two quantities are almost certainly mapped to one column; check the \
-                         run's `columns` for {qa} and {qb}"
-                    ),
-                ));
-            }
+    // groups of identical channels, each named once
+    let mut seen = vec![false; chans.len()];
+    let mut out = Vec::new();
+    for i in 0..chans.len() {
+        if seen[i] {
+            continue;
+        }
+        let group: Vec<&Quantity> = (i..chans.len())
+            .filter(|&j| chans[j].1 == chans[i].1)
+            .inspect(|&j| seen[j] = true)
+            .map(|j| chans[j].0)
+            .collect();
+        if group.len() > 1 {
+            let names = group.iter().map(|q| q.key()).collect::<Vec<_>>().join(", ");
+            out.push(Finding::new(
+                rec,
+                true,
+                format!(
+                    "{names} hold identical values in all {} rows",
+                    chans[i].1.len()
+                ),
+                format!(
+                    "one column is almost certainly mapped to several quantities; check the \
+                     run's `columns` for {names}"
+                ),
+            ));
         }
     }
     out
