@@ -1,6 +1,8 @@
 //! Reading a 200,000-row, 8-column export: the generic CSV reader (layout pre-scan, polars
 //! parse, SI conversion, restart check) and, for comparison, the same table separated by
-//! spaces (the hand tokenizer used for whitespace, Fluent and OpenFOAM files).
+//! spaces (the hand tokenizer used for whitespace, Fluent and OpenFOAM files). Then other
+//! shapes, to show that the time grows with the number of cells whatever the shape: one line
+//! of 100,000 and of 300,000 cells, and 1,000 rows of 1,000 columns.
 //!
 //! `cargo bench --bench ingest`; numbers are recorded in docs/performance.md.
 
@@ -76,6 +78,42 @@ fn bench(c: &mut Criterion) {
         b.iter(|| black_box(load(&ws)))
     });
     g.finish();
+
+    let mut g = c.benchmark_group("ingest_shapes");
+    g.sample_size(10);
+    for (name, rows, cols) in [
+        ("one_line_100k_cells", 1, 100_000),
+        ("one_line_300k_cells", 1, 300_000),
+        ("1000_rows_1000_cols", 1000, 1000),
+    ] {
+        let p = dir.path().join(format!("{name}.csv"));
+        std::fs::write(&p, grid(rows, cols)).expect("write the table");
+        g.throughput(Throughput::Elements((rows * cols) as u64));
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                let t = read(&p, FormatChoice::Auto, &ReadOptions::default()).expect("readable");
+                assert_eq!((t.rows(), t.columns.len()), (rows, cols));
+                black_box(t)
+            })
+        });
+    }
+    g.finish();
+}
+
+/// `rows` rows of `cols` comma-separated numbers under a header `c0,c1,...`.
+fn grid(rows: usize, cols: usize) -> String {
+    let mut s = String::with_capacity((rows + 1) * cols * 8);
+    for j in 0..cols {
+        let _ = write!(s, "{}c{j}", if j > 0 { "," } else { "" });
+    }
+    s.push('\n');
+    for i in 0..rows {
+        for j in 0..cols {
+            let _ = write!(s, "{}{}.{}", if j > 0 { "," } else { "" }, j % 1000, i % 10);
+        }
+        s.push('\n');
+    }
+    s
 }
 
 criterion_group!(benches, bench);

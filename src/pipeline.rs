@@ -68,10 +68,17 @@ pub fn load_input(
     })
 }
 
-/// SHA-256 of a file, hex.
+/// SHA-256 of a file, hex. The file is read like every input (`formats::input`: a regular
+/// file within the size limit), in chunks.
 pub fn file_sha256(path: &Path) -> Result<String> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    Ok(Sha256::digest(&bytes)
+    use crate::formats::input::{stream, Limits};
+    let mut hasher = Sha256::new();
+    stream(path, &Limits::for_file(path)?, |chunk| {
+        hasher.update(chunk);
+        Ok(())
+    })?;
+    Ok(hasher
+        .finalize()
         .iter()
         .map(|b| format!("{b:02x}"))
         .collect())

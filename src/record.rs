@@ -6,7 +6,7 @@ use crate::error::{InputError, Place};
 use crate::formats::{self, Format, ReadOptions};
 use crate::quantity::Quantity;
 use crate::table::Table;
-use crate::units::{dim_to_string, unwrap_angles, Unit};
+use crate::units::{dim_to_string, unwrap_attitude, Unit};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -86,9 +86,6 @@ pub fn report_path(path: &Path, base: &Path) -> String {
 /// Reads the file `spec` names (relative to `base`) and picks the quantities `needs` asks for.
 pub fn load(spec: &InputSpec, base: &Path, needs: &Needs) -> Result<Record, InputError> {
     let path = base.join(&spec.file);
-    if !path.exists() {
-        return Err(InputError::new(Place::file(&path), "file does not exist"));
-    }
     let options = ReadOptions {
         names: spec.names.clone(),
     };
@@ -165,6 +162,7 @@ pub fn from_table(mut table: Table, spec: &InputSpec, needs: &Needs) -> Result<R
         table.drop_repeated_times(t_idx)?;
     }
 
+    let time_history = picks.iter().any(|p| p.0 == Quantity::Time);
     let mut channels = BTreeMap::new();
     let mut units = BTreeMap::new();
     for (q, idx, unit, scale) in &picks {
@@ -191,9 +189,7 @@ pub fn from_table(mut table: Table, spec: &InputSpec, needs: &Needs) -> Result<R
             )
             .expected("a finite number"));
         }
-        if q.is_euler_angle() {
-            unwrap_angles(&mut values);
-        }
+        unwrap_attitude(*q, time_history, &mut values);
         units.insert(
             *q,
             unit.as_ref()
@@ -337,9 +333,6 @@ fn rescale_column(table: &mut Table, idx: usize, unit: &Unit) {
     if f != 1.0 {
         for v in &mut col.values {
             *v *= f;
-        }
-        if unit.is_angle() {
-            unwrap_angles(&mut col.values);
         }
     }
     col.unit = Some(unit.clone());

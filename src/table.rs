@@ -3,7 +3,7 @@
 
 use crate::error::{InputError, Place};
 use crate::formats::Format;
-use crate::units::{unwrap_angles, Unit};
+use crate::units::Unit;
 use std::path::PathBuf;
 
 /// One column of a table.
@@ -111,9 +111,10 @@ impl Table {
         }
     }
 
-    /// Converts the columns whose unit is known to SI, unwraps angle columns, and, when the
-    /// time column is known, checks it and keeps the last row of exactly repeated time stamps
-    /// (a restarted run writes the overlap again).
+    /// Converts the columns whose unit is known to SI and, when the time column is known,
+    /// checks it and keeps the last row of exactly repeated time stamps (a restarted run
+    /// writes the overlap again). Angles stay as written (in radians): only the record knows
+    /// which column is an attitude history to unwrap ([`crate::units::unwrap_attitude`]).
     pub fn finish(&mut self) -> Result<(), InputError> {
         for c in &mut self.columns {
             if let Some(u) = &c.unit {
@@ -121,9 +122,6 @@ impl Table {
                     for v in &mut c.values {
                         *v *= u.factor;
                     }
-                }
-                if u.is_angle() {
-                    unwrap_angles(&mut c.values);
                 }
             }
         }
@@ -255,12 +253,12 @@ mod tests {
     }
 
     #[test]
-    fn degrees_become_radians_and_unwrap() {
+    fn degrees_become_radians_as_written() {
         let mut t = table(&[0.0, 1.0, 2.0]);
         t.columns[1].values = vec![179.0, -179.0, -170.0];
         t.columns[1].unit = Some(Unit::parse("deg").unwrap());
         t.finish().unwrap();
         let deg: Vec<f64> = t.columns[1].values.iter().map(|r| r.to_degrees()).collect();
-        assert!((deg[1] - 181.0).abs() < 1e-9 && (deg[2] - 190.0).abs() < 1e-9);
+        assert!((deg[1] + 179.0).abs() < 1e-9 && (deg[2] + 170.0).abs() < 1e-9);
     }
 }

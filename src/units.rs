@@ -7,6 +7,7 @@
 //! Accepted spellings include everything listed in docs/formats.md: `m s^-1`, `m/s`, `m.s-1`,
 //! `degree s^-1`, `deg/s`, `N-m`, `N m`, `kg m^2`, `kg.m2`, `1/s`, `rpm`, `kn`, `-` and `1`.
 
+use crate::quantity::Quantity;
 use std::f64::consts::PI;
 use std::fmt;
 
@@ -128,6 +129,7 @@ impl Unit {
         let mut p = Parser {
             chars: inner.chars().collect(),
             pos: 0,
+            depth: 0,
             text: trimmed,
         };
         let (factor, dim) = p.expr()?;
@@ -173,6 +175,8 @@ fn strip_brackets(s: &str) -> &str {
 struct Parser<'a> {
     chars: Vec<char>,
     pos: usize,
+    /// Open brackets around `pos`.
+    depth: usize,
     text: &'a str,
 }
 
@@ -202,6 +206,19 @@ impl Parser<'_> {
         self.pos > start
     }
 
+    /// `a + k b` over the dimension exponents; an exponent beyond +-127 is an error, not an
+    /// overflow.
+    fn combine(&self, a: Dim, b: Dim, k: i8) -> Result<Dim, UnitError> {
+        let mut out = a;
+        for (o, x) in out.iter_mut().zip(b) {
+            *o = x
+                .checked_mul(k)
+                .and_then(|kx| o.checked_add(kx))
+                .ok_or_else(|| self.error("the exponents are too large".into()))?;
+        }
+        Ok(out)
+    }
+
     /// expr := term ((sep | '/') term)*
     fn expr(&mut self) -> Result<(f64, Dim), UnitError> {
         self.skip_separators();
@@ -218,16 +235,12 @@ impl Parser<'_> {
                     self.skip_separators();
                     let (f, d) = self.term()?;
                     factor /= f;
-                    for i in 0..4 {
-                        dim[i] -= d[i];
-                    }
+                    dim = self.combine(dim, d, -1)?;
                 }
                 Some(_) => {
                     let (f, d) = self.term()?;
                     factor *= f;
-                    for i in 0..4 {
-                        dim[i] += d[i];
-                    }
+                    dim = self.combine(dim, d, 1)?;
                 }
             }
         }
@@ -238,18 +251,21 @@ impl Parser<'_> {
     fn term(&mut self) -> Result<(f64, Dim), UnitError> {
         let (factor, dim) = self.atom()?;
         let e = self.exponent()?;
-        let mut d = dim;
-        for x in d.iter_mut() {
-            *x *= e;
-        }
+        let d = self.combine(DIMENSIONLESS, dim, e)?;
         Ok((factor.powi(e as i32), d))
     }
 
     fn atom(&mut self) -> Result<(f64, Dim), UnitError> {
         match self.peek() {
             Some('(') => {
+                // Units nest a level or two; the bound keeps the recursion shallow.
+                if self.depth >= 16 {
+                    return Err(self.error("brackets nested too deep".into()));
+                }
                 self.pos += 1;
+                self.depth += 1;
                 let r = self.expr()?;
+                self.depth -= 1;
                 if self.peek() != Some(')') {
                     return Err(self.error("missing ')'".into()));
                 }
@@ -408,6 +424,19 @@ pub fn check_dim(unit: &Unit, expected: Dim) -> Result<(), String> {
     ))
 }
 
+/// Unwraps `values` (radians, one per row) when they are an attitude history: the roll, pitch
+/// or yaw (heading) of a record with a time axis, which a solver writes wrapped to
+/// (-180, 180] deg. Nothing else is unwrapped: the rows of a polar sweep's angle of attack,
+/// a drift angle or a rudder angle are settings, not a continuous history (a sweep from -120
+/// to 120 deg repeated at a second speed must stay as written). Returns true when unwrapped.
+pub fn unwrap_attitude(q: Quantity, time_history: bool, values: &mut [f64]) -> bool {
+    let attitude = time_history && q.is_euler_angle();
+    if attitude {
+        unwrap_angles(values);
+    }
+    attitude
+}
+
 /// Removes 2 pi jumps from a sampled angle (radians) in place, so that a heading that
 /// passes +-180 deg becomes continuous. Jumps larger than pi between samples are taken as
 /// wraps; NaNs are left alone and do not reset the running offset.
@@ -489,6 +518,11 @@ mod tests {
         assert!(Unit::parse("furlong").is_err());
         assert!(Unit::parse("m^").is_err());
         assert!(Unit::parse("(m").is_err());
+        // Found by tests/fuzz_readers.rs: overflowing exponents, runaway nesting.
+        assert!(Unit::parse(&"s ".repeat(200)).is_err());
+        assert!(Unit::parse("m^100 m^100").is_err());
+        assert!(Unit::parse(&format!("{}m{}", "(".repeat(100_000), ")".repeat(100_000))).is_err());
+        assert_eq!(u("((m))/s").dim, [0, 1, -1, 0]);
         let e = Unit::parse("m/").unwrap_err();
         assert!(e.to_string().contains("m/"));
     }

@@ -259,6 +259,104 @@ const CASES: &[Case] = &[
         },
         "a quoted title",
     ),
+    expecting(
+        case(
+            "decimal_comma_header.csv",
+            Some(1),
+            &[
+                "the header has 2 names but the rows below have 4 values",
+                "decimal commas with a comma separator",
+                "export with a semicolon or point decimals",
+            ],
+        ),
+        "2 values per row separated by commas",
+    ),
+    expecting(
+        at(
+            case(
+                "decimal_comma_ragged.csv",
+                Some(5),
+                &[
+                    "5 values on this line",
+                    "decimal commas with a comma separator",
+                ],
+            ),
+            3,
+            None,
+        ),
+        "3 values separated by commas",
+    ),
+    expecting(
+        case(
+            "decimal_comma_no_rows.csv",
+            Some(2),
+            &[
+                "no rows of numbers",
+                "decimal commas with a comma separator",
+            ],
+        ),
+        "rows of numbers",
+    ),
+    expecting(
+        case(
+            "cut_number_point.csv",
+            Some(4),
+            &["ends in '0.'", "cut off while being written"],
+        ),
+        "a complete last line",
+    ),
+    expecting(
+        at(
+            case(
+                "cut_exponent.csv",
+                Some(6),
+                &["'1.2e' is not a number", "cut off while being written"],
+            ),
+            3,
+            Some("v"),
+        ),
+        "a finite number",
+    ),
+    expecting(
+        at(
+            case(
+                "cut_row_whitespace.dat",
+                Some(5),
+                &["2 values on this line", "cut off while being written"],
+            ),
+            3,
+            None,
+        ),
+        "3 values separated by spaces or tabs",
+    ),
+    expecting(
+        case(
+            "cut_forcecoeffs.dat",
+            Some(5),
+            &["ends in '5.'", "cut off while being written"],
+        ),
+        "a complete last line",
+    ),
+    expecting(
+        case(
+            "cut_forces_bracket.dat",
+            Some(4),
+            &[
+                "unbalanced brackets",
+                "never closed",
+                "cut off while being written",
+            ],
+        ),
+        "((x y z) (x y z))",
+    ),
+    expecting(
+        case(
+            "deeply_nested_brackets.dat",
+            Some(4),
+            &["nests brackets more than 16 deep"],
+        ),
+        "((x y z) (x y z))",
+    ),
 ];
 
 #[test]

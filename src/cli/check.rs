@@ -81,7 +81,7 @@ pub fn run(args: Args, stdout: &mut impl Write) -> CmdResult {
                 continue;
             }
             let full = l.resolve(&spec.file);
-            if !full.is_file() {
+            if hydroid::formats::input::check_regular(&full).is_err() {
                 // already a configuration problem
                 writeln!(out, "  {key}: {} (missing)", spec.file.display())?;
                 inputs_json.push(json!({ "key": key, "file": spec.file, "status": "missing" }));

@@ -83,7 +83,7 @@ fn read(path: &Path) -> hydroid::Result<Results> {
     } else {
         path.to_path_buf()
     };
-    let text = std::fs::read_to_string(&file).map_err(|e| Error::io(&file, e))?;
+    let text = hydroid::config::read(&file)?;
     serde_json::from_str(&text).map_err(|e| -> Error {
         InputError::new(
             Place::line(&file, e.line()).with_column(e.column()),

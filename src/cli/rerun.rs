@@ -27,7 +27,7 @@ pub struct Args {
 }
 
 fn read_json<T: serde::de::DeserializeOwned>(path: &Path) -> hydroid::Result<T> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = hydroid::config::read(path)?;
     serde_json::from_str(&text).map_err(|e| {
         InputError::new(
             Place::line(path, e.line()),

@@ -48,15 +48,37 @@ pub fn load(path: &Path, overrides: &[String]) -> Result<LoadedConfig> {
     load_str(path, &read(path)?, overrides)
 }
 
-/// The text of a configuration file, or the problem reading it.
+/// The text of a configuration file, or the problem reading it. The file is read like every
+/// input (`formats::input`): a regular file, within the size and line limits, UTF-8.
 pub fn read(path: &Path) -> Result<String> {
-    std::fs::read_to_string(path).map_err(|e| {
+    use crate::formats::input::{read_bytes, Limits};
+    let problem = |line: Option<usize>, message: String| {
         Error::Config(vec![ConfigProblem {
             file: path.to_path_buf(),
-            line: None,
+            line,
             key: None,
-            message: format!("cannot read the configuration: {e}"),
+            message,
         }])
+    };
+    let bytes = Limits::for_file(path)
+        .and_then(|limits| read_bytes(path, &limits))
+        .map_err(|e| {
+            let expected = e
+                .expected
+                .map(|x| format!(" (expected {x})"))
+                .unwrap_or_default();
+            problem(
+                e.place.line,
+                format!("cannot read the configuration: {}{expected}", e.message),
+            )
+        })?;
+    String::from_utf8(bytes).map_err(|e| {
+        let at = e.utf8_error().valid_up_to();
+        let line = 1 + e.as_bytes()[..at].iter().filter(|&&b| b == b'\n').count();
+        problem(
+            Some(line),
+            format!("the configuration is not UTF-8 text (byte offset {at}); save it as UTF-8"),
+        )
     })
 }
 

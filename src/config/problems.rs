@@ -251,12 +251,14 @@ impl Problems {
     /// Requires an existing input file.
     pub fn existing_file(&mut self, key: &str, path: &Path) {
         let full = self.resolve(path);
-        if !full.is_file() {
+        // a folder, FIFO, device or broken link is named as what it is
+        if let Err(e) = crate::formats::input::check_regular(&full) {
             self.add(
                 key,
                 format!(
-                    "input file {} does not exist (paths are relative to the configuration file)",
-                    full.display()
+                    "input file {}: {} (paths are relative to the configuration file)",
+                    full.display(),
+                    e.message
                 ),
             );
         }

@@ -19,8 +19,8 @@ pub(crate) enum HeaderUnit {
 
 /// Units that are real but outside what hydroid converts.
 const FOREIGN: &[&str] = &[
-    "K", "kelvin", "degC", "C", "A", "mA", "ampere", "V", "mV", "kV", "volt", "ohm", "Ohm", "S",
-    "mol", "kmol", "cd", "lm", "lx", "T", "Wb", "H", "F", "Bq", "Gy", "Sv",
+    "K", "kelvin", "degC", "°C", "degF", "°F", "C", "A", "mA", "ampere", "V", "mV", "kV", "volt",
+    "ohm", "Ohm", "S", "mol", "kmol", "cd", "lm", "lx", "T", "Wb", "H", "F", "Bq", "Gy", "Sv",
 ];
 
 /// Interprets the text between the brackets of a header unit.
@@ -223,10 +223,16 @@ pub(crate) fn normalise(name: &str) -> String {
         .collect()
 }
 
+/// Warns about each column whose name an earlier column already has (one lookup per column,
+/// so that a table of 300,000 columns takes no longer than a long one).
 fn warn_duplicates(table: &mut Table) {
-    for i in 0..table.columns.len() {
-        let name = &table.columns[i].name;
-        if let Some(j) = table.columns[..i].iter().position(|c| &c.name == name) {
+    let mut first: std::collections::HashMap<&str, usize> =
+        std::collections::HashMap::with_capacity(table.columns.len());
+    let mut warnings = Vec::new();
+    for (i, c) in table.columns.iter().enumerate() {
+        let name = &c.name;
+        let j = *first.entry(name.as_str()).or_insert(i);
+        if j != i {
             let w = format!(
                 "column name '{name}' appears twice (columns {} and {}); a configuration that \
                  names it gets column {}, use `index = {}` for the other",
@@ -235,9 +241,19 @@ fn warn_duplicates(table: &mut Table) {
                 j + 1,
                 i + 1
             );
-            table.warnings.push(w);
+            warnings.push(w);
         }
     }
+    // A file with thousands of repeated names gets a count, not thousands of lines.
+    const SHOWN: usize = 10;
+    if warnings.len() > SHOWN {
+        let more = warnings.len() - SHOWN;
+        warnings.truncate(SHOWN);
+        warnings.push(format!(
+            "{more} more columns repeat an earlier column's name"
+        ));
+    }
+    table.warnings.append(&mut warnings);
 }
 
 #[cfg(test)]

@@ -8,7 +8,9 @@
 use super::columns::{assemble, interpret_unit, split_unit_suffix, Head, HeaderUnit, Rows};
 use super::layout::{is_section, number};
 pub(crate) use super::layout::{scan, Layout};
-use super::text::{comment, count_error, split_fields, whitespace_rows, Delim, Source};
+use super::text::{
+    comment, count_error, split_fields, whitespace_rows, Delim, Source, DECIMAL_COMMA_HINT,
+};
 use super::{Format, ReadOptions};
 use crate::error::InputError;
 use crate::table::Table;
@@ -69,6 +71,14 @@ pub(crate) fn read(
                 "s"
             },
             first + 1
+        ));
+    }
+    if layout.decimal_comma_suspect {
+        warnings.push(format!(
+            "the rows have {} values under {} name and no decimal point; if they are numbers \
+             such as 0,5, {DECIMAL_COMMA_HINT}",
+            layout.ncols,
+            layout.ncols / 2
         ));
     }
     let meta = preamble_meta(src, &layout.preamble, layout.delim);
@@ -226,9 +236,17 @@ pub(crate) fn key_value(text: &str, delim: Delim) -> Option<(String, String)> {
     plausible.then(|| (key.to_string(), value.to_string()))
 }
 
+/// Widest table handed to polars. polars keeps a schema entry and a series per column, which
+/// for a table of 300,000 columns costs more time and memory than the numbers; the line by
+/// line reader is linear in the cells whatever the shape.
+const POLARS_MAX_COLUMNS: usize = 4096;
+
 /// Parses the data lines with polars; on any failure, reads them line by line instead,
-/// which either succeeds or names the offending cell.
+/// which either succeeds or names the offending cell. Very wide tables are read line by line.
 fn polars_rows(src: &Source, layout: &Layout, d: u8, names: &[String]) -> Result<Rows, InputError> {
+    if names.len() > POLARS_MAX_COLUMNS {
+        return hand_rows(src, layout, Delim::Char(d), names);
+    }
     match polars_parse(src, layout, d, names)? {
         Some(rows) => Ok(rows),
         None => hand_rows(src, layout, Delim::Char(d), names),

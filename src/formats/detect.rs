@@ -15,14 +15,14 @@
 //! A file that matches nothing is an error naming the file and saying what was looked for.
 
 use super::text::{decode, Source};
-use super::{cfx, delimited, fluent, openfoam, starccm, Format};
-use crate::error::{InputError, Place};
+use super::{cfx, delimited, fluent, input, openfoam, starccm, Format};
+use crate::error::InputError;
 use std::path::Path;
 
-/// Detects the layout of the file at `path`.
+/// Detects the layout of the file at `path` (a regular file within the environment's
+/// [`input::Limits`]).
 pub fn detect(path: &Path) -> Result<Format, InputError> {
-    let bytes = std::fs::read(path)
-        .map_err(|e| InputError::new(Place::file(path), format!("cannot read the file: {e}")))?;
+    let bytes = input::read_bytes(path, &input::Limits::for_file(path)?)?;
     let text = decode(path, bytes)?;
     detect_source(&Source::new(path, &text))
 }

@@ -4,7 +4,10 @@
 //! The first line that is all numbers (confirmed by the next two) fixes the delimiter and the
 //! number of columns; the header is the nearest line above it whose cells are all names.
 
-use super::text::{comment, parse_number, split_fields, Delim, Field, Source};
+use super::text::{
+    comment, decimal_commas_likely, parse_number, split_fields, Delim, Field, Source,
+    DECIMAL_COMMA_HINT,
+};
 use crate::error::InputError;
 
 /// Where things are in a delimited file.
@@ -26,6 +29,9 @@ pub(crate) struct Layout {
     pub data: Vec<usize>,
     /// Lines that repeat the header further down (a concatenated file).
     pub repeated_headers: Vec<usize>,
+    /// One name over rows of two integers split by a comma: perhaps `0,5` with a decimal
+    /// comma, perhaps a title over two columns. Read as two columns, with a warning.
+    pub decimal_comma_suspect: bool,
 }
 
 /// The header line of a delimited file.
@@ -128,6 +134,10 @@ pub(crate) fn scan(src: &Source) -> Result<Layout, InputError> {
     // no bare header line is found above it.
     let mut header = None;
     let mut commented = None;
+    // The line right above the data when it is all names but does not fit the data (for the
+    // decimal-comma check).
+    let mut names_above: Option<(usize, usize)> = None;
+    let mut nearest = true;
     let mut data_start = cand[k0];
     let mut absorbing = true;
     for i in (0..cand[k0]).rev() {
@@ -161,6 +171,9 @@ pub(crate) fn scan(src: &Source) -> Result<Layout, InputError> {
             });
             break;
         }
+        if std::mem::take(&mut nearest) && is_header_like(&f, dc) {
+            names_above = Some((i, f.len()));
+        }
         if absorbing && commented.is_none() && has_number(&f, dc) {
             data_start = i;
         } else {
@@ -168,6 +181,34 @@ pub(crate) fn scan(src: &Source) -> Result<Layout, InputError> {
         }
     }
     let mut header = header.or(commented);
+    // `time,u` over `0,5,1,25`: every number split in two by a comma separator.
+    let names = match &header {
+        Some(h) => Some((
+            h.index,
+            h.fields.iter().filter(|f| !f.text.is_empty()).count(),
+        )),
+        None => names_above,
+    };
+    let mut decimal_comma_suspect = false;
+    if let Some((i, m)) = names.filter(|&(_, m)| delim == Delim::Char(b',') && 2 * m == ncols) {
+        let split = cand[k0..]
+            .iter()
+            .take(3)
+            .all(|&j| decimal_commas_likely(src.lines[j]));
+        // One name over two integers is as likely a title over a table without header.
+        decimal_comma_suspect = split && m == 1;
+        if split && m > 1 {
+            return Err(InputError::new(
+                src.at(i),
+                format!(
+                    "the header has {m} name{} but the rows below have {ncols} values; \
+                     {DECIMAL_COMMA_HINT}",
+                    if m == 1 { "" } else { "s" }
+                ),
+            )
+            .expected(format!("{m} values per row separated by commas")));
+        }
+    }
     if let Some(h) = &header {
         data_start = h.index + 1;
     }
@@ -222,12 +263,27 @@ pub(crate) fn scan(src: &Source) -> Result<Layout, InputError> {
         preamble,
         data,
         repeated_headers,
+        decimal_comma_suspect,
     })
 }
 
 fn no_data(src: &Source, cand: &[usize]) -> InputError {
     let expected = "rows of numbers separated by commas, semicolons, tabs or spaces, under an \
                     optional header line (or name the format with --format)";
+    // Rows of decimal-comma numbers split by commas have varying cell counts: no rows fit.
+    let decimal: Vec<usize> = cand
+        .iter()
+        .take(10)
+        .copied()
+        .filter(|&i| decimal_commas_likely(src.lines[i]))
+        .collect();
+    if decimal.len() >= 3 {
+        return InputError::new(
+            src.at(decimal[0]),
+            format!("no rows of numbers with the same number of cells; {DECIMAL_COMMA_HINT}"),
+        )
+        .expected(expected);
+    }
     match cand.first() {
         Some(&i) if cand.len() <= 3 => InputError::new(
             src.at(i),
@@ -295,6 +351,23 @@ mod tests {
         let l = layout("t,u\n1,x\n2,3\n3,4\n4,5\n");
         assert_eq!(l.header.as_ref().map(|h| h.index), Some(0));
         assert_eq!(l.data, vec![1, 2, 3, 4]);
+    }
+
+    #[test]
+    fn decimal_commas_split_by_the_separator() {
+        let scan_err = |text: &str| {
+            scan(&Source::new(Path::new("t.csv"), text))
+                .err()
+                .map(|e| e.to_string())
+        };
+        let e = scan_err("time,u\n0,5,1,25\n1,0,1,5\n1,5,1,75\n").unwrap();
+        assert!(e.contains("t.csv:1") && e.contains("decimal commas"), "{e}");
+        // Integers under a header that fits are no decimal commas; under a title line they
+        // may be: read, with a warning.
+        assert!(layout("Towing tank\n1,2\n3,4\n5,6\n").decimal_comma_suspect);
+        assert!(!layout("Towing tank\n1,2.5\n3,4\n5,6\n").decimal_comma_suspect);
+        assert_eq!(scan_err("a,b\nrun 3\n1,2\n3,4\n5,6\n"), None);
+        assert_eq!(scan_err("a,b,c,d\n1,2,3,4\n3,4,5,6\n5,6,7,8\n"), None);
     }
 
     #[test]

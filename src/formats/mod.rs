@@ -8,6 +8,7 @@ mod columns;
 mod delimited;
 pub mod detect;
 mod fluent;
+pub mod input;
 mod layout;
 mod openfoam;
 mod starccm;
@@ -122,11 +123,21 @@ pub struct ReadOptions {
 
 /// Reads `path` as `choice`, converting columns with stated units to SI.
 ///
-/// This is [`read_raw`] followed by [`Table::finish`]: values in SI, angle columns
-/// unwrapped, repeated time stamps of a restart reduced to their last row, and a decreasing
-/// time axis rejected.
+/// This is [`read_raw`] followed by [`Table::finish`]: values in SI, repeated time stamps of
+/// a restart reduced to their last row, and a decreasing time axis rejected. The file must
+/// be a regular file within the [`input::Limits`] the environment sets.
 pub fn read(path: &Path, choice: FormatChoice, options: &ReadOptions) -> Result<Table, InputError> {
-    let mut table = read_raw(path, choice, options)?;
+    read_within(path, choice, options, &input::Limits::for_file(path)?)
+}
+
+/// [`read`] with explicit limits on the file size and line length.
+pub fn read_within(
+    path: &Path,
+    choice: FormatChoice,
+    options: &ReadOptions,
+    limits: &input::Limits,
+) -> Result<Table, InputError> {
+    let mut table = read_raw_within(path, choice, options, limits)?;
     table.finish()?;
     Ok(table)
 }
@@ -138,14 +149,17 @@ pub fn read_raw(
     choice: FormatChoice,
     options: &ReadOptions,
 ) -> Result<Table, InputError> {
-    let bytes = std::fs::read(path).map_err(|e| {
-        let what = match e.kind() {
-            std::io::ErrorKind::NotFound => "file does not exist".to_string(),
-            _ if path.is_dir() => "is a directory, not a file".to_string(),
-            _ => format!("cannot read the file: {e}"),
-        };
-        InputError::new(Place::file(path), what)
-    })?;
+    read_raw_within(path, choice, options, &input::Limits::for_file(path)?)
+}
+
+/// [`read_raw`] with explicit limits on the file size and line length.
+pub fn read_raw_within(
+    path: &Path,
+    choice: FormatChoice,
+    options: &ReadOptions,
+    limits: &input::Limits,
+) -> Result<Table, InputError> {
+    let bytes = input::read_bytes(path, limits)?;
     let decoded = text::decode(path, bytes)?;
     let src = text::Source::new(path, &decoded);
     let format = match choice {
@@ -163,6 +177,7 @@ pub fn read_raw(
         Format::OpenFoamForcesLegacy => openfoam::read_forces(&src, options)?,
         Format::OpenFoamSixDof => openfoam::read_sixdof(&src, options)?,
     };
+    text::check_cut_off(&src, table.lines.last().copied())?;
     if table.rows() == 0 {
         return Err(InputError::new(
             Place::file(path),

@@ -68,11 +68,12 @@ impl<'a> Source<'a> {
     }
 }
 
-/// Decodes file bytes to text: UTF-8 (with or without BOM), else Latin-1 as older Windows
-/// tools write it. Binary files, UTF-16 and empty files are errors.
+/// Decodes file bytes to text: UTF-8 (with or without BOM), else Windows-1252 as older
+/// Windows tools write it (a superset of Latin-1 for printable text: 0x96 is an en dash, 0xB0
+/// a degree sign). Binary files, UTF-16 and empty files are errors.
 pub(crate) fn decode(path: &Path, mut bytes: Vec<u8>) -> Result<String, InputError> {
     let place = || Place::file(path);
-    let expected = "a text export (CSV, .dat, .out), UTF-8 or Latin-1";
+    let expected = "a text export (CSV, .dat, .out), UTF-8 or Windows-1252";
     if bytes.iter().all(|b| b.is_ascii_whitespace()) {
         return Err(InputError::new(place(), "the file is empty")
             .expected("a header line and rows of numbers"));
@@ -113,8 +114,58 @@ pub(crate) fn decode(path: &Path, mut bytes: Vec<u8>) -> Result<String, InputErr
     }
     Ok(match String::from_utf8(bytes) {
         Ok(s) => s,
-        Err(e) => e.into_bytes().iter().map(|&b| b as char).collect(),
+        Err(e) => e.into_bytes().iter().map(|&b| windows_1252(b)).collect(),
     })
+}
+
+/// One byte of Windows-1252 text as a character. 0x80 to 0x9F are typographic characters
+/// (Unicode's mapping table MAPPINGS/VENDORS/MICSFT/WINDOWS/CP1252.TXT); the five bytes it
+/// leaves undefined keep their Latin-1 control code, as the WHATWG Encoding Standard does.
+fn windows_1252(b: u8) -> char {
+    const HIGH: [char; 32] = [
+        '\u{20AC}', '\u{81}', '\u{201A}', '\u{192}', '\u{201E}', '\u{2026}', '\u{2020}',
+        '\u{2021}', '\u{2C6}', '\u{2030}', '\u{160}', '\u{2039}', '\u{152}', '\u{8D}', '\u{17D}',
+        '\u{8F}', '\u{90}', '\u{2018}', '\u{2019}', '\u{201C}', '\u{201D}', '\u{2022}', '\u{2013}',
+        '\u{2014}', '\u{2DC}', '\u{2122}', '\u{161}', '\u{203A}', '\u{153}', '\u{9D}', '\u{17E}',
+        '\u{178}',
+    ];
+    match b {
+        0x80..=0x9F => HIGH[usize::from(b - 0x80)],
+        _ => char::from(b),
+    }
+}
+
+/// A last line without a line end whose last cell is a number cut short (`0.`, `1.2e`,
+/// `3e-`): the file was probably cut off while being written. `last_row_line` is the 1-based
+/// line of the table's last row; only a cut data line is an error.
+pub(crate) fn check_cut_off(src: &Source, last_row_line: Option<usize>) -> Result<(), InputError> {
+    if !src.unterminated || last_row_line != Some(src.lines.len()) {
+        return Ok(());
+    }
+    let index = src.lines.len() - 1;
+    let line = src.lines[index].trim_end();
+    let token = line
+        .rsplit(|c: char| !(c.is_ascii_alphanumeric() || matches!(c, '.' | '+' | '-')))
+        .next()
+        .unwrap_or("");
+    let numeric = token.bytes().any(|b| b.is_ascii_digit())
+        && token
+            .bytes()
+            .all(|b| b.is_ascii_digit() || matches!(b, b'.' | b'e' | b'E' | b'+' | b'-'));
+    if numeric && token.ends_with(['.', 'e', 'E', '+', '-']) {
+        return Err(InputError::new(
+            src.at(index),
+            format!(
+                "the last line ends in '{token}', a number cut short, and has no line end: \
+                 was the file cut off while being written?"
+            ),
+        )
+        .expected(
+            "a complete last line (if the solver is still writing the file, wait for it to \
+             finish, or cut the file after the last complete line)",
+        ));
+    }
+    Ok(())
 }
 
 /// The text after a comment marker (`#`, `%`, `//`), or `None` for other lines.
@@ -157,59 +208,79 @@ pub(crate) struct Field {
 }
 
 /// Splits a line into cells, honouring double quotes. Spaces around cells are dropped.
+///
+/// Works on bytes: separators, quotes and padding are ASCII, which never occur inside a
+/// multi-byte UTF-8 character, so every slice boundary is a character boundary. One pass over
+/// the line, one allocation per cell.
 pub(crate) fn split_fields(line: &str, delim: Delim) -> Vec<Field> {
-    let is_sep = |c: char| match delim {
-        Delim::Char(d) => c == d as char,
-        Delim::Whitespace => c == ' ' || c == '\t',
+    let is_sep = |b: u8| match delim {
+        Delim::Char(d) => b == d,
+        Delim::Whitespace => b == b' ' || b == b'\t',
     };
-    let pad = |c: char| (c == ' ' || c == '\t') && !is_sep(c);
+    let pad = |b: u8| (b == b' ' || b == b'\t') && !is_sep(b);
     let s = match delim {
         Delim::Whitespace => line.trim(),
-        Delim::Char(_) => line.trim_matches(|c: char| pad(c) || c == '\r' || c == '\n'),
+        Delim::Char(_) => {
+            line.trim_matches(|c: char| c.is_ascii() && (pad(c as u8) || c == '\r' || c == '\n'))
+        }
     };
     if s.is_empty() && delim == Delim::Whitespace {
         return Vec::new();
     }
+    let bytes = s.as_bytes();
+    let len = bytes.len();
     let mut out = Vec::new();
-    let mut chars = s.chars().peekable();
+    let mut i = 0;
     loop {
-        while chars.peek().is_some_and(|&c| pad(c)) {
-            chars.next();
+        while i < len && pad(bytes[i]) {
+            i += 1;
         }
         let mut text = String::new();
         let mut quoted = false;
-        if chars.peek() == Some(&'"') {
+        if i < len && bytes[i] == b'"' {
             quoted = true;
-            chars.next();
-            while let Some(c) = chars.next() {
-                if c != '"' {
-                    text.push(c);
-                } else if chars.peek() == Some(&'"') {
-                    chars.next();
-                    text.push('"');
-                } else {
-                    break;
+            i += 1;
+            loop {
+                match bytes[i..].iter().position(|&b| b == b'"') {
+                    None => {
+                        // A quote that never closes takes the rest of the line.
+                        text.push_str(&s[i..]);
+                        i = len;
+                        break;
+                    }
+                    Some(k) => {
+                        text.push_str(&s[i..i + k]);
+                        i += k + 1;
+                        if i < len && bytes[i] == b'"' {
+                            text.push('"');
+                            i += 1;
+                        } else {
+                            break;
+                        }
+                    }
                 }
             }
         }
-        let mut more = false;
-        for c in chars.by_ref() {
-            if is_sep(c) {
-                more = true;
-                break;
-            }
-            text.push(c);
-        }
-        out.push(Field {
-            text: text.trim().to_string(),
-            quoted,
-        });
+        let end = bytes[i..]
+            .iter()
+            .position(|&b| is_sep(b))
+            .map_or(len, |k| i + k);
+        text.push_str(&s[i..end]);
+        let more = end < len;
+        i = if more { end + 1 } else { len };
+        let trimmed = text.trim();
+        let text = if trimmed.len() == text.len() {
+            text
+        } else {
+            trimmed.to_string()
+        };
+        out.push(Field { text, quoted });
         if !more {
             break;
         }
         if delim == Delim::Whitespace {
-            while chars.peek().is_some_and(|&c| is_sep(c)) {
-                chars.next();
+            while i < len && is_sep(bytes[i]) {
+                i += 1;
             }
         }
     }
@@ -263,8 +334,11 @@ pub(crate) fn count_error(
     delim: Delim,
 ) -> InputError {
     let n = names.len();
-    let quote = if src.lines[index].matches('"').count() % 2 == 1 {
+    let line = src.lines[index];
+    let quote = if line.matches('"').count() % 2 == 1 {
         "; a '\"' on this line opens a quote that never closes"
+    } else if delim == Delim::Char(b',') && found > n && decimal_commas_likely(line) {
+        DECIMAL_COMMA_HINT_SEP
     } else {
         ""
     };
@@ -283,6 +357,29 @@ pub(crate) fn count_error(
         delim.describe(),
         abbreviate(names)
     ))
+}
+
+/// What to do about decimal commas in a comma-separated file.
+pub(crate) const DECIMAL_COMMA_HINT: &str = "this file seems to use decimal commas with a comma \
+     separator; export with a semicolon or point decimals";
+/// [`DECIMAL_COMMA_HINT`] appended to a message.
+const DECIMAL_COMMA_HINT_SEP: &str = "; this file seems to use decimal commas with a comma \
+     separator; export with a semicolon or point decimals";
+
+/// True when a comma-separated line reads as numbers written with decimal commas: no decimal
+/// point anywhere and every cell an optionally signed run of digits, perhaps with an exponent
+/// (`-0,5,1,25e-3` splits into `-0`, `5`, `1`, `25e-3`).
+pub(crate) fn decimal_commas_likely(line: &str) -> bool {
+    let digits = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
+    let cell = |c: &str| {
+        let c = c.trim().trim_matches('"');
+        let c = c.strip_prefix(['-', '+']).unwrap_or(c);
+        match c.split_once(['e', 'E']) {
+            Some((m, e)) => digits(m) && digits(e.strip_prefix(['-', '+']).unwrap_or(e)),
+            None => digits(c),
+        }
+    };
+    !line.contains('.') && line.contains(',') && line.split(',').all(cell)
 }
 
 /// `a, b, c ... (12 columns)` for messages.
@@ -362,6 +459,9 @@ pub(crate) fn parse_brackets(line: &str) -> Result<Vec<Node<'_>>, (usize, String
             }
         }
     }
+    // Deeper than any OpenFOAM row (forces.dat nests two levels); the bound keeps a
+    // malformed line from building an unbounded tree.
+    const MAX_DEPTH: usize = 16;
     let mut stack: Stack = vec![(Vec::new(), 0)];
     // (byte, character position) where the current token started
     let mut start: Option<(usize, usize)> = None;
@@ -370,6 +470,12 @@ pub(crate) fn parse_brackets(line: &str) -> Result<Vec<Node<'_>>, (usize, String
         match c {
             '(' => {
                 flush(line, &mut stack, &mut start, b);
+                if stack.len() > MAX_DEPTH {
+                    return Err((
+                        pos,
+                        format!("'(' at character {pos} nests brackets more than {MAX_DEPTH} deep"),
+                    ));
+                }
                 stack.push((Vec::new(), pos));
             }
             ')' => {
@@ -447,6 +553,12 @@ mod tests {
         assert_eq!(texts("  1   2\t3 ", Delim::Whitespace), ["1", "2", "3"]);
         assert!(texts("   ", Delim::Whitespace).is_empty());
         assert_eq!(texts("\"a \"\"q\"\"\"", Delim::Char(b',')), ["a \"q\""]);
+        assert_eq!(texts("\"a,b", Delim::Char(b',')), ["a,b"]);
+        assert_eq!(
+            texts("\"a\"x ,°y;\u{2013}", Delim::Char(b',')),
+            ["ax", "°y;\u{2013}"]
+        );
+        assert_eq!(texts("x,", Delim::Char(b',')), ["x", ""]);
     }
 
     #[test]

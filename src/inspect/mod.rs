@@ -10,7 +10,7 @@ use crate::error::InputError;
 use crate::formats::{self, FormatChoice, ReadOptions};
 use crate::quantity::Quantity;
 use crate::table::Table;
-use crate::units::{dim_to_string, Unit};
+use crate::units::{dim_to_string, unwrap_attitude, Unit};
 pub use guess::guess_quantity;
 use serde::Serialize;
 use std::io::{self, Write};
@@ -113,6 +113,13 @@ pub fn report(mut table: Table) -> Result<InspectReport, InputError> {
         finite.len() - distinct.len()
     });
     table.finish()?;
+    // Ranges as a stage sees them: an attitude history unwrapped, other angles as written.
+    let time_history = table.time.is_some();
+    for c in &mut table.columns {
+        if let Some(q) = guess_quantity(&c.name, c.unit.as_ref()) {
+            unwrap_attitude(q, time_history, &mut c.values);
+        }
+    }
     let mut warnings = table.warnings.clone();
     let columns: Vec<ColumnReport> = table
         .columns

@@ -92,12 +92,19 @@ pub(crate) fn header(src: &Source) -> Header {
 
 /// Which OpenFOAM file this is, if any: decided by the column line, the metadata and the
 /// first row; the file name breaks ties when the column line is missing.
+///
+/// A `#` first line alone does not make a file OpenFOAM (a CSV may open with a `#` title or
+/// units line): the first row after the `#` lines must also be an OpenFOAM row, a time value
+/// then values or brackets separated by blanks, without commas or semicolons.
 pub(crate) fn detect(src: &Source) -> Option<Format> {
     let first = src.content().next()?.1.trim_start();
     if !first.starts_with('#') {
         return None;
     }
     let h = header(src);
+    if !h.data.first().is_some_and(|&i| is_row(src.lines[i])) {
+        return None;
+    }
     let tokens = h.tokens_lower();
     let has = |names: &[&str]| tokens.iter().any(|t| names.contains(&t.as_str()));
     let meta_has = |keys: &[&str]| keys.iter().any(|k| h.get(k).is_some());
@@ -148,6 +155,14 @@ pub(crate) fn detect(src: &Source) -> Option<Format> {
         };
     }
     None
+}
+
+/// True for a line shaped like an OpenFOAM row: a number first, blanks between values, no
+/// commas or semicolons (which no OpenFOAM function object writes).
+fn is_row(line: &str) -> bool {
+    let t = line.trim_start();
+    let first = t.split([' ', '\t', '(']).next().unwrap_or("");
+    !t.contains([',', ';']) && super::text::parse_number(first).is_some()
 }
 
 /// What one bracketed node of a row must look like.
