@@ -2,6 +2,7 @@
 //! a vehicle model and estimated from CFD motion histories, the rest held fixed.
 
 mod config;
+pub mod history;
 pub mod identify;
 mod prepare;
 mod result;
@@ -10,6 +11,7 @@ pub mod system;
 pub mod tuning;
 
 pub use config::{HekfConfig, ModelName, Preset, Prior};
+pub use history::History;
 pub use result::{HekfResult, PassSummary, RunSummary, RunTraces};
 
 use crate::coefficients::CoefficientSet;
