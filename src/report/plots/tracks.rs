@@ -355,3 +355,53 @@ impl Plot for States<'_> {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::formats::Format;
+    use std::collections::BTreeMap;
+
+    #[test]
+    fn a_long_turning_run_draws_a_small_track() {
+        // 300,000 samples going round 50 times, the model drifting away slowly
+        let k = 300_000;
+        let a = |i: usize| i as f64 * 50.0 * std::f64::consts::TAU / k as f64;
+        let ch = |f: &dyn Fn(usize) -> f64| (0..k).map(f).collect::<Vec<f64>>();
+        let mut channels = BTreeMap::new();
+        channels.insert(Quantity::Time, ch(&|i| i as f64 * 0.01));
+        channels.insert(Quantity::X, ch(&|i| 4.0 * a(i).sin()));
+        channels.insert(Quantity::Y, ch(&|i| 4.0 * (1.0 - a(i).cos())));
+        let record = Record {
+            name: "circles".into(),
+            source: "circles.csv".into(),
+            format: Format::Delimited,
+            channels,
+            constants: BTreeMap::new(),
+            units: BTreeMap::new(),
+            lines: (2..k + 2).collect(),
+            meta: Vec::new(),
+            warnings: Vec::new(),
+        };
+        let sim = ResimTrace {
+            times: record.time().unwrap().to_vec(),
+            states: (0..k)
+                .map(|i| {
+                    let d = 1.0 + i as f64 * 1e-6;
+                    vec![4.0 * d * a(i).sin(), 4.0 * d * (1.0 - a(i).cos())]
+                })
+                .collect(),
+            quantities: vec![Quantity::X, Quantity::Y],
+        };
+        let run = RunView {
+            index: 1,
+            fit: true,
+            record: &record,
+            sim: &sim,
+            metrics: None,
+            smoothed: None,
+        };
+        let fig = super::super::render(&Track::new(run).unwrap(), None).unwrap();
+        assert!(fig.svg.len() < 150_000, "{} bytes", fig.svg.len());
+    }
+}
