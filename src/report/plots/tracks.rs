@@ -28,6 +28,9 @@ pub struct RunView<'a> {
     pub metrics: Option<&'a ResimMetrics>,
     /// Smoothed states (K x nx, in `sim.quantities` order) of a fit run.
     pub smoothed: Option<&'a [f64]>,
+    /// Rows of the run per smoothed sample (`hekf.decimate`): smoothed sample j is row
+    /// j * stride.
+    pub stride: usize,
 }
 
 impl RunView<'_> {
@@ -64,6 +67,12 @@ impl RunView<'_> {
 /// The runs of `out` in report order (fit runs, then validation runs).
 pub fn runs(out: &RunOutput) -> Vec<RunView<'_>> {
     let traces = out.result.stages.hekf.as_ref().map(|h| &h.traces);
+    let stride = out
+        .result
+        .stages
+        .hekf
+        .as_ref()
+        .map_or(1, |h| h.settings.decimate.max(1));
     let (mut n_fit, mut n_val) = (0, 0);
     out.resim_traces
         .iter()
@@ -87,7 +96,7 @@ pub fn runs(out: &RunOutput) -> Vec<RunView<'_>> {
                 .then(|| traces?.get(index - 1))
                 .flatten()
                 .and_then(|t| t.smoothed.as_deref())
-                .filter(|s| nx > 0 && s.len() == nx * record.rows());
+                .filter(|s| nx > 0 && s.len() == nx * record.rows().div_ceil(stride));
             RunView {
                 index,
                 fit,
@@ -95,6 +104,7 @@ pub fn runs(out: &RunOutput) -> Vec<RunView<'_>> {
                 sim,
                 metrics,
                 smoothed,
+                stride,
             }
         })
         .collect()
@@ -310,27 +320,39 @@ impl Plot for States<'_> {
             let cfd = scaled(self.run.record.channel(*q).map(<[f64]>::to_vec));
             let sim = scaled(self.run.simulated(*q));
             let smooth = scaled(self.run.smoothed(*q));
-            let diff = |v: &[f64]| -> Vec<(f64, f64)> {
+            // a series with one value every `stride` rows, against the CFD at those rows
+            let diff = |v: &[f64], stride: usize| -> Vec<(f64, f64)> {
                 time.iter()
-                    .zip(v.iter().zip(&cfd))
+                    .step_by(stride)
+                    .zip(v.iter().zip(cfd.iter().step_by(stride)))
                     .map(|(t, (a, b))| (*t, a - b))
                     .collect()
             };
-            let (d_sim, d_smooth) = (diff(&sim), diff(&smooth));
+            let stride = self.run.stride.max(1);
+            let (d_sim, d_smooth) = (diff(&sim, 1), diff(&smooth, stride));
             let y = Range::require(cfd.iter().copied(), desc)?
                 .union(Range::of(sim.iter().copied()).unwrap_or(Range::new(cfd[0], cfd[0])))
                 .pad(0.08);
             let (top, bottom) = area.split_vertically(area.dim_in_pixel().1 * 62 / 100);
             let mut chart = axes::panel(&top, &Axes::new(t, y, "", desc))?;
-            let series = |v: &[f64]| {
+            let series = |v: &[f64], stride: usize| {
                 time.iter()
+                    .step_by(stride)
                     .copied()
                     .zip(v.iter().copied())
                     .collect::<Vec<_>>()
             };
-            axes::line(&mut chart, series(&cfd), colour::DATA.stroke_width(3))?;
-            axes::line(&mut chart, series(&sim), colour::VERMILLION.stroke_width(2))?;
-            axes::line(&mut chart, series(&smooth), colour::BLUE.stroke_width(1))?;
+            axes::line(&mut chart, series(&cfd, 1), colour::DATA.stroke_width(3))?;
+            axes::line(
+                &mut chart,
+                series(&sim, 1),
+                colour::VERMILLION.stroke_width(2),
+            )?;
+            axes::line(
+                &mut chart,
+                series(&smooth, stride),
+                colour::BLUE.stroke_width(1),
+            )?;
             let unit = desc.rsplit('(').next().unwrap_or(")").trim_end_matches(')');
             let dy = Range::of(d_sim.iter().chain(&d_smooth).map(|p| p.1))
                 .unwrap_or(Range::new(-1.0, 1.0))
@@ -400,6 +422,7 @@ mod tests {
             sim: &sim,
             metrics: None,
             smoothed: None,
+            stride: 1,
         };
         let fig = super::super::render(&Track::new(run).unwrap(), None).unwrap();
         assert!(fig.svg.len() < 150_000, "{} bytes", fig.svg.len());

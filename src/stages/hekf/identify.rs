@@ -46,6 +46,25 @@ impl RunData {
     pub fn is_empty(&self) -> bool {
         self.times.is_empty()
     }
+
+    /// Keeps every `n`-th sample, starting with the first (`hekf.decimate`): the times and
+    /// the measurements are thinned; the inputs (read at any time), the initial state and
+    /// the measurement noise (per sample) stay as they are.
+    pub fn decimate(&mut self, n: usize) {
+        if n <= 1 {
+            return;
+        }
+        let m = self.measured.len();
+        let kept = self.times.len().div_ceil(n);
+        for j in 0..kept {
+            self.times[j] = self.times[j * n];
+            self.y.copy_within(j * n * m..(j * n + 1) * m, j * m);
+        }
+        self.times.truncate(kept);
+        self.times.shrink_to_fit();
+        self.y.truncate(kept * m);
+        self.y.shrink_to_fit();
+    }
 }
 
 /// What the filter is told about the coefficients and the noise.
@@ -514,5 +533,19 @@ mod tests {
         assert_eq!(last.states.len(), 5000 * 6);
         assert_eq!(last.samples, 5000);
         assert!(last.innovation_squares.iter().all(|s| *s > 0.0));
+    }
+
+    #[test]
+    fn decimation_keeps_every_nth_sample_from_the_first() {
+        let m = Spheroid3::paper_vehicle();
+        let mut r = run(&m, 3.0, 1.0, 11, 4);
+        let full = r.clone();
+        r.decimate(4);
+        assert_eq!(r.times, vec![0.0, full.times[4], full.times[8]]);
+        assert_eq!(&r.y[6..12], &full.y[24..30]);
+        assert_eq!(r.y.len(), 18);
+        assert_eq!(r.x0, full.x0);
+        r.decimate(1);
+        assert_eq!(r.len(), 3);
     }
 }

@@ -4,6 +4,7 @@
 mod config;
 pub mod history;
 pub mod identify;
+pub mod memory;
 mod prepare;
 mod result;
 mod sensitivity;
@@ -90,7 +91,8 @@ pub fn run(
 /// Problems the stage would meet, found before any stage runs: estimated coefficients the
 /// model does not have or that a relation derives, fixed coefficients that nothing will
 /// provide (`available`: names the configuration, analytic formulas and enabled stages give),
-/// and model inputs a run lacks.
+/// model inputs a run lacks, and a run too large for the memory there is. `runs` are the
+/// fit runs followed by the validation runs, as [`HekfConfig::inputs`] lists them.
 pub fn preflight(
     cfg: &HekfConfig,
     vehicle: &VehicleConfig,
@@ -123,6 +125,7 @@ pub fn preflight(
                     }
                 }
             }
+            p.extend(memory_problem(self.cfg, model.nx(), self.runs));
             p
         }
     }
@@ -157,7 +160,9 @@ impl ModelVisitor for Identify<'_> {
         let mut runs = Vec::new();
         let mut summaries = Vec::new();
         for rec in inputs.runs {
-            let (data, summary) = prepare::run_data(model, cfg, &tuning, rec, inputs.base_dir)?;
+            let (mut data, mut summary) =
+                prepare::run_data(model, cfg, &tuning, rec, inputs.base_dir)?;
+            decimate(&mut data, &mut summary, cfg.decimate.unwrap_or(1));
             runs.push(data);
             summaries.push(summary);
         }
@@ -188,6 +193,41 @@ impl ModelVisitor for Identify<'_> {
             },
         ))
     }
+}
+
+/// Keeps every `n`-th sample of a run for the filter (`hekf.decimate`); its summary then
+/// gives the samples and the interval the filter used, with a note.
+fn decimate(data: &mut identify::RunData, summary: &mut RunSummary, n: usize) {
+    if n <= 1 {
+        return;
+    }
+    let rows = data.len();
+    data.decimate(n);
+    let k = data.len();
+    summary.samples = k;
+    if k > 1 {
+        summary.mean_dt = (data.times[k - 1] - data.times[0]) / (k - 1) as f64;
+    }
+    summary.warnings.push(format!(
+        "the filter used one sample in {n} of the {rows} (hekf.decimate = {n})"
+    ));
+}
+
+/// The memory check of [`preflight`]: the estimate for these runs (fit runs first, then
+/// validation runs) against the memory there is.
+fn memory_problem(cfg: &HekfConfig, states: usize, runs: &[&Record]) -> Option<String> {
+    let limit = cfg
+        .memory_limit
+        .as_deref()
+        .and_then(|m| memory::parse_size(m).ok());
+    let demand = memory::Demand {
+        rows: runs.iter().map(|r| r.rows()).sum(),
+        fit_rows: runs.iter().take(cfg.runs.len()).map(|r| r.rows()).collect(),
+        states,
+    };
+    let supply = memory::supply(limit)?;
+    let smoother = tuning::Resolved::from_config(cfg).smoother;
+    memory::check(&demand, cfg.decimate.unwrap_or(1), smoother, &supply).err()
 }
 
 fn divergence_error<M: Model>(model: &M, plan: &prepare::Plan, e: IdentifyError) -> Error {

@@ -113,8 +113,16 @@ pub struct Settings {
     pub substeps: usize,
     /// Smoother on the last pass.
     pub smoother: bool,
+    /// The filter used every `decimate`-th sample of each run (`hekf.decimate`; left out
+    /// of results.json when 1).
+    #[serde(skip_serializing_if = "is_one")]
+    pub decimate: usize,
     /// Process noise of states and coefficients (spectral density).
     pub process_noise: Vec<f64>,
+}
+
+fn is_one(n: &usize) -> bool {
+    *n == 1
 }
 
 impl HekfResult {
@@ -261,6 +269,7 @@ pub fn build<M: Model>(
             passes: setup.passes,
             substeps: setup.substeps,
             smoother: setup.smoother,
+            decimate: cfg.decimate.unwrap_or(1).max(1),
             process_noise: setup.q.clone(),
         },
         runs: summaries,
