@@ -88,8 +88,8 @@ pub struct HekfConfig {
     /// the memory (see `memory_limit`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub decimate: Option<usize>,
-    /// Memory the run may take (`"4 GB"`, `"512 MiB"`); the run stops before the filter
-    /// starts when its estimate exceeds this or the memory the system has available.
+    /// Memory the run may take (`"4 GB"`, `"512 MiB"`; default: what the system has
+    /// available); the run stops before the filter starts when its estimate exceeds it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub memory_limit: Option<String>,
     /// Per-coefficient initial value and prior sigma.

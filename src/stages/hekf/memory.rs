@@ -65,39 +65,42 @@ pub struct Supply {
     pub source: String,
 }
 
-/// The memory the run may take: the smallest of `limit` (`hekf.memory_limit`) and, on Linux,
-/// what the system has available (MemAvailable, and the control group's limit when there is
-/// one) plus what this process already holds. None when nothing is known.
+/// The memory the run may take: `limit` (`hekf.memory_limit`) when given (the user knows
+/// the machine: swap, other jobs, an estimate on the safe side), else, on Linux, what the
+/// system has available (MemAvailable, or the control group's room when smaller) plus what
+/// this process already holds. None when nothing is known.
 pub fn supply(limit: Option<u64>) -> Option<Supply> {
-    let mut best = limit.map(|bytes| Supply {
-        bytes,
-        source: "set in hekf.memory_limit".into(),
-    });
+    if let Some(bytes) = limit {
+        return Some(Supply {
+            bytes,
+            source: "set in hekf.memory_limit".into(),
+        });
+    }
     let held = resident().unwrap_or(0);
     let system = [
         meminfo_available().map(|b| {
             (
                 b,
-                "available (MemAvailable in /proc/meminfo, plus what hydroid already holds)",
+                "available (MemAvailable in /proc/meminfo, plus what hydroid already holds; \
+                 hekf.memory_limit overrides this)",
             )
         }),
         cgroup_room().map(|b| {
             (
                 b,
-                "left in the control group (memory.max, plus what hydroid already holds)",
+                "left in the control group (memory.max, plus what hydroid already holds; \
+                 hekf.memory_limit overrides this)",
             )
         }),
     ];
-    for (free, what) in system.into_iter().flatten() {
-        let bytes = free.saturating_add(held);
-        if best.as_ref().is_none_or(|b| bytes < b.bytes) {
-            best = Some(Supply {
-                bytes,
-                source: what.into(),
-            });
-        }
-    }
-    best
+    system
+        .into_iter()
+        .flatten()
+        .min_by_key(|(free, _)| *free)
+        .map(|(free, what)| Supply {
+            bytes: free.saturating_add(held),
+            source: what.into(),
+        })
 }
 
 /// Checks that the run fits; the error says how much it needs, how much there is, and the
@@ -307,8 +310,11 @@ mod tests {
             assert!(meminfo_available().is_some());
             assert!(resident().is_some_and(|b| b > 0));
         }
-        let s = supply(Some(1 << 20)).unwrap();
-        assert_eq!(s.bytes, 1 << 20);
-        assert_eq!(s.source, "set in hekf.memory_limit");
+        // a configured limit replaces the system's figure, above or below it
+        for limit in [1 << 20, u64::MAX / 2] {
+            let s = supply(Some(limit)).unwrap();
+            assert_eq!(s.bytes, limit);
+            assert_eq!(s.source, "set in hekf.memory_limit");
+        }
     }
 }
