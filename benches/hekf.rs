@@ -1,5 +1,6 @@
 //! One hybrid-EKF pass over 2000 samples of the paper's manoeuvre with 6 estimated
-//! coefficients (12 augmented states), and the model Jacobian alone.
+//! coefficients (12 augmented states), without and with the RTS smoother, and the model
+//! Jacobian alone.
 //!
 //! `cargo bench --bench hekf`; numbers are recorded in docs/performance.md.
 
@@ -91,6 +92,21 @@ fn bench(c: &mut Criterion) {
             identify(
                 black_box(&m),
                 &setup,
+                std::slice::from_ref(&run),
+                &mut Silent,
+            )
+            .unwrap()
+        })
+    });
+    let smoothed = Setup {
+        smoother: true,
+        ..setup.clone()
+    };
+    g.bench_function("filter pass and smoother, 2000 samples, 12 states", |b| {
+        b.iter(|| {
+            identify(
+                black_box(&m),
+                &smoothed,
                 std::slice::from_ref(&run),
                 &mut Silent,
             )

@@ -169,6 +169,8 @@ fn config(preset: Preset, model: ModelName) -> HekfConfig {
         passes: None,
         substeps: None,
         smoother: Some(false),
+        decimate: None,
+        memory_limit: None,
         prior: BTreeMap::new(),
         noise: BTreeMap::new(),
         process_noise: BTreeMap::new(),

@@ -12,8 +12,8 @@ pub fn write<'a>(d: &mut Document<'a>, h: &HekfResult, figs: &Figures<'a>) {
     d.heading(2, "Hybrid extended Kalman filter");
     let s = &h.settings;
     d.text(format!(
-        "Model {}, tuning preset {}: {} pass{}, {} RK4 sub-step{} per sample, smoother {}. The \
-         estimated coefficients are appended to the state (paper eq. 22); every other \
+        "Model {}, tuning preset {}: {} pass{}, {} RK4 sub-step{} per sample, smoother {}{}. \
+         The estimated coefficients are appended to the state (paper eq. 22); every other \
          coefficient is held at the value below.",
         h.model,
         h.preset,
@@ -21,7 +21,15 @@ pub fn write<'a>(d: &mut Document<'a>, h: &HekfResult, figs: &Figures<'a>) {
         if s.passes == 1 { "" } else { "es" },
         s.substeps,
         if s.substeps == 1 { "" } else { "s" },
-        if s.smoother { "on" } else { "off" }
+        if s.smoother { "on" } else { "off" },
+        if s.decimate > 1 {
+            format!(
+                ", one sample in {} of each run used (hekf.decimate)",
+                s.decimate
+            )
+        } else {
+            String::new()
+        }
     ));
     d.heading(3, "Tuning choices");
     let mut items: Vec<_> = h.tuning.iter().map(|t| vec![text(t.clone())]).collect();

@@ -1,6 +1,8 @@
 //! Axes shared by the figures: data ranges that ignore non-finite values, the standard
 //! Cartesian panel (grid, tick labels, axis descriptions), equal aspect ratio, and the
-//! thinning of long series so that a figure stays small without changing what it shows.
+//! thinning of long series so that a figure stays small without changing what it shows:
+//! every line, band, path and scatter is drawn with at most about four points per pixel
+//! column of its panel, whatever the length of the run.
 
 use super::style::{self, colour, size};
 use super::PlotError;
@@ -296,6 +298,99 @@ pub fn thin(points: &[(f64, f64)], buckets: usize) -> Vec<(f64, f64)> {
     out
 }
 
+/// Thins a path whose x is not monotonic (a track) to at most about `max` points. Consecutive
+/// points that `pixel` maps to the same pixel are drawn as one: of each such run only the
+/// first point is kept (and the path's last point), which leaves the drawing unchanged. If
+/// more than `max` points remain (a path that goes round many times), each of `max / 6`
+/// equal stretches of them keeps its first and last point and its extremes in x and in y.
+pub fn thin_path(
+    points: &[(f64, f64)],
+    pixel: impl Fn((f64, f64)) -> (i32, i32),
+    max: usize,
+) -> Vec<(f64, f64)> {
+    let mut kept: Vec<(f64, f64)> = Vec::new();
+    let mut last_px = None;
+    for (i, &p) in points.iter().enumerate() {
+        let px = pixel(p);
+        if last_px != Some(px) || i + 1 == points.len() {
+            kept.push(p);
+            last_px = Some(px);
+        }
+    }
+    let buckets = (max / 6).max(1);
+    if kept.len() <= max.max(6) {
+        return kept;
+    }
+    let per = kept.len().div_ceil(buckets);
+    let mut out = Vec::new();
+    for seg in kept.chunks(per) {
+        let by = |f: fn(&(f64, f64), &(f64, f64)) -> std::cmp::Ordering| {
+            (0..seg.len())
+                .min_by(|&a, &b| f(&seg[a], &seg[b]))
+                .unwrap_or(0)
+        };
+        let mut keep = vec![
+            0,
+            seg.len() - 1,
+            by(|a, b| a.0.total_cmp(&b.0)),
+            by(|a, b| b.0.total_cmp(&a.0)),
+            by(|a, b| a.1.total_cmp(&b.1)),
+            by(|a, b| b.1.total_cmp(&a.1)),
+        ];
+        keep.sort_unstable();
+        keep.dedup();
+        out.extend(keep.into_iter().map(|i| seg[i]));
+    }
+    out
+}
+
+/// Thins a scatter of points to about `target` when it has more: every s-th point (s chosen
+/// for `target / 2` of them, a uniform sample of the cloud) and, in each of `target / 4`
+/// equal x intervals, the points with the lowest and the highest y, so that outliers still
+/// show. Points keep their order.
+pub fn thin_dots(points: &[(f64, f64)], target: usize) -> Vec<(f64, f64)> {
+    let target = target.max(8);
+    if points.len() <= target {
+        return points.to_vec();
+    }
+    let mut keep = vec![false; points.len()];
+    let every = points.len().div_ceil(target / 2);
+    for k in keep.iter_mut().step_by(every) {
+        *k = true;
+    }
+    let buckets = target / 4;
+    if let Some(x) = Range::of(points.iter().map(|p| p.0)) {
+        let width = x.span() / buckets as f64;
+        let mut lo: Vec<Option<usize>> = vec![None; buckets];
+        let mut hi: Vec<Option<usize>> = vec![None; buckets];
+        for (i, p) in points.iter().enumerate() {
+            if !(p.0.is_finite() && p.1.is_finite()) {
+                continue;
+            }
+            let b = if width > 0.0 {
+                (((p.0 - x.lo) / width) as usize).min(buckets - 1)
+            } else {
+                0
+            };
+            if lo[b].is_none_or(|j| p.1 < points[j].1) {
+                lo[b] = Some(i);
+            }
+            if hi[b].is_none_or(|j| p.1 > points[j].1) {
+                hi[b] = Some(i);
+            }
+        }
+        for i in lo.into_iter().chain(hi).flatten() {
+            keep[i] = true;
+        }
+    }
+    points
+        .iter()
+        .zip(keep)
+        .filter(|(_, k)| *k)
+        .map(|(p, _)| *p)
+        .collect()
+}
+
 /// Draws a line through every finite stretch of `points`, thinned to the panel width.
 pub fn line<DB: DrawingBackend>(
     chart: &mut Chart<'_, DB>,
@@ -338,16 +433,42 @@ fn stretched<DB: DrawingBackend>(
     style: ShapeStyle,
     dash: Option<(u32, u32)>,
 ) -> Result<(), PlotError> {
-    let width = chart.plotting_area().dim_in_pixel().0 as usize;
+    let (width, height) = chart.plotting_area().dim_in_pixel();
+    let width = width.max(1) as usize;
     let clip = clipper(chart);
     for s in stretches(points.into_iter().map(&clip)) {
-        let pts = thin(&s, width.max(1));
+        let pts = if s.len() <= 4 * width || s.windows(2).all(|w| w[1].0 >= w[0].0) {
+            thin(&s, width)
+        } else {
+            thin_path(&s, |p| chart.backend_coord(&p), 4 * width)
+        };
+        // each dash is drawn on its own: a path that goes round many times (a long turning
+        // run's track) would take a dash per 15 pixels of its length, and where it covers
+        // itself that often its dashes fill each other's gaps anyway: draw it solid
+        let length = pixel_length(&pts, |p| chart.backend_coord(&p));
+        let solid = length > DASHED_MAX_PANELS * (width + height as usize) as f64;
         match dash {
-            None => chart.draw_series(LineSeries::new(pts, style))?,
-            Some((size, gap)) => chart.draw_series(DashedLineSeries::new(pts, size, gap, style))?,
+            Some((size, gap)) if !solid => {
+                chart.draw_series(DashedLineSeries::new(pts, size, gap, style))?
+            }
+            _ => chart.draw_series(LineSeries::new(pts, style))?,
         };
     }
     Ok(())
+}
+
+/// A dashed path longer than this many times the panel's width plus height is drawn solid.
+const DASHED_MAX_PANELS: f64 = 50.0;
+
+/// Length in pixels of a path.
+fn pixel_length(points: &[(f64, f64)], pixel: impl Fn((f64, f64)) -> (i32, i32)) -> f64 {
+    points
+        .windows(2)
+        .map(|w| {
+            let (a, b) = (pixel(w[0]), pixel(w[1]));
+            f64::from(a.0 - b.0).hypot(f64::from(a.1 - b.1))
+        })
+        .sum()
 }
 
 /// A horizontal line across the panel at `y` (nothing when `y` is outside it).
@@ -429,19 +550,25 @@ pub fn note<DB: DrawingBackend>(chart: &Chart<'_, DB>, lines: &[String]) -> Resu
     style::corner_note(&chart.plotting_area().strip_coord_spec(), lines)
 }
 
-/// Filled dots (or rings) at the finite points.
+/// Filled dots (or rings) at the finite points; more than two per pixel column of the
+/// panel are thinned ([`thin_dots`]).
 pub fn dots<DB: DrawingBackend>(
     chart: &mut Chart<'_, DB>,
     points: impl IntoIterator<Item = (f64, f64)>,
     radius: i32,
     style: ShapeStyle,
 ) -> Result<(), PlotError> {
+    let width = chart.plotting_area().dim_in_pixel().0.max(1) as usize;
     let clip = clipper(chart);
+    let finite: Vec<(f64, f64)> = points
+        .into_iter()
+        .filter(|(x, y)| x.is_finite() && y.is_finite())
+        .map(&clip)
+        .collect();
     chart.draw_series(
-        points
+        thin_dots(&finite, 2 * width)
             .into_iter()
-            .filter(|(x, y)| x.is_finite() && y.is_finite())
-            .map(|p| Circle::new(clip(p), radius, style)),
+            .map(|p| Circle::new(p, radius, style)),
     )?;
     Ok(())
 }
@@ -486,6 +613,53 @@ mod tests {
         assert_eq!(max(&th), max(&pts));
         // x stays increasing
         assert!(th.windows(2).all(|w| w[1].0 >= w[0].0));
+    }
+
+    #[test]
+    fn scatters_are_thinned_keeping_the_outliers() {
+        let few: Vec<(f64, f64)> = (0..100).map(|k| (k as f64, 1.0)).collect();
+        assert_eq!(thin_dots(&few, 400), few);
+        let pts: Vec<(f64, f64)> = (0..300_000)
+            .map(|k| {
+                let y = (k as f64 * 0.7).sin() + if k == 77_777 { 9.0 } else { 0.0 };
+                (k as f64 * 0.01, if k == 5 { f64::NAN } else { y })
+            })
+            .collect();
+        let th = thin_dots(&pts, 2000);
+        assert!(th.len() <= 2000 && th.len() >= 1000, "{}", th.len());
+        assert!(th.iter().any(|p| p.1 > 9.0), "the outlier survives");
+        assert!(th.iter().any(|p| p.1 < -0.99), "the low side survives");
+        assert!(th.windows(2).all(|w| w[1].0 > w[0].0), "order kept");
+    }
+
+    #[test]
+    fn paths_are_thinned_to_their_pixels_and_bounded() {
+        let pixel = |p: (f64, f64)| ((p.0 * 100.0).round() as i32, (p.1 * 100.0).round() as i32);
+        // a slow circle: many samples per pixel; drawing is unchanged
+        let circle: Vec<(f64, f64)> = (0..20_000)
+            .map(|k| {
+                let a = k as f64 * 1e-4 * std::f64::consts::TAU;
+                (a.cos(), a.sin())
+            })
+            .collect();
+        let th = thin_path(&circle, pixel, 4000);
+        assert!(th.len() < 4000, "{}", th.len());
+        assert_eq!(th.first(), circle.first());
+        assert_eq!(th.last(), circle.last());
+        let px: Vec<_> = th.iter().map(|p| pixel(*p)).collect();
+        let all: std::collections::BTreeSet<_> = circle.iter().map(|p| pixel(*p)).collect();
+        assert!(px.iter().all(|p| all.contains(p)));
+        // 400 laps of a drifting circle: bounded, with the extremes of every stretch
+        let laps: Vec<(f64, f64)> = (0..400_000)
+            .map(|k| {
+                let a = k as f64 * 1e-3 * std::f64::consts::TAU;
+                (a.cos() + k as f64 * 1e-6, a.sin())
+            })
+            .collect();
+        let th = thin_path(&laps, pixel, 4000);
+        assert!(th.len() <= 4000, "{}", th.len());
+        let right = laps.iter().map(|p| p.0).fold(f64::MIN, f64::max);
+        assert_eq!(th.iter().map(|p| p.0).fold(f64::MIN, f64::max), right);
     }
 
     #[test]

@@ -26,7 +26,7 @@ pub struct History {
 /// The time axis of the passes laid end to end: per (pass, run), the offset to add to the
 /// run's own time since its first sample, and the starts of the passes.
 fn layout(h: &HekfResult) -> (Vec<Vec<f64>>, Vec<f64>, Vec<f64>) {
-    let passes = h.traces.first().map_or(0, |t| t.coefficients.len());
+    let passes = h.traces.first().map_or(0, |t| t.history.len());
     let durations: Vec<f64> = h
         .traces
         .iter()
@@ -69,16 +69,16 @@ pub fn history(h: &HekfResult, j: usize) -> History {
     };
     for (p, row) in offsets.iter().enumerate() {
         for (r, tr) in h.traces.iter().enumerate() {
-            let (Some(c), Some(s)) = (tr.coefficients.get(p), tr.sigmas.get(p)) else {
+            let Some(hist) = tr.history.get(p) else {
                 continue;
             };
             let t0 = tr.times.first().copied().unwrap_or(0.0);
-            for (k, t) in tr.times.iter().enumerate() {
+            for (k, t) in hist.times.iter().enumerate() {
                 out.x.push(row[r] + t - t0);
                 out.value
-                    .push(c.get(k * nb + j).copied().unwrap_or(f64::NAN));
+                    .push(hist.values.get(k * nb + j).copied().unwrap_or(f64::NAN));
                 out.sigma
-                    .push(s.get(k * nb + j).copied().unwrap_or(f64::NAN));
+                    .push(hist.sigmas.get(k * nb + j).copied().unwrap_or(f64::NAN));
             }
         }
     }
@@ -98,7 +98,7 @@ impl<'a> Convergence<'a> {
         let has = !h.estimated.is_empty()
             && h.traces
                 .iter()
-                .any(|t| t.coefficients.iter().any(|c| !c.is_empty()));
+                .any(|t| t.history.iter().any(|c| !c.is_empty()));
         has.then_some(Convergence {
             h,
             reference: r.reference.as_ref(),

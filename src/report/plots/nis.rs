@@ -217,6 +217,57 @@ impl Plot for NisPlot<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::estimation::nis::summarize;
+
+    #[test]
+    fn a_long_run_draws_a_small_figure_that_still_shows_an_outlier() {
+        // 300,000 samples (the issue: a 28 MB SVG), one far outlier
+        let k = 300_000;
+        let times: Vec<f64> = (0..k).map(|i| i as f64 * 0.01).collect();
+        let nis: Vec<f64> = (0..k)
+            .map(|i| {
+                if i == 123_457 {
+                    5e4
+                } else {
+                    1.0 + 5.0 * ((i as f64 * 0.37).sin().powi(2))
+                }
+            })
+            .collect();
+        let run = RunSummary {
+            name: "long".into(),
+            file: "long.csv".into(),
+            samples: k,
+            duration: times[k - 1],
+            mean_dt: 0.01,
+            measured: vec!["u".into(), "v".into(), "r".into()],
+            noise: Vec::new(),
+            nis: summarize(&nis, 3),
+            innovation_rms: Vec::new(),
+            warnings: Vec::new(),
+        };
+        let traces = RunTraces {
+            times,
+            measured: run.measured.clone(),
+            filtered: Vec::new(),
+            smoothed: None,
+            history: Vec::new(),
+            nis,
+        };
+        let fig = super::super::render(&NisPlot::new(1, &run, &traces).unwrap(), None).unwrap();
+        assert!(fig.svg.len() < 600_000, "{} bytes", fig.svg.len());
+        // the outlier is drawn: one sample dot (radius 2; the legend's is larger) far above
+        // all the others
+        let mut cy: Vec<f64> = fig
+            .svg
+            .split("<circle")
+            .skip(1)
+            .filter(|c| c.contains("r=\"2\""))
+            .filter_map(|c| c.split("cy=\"").nth(1)?.split('"').next()?.parse().ok())
+            .collect();
+        cy.sort_by(f64::total_cmp);
+        assert!(cy.len() > 1000, "{} dots", cy.len());
+        assert!(cy[0] + 100.0 < cy[1], "highest dots at {:?}", &cy[..5]);
+    }
 
     #[test]
     fn running_mean_and_its_bounds() {

@@ -28,6 +28,9 @@ pub struct RunView<'a> {
     pub metrics: Option<&'a ResimMetrics>,
     /// Smoothed states (K x nx, in `sim.quantities` order) of a fit run.
     pub smoothed: Option<&'a [f64]>,
+    /// Rows of the run per smoothed sample (`hekf.decimate`): smoothed sample j is row
+    /// j * stride.
+    pub stride: usize,
 }
 
 impl RunView<'_> {
@@ -64,6 +67,12 @@ impl RunView<'_> {
 /// The runs of `out` in report order (fit runs, then validation runs).
 pub fn runs(out: &RunOutput) -> Vec<RunView<'_>> {
     let traces = out.result.stages.hekf.as_ref().map(|h| &h.traces);
+    let stride = out
+        .result
+        .stages
+        .hekf
+        .as_ref()
+        .map_or(1, |h| h.settings.decimate.max(1));
     let (mut n_fit, mut n_val) = (0, 0);
     out.resim_traces
         .iter()
@@ -87,7 +96,7 @@ pub fn runs(out: &RunOutput) -> Vec<RunView<'_>> {
                 .then(|| traces?.get(index - 1))
                 .flatten()
                 .and_then(|t| t.smoothed.as_deref())
-                .filter(|s| nx > 0 && s.len() == nx * record.rows());
+                .filter(|s| nx > 0 && s.len() == nx * record.rows().div_ceil(stride));
             RunView {
                 index,
                 fit,
@@ -95,6 +104,7 @@ pub fn runs(out: &RunOutput) -> Vec<RunView<'_>> {
                 sim,
                 metrics,
                 smoothed,
+                stride,
             }
         })
         .collect()
@@ -310,27 +320,39 @@ impl Plot for States<'_> {
             let cfd = scaled(self.run.record.channel(*q).map(<[f64]>::to_vec));
             let sim = scaled(self.run.simulated(*q));
             let smooth = scaled(self.run.smoothed(*q));
-            let diff = |v: &[f64]| -> Vec<(f64, f64)> {
+            // a series with one value every `stride` rows, against the CFD at those rows
+            let diff = |v: &[f64], stride: usize| -> Vec<(f64, f64)> {
                 time.iter()
-                    .zip(v.iter().zip(&cfd))
+                    .step_by(stride)
+                    .zip(v.iter().zip(cfd.iter().step_by(stride)))
                     .map(|(t, (a, b))| (*t, a - b))
                     .collect()
             };
-            let (d_sim, d_smooth) = (diff(&sim), diff(&smooth));
+            let stride = self.run.stride.max(1);
+            let (d_sim, d_smooth) = (diff(&sim, 1), diff(&smooth, stride));
             let y = Range::require(cfd.iter().copied(), desc)?
                 .union(Range::of(sim.iter().copied()).unwrap_or(Range::new(cfd[0], cfd[0])))
                 .pad(0.08);
             let (top, bottom) = area.split_vertically(area.dim_in_pixel().1 * 62 / 100);
             let mut chart = axes::panel(&top, &Axes::new(t, y, "", desc))?;
-            let series = |v: &[f64]| {
+            let series = |v: &[f64], stride: usize| {
                 time.iter()
+                    .step_by(stride)
                     .copied()
                     .zip(v.iter().copied())
                     .collect::<Vec<_>>()
             };
-            axes::line(&mut chart, series(&cfd), colour::DATA.stroke_width(3))?;
-            axes::line(&mut chart, series(&sim), colour::VERMILLION.stroke_width(2))?;
-            axes::line(&mut chart, series(&smooth), colour::BLUE.stroke_width(1))?;
+            axes::line(&mut chart, series(&cfd, 1), colour::DATA.stroke_width(3))?;
+            axes::line(
+                &mut chart,
+                series(&sim, 1),
+                colour::VERMILLION.stroke_width(2),
+            )?;
+            axes::line(
+                &mut chart,
+                series(&smooth, stride),
+                colour::BLUE.stroke_width(1),
+            )?;
             let unit = desc.rsplit('(').next().unwrap_or(")").trim_end_matches(')');
             let dy = Range::of(d_sim.iter().chain(&d_smooth).map(|p| p.1))
                 .unwrap_or(Range::new(-1.0, 1.0))
@@ -353,5 +375,56 @@ impl Plot for States<'_> {
             }
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::formats::Format;
+    use std::collections::BTreeMap;
+
+    #[test]
+    fn a_long_turning_run_draws_a_small_track() {
+        // 300,000 samples going round 50 times, the model drifting away slowly
+        let k = 300_000;
+        let a = |i: usize| i as f64 * 50.0 * std::f64::consts::TAU / k as f64;
+        let ch = |f: &dyn Fn(usize) -> f64| (0..k).map(f).collect::<Vec<f64>>();
+        let mut channels = BTreeMap::new();
+        channels.insert(Quantity::Time, ch(&|i| i as f64 * 0.01));
+        channels.insert(Quantity::X, ch(&|i| 4.0 * a(i).sin()));
+        channels.insert(Quantity::Y, ch(&|i| 4.0 * (1.0 - a(i).cos())));
+        let record = Record {
+            name: "circles".into(),
+            source: "circles.csv".into(),
+            format: Format::Delimited,
+            channels,
+            constants: BTreeMap::new(),
+            units: BTreeMap::new(),
+            lines: (2..k + 2).collect(),
+            meta: Vec::new(),
+            warnings: Vec::new(),
+        };
+        let sim = ResimTrace {
+            times: record.time().unwrap().to_vec(),
+            states: (0..k)
+                .map(|i| {
+                    let d = 1.0 + i as f64 * 1e-6;
+                    vec![4.0 * d * a(i).sin(), 4.0 * d * (1.0 - a(i).cos())]
+                })
+                .collect(),
+            quantities: vec![Quantity::X, Quantity::Y],
+        };
+        let run = RunView {
+            index: 1,
+            fit: true,
+            record: &record,
+            sim: &sim,
+            metrics: None,
+            smoothed: None,
+            stride: 1,
+        };
+        let fig = super::super::render(&Track::new(run).unwrap(), None).unwrap();
+        assert!(fig.svg.len() < 150_000, "{} bytes", fig.svg.len());
     }
 }

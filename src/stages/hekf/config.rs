@@ -123,6 +123,14 @@ pub struct HekfConfig {
     /// Run the Rauch-Tung-Striebel smoother after the last pass (default true).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub smoother: Option<bool>,
+    /// Use every N-th sample of each run (default 1: every sample); for runs too long for
+    /// the memory (see `memory_limit`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub decimate: Option<usize>,
+    /// Memory the run may take (`"4 GB"`, `"512 MiB"`; default: what the system has
+    /// available); the run stops before the filter starts when its estimate exceeds it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub memory_limit: Option<String>,
     /// Per-coefficient initial value and prior sigma.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub prior: BTreeMap<String, Prior>,
@@ -230,6 +238,12 @@ impl HekfConfig {
                     ),
                 );
             }
+        }
+        if let Some(n) = self.decimate {
+            p.within("hekf.decimate", n as f64, 1.0, 1e6);
+        }
+        if let Some(Err(m)) = self.memory_limit.as_deref().map(super::memory::parse_size) {
+            p.add("hekf.memory_limit", m);
         }
         for (q, c) in &self.noise {
             let key = format!("hekf.noise.{q}");

@@ -1,12 +1,19 @@
 //! The identification loop: several passes of the hybrid EKF over one or more runs, each pass
 //! restarting from the last estimate with the prior covariance, then a smoother pass.
+//!
+//! Memory: a pass keeps per sample only what the report shows of the last pass (times,
+//! filtered and smoothed states, NIS); the coefficient histories are thinned
+//! ([`super::history`]), the innovation statistics summed as the samples come, and the
+//! smoother re-runs the filter from checkpoints instead of keeping its covariances
+//! ([`crate::estimation::rts`]).
 
+use super::history::{History, HistoryBuilder};
 use super::system::ModelSystem;
 use crate::estimation::hybrid_ekf::GateEvent;
-use crate::estimation::rts::Trace;
+use crate::estimation::rts::{self, SmoothError, Trace};
 use crate::estimation::{Divergence, HybridEkf};
 use crate::models::Model;
-use crate::progress::Progress;
+use crate::progress::{Progress, Silent};
 use crate::sim::InputSeries;
 
 /// One run, ready for the filter.
@@ -41,6 +48,30 @@ impl RunData {
     /// True when there are no samples.
     pub fn is_empty(&self) -> bool {
         self.times.is_empty()
+    }
+
+    /// Keeps every `n`-th sample, starting with the first (`hekf.decimate`): the times and
+    /// the measurements are thinned; the inputs (read at any time), the initial state and
+    /// the measurement noise (per sample) stay as they are; the file lines follow the samples.
+    pub fn decimate(&mut self, n: usize) {
+        if n <= 1 {
+            return;
+        }
+        let m = self.measured.len();
+        let kept = self.times.len().div_ceil(n);
+        for j in 0..kept {
+            self.times[j] = self.times[j * n];
+            self.y.copy_within(j * n * m..(j * n + 1) * m, j * m);
+            if let Some(&line) = self.lines.get(j * n) {
+                self.lines[j] = line;
+            }
+        }
+        self.lines.truncate(kept);
+        self.lines.shrink_to_fit();
+        self.times.truncate(kept);
+        self.times.shrink_to_fit();
+        self.y.truncate(kept * m);
+        self.y.shrink_to_fit();
     }
 }
 
@@ -88,7 +119,8 @@ pub struct PassEstimate {
     pub sigmas: Vec<f64>,
 }
 
-/// The filter's account of one run in one pass.
+/// The filter's account of one run in one pass. The coefficient history is kept for every
+/// pass; the per-sample fields only for the last pass (empty in the others).
 #[derive(Debug, Clone, Default)]
 pub struct RunTrace {
     /// Sample times.
@@ -97,12 +129,12 @@ pub struct RunTrace {
     pub states: Vec<f64>,
     /// Smoothed states (K x nx), when the smoother ran.
     pub smoothed: Option<Vec<f64>>,
-    /// Coefficient estimates over time (K x nb, SI).
-    pub coefficients: Vec<f64>,
-    /// Their standard deviations over time (K x nb, SI).
-    pub sigmas: Vec<f64>,
-    /// Innovations (K x m).
-    pub innovations: Vec<f64>,
+    /// Coefficient estimates and sigmas over time (SI), thinned for drawing.
+    pub history: History,
+    /// Samples filtered.
+    pub samples: usize,
+    /// Sum over the samples of each squared innovation (per measured quantity).
+    pub innovation_squares: Vec<f64>,
     /// Normalised innovation squared per sample.
     pub nis: Vec<f64>,
     /// Measurements the innovation gate rejected as outliers.
@@ -141,8 +173,18 @@ pub struct Excursion {
     pub peak: f64,
 }
 
+/// What the gate found in a run: isolated rejections and excursions.
+#[derive(Debug, Clone, Default)]
+struct GateLog {
+    rejected: Vec<Rejection>,
+    excursions: Vec<Excursion>,
+}
+
 /// Turns the gate's events into isolated rejections and excursions, sample by sample, and
-/// exempts a quantity from the gate while it is in an excursion.
+/// exempts a quantity from the gate while it is in an excursion. Its state is small and is
+/// saved with the smoother's checkpoints, so that the re-run gates exactly as the forward
+/// pass did.
+#[derive(Debug, Clone)]
 struct GateTracker {
     streak: Vec<usize>,
     open: Vec<Option<Excursion>>,
@@ -156,7 +198,7 @@ impl GateTracker {
         }
     }
 
-    fn step(&mut self, k: usize, events: &[GateEvent], ungated: &mut [bool], tr: &mut RunTrace) {
+    fn step(&mut self, k: usize, events: &[GateEvent], ungated: &mut [bool], log: &mut GateLog) {
         for a in 0..self.streak.len() {
             let ev = events.iter().find(|e| e.measurement == a);
             if let Some(x) = self.open[a].as_mut() {
@@ -166,7 +208,7 @@ impl GateTracker {
                         x.peak = x.peak.max(e.sigmas);
                     }
                     None => {
-                        tr.excursions.push(*x);
+                        log.excursions.push(*x);
                         self.open[a] = None;
                         ungated[a] = false;
                     }
@@ -178,7 +220,7 @@ impl GateTracker {
                 continue;
             };
             self.streak[a] += 1;
-            tr.rejected.push(Rejection {
+            log.rejected.push(Rejection {
                 sample: k,
                 measurement: a,
                 sigmas: e.sigmas,
@@ -187,7 +229,7 @@ impl GateTracker {
                 // not outliers: an excursion from the first of them on
                 let first = k + 1 - self.streak[a];
                 let mut peak: f64 = 0.0;
-                tr.rejected.retain(|r| {
+                log.rejected.retain(|r| {
                     let mine = r.measurement == a && r.sample >= first;
                     if mine {
                         peak = peak.max(r.sigmas);
@@ -207,8 +249,8 @@ impl GateTracker {
     }
 
     /// Closes the excursions still open at the end of a run.
-    fn finish(self, tr: &mut RunTrace) {
-        tr.excursions.extend(self.open.into_iter().flatten());
+    fn finish(self, log: &mut GateLog) {
+        log.excursions.extend(self.open.into_iter().flatten());
     }
 }
 
@@ -234,12 +276,36 @@ pub struct IdentifyError {
     pub divergence: Divergence,
 }
 
-/// Runs the passes.
+/// Runs the passes, keeping the traces the report draws.
 pub fn identify<M: Model>(
     model: &M,
     setup: &Setup,
     runs: &[RunData],
     progress: &mut dyn Progress,
+) -> Result<Identification, IdentifyError> {
+    passes(model, setup, runs, progress, true)
+}
+
+/// Runs the passes and keeps the estimates only (no traces, no smoother): the repeated
+/// identifications of the consider analysis.
+pub fn estimates<M: Model>(
+    model: &M,
+    setup: &Setup,
+    runs: &[RunData],
+) -> Result<Vec<PassEstimate>, IdentifyError> {
+    let setup = Setup {
+        smoother: false,
+        ..setup.clone()
+    };
+    passes(model, &setup, runs, &mut Silent, false).map(|id| id.passes)
+}
+
+fn passes<M: Model>(
+    model: &M,
+    setup: &Setup,
+    runs: &[RunData],
+    progress: &mut dyn Progress,
+    keep_traces: bool,
 ) -> Result<Identification, IdentifyError> {
     let nx = model.nx();
     let nb = setup.est.len();
@@ -264,8 +330,12 @@ pub fn identify<M: Model>(
     let mut traces = Vec::new();
     let mut covariance = vec![0.0; nb * nb];
     let total: usize = runs.iter().map(RunData::len).sum();
+    let mut row_values = vec![0.0; nb];
+    let mut row_sigmas = vec![0.0; nb];
     for pass in 0..setup.passes {
-        let smooth = setup.smoother && pass + 1 == setup.passes;
+        let last_pass = pass + 1 == setup.passes;
+        let smooth = setup.smoother && last_pass;
+        let samples = keep_traces && last_pass;
         let mut done = 0;
         let mut filter: Option<HybridEkf> = None;
         let mut pass_traces = Vec::new();
@@ -307,77 +377,97 @@ pub fn identify<M: Model>(
             };
             f.ungated = vec![false; run.measured.len()];
             let mut gate = GateTracker::new(run.measured.len());
+            let mut gate_log = GateLog::default();
             let k_len = run.len();
             let m = run.measured.len();
             let mut tr = RunTrace {
-                times: run.times.clone(),
+                samples: k_len,
+                innovation_squares: vec![0.0; m],
                 ..Default::default()
             };
-            let mut smoother = smooth.then(|| Trace::new(n));
+            if samples {
+                tr.times = run.times.clone();
+                tr.states.reserve_exact(k_len * nx);
+                tr.nis.reserve_exact(k_len);
+            }
+            let mut history = keep_traces.then(|| HistoryBuilder::new(nb, k_len));
+            // the smoother's checkpoints: the whole filter at the start of every segment
+            let segment = rts::segment_length(k_len);
+            let mut checkpoints = Vec::new();
             let mut phi = vec![0.0; n * n];
             for k in 0..k_len {
-                let t = run.times[k];
-                if k > 0 {
-                    let want_phi = smoother.is_some();
-                    f.predict(
-                        &mut sys,
-                        run.times[k - 1],
-                        t,
-                        want_phi.then_some(phi.as_mut_slice()),
-                    )
-                    .map_err(fail)?;
+                if smooth && k % segment == 0 {
+                    checkpoints.push((f.clone(), gate.clone()));
                 }
-                if let Some(s) = smoother.as_mut() {
-                    s.t.push(t);
-                    s.x_prior.extend_from_slice(&f.x);
-                    s.p_prior.extend_from_slice(&f.p);
-                    if k == 0 {
-                        s.phi.extend(std::iter::repeat_n(0.0, n * n));
-                    } else {
-                        s.phi.extend_from_slice(&phi);
+                let mut gating = (&mut gate, &mut gate_log);
+                let nis = filter_sample(f, &mut sys, run, k, &mut gating, None, &mut phi)
+                    .map_err(fail)?;
+                if let Some(h) = history.as_mut() {
+                    for j in 0..nb {
+                        row_values[j] = f.x[nx + j] * setup.scale[j];
+                        row_sigmas[j] = f.p[(nx + j) * n + nx + j].max(0.0).sqrt() * setup.scale[j];
+                    }
+                    h.push(k, run.times[k], &row_values, &row_sigmas);
+                }
+                if samples {
+                    tr.states.extend_from_slice(&f.x[..nx]);
+                    tr.nis.push(nis);
+                    for (s, v) in tr.innovation_squares.iter_mut().zip(f.innovation()) {
+                        *s += v * v;
                     }
                 }
-                let nis = f
-                    .update(&mut sys, t, &run.y[k * m..(k + 1) * m], &run.r)
-                    .map_err(fail)?;
-                let events = f.beyond_gate().to_vec();
-                gate.step(k, &events, &mut f.ungated, &mut tr);
-                if let Some(s) = smoother.as_mut() {
-                    s.x_post.extend_from_slice(&f.x);
-                    s.p_post.extend_from_slice(&f.p);
-                }
-                tr.states.extend_from_slice(&f.x[..nx]);
-                for j in 0..nb {
-                    tr.coefficients.push(f.x[nx + j] * setup.scale[j]);
-                    tr.sigmas
-                        .push(f.p[(nx + j) * n + nx + j].max(0.0).sqrt() * setup.scale[j]);
-                }
-                tr.innovations.extend_from_slice(f.innovation());
-                tr.nis.push(nis);
                 done += 1;
                 if done % 250 == 0 || done == total {
                     progress.filter(pass + 1, setup.passes, done, total);
                 }
             }
-            gate.finish(&mut tr);
+            gate.finish(&mut gate_log);
+            tr.rejected = gate_log.rejected;
+            tr.excursions = gate_log.excursions;
             if let Some(&t_end) = run.times.last() {
                 f.check_covariance(t_end).map_err(fail)?;
             }
-            if let Some(s) = smoother {
-                let (xs, _) = s.smooth().map_err(|k| {
-                    fail(Divergence {
+            if smooth {
+                let mut states = vec![0.0; k_len * nx];
+                rts::smooth_segments(
+                    n,
+                    k_len,
+                    segment,
+                    |start, end, trace| {
+                        // segments come last first: the last checkpoint is this segment's
+                        debug_assert_eq!(checkpoints.len(), start / segment + 1);
+                        let (mut g, mut gt) =
+                            checkpoints.pop().expect("one checkpoint per segment");
+                        // the re-run gates as the forward pass did; what it finds was kept then
+                        let mut scratch = GateLog::default();
+                        let mut gating = (&mut gt, &mut scratch);
+                        for k in start..end {
+                            filter_sample(
+                                &mut g,
+                                &mut sys,
+                                run,
+                                k,
+                                &mut gating,
+                                Some(trace),
+                                &mut phi,
+                            )?;
+                        }
+                        Ok(())
+                    },
+                    |k, x| states[k * nx..(k + 1) * nx].copy_from_slice(&x[..nx]),
+                )
+                .map_err(|e| match e {
+                    SmoothError::Filter(d) => fail(d),
+                    SmoothError::NotPositiveDefinite(k) => fail(Divergence {
                         time: run.times[k],
                         reason: "the smoother met a predicted covariance that is not \
                                  positive definite"
                             .into(),
-                    })
+                    }),
                 })?;
-                let mut states = Vec::with_capacity(k_len * nx);
-                for k in 0..k_len {
-                    states.extend_from_slice(&xs[k * n..k * n + nx]);
-                }
                 tr.smoothed = Some(states);
             }
+            tr.history = history.map(HistoryBuilder::finish).unwrap_or_default();
             pass_traces.push(tr);
         }
         let f = filter.expect("at least one run");
@@ -401,11 +491,231 @@ pub fn identify<M: Model>(
             }
         }
         passes.push(PassEstimate { values, sigmas });
-        traces.push(pass_traces);
+        if keep_traces {
+            traces.push(pass_traces);
+        }
     }
     Ok(Identification {
         passes,
         covariance,
         traces,
     })
+}
+
+/// One sample of a run: the prediction from the sample before (none at the first) and the
+/// update. With `trace`, the prior, the transition matrix (into `phi`) and the posterior are
+/// recorded for the smoother. The innovation gate's events go to the tracker, which may
+/// exempt a quantity from the gate for the samples after. The forward pass and the
+/// smoother's re-run both go through here, so that the re-run repeats the forward pass's
+/// numbers exactly.
+fn filter_sample<M: Model>(
+    f: &mut HybridEkf,
+    sys: &mut ModelSystem<M>,
+    run: &RunData,
+    k: usize,
+    gating: &mut (&mut GateTracker, &mut GateLog),
+    mut trace: Option<&mut Trace>,
+    phi: &mut [f64],
+) -> Result<f64, Divergence> {
+    let m = run.measured.len();
+    let t = run.times[k];
+    if k > 0 {
+        let want_phi = trace.is_some();
+        f.predict(sys, run.times[k - 1], t, want_phi.then_some(&mut *phi))?;
+    }
+    if let Some(tr) = trace.as_deref_mut() {
+        tr.push_prior(&f.x, &f.p, (k > 0).then_some(&*phi));
+    }
+    let nis = f.update(sys, t, &run.y[k * m..(k + 1) * m], &run.r)?;
+    if !f.beyond_gate().is_empty() || gating.0.open.iter().any(Option::is_some) {
+        let events = f.beyond_gate().to_vec();
+        gating.0.step(k, &events, &mut f.ungated, gating.1);
+    } else {
+        gating.0.streak.iter_mut().for_each(|s| *s = 0);
+    }
+    if let Some(tr) = trace {
+        tr.push_post(&f.x, &f.p);
+    }
+    Ok(nis)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::estimation::rts::tests::dense_smooth;
+    use crate::models::spheroid3::{Spheroid3, BOUNDED_TRUTH};
+    use crate::sim::simulate;
+
+    const ESTIMATED: [&str; 6] = ["Yvd", "Yrd", "Nrd", "Nvv", "Nrr", "Yrr"];
+
+    /// The paper's manoeuvre from (u0, v0), `k` samples at 10 ms, with seeded noise.
+    fn run(m: &Spheroid3, u0: f64, v0: f64, k: usize, seed: u64) -> RunData {
+        use rand::{rngs::StdRng, SeedableRng};
+        use rand_distr::{Distribution, Normal};
+        let truth = m.coefficient_vector(BOUNDED_TRUTH);
+        let times: Vec<f64> = (0..k).map(|i| i as f64 * 0.01).collect();
+        let inputs = InputSeries::constant(&[22.0]);
+        let xs = simulate(m, &truth, &[u0, v0, 0.0, 0.0, 0.0, 0.0], &inputs, &times, 4).unwrap();
+        let sig = [1e-3, 1e-3, 1e-3, 1e-3, 1e-3, 1e-3];
+        let mut rng = StdRng::seed_from_u64(seed);
+        let mut y = Vec::new();
+        for x in &xs {
+            for i in 0..6 {
+                y.push(x[i] + Normal::new(0.0, sig[i]).unwrap().sample(&mut rng));
+            }
+        }
+        let r: Vec<f64> = sig.iter().map(|s| s * s).collect();
+        let mut p0 = vec![0.0; 36];
+        for i in 0..6 {
+            p0[i * 6 + i] = r[i];
+        }
+        RunData {
+            name: format!("u0 = {u0}"),
+            times,
+            measured: (0..6).collect(),
+            x0: y[..6].to_vec(),
+            y,
+            r,
+            inputs,
+            p0,
+            lines: (2..k + 2).collect(),
+        }
+    }
+
+    fn setup(m: &Spheroid3, passes: usize, smoother: bool) -> Setup {
+        let est: Vec<usize> = ESTIMATED
+            .iter()
+            .map(|n| m.coefficient_index(n).unwrap())
+            .collect();
+        let scale: Vec<f64> = ESTIMATED.iter().map(|n| m.typical_magnitude(n)).collect();
+        let mut base = m.coefficient_vector(BOUNDED_TRUTH);
+        for &i in &est {
+            base[i] = 0.0;
+        }
+        let mut q = vec![1e-10; 6];
+        q.extend([0.0; 6]);
+        Setup {
+            base,
+            est,
+            initial: vec![0.0; 6],
+            prior_sigma: scale.clone(),
+            scale,
+            q,
+            passes,
+            substeps: 1,
+            max_step: 0.01,
+            smoother,
+            gate: 0.0,
+            gate_from_pass: 1,
+            repeat_prior_factor: Some(100.0),
+        }
+    }
+
+    /// One pass the way the smoother was fed before checkpoints: every sample's prior,
+    /// transition and posterior kept in one trace per run, smoothed by one dense sweep.
+    fn dense_reference(m: &Spheroid3, s: &Setup, runs: &[RunData]) -> Vec<Vec<f64>> {
+        let (nx, nb) = (6, s.est.len());
+        let n = nx + nb;
+        let mut q = s.q.clone();
+        for j in 0..nb {
+            q[nx + j] /= s.scale[j] * s.scale[j];
+        }
+        let mut filter: Option<HybridEkf> = None;
+        let mut out = Vec::new();
+        for run in runs {
+            let mut sys = ModelSystem::new(
+                m,
+                s.base.clone(),
+                &s.est,
+                &s.scale,
+                &run.inputs,
+                &run.measured,
+            );
+            if let Some(f) = filter.as_mut() {
+                f.restart_dynamic(&run.x0, &run.p0);
+            } else {
+                let mut x = run.x0.clone();
+                x.extend(s.initial.iter().zip(&s.scale).map(|(v, sc)| v / sc));
+                let mut p = vec![0.0; n * n];
+                for i in 0..nx {
+                    for j in 0..nx {
+                        p[i * n + j] = run.p0[i * nx + j];
+                    }
+                }
+                for j in 0..nb {
+                    p[(nx + j) * n + nx + j] = (s.prior_sigma[j] / s.scale[j]).powi(2);
+                }
+                filter = Some(HybridEkf::new(n, nx, x, p, q.clone(), s.max_step));
+            }
+            let f = filter.as_mut().unwrap();
+            let mut tr = Trace::new(n);
+            let mut phi = vec![0.0; n * n];
+            for k in 0..run.len() {
+                if k > 0 {
+                    f.predict(&mut sys, run.times[k - 1], run.times[k], Some(&mut phi))
+                        .unwrap();
+                }
+                tr.push_prior(&f.x, &f.p, (k > 0).then_some(phi.as_slice()));
+                f.update(&mut sys, run.times[k], &run.y[k * 6..(k + 1) * 6], &run.r)
+                    .unwrap();
+                tr.push_post(&f.x, &f.p);
+            }
+            f.check_covariance(run.times[run.len() - 1]).unwrap();
+            let (xs, _) = dense_smooth(&tr).unwrap();
+            out.push(xs.chunks_exact(n).flat_map(|x| x[..nx].to_vec()).collect());
+        }
+        out
+    }
+
+    #[test]
+    fn checkpointed_smoothing_gives_the_dense_smoothers_states_bit_for_bit() {
+        let m = Spheroid3::paper_vehicle();
+        let runs = [run(&m, 3.0, 1.0, 3000, 1), run(&m, 2.0, -0.5, 1234, 2)];
+        let s = setup(&m, 1, true);
+        let id = identify(&m, &s, &runs, &mut Silent).unwrap();
+        let reference = dense_reference(&m, &s, &runs);
+        for (tr, want) in id.traces[0].iter().zip(&reference) {
+            let got = tr.smoothed.as_ref().expect("smoothed");
+            assert_eq!(got.len(), want.len());
+            let same = got
+                .iter()
+                .zip(want)
+                .all(|(a, b)| a.to_bits() == b.to_bits());
+            assert!(same, "smoothed states differ from the dense smoother's");
+        }
+    }
+
+    #[test]
+    fn passes_keep_bounded_traces_and_the_estimates_do_not_depend_on_them() {
+        let m = Spheroid3::paper_vehicle();
+        let runs = [run(&m, 3.0, 1.0, 5000, 3)];
+        let s = setup(&m, 2, false);
+        let id = identify(&m, &s, &runs, &mut Silent).unwrap();
+        assert_eq!(estimates(&m, &s, &runs).unwrap(), id.passes);
+        // the first pass keeps its thinned coefficient history only
+        let first = &id.traces[0][0];
+        assert!(first.times.is_empty() && first.states.is_empty() && first.nis.is_empty());
+        assert!(first.history.len() <= super::super::history::BUCKETS * (2 + 4 * 6));
+        assert!(first.history.len() > 500);
+        // the last keeps every sample of what the report shows
+        let last = &id.traces[1][0];
+        assert_eq!((last.times.len(), last.nis.len()), (5000, 5000));
+        assert_eq!(last.states.len(), 5000 * 6);
+        assert_eq!(last.samples, 5000);
+        assert!(last.innovation_squares.iter().all(|s| *s > 0.0));
+    }
+
+    #[test]
+    fn decimation_keeps_every_nth_sample_from_the_first() {
+        let m = Spheroid3::paper_vehicle();
+        let mut r = run(&m, 3.0, 1.0, 11, 4);
+        let full = r.clone();
+        r.decimate(4);
+        assert_eq!(r.times, vec![0.0, full.times[4], full.times[8]]);
+        assert_eq!(&r.y[6..12], &full.y[24..30]);
+        assert_eq!(r.y.len(), 18);
+        assert_eq!(r.x0, full.x0);
+        r.decimate(1);
+        assert_eq!(r.len(), 3);
+    }
 }

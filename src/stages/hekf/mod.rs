@@ -3,7 +3,9 @@
 
 mod config;
 mod consistency;
+pub mod history;
 pub mod identify;
+pub mod memory;
 mod prepare;
 mod result;
 mod sensitivity;
@@ -11,6 +13,7 @@ pub mod system;
 pub mod tuning;
 
 pub use config::{Checks, HekfConfig, ModelName, Outliers, Preset, Prior, DEFAULT_GATE};
+pub use history::History;
 mod plausibility;
 pub use result::{HekfResult, PassSummary, RunSummary, RunTraces};
 
@@ -21,6 +24,7 @@ use crate::models::{with_model, AddedMass, Model, ModelSpec, ModelVisitor, Scale
 use crate::progress::Progress;
 use crate::quantity::Quantity;
 use crate::record::{Needs, Record};
+use crate::warning::Warning;
 use identify::{identify, IdentifyError};
 
 /// The stage's name in messages and warnings.
@@ -93,7 +97,8 @@ pub fn run(
 /// Problems the stage would meet, found before any stage runs: estimated coefficients the
 /// model does not have or that a relation derives, fixed coefficients that nothing will
 /// provide (`available`: names the configuration, analytic formulas and enabled stages give),
-/// and model inputs a run lacks.
+/// model inputs a run lacks, and a run too large for the memory there is. `runs` are the
+/// fit runs followed by the validation runs, as [`HekfConfig::inputs`] lists them.
 pub fn preflight(
     cfg: &HekfConfig,
     vehicle: &VehicleConfig,
@@ -139,6 +144,7 @@ pub fn preflight(
                     );
                 }
             }
+            p.extend(memory_problem(self.cfg, model.nx(), self.runs));
             p
         }
     }
@@ -173,7 +179,8 @@ impl ModelVisitor for Identify<'_> {
         let mut runs = Vec::new();
         let mut summaries = Vec::new();
         for rec in inputs.runs {
-            let (data, mut summary) = prepare::run_data(model, cfg, &tuning, rec, inputs.base_dir)?;
+            let (mut data, mut summary) =
+                prepare::run_data(model, cfg, &tuning, rec, inputs.base_dir)?;
             // blocking findings stopped the run in preflight unless checks = "warn"
             summary.warnings.extend(
                 plausibility::kinematics(rec)
@@ -192,6 +199,7 @@ impl ModelVisitor for Identify<'_> {
                     .into_iter()
                     .map(|f| f.warning),
             );
+            decimate(&mut data, &mut summary, cfg.decimate.unwrap_or(1));
             runs.push(data);
             summaries.push(summary);
         }
@@ -242,6 +250,46 @@ impl ModelVisitor for Identify<'_> {
         }
         Ok(result)
     }
+}
+
+/// Keeps every `n`-th sample of a run for the filter (`hekf.decimate`); its summary then
+/// gives the samples and the interval the filter used, with a note.
+fn decimate(data: &mut identify::RunData, summary: &mut RunSummary, n: usize) {
+    if n <= 1 {
+        return;
+    }
+    let rows = data.len();
+    data.decimate(n);
+    let k = data.len();
+    summary.samples = k;
+    if k > 1 {
+        summary.mean_dt = (data.times[k - 1] - data.times[0]) / (k - 1) as f64;
+    }
+    summary.warnings.push(
+        Warning::new(
+            "hekf",
+            format!("the filter used one sample in {n} of the {rows} (hekf.decimate = {n})"),
+            "the coefficients and their sigmas rest on the kept samples only",
+        )
+        .for_run(&summary.name),
+    );
+}
+
+/// The memory check of [`preflight`]: the estimate for these runs (fit runs first, then
+/// validation runs) against the memory there is.
+fn memory_problem(cfg: &HekfConfig, states: usize, runs: &[&Record]) -> Option<String> {
+    let limit = cfg
+        .memory_limit
+        .as_deref()
+        .and_then(|m| memory::parse_size(m).ok());
+    let demand = memory::Demand {
+        rows: runs.iter().map(|r| r.rows()).sum(),
+        fit_rows: runs.iter().take(cfg.runs.len()).map(|r| r.rows()).collect(),
+        states,
+    };
+    let supply = memory::supply(limit)?;
+    let smoother = tuning::Resolved::from_config(cfg).smoother;
+    memory::check(&demand, cfg.decimate.unwrap_or(1), smoother, &supply).err()
 }
 
 fn divergence_error<M: Model>(

@@ -2,6 +2,7 @@
 //! every pass, noise and tuning choices, innovation statistics, and the traces for plots.
 
 use super::config::HekfConfig;
+use super::history::History;
 use super::identify::{Identification, RunData, Setup};
 use super::prepare::Plan;
 use super::tuning::NoiseChoice;
@@ -47,7 +48,8 @@ pub struct RunSummary {
     pub warnings: Vec<Warning>,
 }
 
-/// Per-sample traces of one run in the last pass, for plots (not written to results.json).
+/// Per-sample traces of one run in the last pass, and the coefficient history of every
+/// pass, for plots (not written to results.json).
 #[derive(Debug, Clone, PartialEq)]
 pub struct RunTraces {
     /// Sample times, s.
@@ -58,10 +60,9 @@ pub struct RunTraces {
     pub filtered: Vec<f64>,
     /// Smoothed states (K x nx).
     pub smoothed: Option<Vec<f64>>,
-    /// Coefficient estimates over time, per pass (pass -> K x nb).
-    pub coefficients: Vec<Vec<f64>>,
-    /// Their sigmas over time, per pass.
-    pub sigmas: Vec<Vec<f64>>,
+    /// Coefficient estimates and sigmas over time, per pass, thinned for drawing (every
+    /// sample of a pass up to [`super::history::KEEP_ALL`]).
+    pub history: Vec<History>,
     /// Normalised innovation squared per sample (last pass).
     pub nis: Vec<f64>,
 }
@@ -113,8 +114,16 @@ pub struct Settings {
     pub substeps: usize,
     /// Smoother on the last pass.
     pub smoother: bool,
+    /// The filter used every `decimate`-th sample of each run (`hekf.decimate`; left out
+    /// of results.json when 1).
+    #[serde(skip_serializing_if = "is_one")]
+    pub decimate: usize,
     /// Process noise of states and coefficients (spectral density).
     pub process_noise: Vec<f64>,
+}
+
+fn is_one(n: &usize) -> bool {
+    *n == 1
 }
 
 impl HekfResult {
@@ -145,6 +154,16 @@ pub fn build<M: Model>(
     upstream: Upstream,
 ) -> HekfResult {
     let nb = plan.est.len();
+    let id_passes: Vec<PassSummary> = id
+        .passes
+        .iter()
+        .enumerate()
+        .map(|(i, p)| PassSummary {
+            pass: i + 1,
+            values: p.values.clone(),
+            sigmas: p.sigmas.clone(),
+        })
+        .collect();
     let last = id
         .passes
         .last()
@@ -210,36 +229,33 @@ pub fn build<M: Model>(
             };
         }
     }
-    let last_traces = id.traces.last().cloned().unwrap_or_default();
+    let mut passes = id.traces;
+    let last_traces = passes.pop().unwrap_or_default();
     let mut traces = Vec::new();
-    for (r, (run, summary)) in runs.iter().zip(summaries.iter_mut()).enumerate() {
-        let tr = &last_traces[r];
-        let m = run.measured.len();
+    for (r, (tr, summary)) in last_traces
+        .into_iter()
+        .zip(summaries.iter_mut())
+        .enumerate()
+    {
+        let m = runs[r].measured.len();
         summary.nis = summarize(&tr.nis, m);
-        summary.innovation_rms = (0..m)
-            .map(|k| {
-                let s: f64 = tr
-                    .innovations
-                    .iter()
-                    .skip(k)
-                    .step_by(m)
-                    .map(|v| v * v)
-                    .sum();
-                (s / tr.nis.len().max(1) as f64).sqrt()
-            })
+        summary.innovation_rms = tr
+            .innovation_squares
+            .iter()
+            .map(|s| (s / tr.samples.max(1) as f64).sqrt())
             .collect();
+        let mut history: Vec<History> = passes
+            .iter_mut()
+            .map(|p| std::mem::take(&mut p[r].history))
+            .collect();
+        history.push(tr.history);
         traces.push(RunTraces {
-            times: tr.times.clone(),
+            times: tr.times,
             measured: summary.measured.clone(),
-            filtered: tr.states.clone(),
-            smoothed: tr.smoothed.clone(),
-            coefficients: id
-                .traces
-                .iter()
-                .map(|p| p[r].coefficients.clone())
-                .collect(),
-            sigmas: id.traces.iter().map(|p| p[r].sigmas.clone()).collect(),
-            nis: tr.nis.clone(),
+            filtered: tr.states,
+            smoothed: tr.smoothed,
+            history,
+            nis: tr.nis,
         });
     }
     HekfResult {
@@ -251,22 +267,14 @@ pub fn build<M: Model>(
             names: plan.est_names.clone(),
             matrix,
         },
-        passes: id
-            .passes
-            .iter()
-            .enumerate()
-            .map(|(i, p)| PassSummary {
-                pass: i + 1,
-                values: p.values.clone(),
-                sigmas: p.sigmas.clone(),
-            })
-            .collect(),
+        passes: id_passes,
         fixed: plan.fixed.clone(),
         tuning: plan.notes.clone(),
         settings: Settings {
             passes: setup.passes,
             substeps: setup.substeps,
             smoother: setup.smoother,
+            decimate: cfg.decimate.unwrap_or(1).max(1),
             process_noise: setup.q.clone(),
         },
         runs: summaries,

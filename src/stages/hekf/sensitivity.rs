@@ -7,12 +7,12 @@
 //! by plus and minus one sigma along it (one pass from the converged estimate), and the change
 //! of the estimates, (beta(+) - beta(-)) / 2, is that direction's share in them: linear error
 //! propagation by central differences ("consider" analysis, Bierman 1977, ch. 7). The total
-//! covariance is the filter's plus the sum of these outer products.
+//! covariance is the filter's plus the sum of these outer products. The repeated passes keep
+//! no traces, so that running them side by side costs no memory per sample.
 
-use super::identify::{identify, RunData, Setup};
+use super::identify::{estimates, RunData, Setup};
 use crate::coefficients::{CoefficientSet, Direction};
 use crate::models::Model;
-use crate::progress::Silent;
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 
@@ -64,9 +64,9 @@ pub fn upstream<M: Model>(
                         s.base[*i] += sign * delta;
                     }
                 }
-                identify(model, &s, runs, &mut Silent)
+                estimates(model, &s, runs)
                     .ok()
-                    .and_then(|id| id.passes.last().map(|p| p.values.clone()))
+                    .and_then(|mut p| p.pop().map(|p| p.values))
             };
             match (at(1.0), at(-1.0)) {
                 (Some(plus), Some(minus)) => {

@@ -1,0 +1,223 @@
+//! Long runs and memory: `hekf.decimate`, the memory check before the filter starts, and
+//! (ignored, release build) the peak memory of a run of a million rows.
+
+use hydroid::stages::hekf::memory::{self, Demand};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn hydroid(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_hydroid"))
+        .args(args)
+        .current_dir(root())
+        .output()
+        .expect("the hydroid binary runs")
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+fn json(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// Rows of the bundled example's HEKF runs: the paper manoeuvre (fit), the validation turn.
+fn bundled_demand() -> Demand {
+    Demand {
+        rows: 2001 + 501,
+        fit_rows: vec![2001],
+        states: 6,
+    }
+}
+
+#[test]
+fn decimation_uses_one_sample_in_n_and_says_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = hydroid(&[
+        "run",
+        "configs/spheroid.toml",
+        "--out",
+        out.to_str().unwrap(),
+        "--set",
+        "hekf.decimate=4",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let r = json(&out.join("results.json"));
+    let schema = json(&root().join("docs/results.schema.json"));
+    let validator = jsonschema::draft202012::new(&schema).expect("the schema is valid");
+    let errors: Vec<String> = validator.iter_errors(&r).map(|e| e.to_string()).collect();
+    assert!(errors.is_empty(), "{errors:#?}");
+    let h = &r["stages"]["hekf"];
+    assert_eq!(h["settings"]["decimate"], 4);
+    let run = &h["runs"][0];
+    assert_eq!(run["samples"], 501, "2001 rows, one in 4 from the first");
+    assert!((run["mean_dt"].as_f64().unwrap() - 0.04).abs() < 1e-9);
+    assert!(
+        run["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|w| w["message"]
+                .as_str()
+                .unwrap()
+                .contains("one sample in 4 of the 2001")),
+        "{run}"
+    );
+    // the estimates are still close to the full-rate run's (truth Yvd -23.626)
+    let yvd = h["coefficients"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|c| c["name"] == "Yvd")
+        .unwrap()["value"]
+        .as_f64()
+        .unwrap();
+    assert!((yvd + 23.6).abs() < 2.0, "Yvd {yvd}");
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(report.contains("one sample in 4 of each run used (hekf.decimate)"));
+    // the smoothed estimate is drawn at the samples the filter used
+    let states = std::fs::read_to_string(out.join("plots/states_fit_1.svg")).unwrap();
+    assert!(states.contains("smoothed estimate"));
+}
+
+#[test]
+fn a_run_over_its_memory_limit_stops_before_the_filter_with_the_setting_that_fits() {
+    let d = bundled_demand();
+    // room for one sample in 3, not for one in 2
+    let limit = d.bytes(3, true);
+    assert!(d.bytes(2, true) > limit);
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let set = format!("hekf.memory_limit={limit} B");
+    let o = hydroid(&[
+        "run",
+        "configs/spheroid.toml",
+        "--out",
+        out.to_str().unwrap(),
+        "--set",
+        &set,
+    ]);
+    let err = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "a configuration error: {err}");
+    assert!(err.contains("configs/spheroid.toml"), "{err}");
+    assert!(err.contains("set in hekf.memory_limit"), "{err}");
+    assert!(err.contains("`hekf.decimate = 3`"), "{err}");
+    assert!(err.contains(&memory::size(d.bytes(1, true))), "{err}");
+    assert!(!out.exists(), "nothing written");
+    // `hydroid check` says the same, and the setting offered passes
+    let c = hydroid(&["check", "configs/spheroid.toml", "--set", &set]);
+    assert_eq!(c.status.code(), Some(2));
+    assert!(
+        text(&c.stdout).contains("`hekf.decimate = 3`")
+            || text(&c.stderr).contains("`hekf.decimate = 3`")
+    );
+    let ok = hydroid(&[
+        "check",
+        "configs/spheroid.toml",
+        "--set",
+        &set,
+        "--set",
+        "hekf.decimate=3",
+    ]);
+    assert_eq!(ok.status.code(), Some(0), "{}", text(&ok.stderr));
+}
+
+#[test]
+fn bad_memory_settings_are_configuration_errors() {
+    let o = hydroid(&[
+        "check",
+        "configs/spheroid.toml",
+        "--set",
+        "hekf.memory_limit=lots",
+        "--set",
+        "hekf.decimate=0",
+    ]);
+    let all = text(&o.stdout) + &text(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{all}");
+    assert!(
+        all.contains(
+            "hekf.memory_limit: (from --set hekf.memory_limit=lots) 'lots' is not a memory size"
+        ),
+        "{all}"
+    );
+    assert!(
+        all.contains("hekf.decimate: (from --set hekf.decimate=0) must be between 1"),
+        "{all}"
+    );
+}
+
+/// Peak resident memory of this process so far, bytes (Linux).
+fn peak_rss() -> Option<u64> {
+    let s = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = s.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: u64 = line[6..]
+        .trim()
+        .trim_end_matches("kB")
+        .trim()
+        .parse()
+        .ok()?;
+    Some(kb * 1024)
+}
+
+/// The figure: a run of a million rows (the paper manoeuvre's turn continued for
+/// 10,000 s at 10 ms) with the bundled configuration, smoother on, in under 2 GB. Release
+/// build only (about two minutes):
+///
+///     cargo test --release --test hekf_memory -- --ignored --nocapture
+#[test]
+#[ignore]
+fn a_million_rows_run_in_under_2_gb() {
+    let dir = tempfile::tempdir().unwrap();
+    let sim = std::fs::read_to_string(root().join("configs/simulate/turn_paper.toml"))
+        .unwrap()
+        .replace("duration = 20.0", "duration = 10000.0");
+    let sim_path = dir.path().join("sim.toml");
+    std::fs::write(&sim_path, sim).unwrap();
+    let csv = dir.path().join("turn_1m.csv");
+    let o = hydroid(&[
+        "simulate",
+        sim_path.to_str().unwrap(),
+        "--out",
+        csv.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let exports = root().join("cfd_exports");
+    let cfg = std::fs::read_to_string(root().join("configs/spheroid.toml"))
+        .unwrap()
+        .replace("../cfd_exports/turn_paper.csv", csv.to_str().unwrap())
+        .replace("../cfd_exports/", &format!("{}/", exports.display()));
+    let cfg_path = dir.path().join("run.toml");
+    std::fs::write(&cfg_path, cfg).unwrap();
+
+    let start = std::time::Instant::now();
+    let before = peak_rss().unwrap_or(0);
+    let loaded = hydroid::config::load(&cfg_path, &[]).unwrap();
+    let staging = hydroid::output::Staging::new(&dir.path().join("out")).unwrap();
+    let output = hydroid::pipeline::run(&loaded, &mut hydroid::progress::Silent).unwrap();
+    hydroid::report::write(&staging, &loaded, &output).unwrap();
+    staging.commit().unwrap();
+    let peak = peak_rss().unwrap_or(0);
+    let h = output.result.stages.hekf.as_ref().unwrap();
+    let rows = h.runs[0].samples;
+    println!(
+        "{rows} rows: {:.1} s, peak RSS {} (before the run {}), {:.0} bytes per row",
+        start.elapsed().as_secs_f64(),
+        memory::size(peak),
+        memory::size(before),
+        peak as f64 / rows as f64
+    );
+    assert_eq!(rows, 1_000_001);
+    assert!(peak < 2_000_000_000, "peak {}", memory::size(peak));
+    // the estimate the run was checked against lies above what it took
+    let demand = Demand {
+        rows: rows + 501,
+        fit_rows: vec![rows],
+        states: 6,
+    };
+    assert!(demand.bytes(1, true) > peak);
+}
