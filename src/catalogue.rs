@@ -354,7 +354,7 @@ pub fn model_text(m: &ModelEntry) -> String {
 
 /// docs/coefficients.md.
 pub fn markdown() -> String {
-    use crate::report::table::markdown_table;
+    use crate::markdown_text::markdown_table;
     let mut s = String::from(
         "# Coefficients\n\n\
          <!-- Generated from the code by `hydroid coefficients` (src/catalogue.rs): do not edit. \

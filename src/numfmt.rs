@@ -1,4 +1,5 @@
-//! Numbers written for people: fixed decimals without trailing zeros.
+//! Numbers written for people: four significant digits, fixed decimals without trailing
+//! zeros, proportions.
 
 /// `v` with `decimals` decimals, trailing zeros (and a bare decimal point) removed:
 /// 0.2500 -> "0.25", 3.0000 -> "3"; integers written without decimals keep their zeros.
@@ -8,6 +9,21 @@ pub fn fixed_trimmed(v: f64, decimals: usize) -> String {
         s.trim_end_matches('0').trim_end_matches('.').to_string()
     } else {
         s
+    }
+}
+
+/// Significant-figure formatting used in every table: 4 significant digits, plain for
+/// moderate magnitudes.
+pub fn num(v: f64) -> String {
+    if v == 0.0 {
+        return "0".into();
+    }
+    let mag = v.abs().log10().floor() as i32;
+    if (-3..6).contains(&mag) {
+        let decimals = (3 - mag).max(0) as usize;
+        format!("{v:.decimals$}")
+    } else {
+        format!("{v:.3e}")
     }
 }
 
@@ -46,6 +62,16 @@ pub fn proportion(ratio: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn four_significant_figures() {
+        assert_eq!(num(-23.6261), "-23.63");
+        assert_eq!(num(-1.16404), "-1.164");
+        assert_eq!(num(0.0017), "0.001700");
+        assert_eq!(num(13.43), "13.43");
+        assert_eq!(num(1234.5), "1234");
+        assert_eq!(num(2.5e-7), "2.500e-7");
+    }
 
     #[test]
     fn ratios_read_sensibly_at_any_size() {

@@ -7,8 +7,8 @@
 
 use hydroid::config::LoadedConfig;
 use hydroid::output::Staging;
-use hydroid::pipeline::RunOutput;
 use hydroid::report::{self, plots, table};
+use hydroid::results::RunOutput;
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
@@ -217,7 +217,7 @@ fn report_md_links_every_figure_and_holds_the_comparison_table() {
     assert!(!surge.warnings.is_empty());
     for w in &surge.warnings {
         assert!(
-            md.contains(&table::escape_markdown(&w.message)),
+            md.contains(&hydroid::markdown_text::escape_markdown(&w.message)),
             "warning missing: {w}"
         );
     }

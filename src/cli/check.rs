@@ -2,7 +2,7 @@
 
 use super::{json, CmdResult};
 use hydroid::error::Error;
-use hydroid::report::results::InputSummary;
+use hydroid::results::{InputSummary, LoadedInput};
 use hydroid::{config, pipeline};
 use serde_json::{json, Value};
 use std::io::Write;
@@ -30,7 +30,7 @@ pub fn run(args: Args, stdout: &mut impl Write) -> CmdResult {
     let text = config::read(&args.config)?;
     let (loaded, mut config_problems) = config::load_lenient(&args.config, &text, &args.set);
     let mut input_problems = Vec::new();
-    let mut usable = Vec::new();
+    let mut usable = pipeline::InputsByStage::default();
     // the text is printed at the end, unless --json prints JSON instead
     let mut text = Vec::new();
     let out = &mut text;
@@ -74,63 +74,67 @@ pub fn run(args: Args, stdout: &mut impl Write) -> CmdResult {
             )?;
         }
         writeln!(out, "inputs:")?;
-        for (key, spec, needs) in pipeline::stage_inputs(c) {
-            if l.touches_unusable(&key) {
-                // a key of this input could not be used: already a configuration problem
-                writeln!(out, "  {key}: not read (its configuration has a problem)")?;
-                continue;
-            }
-            let full = l.resolve(&spec.file);
-            if hydroid::formats::input::check_regular(&full).is_err() {
-                // already a configuration problem
-                writeln!(out, "  {key}: {} (missing)", spec.file.display())?;
-                inputs_json.push(json!({ "key": key, "file": spec.file, "status": "missing" }));
-                continue;
-            }
-            match pipeline::load_input(l, &key, spec, &needs) {
-                Ok(li) => {
-                    let r = &li.record;
-                    let span = r
-                        .time()
-                        .and_then(|t| Some(format!(", t = {} .. {} s", t.first()?, t.last()?)))
-                        .unwrap_or_default();
-                    let qs: Vec<String> = r
-                        .units
-                        .iter()
-                        .map(|(q, u)| format!("{q} [{u}]"))
-                        .chain(
-                            r.constants
-                                .iter()
-                                .map(|(q, v)| format!("{q} = {v} (constant)")),
-                        )
-                        .collect();
-                    writeln!(
-                        out,
-                        "  {key}: {} ({}, {} rows{span})\n      {}",
-                        spec.file.display(),
-                        r.format,
-                        r.rows(),
-                        qs.join(", ")
-                    )?;
-                    for w in &r.warnings {
-                        writeln!(out, "      warning: {w}")?;
-                    }
-                    let mut summary =
-                        serde_json::to_value(InputSummary::from_loaded(&li, &l.base_dir))
+        usable = pipeline::stage_inputs(c)
+            .try_map(|p| -> std::io::Result<Option<LoadedInput>> {
+                let (key, spec) = (p.key.clone(), p.spec);
+                if l.touches_unusable(&key) {
+                    // a key of this input could not be used: already a configuration problem
+                    writeln!(out, "  {key}: not read (its configuration has a problem)")?;
+                    return Ok(None);
+                }
+                let full = l.resolve(&spec.file);
+                if hydroid::formats::input::check_regular(&full).is_err() {
+                    // already a configuration problem
+                    writeln!(out, "  {key}: {} (missing)", spec.file.display())?;
+                    inputs_json.push(json!({ "key": key, "file": spec.file, "status": "missing" }));
+                    return Ok(None);
+                }
+                match pipeline::load_input(l, &p) {
+                    Ok(li) => {
+                        let r = &li.record;
+                        let span = r
+                            .time()
+                            .and_then(|t| Some(format!(", t = {} .. {} s", t.first()?, t.last()?)))
                             .unwrap_or_default();
-                    summary["status"] = "usable".into();
-                    summary["warnings"] = json!(r.warnings);
-                    inputs_json.push(summary);
-                    usable.push(li);
+                        let qs: Vec<String> = r
+                            .units
+                            .iter()
+                            .map(|(q, u)| format!("{q} [{u}]"))
+                            .chain(
+                                r.constants
+                                    .iter()
+                                    .map(|(q, v)| format!("{q} = {v} (constant)")),
+                            )
+                            .collect();
+                        writeln!(
+                            out,
+                            "  {key}: {} ({}, {} rows{span})\n      {}",
+                            spec.file.display(),
+                            r.format,
+                            r.rows(),
+                            qs.join(", ")
+                        )?;
+                        for w in &r.warnings {
+                            writeln!(out, "      warning: {w}")?;
+                        }
+                        let mut summary =
+                            serde_json::to_value(InputSummary::from_loaded(&li, &l.base_dir))
+                                .unwrap_or_default();
+                        summary["status"] = "usable".into();
+                        summary["warnings"] = json!(r.warnings);
+                        inputs_json.push(summary);
+                        Ok(Some(li))
+                    }
+                    Err(e) => {
+                        writeln!(out, "  {key}: {} (cannot be used)", spec.file.display())?;
+                        inputs_json
+                            .push(json!({ "key": key, "file": spec.file, "status": "unusable" }));
+                        input_problems.push((key, e));
+                        Ok(None)
+                    }
                 }
-                Err(e) => {
-                    writeln!(out, "  {key}: {} (cannot be used)", spec.file.display())?;
-                    inputs_json
-                        .push(json!({ "key": key, "file": spec.file, "status": "unusable" }));
-                    input_problems.push((key, e));
-                }
-            }
-        }
+            })?
+            .present();
     }
     // the stage checks need every key usable: with a placeholder they would mislead
     if let Some(l) = loaded.as_ref().filter(|l| l.unusable.is_empty()) {

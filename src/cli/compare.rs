@@ -3,7 +3,7 @@
 use super::{json, CmdResult};
 use hydroid::coefficients::Coefficient;
 use hydroid::error::{Error, InputError, Place};
-use hydroid::report::table::num;
+use hydroid::numfmt::num;
 use std::collections::BTreeSet;
 use std::io::Write;
 use std::path::{Path, PathBuf};

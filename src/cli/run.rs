@@ -70,7 +70,7 @@ pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
     }
     if args.json {
         // byte for byte the results.json written (it ends with a newline)
-        out.write_all(&report::to_json(&output.result)?)?;
+        out.write_all(&hydroid::output::to_json(&output.result)?)?;
         say.note(&format!("wrote {}", dir.display()));
     } else {
         report::table::write_text(out, &output.result)?;

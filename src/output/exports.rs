@@ -95,7 +95,7 @@ pub fn write_export(
     }
     write_atomic(&target, bytes)?;
     record.files.insert(name, file_sha256(&target)?);
-    write_atomic(&record_path, &crate::report::to_json(&record)?)?;
+    write_atomic(&record_path, &crate::output::to_json(&record)?)?;
     Ok(target)
 }
 

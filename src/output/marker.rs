@@ -49,7 +49,7 @@ impl Marker {
     /// Writes the marker into `dir`.
     pub fn write(&self, dir: &Path) -> Result<()> {
         let path = dir.join(MARKER);
-        let text = crate::report::to_json(self)?;
+        let text = crate::output::to_json(self)?;
         std::fs::write(&path, text).map_err(|e| Error::io(&path, e))
     }
 }

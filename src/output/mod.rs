@@ -32,6 +32,14 @@ pub use staging::{Replace, Staging};
 use crate::error::{Error, Result};
 use std::path::Path;
 
+/// Pretty JSON with a final newline.
+pub fn to_json<T: serde::Serialize>(value: &T) -> Result<Vec<u8>> {
+    let mut v = serde_json::to_vec_pretty(value)
+        .map_err(|e| Error::Usage(format!("cannot serialise the results: {e}")))?;
+    v.push(b'\n');
+    Ok(v)
+}
+
 /// Writes `bytes` to `path` atomically (temporary file in the same folder, then rename). The
 /// temporary file is removed if a signal ends the process meanwhile. The caller decides
 /// whether `path` may be replaced ([`write_export`] does for exports).

@@ -1,7 +1,7 @@
 //! report.md: the document in Markdown, figures linked as `plots/NAME.svg`.
 
 use super::doc::{Block, Col, Document, Inline};
-use super::table::{escape_markdown, markdown_table};
+use crate::markdown_text::{escape_markdown, markdown_table};
 
 fn inline(i: &Inline) -> String {
     match i {

@@ -6,14 +6,12 @@ pub mod doc;
 pub mod html;
 pub mod markdown;
 pub mod plots;
-pub mod results;
 pub mod table;
 
 use crate::config::LoadedConfig;
 use crate::error::{Error, Result};
-use crate::output::Staging;
-use crate::pipeline::RunOutput;
-use results::RunResult;
+use crate::output::{to_json, Staging};
+use crate::results::{RunOutput, RunResult};
 
 /// Files every run writes.
 pub const RESULTS_JSON: &str = "results.json";
@@ -84,14 +82,6 @@ pub fn write_reports(staging: &Staging, out: &RunOutput, plots: bool) -> Result<
         staging.write(REPORT_HTML, html::render(&doc).as_bytes())?;
     }
     Ok(())
-}
-
-/// Pretty JSON with a final newline.
-pub fn to_json<T: serde::Serialize>(value: &T) -> Result<Vec<u8>> {
-    let mut v = serde_json::to_vec_pretty(value)
-        .map_err(|e| Error::Usage(format!("cannot serialise the results: {e}")))?;
-    v.push(b'\n');
-    Ok(v)
 }
 
 /// The effective configuration with a header saying where it came from.

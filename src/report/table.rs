@@ -1,24 +1,11 @@
 //! The comparison table (coefficient | hydroid +- sigma | analytic | reference | errors) as
 //! aligned text for the terminal and as Markdown for report.md.
 
-use super::results::{ComparisonRow, RunResult};
 use crate::coefficients::{Source, CATALOG};
+use crate::markdown_text::markdown_table;
+use crate::numfmt::num;
+use crate::results::{ComparisonRow, RunResult};
 use std::io::{self, Write};
-
-/// Significant-figure formatting used in every table: 4 significant digits, plain for
-/// moderate magnitudes.
-pub fn num(v: f64) -> String {
-    if v == 0.0 {
-        return "0".into();
-    }
-    let mag = v.abs().log10().floor() as i32;
-    if (-3..6).contains(&mag) {
-        let decimals = (3 - mag).max(0) as usize;
-        format!("{v:.decimals$}")
-    } else {
-        format!("{v:.3e}")
-    }
-}
 
 /// A relative difference in percent: two decimals, or two significant digits in scientific
 /// notation from 1000 % (ten times the other value) on.
@@ -173,48 +160,6 @@ pub fn comparison_rows(r: &RunResult) -> Vec<Vec<String>> {
         .collect()
 }
 
-/// Escapes the characters that Markdown would read as markup.
-pub fn escape_markdown(s: &str) -> String {
-    let mut out = String::with_capacity(s.len());
-    for ch in s.chars() {
-        match ch {
-            '\\' | '`' | '*' | '_' | '[' | ']' | '<' | '>' | '|' | '#' => {
-                out.push('\\');
-                out.push(ch);
-            }
-            '\n' | '\r' => out.push(' '),
-            _ => out.push(ch),
-        }
-    }
-    out
-}
-
-/// A Markdown table; `right[i]` right-aligns column i. Cells are escaped.
-pub fn markdown_table(header: &[String], rows: &[Vec<String>], right: &[bool]) -> String {
-    let line = |cells: &[String]| {
-        let mut s = String::from("|");
-        for c in cells {
-            s.push_str(&format!(" {} |", escape_markdown(c)));
-        }
-        s.push('\n');
-        s
-    };
-    let mut s = line(header);
-    s.push('|');
-    for i in 0..header.len() {
-        s.push_str(if right.get(i).copied().unwrap_or(false) {
-            "---:|"
-        } else {
-            "---|"
-        });
-    }
-    s.push('\n');
-    for r in rows {
-        s.push_str(&line(r));
-    }
-    s
-}
-
 /// The comparison table in Markdown, with the reference's name in its header.
 pub fn markdown(r: &RunResult) -> String {
     markdown_table(&comparison_header(r), &comparison_rows(r), &[])
@@ -223,19 +168,6 @@ pub fn markdown(r: &RunResult) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn markdown_cells_cannot_break_the_table() {
-        let t = markdown_table(
-            &["a|b".to_string(), "n".to_string()],
-            &[vec!["x*y_z <b>".to_string(), "1\n2".to_string()]],
-            &[false, true],
-        );
-        assert_eq!(
-            t,
-            "| a\\|b | n |\n|---|---:|\n| x\\*y\\_z \\<b\\> | 1 2 |\n"
-        );
-    }
 
     #[test]
     fn rows_grouped_by_stage_in_pipeline_order() {
@@ -280,15 +212,5 @@ mod tests {
         assert_eq!(pct(Some(-999.0)), "-999.00 %");
         assert_eq!(pct(Some(131003125175.0)), "+1.3e11 %");
         assert_eq!(pct(None), "-");
-    }
-
-    #[test]
-    fn four_significant_figures() {
-        assert_eq!(num(-23.6261), "-23.63");
-        assert_eq!(num(-1.16404), "-1.164");
-        assert_eq!(num(0.0017), "0.001700");
-        assert_eq!(num(13.43), "13.43");
-        assert_eq!(num(1234.5), "1234");
-        assert_eq!(num(2.5e-7), "2.500e-7");
     }
 }

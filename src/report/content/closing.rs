@@ -2,7 +2,7 @@
 
 use crate::report::doc::{code, strong, text, Document};
 use crate::report::plots::Figure;
-use crate::report::results::RunResult;
+use crate::results::RunResult;
 
 pub fn write(d: &mut Document, r: &RunResult, figures: Option<&[Figure]>) {
     d.heading(2, "Warnings");

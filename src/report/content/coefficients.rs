@@ -2,10 +2,11 @@
 
 use super::fmt::pct;
 use super::Figures;
+use crate::numfmt::num;
 use crate::report::doc::{code, text, Col, Document, Table};
 use crate::report::plots::budget::{lines, stages_of};
-use crate::report::results::RunResult;
-use crate::report::table::{comparison_header, comparison_rows, num, ordered};
+use crate::report::table::{comparison_header, comparison_rows, ordered};
+use crate::results::RunResult;
 
 pub fn write<'a>(d: &mut Document<'a>, r: &RunResult, figs: &Figures<'a>) {
     d.heading(2, "Coefficients");

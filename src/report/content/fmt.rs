@@ -1,6 +1,6 @@
 //! Number formatting shared by the report's sections.
 
-use crate::report::table::num;
+use crate::numfmt::num;
 
 /// A number, or `-` when absent or not finite.
 pub fn opt(v: Option<f64>) -> String {

@@ -3,9 +3,9 @@
 
 use super::fmt::{opt, pct, pm};
 use super::Figures;
+use crate::numfmt::num;
 use crate::report::doc::{text, Col, Document, Table};
-use crate::report::results::CORRELATED;
-use crate::report::table::num;
+use crate::results::CORRELATED;
 use crate::stages::hekf::HekfResult;
 
 pub fn write<'a>(d: &mut Document<'a>, h: &HekfResult, figs: &Figures<'a>) {

@@ -12,7 +12,7 @@ mod surge;
 
 use super::doc::Document;
 use super::plots::Figure;
-use super::results::RunResult;
+use crate::results::RunResult;
 use std::cell::RefCell;
 
 pub use fmt::p_value;

@@ -2,9 +2,9 @@
 //! ran and on which files.
 
 use super::fmt::{opt, serde_name};
+use crate::numfmt::num;
 use crate::report::doc::{code, text, Col, Document, Table};
-use crate::report::results::RunResult;
-use crate::report::table::num;
+use crate::results::RunResult;
 
 pub fn write(d: &mut Document, r: &RunResult, plots: bool) {
     d.para([

@@ -4,7 +4,7 @@ use super::fmt::{deg, opt};
 use super::Figures;
 use crate::quantity::Quantity;
 use crate::report::doc::{Col, Document, Table};
-use crate::report::results::RunResult;
+use crate::results::RunResult;
 
 pub fn write<'a>(d: &mut Document<'a>, r: &RunResult, figs: &Figures<'a>) {
     if r.resimulation.is_empty() {

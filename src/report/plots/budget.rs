@@ -3,8 +3,8 @@
 
 use super::style::{self, anchored, colour, size, Key, Mark};
 use super::{FigureMeta, Plot, PlotError, Section};
-use crate::report::results::ComparisonRow;
-use crate::report::table::num;
+use crate::numfmt::num;
+use crate::results::ComparisonRow;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};

@@ -5,8 +5,8 @@
 use super::axes::{self, Axes, Range};
 use super::style::{self, anchored, colour, size, Key, Mark};
 use super::{FigureMeta, Plot, PlotError, Section};
-use crate::report::results::RunResult;
-use crate::report::table::num;
+use crate::numfmt::num;
+use crate::results::RunResult;
 use crate::stages::hekf::HekfResult;
 use plotters::coord::Shift;
 use plotters::prelude::*;

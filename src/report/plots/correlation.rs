@@ -3,7 +3,7 @@
 use super::style::{self, anchored, colour, size};
 use super::{FigureMeta, Plot, PlotError, Section};
 use crate::coefficients::Correlation;
-use crate::report::results::CORRELATED;
+use crate::results::CORRELATED;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};

@@ -18,7 +18,7 @@ pub mod surge;
 pub mod tracks;
 
 use crate::error::{Error, Result};
-use crate::pipeline::RunOutput;
+use crate::results::RunOutput;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use rayon::prelude::*;

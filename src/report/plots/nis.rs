@@ -6,7 +6,7 @@ use super::axes::{self, Axes, Range};
 use super::style::{self, colour, Key, Mark};
 use super::{FigureMeta, Plot, PlotError, Section};
 use crate::estimation::nis::{chi2_bounds, NisSummary};
-use crate::report::table::num;
+use crate::numfmt::num;
 use crate::stages::hekf::{RunSummary, RunTraces};
 use plotters::coord::Shift;
 use plotters::prelude::*;

@@ -91,7 +91,7 @@ fn formula(symbol: &str, fit: &ChannelFit) -> String {
     let mut s = format!("{symbol} =");
     for (i, (p, v)) in terms.iter().enumerate() {
         let sign = if *v < 0.0 { "−" } else { "+" };
-        let mag = crate::report::table::num(v.abs());
+        let mag = crate::numfmt::num(v.abs());
         let a = match p {
             0 => String::new(),
             1 => " α".into(),
@@ -277,7 +277,7 @@ impl<'a> PolarFits<'a> {
             note.push(format!(
                 "R² = {:.5}, residual SD = {}",
                 r2,
-                crate::report::table::num(s)
+                crate::numfmt::num(s)
             ));
         }
         axes::note(&chart, &note)?;

@@ -4,8 +4,8 @@
 use super::axes::{self, Axes, Range};
 use super::style::{self, colour, Key, Mark};
 use super::{FigureMeta, Plot, PlotError, Section};
-use crate::report::results::RunResult;
-use crate::report::table::num;
+use crate::numfmt::num;
+use crate::results::RunResult;
 use crate::stages::surge::SurgeResult;
 use plotters::coord::Shift;
 use plotters::prelude::*;

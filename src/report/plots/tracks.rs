@@ -5,11 +5,11 @@
 use super::axes::{self, Axes, Range};
 use super::style::{self, colour, Key, Mark};
 use super::{FigureMeta, Plot, PlotError, Section};
-use crate::pipeline::RunOutput;
+use crate::numfmt::num;
 use crate::quantity::Quantity;
 use crate::record::Record;
-use crate::report::table::num;
 use crate::resim::{ResimMetrics, ResimTrace};
+use crate::results::RunOutput;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 

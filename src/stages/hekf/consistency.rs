@@ -162,7 +162,7 @@ pub fn gate_warning<M: Model>(model: &M, run: &RunData, rejected: &[Rejection]) 
                 "the innovation gate rejected {} measurement{} ({} % of them): {}",
                 rejected.len(),
                 if rejected.len() == 1 { "" } else { "s" },
-                crate::report::table::num(100.0 * share),
+                crate::numfmt::num(100.0 * share),
                 at.join(", ")
             ),
             if share > 0.001 {
@@ -180,7 +180,7 @@ pub fn gate_warning<M: Model>(model: &M, run: &RunData, rejected: &[Rejection]) 
 }
 
 fn sig3(v: f64) -> String {
-    crate::report::table::num(v)
+    crate::numfmt::num(v)
 }
 
 #[cfg(test)]

@@ -313,9 +313,9 @@ fn divergence_error<M: Model>(
         }) {
             likely.push(format!(
                 "the failure came {} s after a gap of {} s in the time axis at t = {} s",
-                crate::report::table::num(e.divergence.time - g.start - g.length),
-                crate::report::table::num(g.length),
-                crate::report::table::num(g.start)
+                crate::numfmt::num(e.divergence.time - g.start - g.length),
+                crate::numfmt::num(g.length),
+                crate::numfmt::num(g.start)
             ));
         }
     }

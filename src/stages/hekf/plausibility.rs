@@ -381,5 +381,5 @@ fn track(rec: &Record) -> Option<Finding> {
 }
 
 fn sig(v: f64) -> String {
-    crate::report::table::num(v)
+    crate::numfmt::num(v)
 }

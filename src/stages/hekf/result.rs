@@ -194,7 +194,7 @@ pub fn build<M: Model>(
                 model.name(),
                 setup.passes,
                 if setup.passes == 1 { "" } else { "es" },
-                crate::report::table::num(last.sigmas[j])
+                crate::numfmt::num(last.sigmas[j])
             ))
         })
         .collect();

@@ -213,5 +213,5 @@ fn check_one<M: Model>(
 }
 
 fn num(v: f64) -> String {
-    crate::report::table::num(v)
+    crate::numfmt::num(v)
 }

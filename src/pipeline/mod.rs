@@ -1,0 +1,306 @@
+//! The pipeline: configuration -> inputs -> polar -> surge -> hekf -> completed coefficient
+//! set -> re-simulation -> comparison. Each step is a plain function of data to data; the
+//! run's result ([`crate::results`]) is what comes out.
+
+mod inputs;
+mod preflight;
+
+pub use inputs::{file_sha256, load_input, load_inputs, stage_inputs, InputsByStage, PlannedInput};
+pub use preflight::{available_coefficients, preflight};
+
+use crate::coefficients::{Coefficient, CoefficientSet, Source, AXISYMMETRY, SYMMETRY};
+use crate::config::{Config, LoadedConfig};
+use crate::error::{Error, Result};
+use crate::models::{AddedMass, ModelSpec, Scales};
+use crate::progress::Progress;
+use crate::record::Record;
+use crate::resim::{resimulate, ResimMetrics, ResimTrace};
+use crate::results::{compare, InputSummary, LoadedInput, RunOutput, RunResult, StageResults};
+use crate::stages::hekf::{self, HekfConfig, HekfResult, ModelName};
+use crate::stages::polar::{PolarConfig, PolarResult};
+use crate::stages::surge::{SurgeConfig, SurgeResult};
+use crate::warning::Warning;
+
+/// Analytic added mass of the vehicle when its geometry is a prolate spheroid (length and
+/// diameter given): Lamb's k-factors (Fossen 1994).
+pub fn analytic_added_mass(loaded: &LoadedConfig) -> Result<Vec<Coefficient>> {
+    let v = &loaded.config.vehicle;
+    match v.diameter {
+        Some(d) => Ok(crate::analytic::Spheroid::from_length_diameter(
+            v.length,
+            d,
+            loaded.config.fluid.rho,
+        )?
+        .coefficients()),
+        None => Ok(Vec::new()),
+    }
+}
+
+/// Runs every enabled stage, telling `progress` how it goes.
+pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutput> {
+    let cfg = &loaded.config;
+    // every input first: a bad file stops the run before any stage has run
+    let inputs = load_inputs(loaded, stage_inputs(cfg))?;
+    let problems = preflight(loaded, &inputs);
+    if !problems.is_empty() {
+        return Err(Error::Config(problems));
+    }
+    let mut log = Log {
+        progress,
+        warnings: Vec::new(),
+    };
+    log.say(input_warnings(&inputs));
+    let mut known = configured_coefficients(cfg);
+    let analytic = analytic_added_mass(loaded)?;
+    let mut stages = StageResults::default();
+    if let Some(pc) = cfg.polar.as_ref().filter(|c| c.enabled) {
+        stages.polar = Some(polar_step(pc, cfg, &inputs.polar, &mut known, &mut log)?);
+    }
+    if let Some(sc) = cfg.surge.as_ref().filter(|c| c.enabled) {
+        stages.surge = Some(surge_step(sc, cfg, &inputs.surge, &mut known, &mut log)?);
+    }
+    let mut resim = Resimulation::default();
+    let mut model_name = None;
+    if let Some(hc) = cfg.hekf.as_ref().filter(|c| c.enabled) {
+        let (r, runs) = hekf_step(hc, loaded, &inputs, &known, &analytic, &mut log)?;
+        known.merge_stage(r.coefficients(), r.directions.clone());
+        known.correlation = Some(r.correlation.clone());
+        model_name = Some(hc.model);
+        stages.hekf = Some(r);
+        resim = runs;
+    }
+    complete_reported(&mut known, model_name, &mut log);
+    let comparison = compare(&known, &analytic, cfg.reference.as_ref());
+    let result = RunResult::new(
+        loaded,
+        inputs
+            .iter()
+            .map(|i| InputSummary::from_loaded(i, &loaded.base_dir))
+            .collect(),
+        known,
+        analytic,
+        comparison,
+        stages,
+        resim.metrics,
+        log.warnings,
+    );
+    Ok(RunOutput {
+        result,
+        resim_traces: resim.traces,
+    })
+}
+
+/// Where the pipeline tells how it goes: each warning is said as soon as it arises, and kept
+/// for results.json and the report.
+struct Log<'p> {
+    progress: &'p mut dyn Progress,
+    warnings: Vec<Warning>,
+}
+
+impl Log<'_> {
+    /// Says each warning to the progress as it arises and keeps it.
+    fn say(&mut self, warnings: impl IntoIterator<Item = Warning>) {
+        for w in warnings {
+            self.progress.warning(&w);
+            self.warnings.push(w);
+        }
+    }
+
+    /// Tells the progress that a stage is done, with what it gave.
+    fn stage(&mut self, summary: &str) {
+        self.progress.stage(summary);
+    }
+}
+
+/// What the inputs' readers noticed, as warnings of the run they belong to.
+fn input_warnings(inputs: &InputsByStage<LoadedInput>) -> impl Iterator<Item = Warning> + '_ {
+    inputs.iter().flat_map(|i| {
+        i.record.warnings.iter().map(|w| {
+            Warning::new(
+                "input",
+                w.clone(),
+                "hydroid read the file as described here; check that this is what the export \
+                 meant",
+            )
+            .for_run(&i.record.name)
+        })
+    })
+}
+
+/// The records of some inputs, for a stage.
+fn records(inputs: &[LoadedInput]) -> Vec<Record> {
+    inputs.iter().map(|i| i.record.clone()).collect()
+}
+
+/// "run" or "runs".
+fn runs_word(n: usize) -> &'static str {
+    if n == 1 {
+        "run"
+    } else {
+        "runs"
+    }
+}
+
+/// The coefficients the configuration gives.
+fn configured_coefficients(cfg: &Config) -> CoefficientSet {
+    let mut known = CoefficientSet::new();
+    for (name, v) in &cfg.coefficients {
+        known.insert(Coefficient::new(name, *v, None, Source::Config));
+    }
+    known
+}
+
+/// The static polar stage; its coefficients join `known`.
+fn polar_step(
+    pc: &PolarConfig,
+    cfg: &Config,
+    inputs: &[LoadedInput],
+    known: &mut CoefficientSet,
+    log: &mut Log,
+) -> Result<PolarResult> {
+    let r = crate::stages::polar::run(pc, &cfg.vehicle, &cfg.fluid, &records(inputs))?;
+    known.merge_stage(r.coefficients(), r.directions.clone());
+    log.stage(&format!(
+        "polar: {} coefficients from {} steady points",
+        r.coefficients.len(),
+        r.pooled.n_points
+    ));
+    log.say(r.warnings.iter().cloned());
+    Ok(r)
+}
+
+/// The surge stage (with `known` completed by symmetry first); its coefficients join `known`.
+fn surge_step(
+    sc: &SurgeConfig,
+    cfg: &Config,
+    inputs: &[LoadedInput],
+    known: &mut CoefficientSet,
+    log: &mut Log,
+) -> Result<SurgeResult> {
+    let recs = records(inputs);
+    known.complete(SYMMETRY);
+    let r = crate::stages::surge::run(sc, &cfg.vehicle, known, &recs)?;
+    r.merge_into(known);
+    log.stage(&format!(
+        "surge: Xud from {} {}",
+        recs.len(),
+        runs_word(recs.len())
+    ));
+    log.say(r.warnings.iter().cloned());
+    Ok(r)
+}
+
+/// The identified model re-simulated against each run.
+#[derive(Default)]
+struct Resimulation {
+    metrics: Vec<ResimMetrics>,
+    traces: Vec<(Record, ResimTrace)>,
+}
+
+/// The HEKF stage on its fit runs, then the identified model re-simulated against the fit
+/// and the validation runs.
+fn hekf_step(
+    hc: &HekfConfig,
+    loaded: &LoadedConfig,
+    inputs: &InputsByStage<LoadedInput>,
+    known: &CoefficientSet,
+    analytic: &[Coefficient],
+    log: &mut Log,
+) -> Result<(HekfResult, Resimulation)> {
+    let cfg = &loaded.config;
+    let fit = records(&inputs.hekf_fit);
+    let validation = records(&inputs.hekf_validation);
+    let for_filter = fixed_for_filter(known, analytic);
+    let added = added_mass(analytic);
+    let stage_inputs = hekf::StageInputs {
+        vehicle: &cfg.vehicle,
+        fluid: &cfg.fluid,
+        known: &for_filter,
+        analytic_added_mass: added,
+        runs: &fit,
+        base_dir: &loaded.base_dir,
+    };
+    let r = hekf::run(hc, &stage_inputs, log.progress)?;
+    log.stage(&format!(
+        "hekf: {} coefficients from {} {} ({} passes)",
+        r.estimated.len(),
+        fit.len(),
+        runs_word(fit.len()),
+        r.settings.passes
+    ));
+    log.say(
+        r.runs
+            .iter()
+            .flat_map(|run| run.warnings.iter().cloned())
+            .chain(r.warnings.iter().cloned()),
+    );
+    let mut final_set = for_filter.clone();
+    final_set.merge_stage(r.coefficients(), r.directions.clone());
+    final_set.correlation = Some(r.correlation.clone());
+    complete_for(&mut final_set, hc.model);
+    let spec = ModelSpec {
+        name: hc.model,
+        vehicle: &cfg.vehicle,
+        scales: Scales::for_vehicle(&cfg.vehicle, &cfg.fluid, added),
+    };
+    let mut resim = Resimulation::default();
+    for (rec, used) in fit
+        .iter()
+        .map(|r| (r, true))
+        .chain(validation.iter().map(|r| (r, false)))
+    {
+        let (m, t) = resimulate(&spec, &final_set, rec, used)?;
+        log.say(crate::resim::warnings(&m, rec));
+        resim.metrics.push(m);
+        resim.traces.push((rec.clone(), t));
+    }
+    Ok((r, resim))
+}
+
+/// The coefficients the filter holds fixed: stages and configuration first, analytic values
+/// where nothing else gives one, completed by symmetry.
+fn fixed_for_filter(known: &CoefficientSet, analytic: &[Coefficient]) -> CoefficientSet {
+    let mut for_filter = known.clone();
+    for c in analytic {
+        if !for_filter.contains(&c.name) {
+            for_filter.insert(c.clone());
+        }
+    }
+    for_filter.complete(SYMMETRY);
+    for_filter
+}
+
+/// The reported set: what the stages and the configuration gave, completed by symmetry (by
+/// the model's relations when the HEKF ran; otherwise with a warning for each coefficient
+/// the relations cannot complete).
+fn complete_reported(known: &mut CoefficientSet, model: Option<ModelName>, log: &mut Log) {
+    match model {
+        Some(m) => complete_for(known, m),
+        None => {
+            let incomplete = known.complete(SYMMETRY).into_iter().map(|w| {
+                Warning::new(
+                    "coefficients",
+                    w,
+                    "the coefficient set is incomplete: a re-simulation with it is not possible",
+                )
+            });
+            log.say(incomplete);
+        }
+    }
+}
+
+fn complete_for(set: &mut CoefficientSet, model: ModelName) {
+    set.complete(SYMMETRY);
+    if model == ModelName::Spheroid6 {
+        set.complete(AXISYMMETRY);
+    }
+}
+
+fn added_mass(analytic: &[Coefficient]) -> Option<AddedMass> {
+    let get = |n: &str| analytic.iter().find(|c| c.name == n).map(|c| c.value);
+    Some(AddedMass {
+        xud: get("Xud")?,
+        yvd: get("Yvd")?,
+        nrd: get("Nrd")?,
+    })
+}

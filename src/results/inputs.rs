@@ -1,0 +1,69 @@
+//! The input files a run read: each loaded record with its configuration key and hash, and
+//! the summary results.json keeps of it.
+
+use crate::record::Record;
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::path::Path;
+
+/// A loaded input with its key path and hash.
+#[derive(Debug, Clone)]
+pub struct LoadedInput {
+    /// Configuration key of the input (`hekf.runs[0]`): a label for messages and
+    /// results.json, never parsed.
+    pub key: String,
+    /// The record.
+    pub record: Record,
+    /// SHA-256 of the file, hex.
+    pub sha256: String,
+}
+
+/// One input file.
+#[derive(Debug, Clone, Serialize)]
+pub struct InputSummary {
+    /// Configuration key.
+    pub key: String,
+    /// Name for reports.
+    pub name: String,
+    /// Path relative to the configuration file.
+    pub file: String,
+    /// Layout it was read as.
+    pub format: String,
+    /// Data rows.
+    pub rows: usize,
+    /// SHA-256 of the file.
+    pub sha256: String,
+    /// First and last time, s.
+    pub time_span: Option<[f64; 2]>,
+    /// Quantities read and the unit each was read in.
+    pub quantities: BTreeMap<String, String>,
+    /// Constants from the configuration (SI).
+    pub constants: BTreeMap<String, f64>,
+}
+
+impl InputSummary {
+    /// Summary of a loaded input; the file path is written relative to `base`.
+    pub fn from_loaded(i: &LoadedInput, base: &Path) -> Self {
+        let r = &i.record;
+        let file = crate::record::report_path(&r.source, base);
+        InputSummary {
+            key: i.key.clone(),
+            name: r.name.clone(),
+            file,
+            format: r.format.name().to_string(),
+            rows: r.rows(),
+            sha256: i.sha256.clone(),
+            time_span: r.time().and_then(|t| Some([*t.first()?, *t.last()?])),
+            quantities: r
+                .units
+                .iter()
+                .map(|(q, u)| (q.key().to_string(), u.clone()))
+                .collect(),
+            constants: r
+                .constants
+                .iter()
+                .map(|(q, v)| (q.key().to_string(), *v))
+                .collect(),
+        }
+    }
+}
