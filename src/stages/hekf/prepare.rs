@@ -157,30 +157,90 @@ pub fn run_data<M: Model>(
     rec: &Record,
     base_dir: &std::path::Path,
 ) -> Result<(RunData, RunSummary)> {
-    let fail = |msg: String| {
-        Error::numerical(
-            "hekf",
-            format!("run '{}' ({}): {msg}", rec.name, rec.source.display()),
-        )
-    };
     let times = rec
         .time()
-        .ok_or_else(|| fail("the run has no time column".into()))?
+        .ok_or_else(|| run_error(rec, "the run has no time column".into()))?
         .to_vec();
+    let measured_q = measured_quantities(model, cfg, rec)?;
+    let measured: Vec<usize> = measured_q
+        .iter()
+        .map(|q| model.state_index(*q).expect("checked"))
+        .collect();
+    let mut y = measurements(rec, &measured_q, times.len());
+    let mut warnings = Vec::new();
+    let (noise, r) = measurement_noise(cfg, tuning, rec, &measured_q, &mut y, &mut warnings);
+    let inputs = InputSeries::from_record(model.inputs(), rec).map_err(|q| {
+        run_error(
+            rec,
+            format!(
+                "the {} model needs {q}: map a {q} column or give `constants = {{ {q} = ... }}`",
+                model.name()
+            ),
+        )
+    })?;
+    let (x0, p0) = initial_state(model.nx(), &measured, &y, &r, tuning);
+    warnings.extend(coverage_warnings(model, rec, &times, &measured_q));
+    let summary = RunSummary {
+        name: rec.name.clone(),
+        file: crate::record::report_path(&rec.source, base_dir),
+        samples: times.len(),
+        duration: times.last().copied().unwrap_or(0.0) - times.first().copied().unwrap_or(0.0),
+        mean_dt: mean_interval(&times),
+        measured: measured_q.iter().map(|q| q.key().to_string()).collect(),
+        noise,
+        nis: None,
+        innovation_rms: Vec::new(),
+        warnings,
+    };
+    Ok((
+        RunData {
+            name: rec.name.clone(),
+            times,
+            measured,
+            y,
+            r,
+            inputs,
+            x0,
+            p0,
+            lines: rec.lines.clone(),
+        },
+        summary,
+    ))
+}
+
+/// A numerical error of the stage about one run, naming it and its file.
+fn run_error(rec: &Record, msg: String) -> Error {
+    Error::numerical(
+        STAGE,
+        format!("run '{}' ({}): {msg}", rec.name, rec.source.display()),
+    )
+}
+
+/// The quantities the filter measures in this run: `hekf.measure` (each a state of the model
+/// and a column of the run), or else every state of the model the run has a column for.
+fn measured_quantities<M: Model>(
+    model: &M,
+    cfg: &HekfConfig,
+    rec: &Record,
+) -> Result<Vec<Quantity>> {
     let states = model.states();
     let measured_q: Vec<Quantity> = match &cfg.measure {
         Some(list) => {
             for q in list {
                 if model.state_index(*q).is_none() {
-                    return Err(fail(format!(
-                        "hekf.measure lists {q}, which is not a state of the {} model",
-                        model.name()
-                    )));
+                    return Err(run_error(
+                        rec,
+                        format!(
+                            "hekf.measure lists {q}, which is not a state of the {} model",
+                            model.name()
+                        ),
+                    ));
                 }
                 if rec.channel(*q).is_none() {
-                    return Err(fail(format!(
-                        "hekf.measure lists {q}, but the run has no {q} column"
-                    )));
+                    return Err(run_error(
+                        rec,
+                        format!("hekf.measure lists {q}, but the run has no {q} column"),
+                    ));
                 }
             }
             list.clone()
@@ -192,32 +252,46 @@ pub fn run_data<M: Model>(
             .collect(),
     };
     if measured_q.is_empty() {
-        return Err(fail(format!(
-            "none of the model's states ({}) is in the run",
-            states
-                .iter()
-                .map(|s| s.quantity.key())
-                .collect::<Vec<_>>()
-                .join(", ")
-        )));
+        return Err(run_error(
+            rec,
+            format!(
+                "none of the model's states ({}) is in the run",
+                states
+                    .iter()
+                    .map(|s| s.quantity.key())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        ));
     }
-    let measured: Vec<usize> = measured_q
-        .iter()
-        .map(|q| model.state_index(*q).expect("checked"))
-        .collect();
-    let k_len = times.len();
-    let m = measured.len();
-    let mut y = Vec::with_capacity(k_len * m);
-    for k in 0..k_len {
-        for q in &measured_q {
+    Ok(measured_q)
+}
+
+/// The measurements, `samples` x measured quantities, row-major (SI).
+fn measurements(rec: &Record, measured_q: &[Quantity], samples: usize) -> Vec<f64> {
+    let mut y = Vec::with_capacity(samples * measured_q.len());
+    for k in 0..samples {
+        for q in measured_q {
             y.push(rec.channel(*q).expect("checked")[k]);
         }
     }
-    // measurement noise, from the data without their gross outliers (which are left out of
-    // the filter: a missing measurement, NaN in `y`, is skipped by the update)
+    y
+}
+
+/// The measurement noise of each measured quantity (its choice and its variance), from the
+/// data without their gross outliers. The outliers are left out of the filter: they become
+/// NaN in `y`, a missing measurement the update skips, and a warning naming their lines.
+fn measurement_noise(
+    cfg: &HekfConfig,
+    tuning: &Resolved,
+    rec: &Record,
+    measured_q: &[Quantity],
+    y: &mut [f64],
+    warnings: &mut Vec<Warning>,
+) -> (Vec<NoiseChoice>, Vec<f64>) {
+    let m = measured_q.len();
     let mut noise = Vec::new();
     let mut r = Vec::new();
-    let mut warnings = Vec::new();
     for (a, q) in measured_q.iter().enumerate() {
         let raw = rec.channel(*q).expect("checked");
         let spikes = match cfg.outliers {
@@ -247,14 +321,20 @@ pub fn run_data<M: Model>(
             warnings.push(outlier_warning(*q, &spikes, rec).for_run(&rec.name));
         }
     }
-    let inputs = InputSeries::from_record(model.inputs(), rec).map_err(|q| {
-        fail(format!(
-            "the {} model needs {q}: map a {q} column or give `constants = {{ {q} = ... }}`",
-            model.name()
-        ))
-    })?;
-    // initial state: first measurement where measured, zero elsewhere
-    let nx = model.nx();
+    (noise, r)
+}
+
+/// The initial state and its covariance: the first measurement (that is not an outlier)
+/// with the measurement's variance where measured, zero with variance 1 elsewhere.
+fn initial_state(
+    nx: usize,
+    measured: &[usize],
+    y: &[f64],
+    r: &[f64],
+    tuning: &Resolved,
+) -> (Vec<f64>, Vec<f64>) {
+    let m = measured.len();
+    let k_len = if m == 0 { 0 } else { y.len() / m };
     let mut x0 = vec![0.0; nx];
     let mut p0 = vec![0.0; nx * nx];
     for i in 0..nx {
@@ -268,13 +348,26 @@ pub fn run_data<M: Model>(
             .unwrap_or(0.0);
         p0[i * nx + i] = tuning.p0_measured.unwrap_or(r[a]);
     }
-    if let Some(w) = gap_warning(&times, &rec.lines) {
+    (x0, p0)
+}
+
+/// What the run does not cover well: gaps in time, out-of-plane motion a 3-DOF model
+/// ignores, states it does not measure.
+fn coverage_warnings<M: Model>(
+    model: &M,
+    rec: &Record,
+    times: &[f64],
+    measured_q: &[Quantity],
+) -> Vec<Warning> {
+    let mut warnings = Vec::new();
+    if let Some(w) = gap_warning(times, &rec.lines) {
         warnings.push(w.for_run(&rec.name));
     }
-    if nx < 12 {
+    if model.nx() < 12 {
         warnings.extend(out_of_plane_warnings(rec));
     }
-    let unmeasured: Vec<&str> = states
+    let unmeasured: Vec<&str> = model
+        .states()
         .iter()
         .filter(|s| !measured_q.contains(&s.quantity))
         .map(|s| s.name)
@@ -290,37 +383,17 @@ pub fn run_data<M: Model>(
              through them are less well determined",
         ));
     }
-    let dt = if k_len > 1 {
+    warnings
+}
+
+/// The mean sample interval, s (0 for a single sample).
+fn mean_interval(times: &[f64]) -> f64 {
+    let k_len = times.len();
+    if k_len > 1 {
         (times[k_len - 1] - times[0]) / (k_len - 1) as f64
     } else {
         0.0
-    };
-    let summary = RunSummary {
-        name: rec.name.clone(),
-        file: crate::record::report_path(&rec.source, base_dir),
-        samples: k_len,
-        duration: times.last().copied().unwrap_or(0.0) - times.first().copied().unwrap_or(0.0),
-        mean_dt: dt,
-        measured: measured_q.iter().map(|q| q.key().to_string()).collect(),
-        noise,
-        nis: None,
-        innovation_rms: Vec::new(),
-        warnings,
-    };
-    Ok((
-        RunData {
-            name: rec.name.clone(),
-            times,
-            measured,
-            y,
-            r,
-            inputs,
-            x0,
-            p0,
-            lines: rec.lines.clone(),
-        },
-        summary,
-    ))
+    }
 }
 
 /// The warning for the gross outliers of one measured quantity, naming their lines.
