@@ -1,9 +1,61 @@
-//! Checks of a fit that are not fits: the momentum balance of a force export, and whether
-//! the residuals are white.
+//! Checks of a fit that are not fits: the momentum balance of a force export, whether the
+//! residuals are white, whether X_udot is the same in every speed bin and physical.
 
 use super::estimate::Stack;
-use super::{MomentumCheck, RunResiduals};
+use super::{Estimate, MomentumCheck, RunResiduals, STAGE};
+use crate::stages::spread::Spread;
 use crate::warning::Warning;
+
+/// The warning when X_udot differs between the speed bins by more than their standard errors
+/// explain (chi-squared test at 1 %).
+pub(super) fn bin_spread_warning(s: &Spread) -> Option<Warning> {
+    s.p_value.is_some_and(|p| p < 0.01).then(|| {
+        Warning::new(
+            STAGE,
+            format!(
+                "Xud differs between speed bins by more than their standard errors explain \
+                 (range {:.4} kg, chi2 = {:.1} on {} dof): the model (m - Xud) u_dot = \
+                 Xuu u|u| + X_prop with one Xuu does not hold over the whole speed range",
+                s.range,
+                s.chi2.unwrap_or(f64::NAN),
+                s.dof
+            ),
+            "Xud absorbs the misfit of the drag term; its sigma from the fit alone is too \
+             small. When Xuu comes from the polar, its uncertainty is carried into Xud's \
+             sigma (see the uncertainty budget); a bias of Xuu of the order of its sigma \
+             is the usual cause",
+        )
+    })
+}
+
+/// The warning when X_udot is positive (an added mass makes the body harder to accelerate).
+pub(super) fn positive_xud_warning(xud: &Estimate) -> Option<Warning> {
+    (xud.value > 0.0).then(|| {
+        Warning::new(
+            STAGE,
+            format!(
+                "Xud = {:.4} kg is positive: an added mass makes the body harder to \
+                 accelerate (Xud < 0)",
+                xud.value
+            ),
+            "the surge fit is not physical: check the thrust, Xuu and the sign conventions \
+             before using Xud or anything the HEKF identifies with it",
+        )
+    })
+}
+
+/// The warning when the residuals of u are strongly autocorrelated (lag-1 correlation
+/// above 0.5).
+pub(super) fn autocorrelation_warning(r1: f64) -> Option<Warning> {
+    (r1 > 0.5).then(|| {
+        Warning::new(
+            STAGE,
+            format!("the residuals of u are strongly autocorrelated (lag-1 correlation {r1:.2})"),
+            "a systematic misfit remains, so the standard deviations of the fit understate \
+             the error of Xud",
+        )
+    })
+}
 
 /// The momentum balance m (u - u0) = integral (F + X_prop) dt of every run with an axial force
 /// and a thrust (Newton's second law along x); more than 5 % off gives a warning.

@@ -36,7 +36,8 @@ use crate::error::{Error, Result};
 use crate::quantity::Quantity;
 use crate::record::{Needs, Record};
 use crate::warning::Warning;
-use estimate::{part, solve, stack};
+use estimate::{part, solve, stack, Stack};
+use regress::SegmentFit;
 use std::ops::Range;
 
 pub(crate) const STAGE: &str = "surge";
@@ -87,220 +88,35 @@ pub fn run(
     let mass = vehicle.mass;
     let mode = config.drag_from;
     let stack = stack(config, records)?;
-    let all: Vec<Range<usize>> = stack.runs.clone();
     let mut warnings = Vec::new();
-
     let xuu_known = match mode {
-        DragFrom::Coefficients => {
-            let c = known.get("Xuu").ok_or_else(|| {
-                Error::numerical(
-                    STAGE,
-                    "Xuu is not known: run the polar stage, give coefficients.Xuu, or set \
-                     surge.drag_from = \"force\" to fit it from the exported axial force",
-                )
-            })?;
-            if c.value >= 0.0 {
-                warnings.push(Warning::new(
-                    STAGE,
-                    format!(
-                        "Xuu = {} kg/m is not negative: drag should oppose the motion",
-                        c.value
-                    ),
-                    "Xud is fitted against a drag that pushes the body forward, so it absorbs \
-                     the error; check the polar stage or coefficients.Xuu",
-                ));
-            }
-            Some((
-                c.value,
-                c.sigma,
-                format!(
-                    "{} ({})",
-                    c.source,
-                    c.note.clone().unwrap_or_else(|| "known".into())
-                ),
-            ))
-        }
+        DragFrom::Coefficients => Some(known_xuu(known, &mut warnings)?),
         DragFrom::Force => None,
     };
-    let xuu = xuu_known.as_ref().map(|k| (k.0, k.1));
-
-    let fit_all = solve(&stack, mode, xuu, &all).map_err(|e| {
-        Error::numerical(
-            STAGE,
-            format!("{} ({})", e, list_names(&stack.names, 0..stack.names.len())),
-        )
-    })?;
-    let whole = part(&stack, mode, mass, xuu, &all, &fit_all).map_err(|m| {
-        Error::numerical(
-            STAGE,
-            format!("{m} ({})", list_names(&stack.names, 0..stack.names.len())),
-        )
-    })?;
-
-    // Each run alone, when there are several.
-    let mut runs = Vec::new();
-    for (k, r) in stack.runs.iter().enumerate() {
-        let (fit, note) = if stack.runs.len() == 1 {
-            (Some(whole.clone()), None)
-        } else {
-            let seg = std::slice::from_ref(r);
-            match solve(&stack, mode, xuu, seg)
-                .map_err(|e| e.to_string())
-                .and_then(|f| part(&stack, mode, mass, xuu, seg, &f))
-            {
-                Ok(p) => (Some(p), None),
-                Err(m) => (None, Some(m)),
-            }
-        };
-        runs.push(RunFit {
-            record: stack.names[k].clone(),
-            t_span: [stack.t[r.start], stack.t[r.end - 1]],
-            u_span: [stack.u[r.start], stack.u[r.end - 1]],
-            fit,
-            note,
-        });
-    }
-
+    let xuu = xuu_known.as_ref().map(|k| (k.value, k.sigma));
+    let (fit_all, whole) = fit_together(&stack, mode, mass, xuu)?;
+    let runs = fit_each_run(&stack, mode, mass, xuu, &whole);
     let (bins, bin_spread) = bins::speed_bins(config, &stack, mode, mass, xuu, &fit_all);
-    if let Some(s) = &bin_spread {
-        if s.p_value.is_some_and(|p| p < 0.01) {
-            warnings.push(Warning::new(
-                STAGE,
-                format!(
-                    "Xud differs between speed bins by more than their standard errors explain \
-                     (range {:.4} kg, chi2 = {:.1} on {} dof): the model (m - Xud) u_dot = \
-                     Xuu u|u| + X_prop with one Xuu does not hold over the whole speed range",
-                    s.range,
-                    s.chi2.unwrap_or(f64::NAN),
-                    s.dof
-                ),
-                "Xud absorbs the misfit of the drag term; its sigma from the fit alone is too \
-                 small. When Xuu comes from the polar, its uncertainty is carried into Xud's \
-                 sigma (see the uncertainty budget); a bias of Xuu of the order of its sigma \
-                 is the usual cause",
-            ));
-        }
-    }
+    warnings.extend(bin_spread.as_ref().and_then(checks::bin_spread_warning));
     let momentum = match mode {
         DragFrom::Force => checks::momentum(&stack, mass, &mut warnings),
         DragFrom::Coefficients => Vec::new(),
     };
-
-    if whole.xud.value > 0.0 {
-        warnings.push(Warning::new(
-            STAGE,
-            format!(
-                "Xud = {:.4} kg is positive: an added mass makes the body harder to \
-                 accelerate (Xud < 0)",
-                whole.xud.value
-            ),
-            "the surge fit is not physical: check the thrust, Xuu and the sign conventions \
-             before using Xud or anything the HEKF identifies with it",
-        ));
-    }
-
-    let residuals: Vec<RunResiduals> = stack
-        .runs
-        .iter()
-        .zip(&fit_all.fitted)
-        .enumerate()
-        .map(|(k, (r, f))| RunResiduals {
-            record: stack.names[k].clone(),
-            time: stack.t[r.clone()].to_vec(),
-            u: stack.u[r.clone()].to_vec(),
-            fitted: f.clone(),
-            residual: stack.u[r.clone()]
-                .iter()
-                .zip(f)
-                .map(|(a, b)| a - b)
-                .collect(),
-        })
-        .collect();
-
+    warnings.extend(checks::positive_xud_warning(&whole.xud));
+    let residuals = run_residuals(&stack, &fit_all);
     // With windows the level residuals carry the integrated force noise (a random walk) by
     // design, so their autocorrelation says nothing about the fit.
     let residual_lag1 = stack
         .window
         .map_or_else(|| checks::lag1(&residuals), |_| None);
-    if let Some(r1) = residual_lag1 {
-        if r1 > 0.5 {
-            warnings.push(Warning::new(
-                STAGE,
-                format!(
-                    "the residuals of u are strongly autocorrelated (lag-1 correlation {r1:.2})"
-                ),
-                "a systematic misfit remains, so the standard deviations of the fit understate \
-                 the error of Xud",
-            ));
-        }
-    }
+    warnings.extend(residual_lag1.and_then(checks::autocorrelation_warning));
     let inertia = Estimate {
         value: mass - whole.xud.value,
         ..whole.xud
     };
-    let (names, xuu_used) = match mode {
-        DragFrom::Coefficients => {
-            let (v, s, src) = xuu_known.expect("coefficients mode");
-            (
-                vec!["inv_inertia".to_string()],
-                XuuUsed {
-                    value: v,
-                    sigma: s,
-                    source: src,
-                },
-            )
-        }
-        DragFrom::Force => {
-            let x = whole.xuu.expect("force mode fits Xuu");
-            (
-                vec!["inv_xud".to_string(), "xuu_over_xud".to_string()],
-                XuuUsed {
-                    value: x.value,
-                    sigma: x.sigma,
-                    source: "fitted with Xud from the exported axial force".into(),
-                },
-            )
-        }
-    };
-    let n_runs = stack.runs.len();
-    let form = match (stack.window, stack.window_s) {
-        (Some(n), Some(w)) => {
-            format!("; fitted on differences over non-overlapping {w} s windows ({n} samples)")
-        }
-        _ => "; fitted on the whole integral, sigma by the delta method with the noise of u in \
-              both u and the integral"
-            .to_string(),
-    };
-    let method = match mode {
-        DragFrom::Coefficients => format!(
-            "paper eq. 21 in integral form: u(t) = u(t0) + 1/(m - Xud) integral (Xuu u|u| + \
-             X_prop) dt, least squares over {n_runs} run(s) with u(t0) free per run; m = {mass} \
-             kg, Xuu = {} kg/m{form}",
-            xuu_used.value
-        ),
-        DragFrom::Force => format!(
-            "axial force F = Xuu u|u| + Xud u_dot in integral form: u(t) = u(t0) + (1/Xud) \
-             integral F dt - (Xuu/Xud) integral u|u| dt, least squares over {n_runs} run(s) with \
-             u(t0) free per run{form}"
-        ),
-    };
-    let mut coefficients =
-        vec![
-            Coefficient::new("Xud", whole.xud.value, whole.xud.sigma, Source::Surge).with_note(
-                format!(
-                    "paper eq. 21, integral form over {n_runs} run(s), {} samples",
-                    fit_all.n
-                ),
-            ),
-        ];
-    if let Some(x) = whole.xuu {
-        coefficients.push(
-            Coefficient::new("Xuu", x.value, x.sigma, Source::Surge)
-                .with_note("fitted with Xud from the axial force of the surge run(s)"),
-        );
-    }
+    let (names, xuu_used) = constants_and_xuu(xuu_known, &whole);
     Ok(SurgeResult {
-        method,
+        method: method(mode, &stack, mass, xuu_used.value),
         drag_from: mode,
         mass,
         xuu: xuu_used,
@@ -323,9 +139,172 @@ pub fn run(
         bin_spread,
         momentum,
         residuals,
-        coefficients,
+        coefficients: coefficients(&whole, fit_all.n, stack.runs.len()),
         warnings,
     })
+}
+
+/// The X_uu the fit takes from the known coefficients (`drag_from = "coefficients"`), with a
+/// warning when it is not negative.
+fn known_xuu(known: &CoefficientSet, warnings: &mut Vec<Warning>) -> Result<XuuUsed> {
+    let c = known.get("Xuu").ok_or_else(|| {
+        Error::numerical(
+            STAGE,
+            "Xuu is not known: run the polar stage, give coefficients.Xuu, or set \
+             surge.drag_from = \"force\" to fit it from the exported axial force",
+        )
+    })?;
+    if c.value >= 0.0 {
+        warnings.push(Warning::new(
+            STAGE,
+            format!(
+                "Xuu = {} kg/m is not negative: drag should oppose the motion",
+                c.value
+            ),
+            "Xud is fitted against a drag that pushes the body forward, so it absorbs \
+             the error; check the polar stage or coefficients.Xuu",
+        ));
+    }
+    Ok(XuuUsed {
+        value: c.value,
+        sigma: c.sigma,
+        source: format!(
+            "{} ({})",
+            c.source,
+            c.note.clone().unwrap_or_else(|| "known".into())
+        ),
+    })
+}
+
+/// The fit of every run together: the regression and X_udot (X_uu) from it.
+fn fit_together(
+    stack: &Stack,
+    mode: DragFrom,
+    mass: f64,
+    xuu: Option<(f64, Option<f64>)>,
+) -> Result<(SegmentFit, PartFit)> {
+    let every_run = || list_names(&stack.names, 0..stack.names.len());
+    let fit = solve(stack, mode, xuu, &stack.runs)
+        .map_err(|e| Error::numerical(STAGE, format!("{e} ({})", every_run())))?;
+    let whole = part(stack, mode, mass, xuu, &stack.runs, &fit)
+        .map_err(|m| Error::numerical(STAGE, format!("{m} ({})", every_run())))?;
+    Ok((fit, whole))
+}
+
+/// Each run fitted alone, when there are several (the fit of all is the one run's fit when
+/// there is one); a run that cannot be fitted alone says why.
+fn fit_each_run(
+    stack: &Stack,
+    mode: DragFrom,
+    mass: f64,
+    xuu: Option<(f64, Option<f64>)>,
+    whole: &PartFit,
+) -> Vec<RunFit> {
+    let mut runs = Vec::new();
+    for (k, r) in stack.runs.iter().enumerate() {
+        let (fit, note) = if stack.runs.len() == 1 {
+            (Some(whole.clone()), None)
+        } else {
+            let seg = std::slice::from_ref(r);
+            match solve(stack, mode, xuu, seg)
+                .map_err(|e| e.to_string())
+                .and_then(|f| part(stack, mode, mass, xuu, seg, &f))
+            {
+                Ok(p) => (Some(p), None),
+                Err(m) => (None, Some(m)),
+            }
+        };
+        runs.push(RunFit {
+            record: stack.names[k].clone(),
+            t_span: [stack.t[r.start], stack.t[r.end - 1]],
+            u_span: [stack.u[r.start], stack.u[r.end - 1]],
+            fit,
+            note,
+        });
+    }
+    runs
+}
+
+/// The measured and fitted u of each run and their difference.
+fn run_residuals(stack: &Stack, fit: &SegmentFit) -> Vec<RunResiduals> {
+    stack
+        .runs
+        .iter()
+        .zip(&fit.fitted)
+        .enumerate()
+        .map(|(k, (r, f))| RunResiduals {
+            record: stack.names[k].clone(),
+            time: stack.t[r.clone()].to_vec(),
+            u: stack.u[r.clone()].to_vec(),
+            fitted: f.clone(),
+            residual: stack.u[r.clone()]
+                .iter()
+                .zip(f)
+                .map(|(a, b)| a - b)
+                .collect(),
+        })
+        .collect()
+}
+
+/// The names of the fitted constants and the X_uu used: the known one
+/// (`drag_from = "coefficients"`), or the one fitted with X_udot (`force`).
+fn constants_and_xuu(xuu_known: Option<XuuUsed>, whole: &PartFit) -> (Vec<String>, XuuUsed) {
+    match xuu_known {
+        Some(k) => (vec!["inv_inertia".to_string()], k),
+        None => {
+            let x = whole.xuu.expect("force mode fits Xuu");
+            (
+                vec!["inv_xud".to_string(), "xuu_over_xud".to_string()],
+                XuuUsed {
+                    value: x.value,
+                    sigma: x.sigma,
+                    source: "fitted with Xud from the exported axial force".into(),
+                },
+            )
+        }
+    }
+}
+
+/// The method in words, for the report.
+fn method(mode: DragFrom, stack: &Stack, mass: f64, xuu: f64) -> String {
+    let n_runs = stack.runs.len();
+    let form = match (stack.window, stack.window_s) {
+        (Some(n), Some(w)) => {
+            format!("; fitted on differences over non-overlapping {w} s windows ({n} samples)")
+        }
+        _ => "; fitted on the whole integral, sigma by the delta method with the noise of u in \
+              both u and the integral"
+            .to_string(),
+    };
+    match mode {
+        DragFrom::Coefficients => format!(
+            "paper eq. 21 in integral form: u(t) = u(t0) + 1/(m - Xud) integral (Xuu u|u| + \
+             X_prop) dt, least squares over {n_runs} run(s) with u(t0) free per run; m = {mass} \
+             kg, Xuu = {xuu} kg/m{form}"
+        ),
+        DragFrom::Force => format!(
+            "axial force F = Xuu u|u| + Xud u_dot in integral form: u(t) = u(t0) + (1/Xud) \
+             integral F dt - (Xuu/Xud) integral u|u| dt, least squares over {n_runs} run(s) with \
+             u(t0) free per run{form}"
+        ),
+    }
+}
+
+/// The coefficients the stage gives: Xud, and Xuu when fitted with it.
+fn coefficients(whole: &PartFit, n_samples: usize, n_runs: usize) -> Vec<Coefficient> {
+    let mut coefficients =
+        vec![
+            Coefficient::new("Xud", whole.xud.value, whole.xud.sigma, Source::Surge).with_note(
+                format!("paper eq. 21, integral form over {n_runs} run(s), {n_samples} samples"),
+            ),
+        ];
+    if let Some(x) = whole.xuu {
+        coefficients.push(
+            Coefficient::new("Xuu", x.value, x.sigma, Source::Surge)
+                .with_note("fitted with Xud from the axial force of the surge run(s)"),
+        );
+    }
+    coefficients
 }
 
 fn list_names(names: &[String], r: Range<usize>) -> String {
