@@ -24,6 +24,7 @@ pub use config::{
 pub use data::{steady_mean, PolarPoint};
 pub use result::{ChannelFit, PolarFit, PolarResult, Reference, Residual, SpeedFit};
 
+use crate::coefficients::Coefficient;
 use crate::config::{FluidConfig, VehicleConfig};
 use crate::error::{Error, Result};
 use crate::quantity::Quantity;
@@ -78,6 +79,43 @@ pub fn run(
         return Err(Error::numerical(STAGE, "no polar run to fit"));
     }
     let (points, mut warnings) = data::points(config, vehicle, fluid, records)?;
+    let used = points_in_range(config, &points, &mut warnings)?;
+    warnings.extend(plausibility::alpha_range(&used));
+    let q = dynamic_pressure_area(vehicle, fluid);
+    let l_ref = vehicle.reference_length;
+
+    let pooled = fit_all(config, &used, "pooled fit")?;
+    let coefficients = mapping::coefficients(&pooled.drag, &pooled.lift, &pooled.moment, q, l_ref);
+    let directions = mapping::directions(&pooled.drag, &pooled.lift, &pooled.moment, q, l_ref);
+    warnings.extend(binding_warnings(&pooled));
+    warnings.extend(linearity_warnings(config, &used));
+    let per_speed = fit_per_speed(config, vehicle, fluid, &used, &mut warnings)?;
+    let spread = speed_spread(&coefficients, &per_speed);
+    Ok(PolarResult {
+        directions,
+        reference: reference(config, vehicle, fluid),
+        pooled,
+        per_speed,
+        spread,
+        coefficients,
+        points,
+        warnings,
+    })
+}
+
+/// q = 0.5 rho A_ref, kg/m: the force per squared speed and unit coefficient (paper eq. 5,
+/// with A_ref = A_f).
+fn dynamic_pressure_area(vehicle: &VehicleConfig, fluid: &FluidConfig) -> f64 {
+    0.5 * fluid.rho * vehicle.reference_area
+}
+
+/// The points within the fitting range (`polar.alpha_max_deg`), with a warning for those
+/// outside; none is an error.
+fn points_in_range<'p>(
+    config: &PolarConfig,
+    points: &'p [PolarPoint],
+    warnings: &mut Vec<Warning>,
+) -> Result<Vec<&'p PolarPoint>> {
     let used: Vec<&PolarPoint> = points.iter().filter(|p| p.used).collect();
     let skipped = points.len() - used.len();
     if skipped > 0 {
@@ -95,17 +133,16 @@ pub fn run(
             STAGE,
             format!(
                 "no point lies within the fitting range polar.alpha_max_deg{}",
-                plausibility::degrees_as_radians_hint(&points)
+                plausibility::degrees_as_radians_hint(points)
             ),
         ));
     }
-    warnings.extend(plausibility::alpha_range(&used));
-    let q = 0.5 * fluid.rho * vehicle.reference_area; // paper eq. 5: q = 0.5 rho A_f
-    let l_ref = vehicle.reference_length;
+    Ok(used)
+}
 
-    let pooled = fit_all(config, &used, "pooled fit")?;
-    let coefficients = mapping::coefficients(&pooled.drag, &pooled.lift, &pooled.moment, q, l_ref);
-    let directions = mapping::directions(&pooled.drag, &pooled.lift, &pooled.moment, q, l_ref);
+/// A warning for each inequality constraint that binds in the pooled fit.
+fn binding_warnings(pooled: &PolarFit) -> Vec<Warning> {
+    let mut warnings = Vec::new();
     for ch in [&pooled.drag, &pooled.lift, &pooled.moment] {
         for c in &ch.binding_inequalities {
             warnings.push(Warning::new(
@@ -119,6 +156,13 @@ pub fn run(
             ));
         }
     }
+    warnings
+}
+
+/// A warning for each linear slope fitted over angles (beyond 15 deg) where the nonlinear
+/// part biases it.
+fn linearity_warnings(config: &PolarConfig, used: &[&PolarPoint]) -> Vec<Warning> {
+    let mut warnings = Vec::new();
     let alpha_span = used.iter().map(|p| p.alpha.abs()).fold(0.0, f64::max);
     for (name, fit) in [("lift", &config.lift), ("moment", &config.moment)] {
         if alpha_span > 15f64.to_radians() && !fit.cubic {
@@ -137,40 +181,59 @@ pub fn run(
             ));
         }
     }
+    warnings
+}
 
+/// The fit at each speed separately (when the points have speeds), with its Reynolds number;
+/// a speed that cannot be fitted alone gives a warning, not an error.
+fn fit_per_speed(
+    config: &PolarConfig,
+    vehicle: &VehicleConfig,
+    fluid: &FluidConfig,
+    used: &[&PolarPoint],
+    warnings: &mut Vec<Warning>,
+) -> Result<Vec<SpeedFit>> {
+    let q = dynamic_pressure_area(vehicle, fluid);
+    let l_ref = vehicle.reference_length;
     let mut per_speed = Vec::new();
-    if let Some(groups) = speed_groups(&used, config.speed_tolerance)? {
-        for (speed, members) in groups {
-            let pts: Vec<&PolarPoint> = members.iter().map(|&i| used[i]).collect();
-            let reynolds = fluid.rho * speed * vehicle.length / fluid.mu; // Re = rho U L / mu
-            let context = format!("fit at {speed:.4} m/s");
-            let (fit, error) = match fit_all(config, &pts, &context) {
-                Ok(f) => (Some(f), None),
-                Err(e) => (None, Some(e.to_string())),
-            };
-            let coefficients = fit.as_ref().map_or_else(Vec::new, |f| {
-                mapping::coefficients(&f.drag, &f.lift, &f.moment, q, l_ref)
-            });
-            if let Some(e) = &error {
-                warnings.push(Warning::new(
-                    STAGE,
-                    format!("no separate fit at {speed:.4} m/s: {e}"),
-                    "the pooled coefficients stand, but their dependence on speed (Reynolds \
-                     number) is not checked at this speed",
-                ));
-            }
-            per_speed.push(SpeedFit {
-                speed,
-                reynolds,
-                n_points: pts.len(),
-                fit,
-                coefficients,
-                error,
-            });
+    let Some(groups) = speed_groups(used, config.speed_tolerance)? else {
+        return Ok(per_speed);
+    };
+    for (speed, members) in groups {
+        let pts: Vec<&PolarPoint> = members.iter().map(|&i| used[i]).collect();
+        let reynolds = fluid.rho * speed * vehicle.length / fluid.mu; // Re = rho U L / mu
+        let context = format!("fit at {speed:.4} m/s");
+        let (fit, error) = match fit_all(config, &pts, &context) {
+            Ok(f) => (Some(f), None),
+            Err(e) => (None, Some(e.to_string())),
+        };
+        let coefficients = fit.as_ref().map_or_else(Vec::new, |f| {
+            mapping::coefficients(&f.drag, &f.lift, &f.moment, q, l_ref)
+        });
+        if let Some(e) = &error {
+            warnings.push(Warning::new(
+                STAGE,
+                format!("no separate fit at {speed:.4} m/s: {e}"),
+                "the pooled coefficients stand, but their dependence on speed (Reynolds \
+                 number) is not checked at this speed",
+            ));
         }
+        per_speed.push(SpeedFit {
+            speed,
+            reynolds,
+            n_points: pts.len(),
+            fit,
+            coefficients,
+            error,
+        });
     }
+    Ok(per_speed)
+}
+
+/// The spread of each pooled coefficient between the speeds that have a fit.
+fn speed_spread(coefficients: &[Coefficient], per_speed: &[SpeedFit]) -> Vec<Spread> {
     let fitted: Vec<&SpeedFit> = per_speed.iter().filter(|s| s.fit.is_some()).collect();
-    let spread: Vec<Spread> = coefficients
+    coefficients
         .iter()
         .filter_map(|c| {
             let est: Vec<(f64, Option<f64>)> = fitted
@@ -180,8 +243,13 @@ pub fn run(
                 .collect();
             spread(&c.name, &c.unit, &est)
         })
-        .collect();
+        .collect()
+}
 
+/// The reference quantities used, with the definitions in words.
+fn reference(config: &PolarConfig, vehicle: &VehicleConfig, fluid: &FluidConfig) -> Reference {
+    let q = dynamic_pressure_area(vehicle, fluid);
+    let l_ref = vehicle.reference_length;
     let statement = format!(
         "C_D = -X / (0.5 rho U^2 A_ref), C_L = Y / (0.5 rho U^2 A_ref), C_M = N / (0.5 rho U^2 \
          A_ref L_ref) in body axes (x forward, y starboard, alpha = atan(v/u)), with A_ref = {} \
@@ -196,28 +264,19 @@ pub fn run(
         q,
         vehicle.length
     );
-    Ok(PolarResult {
-        directions,
-        reference: Reference {
-            rho: fluid.rho,
-            mu: fluid.mu,
-            reference_area: vehicle.reference_area,
-            reference_length: l_ref,
-            q,
-            reynolds_length: vehicle.length,
-            data: config.data,
-            axes: config.axes,
-            alpha_max_deg: config.alpha_max_deg,
-            weights: config.weights,
-            statement,
-        },
-        pooled,
-        per_speed,
-        spread,
-        coefficients,
-        points,
-        warnings,
-    })
+    Reference {
+        rho: fluid.rho,
+        mu: fluid.mu,
+        reference_area: vehicle.reference_area,
+        reference_length: l_ref,
+        q,
+        reynolds_length: vehicle.length,
+        data: config.data,
+        axes: config.axes,
+        alpha_max_deg: config.alpha_max_deg,
+        weights: config.weights,
+        statement,
+    }
 }
 
 /// Speed groups: (mean speed, indices of the points at it).
