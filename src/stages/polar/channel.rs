@@ -11,6 +11,8 @@ use crate::error::{Error, Result};
 /// inverse-variance weighting, so that a perfectly steady history does not get infinite weight.
 const SE_FLOOR: f64 = 1e-9;
 
+/// The drag, lift and moment polars fitted to the points; `context` names the fit in
+/// messages (the pooled fit, the fit at one speed).
 pub(super) fn fit_all(
     config: &PolarConfig,
     pts: &[&PolarPoint],
@@ -41,6 +43,8 @@ impl Chan {
     }
 }
 
+/// One channel fitted to the points: its constants with standard errors, the constraints
+/// that are active, the residuals.
 fn fit_channel(
     config: &PolarConfig,
     chan: Chan,
@@ -48,109 +52,15 @@ fn fit_channel(
     context: &str,
 ) -> Result<ChannelFit> {
     let key = format!("polar.{}", chan.name());
-    let (names, units, model): (Vec<&str>, Vec<&str>, String) = match chan {
-        Chan::Drag => (
-            DRAG_NAMES.to_vec(),
-            vec!["1/rad^2", "1/rad", "-"],
-            "C_D = a alpha^2 + b alpha + c (paper eq. 6)".into(),
-        ),
-        Chan::Lift | Chan::Moment => {
-            let fit = if chan == Chan::Lift {
-                &config.lift
-            } else {
-                &config.moment
-            };
-            let sym = if chan == Chan::Lift { "C_L" } else { "C_M" };
-            if fit.cubic {
-                (
-                    SLOPE_NAMES.to_vec(),
-                    vec!["-", "1/rad", "1/rad^3"],
-                    format!("{sym} = intercept + slope alpha + cubic alpha^3"),
-                )
-            } else {
-                (
-                    SLOPE_NAMES[..2].to_vec(),
-                    vec!["-", "1/rad"],
-                    format!("{sym} = intercept + slope alpha"),
-                )
-            }
-        }
-    };
+    let (names, units, model) = form(config, chan);
     let p = names.len();
-    let row = |alpha: f64| -> Vec<f64> {
-        match chan {
-            Chan::Drag => vec![alpha * alpha, alpha, 1.0],
-            _ => [1.0, alpha, alpha.powi(3)][..p].to_vec(),
-        }
-    };
-    let a: Vec<Vec<f64>> = pts.iter().map(|pt| row(pt.alpha)).collect();
-    let (y, se): (Vec<f64>, Vec<Option<f64>>) = pts
-        .iter()
-        .map(|pt| match chan {
-            Chan::Drag => (pt.cd, pt.cd_se),
-            Chan::Lift => (pt.cl, pt.cl_se),
-            Chan::Moment => (pt.cm, pt.cm_se),
-        })
-        .unzip();
-    let w: Vec<f64> = match config.weights {
-        PolarWeights::Uniform => vec![1.0; pts.len()],
-        PolarWeights::InverseVariance => pts
-            .iter()
-            .zip(&y)
-            .zip(&se)
-            .map(|((pt, yi), s)| {
-                let s = s.ok_or_else(|| {
-                    Error::numerical(
-                        STAGE,
-                        format!(
-                            "polar.weights = \"inverse_variance\" needs the standard error of \
-                             each steady mean, which only steady-run histories give; the point \
-                             of '{}' at {:.3} deg has none",
-                            pt.record, pt.alpha_deg
-                        ),
-                    )
-                })?;
-                let floor = (SE_FLOOR * yi.abs()).max(1e-12);
-                Ok(1.0 / s.max(floor).powi(2))
-            })
-            .collect::<Result<_>>()?,
-    };
-
+    let a: Vec<Vec<f64>> = pts.iter().map(|pt| design_row(chan, p, pt.alpha)).collect();
+    let (y, se): (Vec<f64>, Vec<Option<f64>>) = pts.iter().map(|pt| observation(chan, pt)).unzip();
+    let w = weights(config, pts, &y, &se)?;
     let constraints = constraints(config, chan, &names, &key);
     let sol = fit::solve(&a, &y, &w, &constraints).map_err(|e| {
         let what = format!("{} polar ({context})", chan.name());
-        match e {
-            FitError::Infeasible => Error::numerical(
-                STAGE,
-                format!(
-                    "the constraints on the {what} are infeasible: no {model} satisfies all of: \
-                     {}; relax one of them in [{key}]",
-                    constraints
-                        .iter()
-                        .map(|c| c.label.as_str())
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ),
-            ),
-            FitError::Underdetermined { free, rank } => {
-                let mut angles: Vec<f64> = pts.iter().map(|p| p.alpha).collect();
-                angles.sort_by(|x, y| x.partial_cmp(y).expect("finite"));
-                angles.dedup_by(|x, y| (*x - *y).abs() < 1e-9);
-                Error::numerical(
-                    STAGE,
-                    format!(
-                        "the {what} has {} point(s) at {} distinct angle(s), which determine \
-                         only {rank} of the {free} free constants of {model}",
-                        pts.len(),
-                        angles.len()
-                    ),
-                )
-            }
-            FitError::Solver(s) => Error::numerical(
-                STAGE,
-                format!("the QP solver stopped without a solution for the {what}: {s}"),
-            ),
-        }
+        fit_failure(e, &what, &model, &key, &constraints, pts)
     })?;
     let std_errors: Vec<Option<f64>> = (0..p)
         .map(|i| {
@@ -159,18 +69,7 @@ fn fit_channel(
                 .map(|c| c[i][i].max(0.0).sqrt() + 0.0)
         })
         .collect();
-    let residuals = pts
-        .iter()
-        .zip(&y)
-        .zip(&sol.residuals)
-        .map(|((pt, yi), r)| Residual {
-            record: pt.record.clone(),
-            alpha: pt.alpha,
-            observed: *yi,
-            fitted: yi - r,
-            residual: *r,
-        })
-        .collect();
+    let residuals = residuals(pts, &y, &sol.residuals);
     Ok(ChannelFit {
         channel: chan.name().to_string(),
         model,
@@ -197,6 +96,146 @@ fn fit_channel(
         r_squared: sol.r_squared,
         residuals,
     })
+}
+
+/// The constants of a channel's model (names and units) and the model in words.
+fn form(config: &PolarConfig, chan: Chan) -> (Vec<&'static str>, Vec<&'static str>, String) {
+    match chan {
+        Chan::Drag => (
+            DRAG_NAMES.to_vec(),
+            vec!["1/rad^2", "1/rad", "-"],
+            "C_D = a alpha^2 + b alpha + c (paper eq. 6)".into(),
+        ),
+        Chan::Lift | Chan::Moment => {
+            let fit = if chan == Chan::Lift {
+                &config.lift
+            } else {
+                &config.moment
+            };
+            let sym = if chan == Chan::Lift { "C_L" } else { "C_M" };
+            if fit.cubic {
+                (
+                    SLOPE_NAMES.to_vec(),
+                    vec!["-", "1/rad", "1/rad^3"],
+                    format!("{sym} = intercept + slope alpha + cubic alpha^3"),
+                )
+            } else {
+                (
+                    SLOPE_NAMES[..2].to_vec(),
+                    vec!["-", "1/rad"],
+                    format!("{sym} = intercept + slope alpha"),
+                )
+            }
+        }
+    }
+}
+
+/// The row of the design matrix at `alpha` (rad) for a channel with `p` constants.
+fn design_row(chan: Chan, p: usize, alpha: f64) -> Vec<f64> {
+    match chan {
+        Chan::Drag => vec![alpha * alpha, alpha, 1.0],
+        _ => [1.0, alpha, alpha.powi(3)][..p].to_vec(),
+    }
+}
+
+/// The channel's coefficient at a point, with its standard error when the point has one.
+fn observation(chan: Chan, pt: &PolarPoint) -> (f64, Option<f64>) {
+    match chan {
+        Chan::Drag => (pt.cd, pt.cd_se),
+        Chan::Lift => (pt.cl, pt.cl_se),
+        Chan::Moment => (pt.cm, pt.cm_se),
+    }
+}
+
+/// The weight of each point (`polar.weights`): uniform, or the inverse variance of its steady
+/// mean (with the standard error floored, [`SE_FLOOR`]).
+fn weights(
+    config: &PolarConfig,
+    pts: &[&PolarPoint],
+    y: &[f64],
+    se: &[Option<f64>],
+) -> Result<Vec<f64>> {
+    match config.weights {
+        PolarWeights::Uniform => Ok(vec![1.0; pts.len()]),
+        PolarWeights::InverseVariance => pts
+            .iter()
+            .zip(y)
+            .zip(se)
+            .map(|((pt, yi), s)| {
+                let s = s.ok_or_else(|| {
+                    Error::numerical(
+                        STAGE,
+                        format!(
+                            "polar.weights = \"inverse_variance\" needs the standard error of \
+                             each steady mean, which only steady-run histories give; the point \
+                             of '{}' at {:.3} deg has none",
+                            pt.record, pt.alpha_deg
+                        ),
+                    )
+                })?;
+                let floor = (SE_FLOOR * yi.abs()).max(1e-12);
+                Ok(1.0 / s.max(floor).powi(2))
+            })
+            .collect(),
+    }
+}
+
+/// Why the fit of `what` (a channel's polar in a context) failed, in the user's terms.
+fn fit_failure(
+    e: FitError,
+    what: &str,
+    model: &str,
+    key: &str,
+    constraints: &[Constraint],
+    pts: &[&PolarPoint],
+) -> Error {
+    match e {
+        FitError::Infeasible => Error::numerical(
+            STAGE,
+            format!(
+                "the constraints on the {what} are infeasible: no {model} satisfies all of: \
+                 {}; relax one of them in [{key}]",
+                constraints
+                    .iter()
+                    .map(|c| c.label.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        ),
+        FitError::Underdetermined { free, rank } => {
+            let mut angles: Vec<f64> = pts.iter().map(|p| p.alpha).collect();
+            angles.sort_by(|x, y| x.partial_cmp(y).expect("finite"));
+            angles.dedup_by(|x, y| (*x - *y).abs() < 1e-9);
+            Error::numerical(
+                STAGE,
+                format!(
+                    "the {what} has {} point(s) at {} distinct angle(s), which determine \
+                     only {rank} of the {free} free constants of {model}",
+                    pts.len(),
+                    angles.len()
+                ),
+            )
+        }
+        FitError::Solver(s) => Error::numerical(
+            STAGE,
+            format!("the QP solver stopped without a solution for the {what}: {s}"),
+        ),
+    }
+}
+
+/// Observed and fitted value of each point and their difference.
+fn residuals(pts: &[&PolarPoint], y: &[f64], r: &[f64]) -> Vec<Residual> {
+    pts.iter()
+        .zip(y)
+        .zip(r)
+        .map(|((pt, yi), r)| Residual {
+            record: pt.record.clone(),
+            alpha: pt.alpha,
+            observed: *yi,
+            fitted: yi - r,
+            residual: *r,
+        })
+        .collect()
 }
 
 /// The configured constraints of one channel, each labelled with its key.
