@@ -2,8 +2,8 @@
 
 use super::fit::{self, Constraint, FitError, Kind};
 use super::{
-    ChannelFit, PolarConfig, PolarFit, PolarPoint, PolarWeights, Residual, SlopeSign, DRAG_NAMES,
-    SLOPE_NAMES, STAGE,
+    ChannelFit, PolarConfig, PolarFit, PolarPoint, PolarWeights, Residual, SlopeFit, SlopeSign,
+    DRAG_NAMES, SLOPE_NAMES, STAGE,
 };
 use crate::error::{Error, Result};
 
@@ -34,6 +34,17 @@ enum Chan {
 }
 
 impl Chan {
+    /// The slope fit (`polar.lift` or `polar.moment`) and the symbol of a lift or moment
+    /// channel (the drag channel's fit is `polar.drag`).
+    fn slope(self, config: &PolarConfig) -> (&SlopeFit, &'static str) {
+        if self == Chan::Lift {
+            (&config.lift, "C_L")
+        } else {
+            (&config.moment, "C_M")
+        }
+    }
+
+    /// The channel's name in keys and messages.
     fn name(self) -> &'static str {
         match self {
             Chan::Drag => "drag",
@@ -107,12 +118,7 @@ fn form(config: &PolarConfig, chan: Chan) -> (Vec<&'static str>, Vec<&'static st
             "C_D = a alpha^2 + b alpha + c (paper eq. 6)".into(),
         ),
         Chan::Lift | Chan::Moment => {
-            let fit = if chan == Chan::Lift {
-                &config.lift
-            } else {
-                &config.moment
-            };
-            let sym = if chan == Chan::Lift { "C_L" } else { "C_M" };
+            let (fit, sym) = chan.slope(config);
             if fit.cubic {
                 (
                     SLOPE_NAMES.to_vec(),
@@ -279,12 +285,7 @@ fn constraints(config: &PolarConfig, chan: Chan, names: &[&str], key: &str) -> V
             &d.bounds
         }
         Chan::Lift | Chan::Moment => {
-            let f = if chan == Chan::Lift {
-                &config.lift
-            } else {
-                &config.moment
-            };
-            let sym = if chan == Chan::Lift { "C_L" } else { "C_M" };
+            let (f, sym) = chan.slope(config);
             if f.through_origin {
                 push(
                     unit(0, 1.0),
