@@ -334,7 +334,7 @@ fn initial_state(
     tuning: &Resolved,
 ) -> (Vec<f64>, Vec<f64>) {
     let m = measured.len();
-    let k_len = if m == 0 { 0 } else { y.len() / m };
+    let k_len = y.len().checked_div(m).unwrap_or(0);
     let mut x0 = vec![0.0; nx];
     let mut p0 = vec![0.0; nx * nx];
     for i in 0..nx {
