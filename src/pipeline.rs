@@ -1,10 +1,9 @@
 //! The pipeline: configuration -> inputs -> polar -> surge -> hekf -> completed coefficient
 //! set -> re-simulation -> comparison. Each step is a plain function of data to data.
 
-use crate::coefficients::{Coefficient, CoefficientSet, Source, AXISYMMETRY, SYMMETRY};
+use crate::coefficients::{Coefficient, CoefficientSet, Source, SYMMETRY};
 use crate::config::{InputSpec, LoadedConfig};
 use crate::error::{Error, Result};
-use crate::models::{AddedMass, ModelSpec, Scales};
 use crate::progress::Progress;
 use crate::record::{self, Needs, Record};
 use crate::report::results::{compare, InputSummary, RunResult, StageResults};
@@ -241,12 +240,10 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutp
             }
         }
         for_filter.complete(SYMMETRY);
-        let added = added_mass(&analytic);
         let stage_inputs = hekf::StageInputs {
             vehicle: &cfg.vehicle,
             fluid: &cfg.fluid,
             known: &for_filter,
-            analytic_added_mass: added,
             runs: &fit,
             base_dir: &loaded.base_dir,
         };
@@ -270,17 +267,13 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutp
         final_set.merge_stage(r.coefficients(), r.directions.clone());
         final_set.correlation = Some(r.correlation.clone());
         complete_for(&mut final_set, hc.model);
-        let spec = ModelSpec {
-            name: hc.model,
-            vehicle: &cfg.vehicle,
-            scales: Scales::for_vehicle(&cfg.vehicle, &cfg.fluid, added),
-        };
+        let vehicle = cfg.vehicle.for_model(&cfg.fluid);
         for (rec, used) in fit
             .iter()
             .map(|r| (r, true))
             .chain(validation.iter().map(|r| (r, false)))
         {
-            let (m, t) = resimulate(&spec, &final_set, rec, used)?;
+            let (m, t) = resimulate(hc.model, &vehicle, &final_set, rec, used)?;
             say(&mut warnings, progress, crate::resim::warnings(&m, rec));
             resim_metrics.push(m);
             resim_traces.push((rec.clone(), t));
@@ -336,18 +329,9 @@ fn say(
     }
 }
 
+/// Completes the reported set by the relations the model declares (symmetry, axisymmetry).
 fn complete_for(set: &mut CoefficientSet, model: ModelName) {
-    set.complete(SYMMETRY);
-    if model == ModelName::Spheroid6 {
-        set.complete(AXISYMMETRY);
+    for relations in model.completing_relations() {
+        set.complete(relations);
     }
-}
-
-fn added_mass(analytic: &[Coefficient]) -> Option<AddedMass> {
-    let get = |n: &str| analytic.iter().find(|c| c.name == n).map(|c| c.value);
-    Some(AddedMass {
-        xud: get("Xud")?,
-        yvd: get("Yvd")?,
-        nrd: get("Nrd")?,
-    })
 }

@@ -114,6 +114,23 @@ impl Quantity {
         Quantity::Rpm,
     ];
 
+    /// The motion of a body: velocities and rates (body frame), positions and attitude
+    /// (earth frame).
+    pub const MOTION: [Quantity; 12] = [
+        Quantity::U,
+        Quantity::V,
+        Quantity::W,
+        Quantity::P,
+        Quantity::Q,
+        Quantity::R,
+        Quantity::X,
+        Quantity::Y,
+        Quantity::Z,
+        Quantity::Roll,
+        Quantity::Pitch,
+        Quantity::Yaw,
+    ];
+
     /// The configuration key of this quantity.
     pub fn key(self) -> &'static str {
         match self {

@@ -16,7 +16,6 @@ pub use input::{ColumnSpec, Constant, FormatSetting, InputSpec, Step, VelocityFr
 pub use load::{load, load_lenient, load_str, read, LoadedConfig};
 pub use problems::Problems;
 
-use crate::coefficients;
 use crate::stages::hekf::HekfConfig;
 use crate::stages::polar::PolarConfig;
 use crate::stages::surge::SurgeConfig;
@@ -205,6 +204,22 @@ pub mod plausible {
 const G: f64 = 9.80665;
 
 impl VehicleConfig {
+    /// The vehicle and the fluid as a model is built from them.
+    pub fn for_model(&self, fluid: &FluidConfig) -> crate::models::Vehicle {
+        crate::models::Vehicle {
+            mass: self.mass,
+            length: self.length,
+            diameter: self.diameter,
+            ixx: self.ixx,
+            iyy: self.iyy,
+            izz: self.izz,
+            reference_area: self.reference_area,
+            buoyancy: self.buoyancy,
+            bg: self.bg,
+            rho: fluid.rho,
+        }
+    }
+
     /// Adds every problem with the vehicle (keys `vehicle.*`) to `p`.
     pub fn validate(&self, p: &mut Problems) {
         let ok = |p: &Problems, k: &str| !p.is_poisoned(k);
@@ -385,12 +400,17 @@ impl Config {
 
 /// Checks a coefficient name against the catalogue.
 pub(crate) fn check_coefficient_name(name: &str) -> Result<(), String> {
-    if coefficients::info(name).is_some() {
+    if crate::models::registry::coefficient(name).is_some() {
         Ok(())
     } else {
         Err(format!(
             "unknown coefficient '{name}'{}",
-            crate::suggest::did_you_mean(name, coefficients::CATALOG.iter().map(|c| c.name))
+            crate::suggest::did_you_mean(
+                name,
+                crate::models::registry::all_coefficients()
+                    .iter()
+                    .map(|c| c.name)
+            )
         ))
     }
 }

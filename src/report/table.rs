@@ -2,7 +2,8 @@
 //! aligned text for the terminal and as Markdown for report.md.
 
 use super::results::{ComparisonRow, RunResult};
-use crate::coefficients::{Source, CATALOG};
+use crate::coefficients::Source;
+use crate::models::registry::all_coefficients;
 use std::io::{self, Write};
 
 /// Significant-figure formatting used in every table: 4 significant digits, plain for
@@ -61,10 +62,10 @@ fn in_table_order(rows: &[ComparisonRow]) -> Vec<&ComparisonRow> {
             .unwrap_or(GROUPS.len())
     };
     let in_catalogue = |name: &str| {
-        CATALOG
+        all_coefficients()
             .iter()
             .position(|c| c.name == name)
-            .unwrap_or(CATALOG.len())
+            .unwrap_or(all_coefficients().len())
     };
     let mut rows: Vec<&ComparisonRow> = rows.iter().collect();
     rows.sort_by(|a, b| {

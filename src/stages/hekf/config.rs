@@ -1,29 +1,10 @@
 //! `[hekf]` configuration.
 
 use crate::config::{yes, Config, Constant, InputSpec, Problems};
+use crate::models::ModelName;
 use crate::quantity::Quantity;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
-
-/// Which vehicle model the filter identifies.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum ModelName {
-    /// Horizontal-plane spheroid (paper eq. 2): u, v, r, x, y, psi.
-    #[default]
-    Spheroid3,
-    /// Axisymmetric 6-DOF spheroid: heave and pitch mirror sway and yaw.
-    Spheroid6,
-}
-
-impl std::fmt::Display for ModelName {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            ModelName::Spheroid3 => "spheroid3",
-            ModelName::Spheroid6 => "spheroid6",
-        })
-    }
-}
 
 impl std::fmt::Display for Preset {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -173,14 +154,16 @@ pub const MAX_SUBSTEPS: u64 = 1000;
 impl HekfConfig {
     /// Adds every problem with this section to `p`.
     pub fn validate(&self, config: &Config, p: &mut Problems) {
-        if self.model == ModelName::Spheroid6 {
-            for (key, v) in [("ixx", config.vehicle.ixx), ("iyy", config.vehicle.iyy)] {
-                if v.is_none() {
-                    p.add(
-                        &format!("vehicle.{key}"),
-                        format!("the spheroid6 model needs vehicle.{key} (kg m^2)"),
-                    );
-                }
+        // the model says what it needs of the vehicle
+        struct Built;
+        impl crate::models::ModelVisitor for Built {
+            type Output = ();
+            fn visit<M: crate::models::Model>(self, _: &M) {}
+        }
+        let vehicle = config.vehicle.for_model(&config.fluid);
+        if let Err(problems) = crate::models::with_model(self.model, &vehicle, Built) {
+            for vp in problems {
+                p.add(&vp.key, vp.message);
             }
         }
         if self.estimate.is_empty() {

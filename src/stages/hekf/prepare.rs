@@ -71,7 +71,7 @@ pub fn plan<M: Model>(
             (None, Some(s)) => (s, "paper preset"),
             (None, None) => (typical, "the coefficient's expected size"),
         };
-        let unit = crate::coefficients::info(n).map_or("", |c| c.unit);
+        let unit = crate::models::registry::coefficient(n).map_or("", |c| c.unit);
         notes.push(format!(
             "{n}: starts at {init} {unit}, prior sigma {} {unit} ({why})",
             sig(sigma)
@@ -168,12 +168,19 @@ pub fn run_data<M: Model>(
         .ok_or_else(|| fail("the run has no time column".into()))?
         .to_vec();
     let states = model.states();
+    // what the run measures: the model's outputs (its states unless it declares outputs)
+    let outputs = model.output_quantities();
     let measured_q: Vec<Quantity> = match &cfg.measure {
         Some(list) => {
             for q in list {
-                if model.state_index(*q).is_none() {
+                if model.output_index(*q).is_none() {
                     return Err(fail(format!(
-                        "hekf.measure lists {q}, which is not a state of the {} model",
+                        "hekf.measure lists {q}, which is not {} of the {} model",
+                        if model.outputs().is_empty() {
+                            "a state"
+                        } else {
+                            "an output"
+                        },
                         model.name()
                     )));
                 }
@@ -185,25 +192,30 @@ pub fn run_data<M: Model>(
             }
             list.clone()
         }
-        None => states
+        None => outputs
             .iter()
-            .map(|s| s.quantity)
+            .copied()
             .filter(|q| rec.channel(*q).is_some())
             .collect(),
     };
     if measured_q.is_empty() {
         return Err(fail(format!(
-            "none of the model's states ({}) is in the run",
-            states
+            "none of the model's {} ({}) is in the run",
+            if model.outputs().is_empty() {
+                "states"
+            } else {
+                "outputs"
+            },
+            outputs
                 .iter()
-                .map(|s| s.quantity.key())
+                .map(|q| q.key())
                 .collect::<Vec<_>>()
                 .join(", ")
         )));
     }
     let measured: Vec<usize> = measured_q
         .iter()
-        .map(|q| model.state_index(*q).expect("checked"))
+        .map(|q| model.output_index(*q).expect("checked"))
         .collect();
     let k_len = times.len();
     let m = measured.len();
@@ -260,8 +272,11 @@ pub fn run_data<M: Model>(
     for i in 0..nx {
         p0[i * nx + i] = 1.0;
     }
-    for (a, &i) in measured.iter().enumerate() {
-        // the first sample that is not an outlier
+    for (a, q) in measured_q.iter().enumerate() {
+        // a state measured directly starts at its first sample that is not an outlier
+        let Some(i) = model.state_index(*q) else {
+            continue;
+        };
         x0[i] = (0..k_len)
             .map(|k| y[k * m + a])
             .find(|v| v.is_finite())
@@ -271,9 +286,7 @@ pub fn run_data<M: Model>(
     if let Some(w) = gap_warning(&times, &rec.lines) {
         warnings.push(w.for_run(&rec.name));
     }
-    if nx < 12 {
-        warnings.extend(out_of_plane_warnings(rec));
-    }
+    warnings.extend(out_of_plane_warnings(model, rec));
     let unmeasured: Vec<&str> = states
         .iter()
         .filter(|s| !measured_q.contains(&s.quantity))
@@ -395,8 +408,9 @@ fn gap_warning(times: &[f64], lines: &[usize]) -> Option<Warning> {
     ))
 }
 
-/// Warns when a 3-DOF model is fed a run with out-of-plane motion that is not small.
-fn out_of_plane_warnings(rec: &Record) -> Vec<Warning> {
+/// Warns when a model without out-of-plane states (a 3-DOF model) is fed a run with
+/// out-of-plane motion that is not small.
+fn out_of_plane_warnings<M: Model>(model: &M, rec: &Record) -> Vec<Warning> {
     let peak = |q: Quantity| {
         rec.channel(q)
             .map(|v| v.iter().fold(0.0f64, |a, x| a.max(x.abs())))
@@ -412,20 +426,24 @@ fn out_of_plane_warnings(rec: &Record) -> Vec<Warning> {
         (Quantity::Q, 2f64.to_radians(), "2 deg/s"),
         (Quantity::W, 0.05 * speed, "5 % of the speed"),
     ] {
+        if model.state_index(q).is_some() {
+            continue;
+        }
         if let Some(p) = peak(q) {
             if p > limit {
                 w.push(Warning::new(
                     STAGE,
                     format!(
-                        "{q} reaches {:.3} (more than {what}): the 3-DOF model ignores it",
+                        "{q} reaches {:.3} (more than {what}): the {} model ignores it",
                         if q.dim() == [0, 0, 0, 1] || q.dim() == [0, 0, -1, 1] {
                             p.to_degrees()
                         } else {
                             p
-                        }
+                        },
+                        model.name()
                     ),
-                    "the horizontal-plane coefficients absorb the out-of-plane coupling; \
-                     consider model = \"spheroid6\"",
+                    "the model's coefficients absorb the out-of-plane coupling; consider a \
+                     model with these states (`hydroid coefficients` lists the models)",
                 ));
             }
         }
