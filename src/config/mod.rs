@@ -1,13 +1,18 @@
 //! The TOML run configuration: schema, loading with every problem listed, `--set` overrides,
-//! and validation. Every key is documented in docs/config.md.
+//! and validation. Every key is documented in docs/config.md. Each stage's section
+//! ([`polar`], [`surge`], [`hekf`]) lives here, so that the stages depend on the
+//! configuration and not the other way round.
 
 mod collect;
+pub mod hekf;
 mod input;
 mod load;
 mod overrides;
 mod paths;
+pub mod polar;
 mod problems;
 pub(crate) mod si;
+pub mod surge;
 mod words;
 
 pub(crate) use collect::read_collecting;
@@ -16,12 +21,12 @@ pub use input::{ColumnSpec, Constant, FormatSetting, InputSpec, Step, VelocityFr
 pub use load::{load, load_lenient, load_str, read, LoadedConfig};
 pub use problems::Problems;
 
-use crate::stages::hekf::HekfConfig;
-use crate::stages::polar::PolarConfig;
-use crate::stages::surge::SurgeConfig;
+use hekf::HekfConfig;
+use polar::PolarConfig;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
+use surge::SurgeConfig;
 
 /// A whole run configuration.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -1,7 +1,7 @@
 //! Hybrid EKF stage (paper section 4, eq. 9-19 and 22): coefficients appended to the state of
 //! a vehicle model and estimated from CFD motion histories, the rest held fixed.
 
-mod config;
+use crate::config::hekf as config;
 mod consistency;
 pub mod history;
 pub mod identify;
