@@ -96,6 +96,11 @@ pub struct ModelEntry {
     pub inputs: Vec<Variable>,
     /// Coefficients.
     pub coefficients: Vec<ModelCoefficient>,
+    /// Coefficients a free manoeuvre of the model identifies (its example).
+    pub estimated: &'static [&'static str],
+    /// Optional vehicle data the model cannot do without (`ixx`), besides mass, length,
+    /// inertia and reference area.
+    pub vehicle_needs: Vec<String>,
 }
 
 /// The model `name` names (`spheroid3`), or a message listing the models.
@@ -147,6 +152,8 @@ pub fn model(name: ModelName) -> ModelEntry {
                             .map(|r| r.cite),
                     })
                     .collect(),
+                estimated: m.example().estimated,
+                vehicle_needs: Vec::new(),
             }
         }
     }
@@ -163,7 +170,24 @@ pub fn model(name: ModelName) -> ModelEntry {
         bg: None,
         rho: 1000.0,
     };
-    with_model(name, &vehicle, Describe).expect("the catalogue's vehicle has every datum")
+    let mut entry =
+        with_model(name, &vehicle, Describe).expect("the catalogue's vehicle has every datum");
+    // what the model asks for when the optional data are missing
+    let bare = Vehicle {
+        diameter: None,
+        ixx: None,
+        iyy: None,
+        buoyancy: None,
+        bg: None,
+        ..vehicle
+    };
+    if let Err(problems) = with_model(name, &bare, Describe) {
+        entry.vehicle_needs = problems
+            .into_iter()
+            .map(|p| p.key.trim_start_matches("vehicle.").to_string())
+            .collect();
+    }
+    entry
 }
 
 /// The relation that defines `target` among a model's coefficients `names` (the first whose

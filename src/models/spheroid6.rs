@@ -198,7 +198,7 @@ impl Model for Spheroid6 {
             // Munk-unstable, so the example stays in the horizontal plane
             state: vec![3.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
             inputs: vec![22.0],
-            estimated: &["Yvd", "Nrd", "Nvv", "Nrr"],
+            estimated: &["Yvd", "Yrd", "Nrd", "Nvv", "Nrr", "Yrr"],
             duration: 20.0,
         }
     }
