@@ -62,6 +62,19 @@ impl<'a, M: Model> ModelSystem<'a, M> {
         }
     }
 
+    /// Chunked forward-mode AD over the augmented state (see crate::ad): for each chunk of
+    /// the Jacobian's columns `start..end`, seeds the duals and calls `eval`.
+    fn for_each_chunk(&mut self, x: &[f64], mut eval: impl FnMut(&mut Self, usize, usize)) {
+        let n = self.n();
+        let mut start = 0;
+        while start < n {
+            let end = (start + CHUNK).min(n);
+            self.seed_chunk(x, start, end);
+            eval(self, start, end);
+            start = end;
+        }
+    }
+
     /// Seeds the dual states and coefficients for the derivatives along augmented states
     /// `start..end` (one chunk of the Jacobian's columns).
     fn seed_chunk(&mut self, x: &[f64], start: usize, end: usize) {
@@ -126,21 +139,15 @@ impl<M: Model> System for ModelSystem<'_, M> {
     fn jacobian(&mut self, t: f64, x: &[f64], dx: &mut [f64], f: &mut [f64]) {
         let n = self.n();
         self.inputs.at(t, &mut self.u);
-        // chunked forward-mode AD over the augmented state (see crate::ad)
-        let mut start = 0;
-        while start < n {
-            let end = (start + CHUNK).min(n);
-            self.seed_chunk(x, start, end);
-            self.model
-                .derivatives(&self.xd, &self.u, &self.cd, &mut self.outd);
-            for (r, o) in self.outd.iter().enumerate() {
+        self.for_each_chunk(x, |s, start, end| {
+            s.model.derivatives(&s.xd, &s.u, &s.cd, &mut s.outd);
+            for (r, o) in s.outd.iter().enumerate() {
                 dx[r] = o.re;
                 for col in start..end {
                     f[r * n + col] = ad::derivative(o, col - start);
                 }
             }
-            start = end;
-        }
+        });
     }
 
     fn observe(&mut self, t: f64, x: &[f64], y: &mut [f64], h: &mut [f64]) {
@@ -155,21 +162,16 @@ impl<M: Model> System for ModelSystem<'_, M> {
         }
         // y = h(x, u, c) and its Jacobian by chunked forward-mode AD, as the dynamics'
         self.inputs.at(t, &mut self.u);
-        let mut start = 0;
-        while start < n {
-            let end = (start + CHUNK).min(n);
-            self.seed_chunk(x, start, end);
-            self.model
-                .measure(&self.xd, &self.u, &self.cd, &mut self.yd);
-            for (k, &o) in self.measured.iter().enumerate() {
-                let out = &self.yd[o];
+        self.for_each_chunk(x, |s, start, end| {
+            s.model.measure(&s.xd, &s.u, &s.cd, &mut s.yd);
+            for (k, &o) in s.measured.iter().enumerate() {
+                let out = &s.yd[o];
                 y[k] = out.re;
                 for col in start..end {
                     h[k * n + col] = ad::derivative(out, col - start);
                 }
             }
-            start = end;
-        }
+        });
     }
 
     fn selection(&self) -> Option<&[usize]> {
