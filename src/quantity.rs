@@ -68,6 +68,10 @@ pub enum Quantity {
     Thrust,
     /// Rudder angle, rad.
     Rudder,
+    /// Stern plane (elevator) angle, rad.
+    SternPlanes,
+    /// Bow plane angle, rad.
+    BowPlanes,
     /// Propeller speed, rev/s (configured as rpm or rps).
     Rpm,
 }
@@ -82,7 +86,7 @@ const NONE: Dim = [0, 0, 0, 0];
 
 impl Quantity {
     /// Every quantity, in the order the documentation lists them.
-    pub const ALL: [Quantity; 29] = [
+    pub const ALL: [Quantity; 31] = [
         Quantity::Time,
         Quantity::X,
         Quantity::Y,
@@ -111,7 +115,26 @@ impl Quantity {
         Quantity::Speed,
         Quantity::Thrust,
         Quantity::Rudder,
+        Quantity::SternPlanes,
+        Quantity::BowPlanes,
         Quantity::Rpm,
+    ];
+
+    /// The motion of a body: velocities and rates (body frame), positions and attitude
+    /// (earth frame).
+    pub const MOTION: [Quantity; 12] = [
+        Quantity::U,
+        Quantity::V,
+        Quantity::W,
+        Quantity::P,
+        Quantity::Q,
+        Quantity::R,
+        Quantity::X,
+        Quantity::Y,
+        Quantity::Z,
+        Quantity::Roll,
+        Quantity::Pitch,
+        Quantity::Yaw,
     ];
 
     /// The configuration key of this quantity.
@@ -145,6 +168,8 @@ impl Quantity {
             Quantity::Speed => "speed",
             Quantity::Thrust => "thrust",
             Quantity::Rudder => "rudder",
+            Quantity::SternPlanes => "stern_planes",
+            Quantity::BowPlanes => "bow_planes",
             Quantity::Rpm => "rpm",
         }
     }
@@ -160,7 +185,9 @@ impl Quantity {
             Quantity::Time => [0, 0, 1, 0],
             Quantity::X | Quantity::Y | Quantity::Z => LENGTH,
             Quantity::Roll | Quantity::Pitch | Quantity::Yaw => ANGLE,
-            Quantity::Alpha | Quantity::Rudder => ANGLE,
+            Quantity::Alpha | Quantity::Rudder | Quantity::SternPlanes | Quantity::BowPlanes => {
+                ANGLE
+            }
             Quantity::U | Quantity::V | Quantity::W | Quantity::Speed => SPEED,
             Quantity::P | Quantity::Q | Quantity::R | Quantity::Rpm => RATE,
             Quantity::UDot => [0, 1, -2, 0],

@@ -4,7 +4,7 @@
 
 use crate::coefficients::CoefficientSet;
 use crate::error::{Error, Result};
-use crate::models::{with_model, Model, ModelSpec, ModelVisitor};
+use crate::models::{with_model, Model, ModelName, ModelVisitor, Vehicle};
 use crate::quantity::Quantity;
 use crate::record::Record;
 use crate::signal;
@@ -48,21 +48,24 @@ pub struct ResimTrace {
     pub quantities: Vec<Quantity>,
 }
 
-/// Re-simulates `rec` with the model of `spec` and the coefficients of `set`.
+/// Re-simulates `rec` with the model `model` of `vehicle` and the coefficients of `set`.
 pub fn resimulate(
-    spec: &ModelSpec,
+    model: ModelName,
+    vehicle: &Vehicle,
     set: &CoefficientSet,
     rec: &Record,
     used_for_fit: bool,
 ) -> Result<(ResimMetrics, ResimTrace)> {
     with_model(
-        spec,
+        model,
+        vehicle,
         Resim {
             set,
             rec,
             used_for_fit,
         },
     )
+    .map_err(Error::vehicle)?
 }
 
 struct Resim<'a> {
@@ -120,17 +123,24 @@ impl ModelVisitor for Resim<'_> {
             }
         }
         let quantities: Vec<Quantity> = states.iter().map(|s| s.quantity).collect();
+        // what the model's sensors would have read: its outputs (its states unless it
+        // declares a measurement function)
+        let ys: Vec<Vec<f64>> = if model.outputs().is_empty() {
+            Vec::new()
+        } else {
+            let mut u = vec![0.0; inputs.len()];
+            xs.iter()
+                .zip(&times)
+                .map(|(x, &t)| {
+                    inputs.at(t, &mut u);
+                    model.output_values(x, &u, &c)
+                })
+                .collect()
+        };
+        let ys = if ys.is_empty() { &xs } else { &ys };
         let mut rms = BTreeMap::new();
-        for q in [
-            Quantity::U,
-            Quantity::V,
-            Quantity::W,
-            Quantity::P,
-            Quantity::Q,
-            Quantity::R,
-            Quantity::Yaw,
-        ] {
-            let (Some(i), Some(meas)) = (model.state_index(q), rec.channel(q)) else {
+        for &q in model.compared() {
+            let (Some(i), Some(meas)) = (model.output_index(q), rec.channel(q)) else {
                 continue;
             };
             // gross outliers of the CFD data are not the model's error
@@ -139,7 +149,7 @@ impl ModelVisitor for Resim<'_> {
             let used: Vec<usize> = (0..n)
                 .filter(|k| spikes.binary_search_by_key(k, |o| o.index).is_err())
                 .collect();
-            let s: f64 = used.iter().map(|&k| (xs[k][i] - meas[k]).powi(2)).sum();
+            let s: f64 = used.iter().map(|&k| (ys[k][i] - meas[k]).powi(2)).sum();
             rms.insert(q, (s / used.len().max(1) as f64).sqrt());
         }
         let (mut final_err, mut distance) = (None, None);

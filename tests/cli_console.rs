@@ -151,7 +151,10 @@ fn coefficients_lists_the_catalogue_and_one_model() {
     assert_eq!(kpp["given_by"][0]["source"], "hekf");
     let o = hydroid(&["coefficients", "--json"]);
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("stdout is JSON");
-    assert_eq!(v["models"].as_array().unwrap().len(), 2);
+    assert_eq!(
+        v["models"].as_array().unwrap().len(),
+        hydroid::models::ModelName::ALL.len()
+    );
     let o = hydroid(&["coefficients", "spheroid7"]);
     assert_eq!(o.status.code(), Some(2));
     assert!(text(&o.stderr).contains("did you mean 'spheroid3'"));

@@ -22,7 +22,7 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
     let entries = catalogue::entries();
     let Some(name) = &args.model else {
         if args.json {
-            let models: Vec<_> = catalogue::MODELS
+            let models: Vec<_> = hydroid::models::ModelName::ALL
                 .iter()
                 .map(|m| catalogue::model(*m))
                 .collect();

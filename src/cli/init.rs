@@ -96,12 +96,13 @@ fn template(polar: bool, surge: bool, hekf: bool, model: ModelName) -> String {
          title = \"my vehicle\"\n\n{VEHICLE}",
         version = env!("CARGO_PKG_VERSION"),
     );
-    if model == ModelName::Spheroid6 {
-        s.push_str(
-            "ixx = 0.2                      # kg m^2, roll inertia (the spheroid6 model needs it)\n\
+    let needs = catalogue::model(model).vehicle_needs;
+    if needs.iter().any(|k| k == "ixx" || k == "iyy") {
+        s.push_str(&format!(
+            "ixx = 0.2                      # kg m^2, roll inertia (the {model} model needs it)\n\
              iyy = 3.7                      # kg m^2, pitch inertia\n\
              bg = 0.0                       # m, centre of buoyancy above the centre of gravity\n",
-        );
+        ));
     }
     s.push_str(
         "\n[fluid]\n\
@@ -178,7 +179,7 @@ fn coefficients(polar: bool, surge: bool, hekf: bool, model: ModelName) -> Strin
     if hekf {
         for c in catalogue::model(model).coefficients {
             if c.derived_by.is_none()
-                && !ESTIMATE.contains(&c.name)
+                && !catalogue::model(model).estimated.contains(&c.name)
                 && !given(c.name)
                 && !needed.iter().any(|(n, _)| *n == c.name)
             {
@@ -207,9 +208,6 @@ fn coefficients(polar: bool, surge: bool, hekf: bool, model: ModelName) -> Strin
     s
 }
 
-/// What the template estimates with the HEKF: the paper's six (Rasekh & Mahdi 2020, eq. 22).
-const ESTIMATE: [&str; 6] = ["Yvd", "Yrd", "Nrd", "Nvv", "Nrr", "Yrr"];
-
 /// The `[hekf]` section with a run mapping every state and input of the model.
 fn hekf_section(model: ModelName) -> String {
     let m = catalogue::model(model);
@@ -225,7 +223,11 @@ fn hekf_section(model: ModelName) -> String {
          file = \"FILL-IN-manoeuvre.csv\"\n\
          [hekf.runs.columns]            # every state the file has is a measurement\n\
          time = \"time\"\n",
-        ESTIMATE.map(|n| format!("\"{n}\"")).join(", ")
+        m.estimated
+            .iter()
+            .map(|n| format!("\"{n}\""))
+            .collect::<Vec<_>>()
+            .join(", ")
     );
     for v in m.states.iter().chain(&m.inputs) {
         let _ = writeln!(s, "{q} = \"{q}\"", q = v.quantity);

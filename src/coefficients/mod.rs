@@ -1,14 +1,13 @@
-//! Hydrodynamic coefficients: SNAME names, units, the coefficient set every stage fills in,
-//! and the geometric symmetry relations of the spheroid paper (eq. 4).
+//! Hydrodynamic coefficients: the coefficient set every stage fills in and the geometric
+//! symmetry relations of the spheroid paper (eq. 4). What each coefficient means and its unit
+//! is said by the models that use it ([`crate::models::registry::all_coefficients`]).
 //!
 //! Names are SNAME symbols written in ASCII: `Xud` = X_udot, `Nrr` = N_r|r|,
 //! `Yuvl` = lift part of Y_uv, `Nuva` = Munk (added-mass) part of N_uv.
 
-mod catalog;
 mod relations;
 mod uncertainty;
 
-pub use catalog::{info, nearest_name, CoefInfo, CATALOG};
 pub use relations::{CompiledRelations, Relation, AXISYMMETRY, SYMMETRY};
 pub use uncertainty::{directions_of, Correlation, Direction};
 
@@ -73,7 +72,9 @@ impl Coefficient {
             name: name.to_string(),
             value,
             sigma,
-            unit: info(name).map_or("-", |i| i.unit).to_string(),
+            unit: crate::models::registry::coefficient(name)
+                .map_or("-", |i| i.unit)
+                .to_string(),
             source,
             note: None,
         }
@@ -274,25 +275,6 @@ impl CoefficientSet {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn catalogue_names_are_unique() {
-        for (i, a) in CATALOG.iter().enumerate() {
-            for b in &CATALOG[i + 1..] {
-                assert_ne!(a.name, b.name);
-            }
-        }
-    }
-
-    #[test]
-    fn every_relation_names_known_coefficients() {
-        for rel in SYMMETRY.iter().chain(AXISYMMETRY) {
-            assert!(info(rel.target).is_some(), "{}", rel.target);
-            for (_, n) in rel.terms {
-                assert!(info(n).is_some(), "{n}");
-            }
-        }
-    }
 
     #[test]
     fn symmetry_completes_the_paper_set() {

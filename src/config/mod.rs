@@ -1,13 +1,18 @@
 //! The TOML run configuration: schema, loading with every problem listed, `--set` overrides,
-//! and validation. Every key is documented in docs/config.md.
+//! and validation. Every key is documented in docs/config.md. Each stage's section
+//! ([`polar`], [`surge`], [`hekf`]) lives here, so that the stages depend on the
+//! configuration and not the other way round.
 
 mod collect;
+pub mod hekf;
 mod input;
 mod load;
 mod overrides;
 mod paths;
+pub mod polar;
 mod problems;
 pub(crate) mod si;
+pub mod surge;
 mod words;
 
 pub(crate) use collect::read_collecting;
@@ -16,13 +21,12 @@ pub use input::{ColumnSpec, Constant, FormatSetting, InputSpec, Step, VelocityFr
 pub use load::{load, load_lenient, load_str, read, LoadedConfig};
 pub use problems::Problems;
 
-use crate::coefficients;
-use crate::stages::hekf::HekfConfig;
-use crate::stages::polar::PolarConfig;
-use crate::stages::surge::SurgeConfig;
+use hekf::HekfConfig;
+use polar::PolarConfig;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
+use surge::SurgeConfig;
 
 /// A whole run configuration.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -205,6 +209,22 @@ pub mod plausible {
 const G: f64 = 9.80665;
 
 impl VehicleConfig {
+    /// The vehicle and the fluid as a model is built from them.
+    pub fn for_model(&self, fluid: &FluidConfig) -> crate::models::Vehicle {
+        crate::models::Vehicle {
+            mass: self.mass,
+            length: self.length,
+            diameter: self.diameter,
+            ixx: self.ixx,
+            iyy: self.iyy,
+            izz: self.izz,
+            reference_area: self.reference_area,
+            buoyancy: self.buoyancy,
+            bg: self.bg,
+            rho: fluid.rho,
+        }
+    }
+
     /// Adds every problem with the vehicle (keys `vehicle.*`) to `p`.
     pub fn validate(&self, p: &mut Problems) {
         let ok = |p: &Problems, k: &str| !p.is_poisoned(k);
@@ -385,12 +405,17 @@ impl Config {
 
 /// Checks a coefficient name against the catalogue.
 pub(crate) fn check_coefficient_name(name: &str) -> Result<(), String> {
-    if coefficients::info(name).is_some() {
+    if crate::models::registry::coefficient(name).is_some() {
         Ok(())
     } else {
         Err(format!(
             "unknown coefficient '{name}'{}",
-            crate::suggest::did_you_mean(name, coefficients::CATALOG.iter().map(|c| c.name))
+            crate::suggest::did_you_mean(
+                name,
+                crate::models::registry::all_coefficients()
+                    .iter()
+                    .map(|c| c.name)
+            )
         ))
     }
 }

@@ -29,8 +29,9 @@ pub trait System {
     /// dx as in [`System::derivative`] and its Jacobian F = df/dx (`nd x n`, row-major).
     fn jacobian(&mut self, t: f64, x: &[f64], dx: &mut [f64], f: &mut [f64]);
 
-    /// y = h(x) (length `m`) and H = dh/dx (`m x n`, row-major).
-    fn observe(&mut self, x: &[f64], y: &mut [f64], h: &mut [f64]);
+    /// y = h(t, x) (length `m`) and H = dh/dx (`m x n`, row-major), at time `t` (inputs
+    /// may enter the measurement).
+    fn observe(&mut self, t: f64, x: &[f64], y: &mut [f64], h: &mut [f64]);
 
     /// When every measurement is one state (H a selection of rows of the identity), the
     /// state indices; the filter then skips [`System::observe`] and updates one measurement

@@ -107,6 +107,8 @@ fn guess_words(name: &str, unit: Option<&Unit>) -> Option<Quantity> {
         "speed" | "uinf" => Some(Speed),
         "thrust" => Some(Thrust),
         "rudder" | "delta" => Some(Rudder),
+        "stern_planes" | "sternplanes" | "elevator" | "delta_s" => Some(SternPlanes),
+        "bow_planes" | "bowplanes" | "delta_b" => Some(BowPlanes),
         "rpm" | "rps" | "revs" => Some(Rpm),
         _ => None,
     };

@@ -1,20 +1,39 @@
-//! Vehicle models: one type per model implementing [`Model`]; filters, simulators and
-//! reports are generic over it.
+//! Vehicle models: one type per model implementing [`Model`], listed once in [`registry`];
+//! filters, simulators and reports are generic over it.
 //!
-//! A model declares its states, inputs and coefficients by name and gives the continuous
-//! dynamics x_dot = f(x, u, c) once, generic over the scalar type, so that the same code
-//! simulates (f64) and yields exact Jacobians (dual numbers, see [`crate::ad`]).
+//! A model builds itself from the vehicle data ([`Vehicle`]) and validates it, declares its
+//! states, outputs, inputs and coefficients ([`coefficient_table!`](crate::coefficient_table)
+//! generates the index constants from the table) and gives the continuous dynamics
+//! x_dot = f(x, u, c) and the measurement function y = h(x, u, c) once, generic over the scalar
+//! type, so that the same code simulates (f64) and yields exact Jacobians (dual numbers, see
+//! [`crate::ad`]).
+//!
+//! This module imports nothing from the stages, the simulator, the report or the pipeline.
 
+pub mod coefficient;
+pub mod registry;
 pub mod rigid_body;
-pub mod spheroid3;
-pub mod spheroid6;
+pub mod sname;
+pub mod vehicle;
 
 use crate::ad::Scalar;
-use crate::coefficients::CompiledRelations;
+use crate::coefficients::{CompiledRelations, Relation};
 use crate::quantity::Quantity;
 
-pub use spheroid3::Spheroid3;
-pub use spheroid6::Spheroid6;
+pub use coefficient::{AddedMass, AddedMassTerm, CoefDef, Scales, Size};
+pub use registry::ModelVisitor;
+pub use vehicle::{Vehicle, VehicleProblem};
+
+// Every model hydroid has: `Variant => module::Type`, one line per model (the module is the
+// model's file in this folder).
+registry::registry! {
+    /// Horizontal-plane spheroid (Rasekh & Mahdi 2020, eq. 2): u, v, r, x, y, psi.
+    Spheroid3 => spheroid3::Spheroid3,
+    /// Axisymmetric 6-DOF spheroid: heave and pitch mirror sway and yaw.
+    Spheroid6 => spheroid6::Spheroid6,
+    /// One-degree-of-freedom surge: added mass, quadratic drag and thrust.
+    Surge1 => surge1::Surge1,
+}
 
 /// One state of a model.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -25,23 +44,112 @@ pub struct StateDef {
     pub quantity: Quantity,
 }
 
-/// A vehicle model: states, inputs, coefficients and continuous dynamics.
-pub trait Model: Send + Sync {
+/// One output of a model's measurement function (a sensor reading).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct OutputDef {
+    /// Short name (`psi_compass`).
+    pub name: &'static str,
+    /// The quantity a record gives for it.
+    pub quantity: Quantity,
+}
+
+/// How an input sampled in a run is read between its samples.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum InputRule {
+    /// Linear interpolation between samples (a smoothly varying input: thrust, rpm).
+    Interpolate,
+    /// The last sample held until the next (a commanded step: rudder angle, planes).
+    Hold,
+}
+
+/// One input of a model: a column of a run or a constant.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct InputDef {
+    /// The quantity.
+    pub quantity: Quantity,
+    /// How a sampled series is read between samples.
+    pub rule: InputRule,
+}
+
+/// Example values a model is checked at (the conformance suite, `hydroid coefficients`): a
+/// plausible vehicle, coefficients, state and inputs, and the coefficients a run of it can
+/// identify.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Example {
+    /// Coefficient values (SI); the model's relations complete the rest.
+    pub coefficients: &'static [(&'static str, f64)],
+    /// A state in motion.
+    pub state: Vec<f64>,
+    /// Constant inputs (SI).
+    pub inputs: Vec<f64>,
+    /// Coefficients a free run from `state` with `inputs` identifies.
+    pub estimated: &'static [&'static str],
+    /// Duration of that run, s.
+    pub duration: f64,
+}
+
+/// A vehicle model: states, outputs, inputs, coefficients and continuous dynamics.
+pub trait Model: Send + Sync + Sized {
     /// Short name used in configurations (`spheroid3`).
-    fn name(&self) -> &'static str;
+    const NAME: &'static str;
+
+    /// What the model is, in a line, with its source.
+    const DESCRIPTION: &'static str;
+
+    /// Every coefficient the dynamics use, in vector order: free ones and those that
+    /// [`Model::relations`] derive from them (a [`coefficient_table!`](crate::coefficient_table)).
+    const COEFFICIENTS: &'static [CoefDef];
+
+    /// The inputs (time series or constants), in vector order.
+    const INPUTS: &'static [InputDef];
+
+    /// The relations that complete a reported coefficient set for this model (symmetry,
+    /// axisymmetry).
+    const COMPLETING_RELATIONS: &'static [&'static [Relation]];
+
+    /// Builds the model for a vehicle, or says every problem of the vehicle data for it.
+    fn build(vehicle: &Vehicle) -> Result<Self, Vec<VehicleProblem>>;
+
+    /// Short name used in configurations (`spheroid3`).
+    fn name(&self) -> &'static str {
+        Self::NAME
+    }
+
+    /// What the model is, in a line, with its source.
+    fn description(&self) -> &'static str {
+        Self::DESCRIPTION
+    }
 
     /// The states, in vector order.
     fn states(&self) -> &'static [StateDef];
 
-    /// The inputs (time series or constants), in vector order.
-    fn inputs(&self) -> &'static [Quantity];
+    /// The outputs of [`Model::measure`], in vector order; empty (the default) when every
+    /// state is an output (y = x), a selection of which a run measures.
+    fn outputs(&self) -> &'static [OutputDef] {
+        &[]
+    }
 
-    /// Every coefficient the dynamics use, in vector order: free ones and those that
-    /// [`Model::relations`] derive from them.
-    fn coefficient_names(&self) -> &'static [&'static str];
+    /// The measurement function y = h(x, u, c) (length of [`Model::outputs`]); only called
+    /// when the model declares outputs.
+    fn measure<T: Scalar>(&self, x: &[T], _u: &[f64], _c: &[T], y: &mut [T]) {
+        y.copy_from_slice(&x[..y.len()]);
+    }
+
+    /// The inputs (time series or constants), in vector order.
+    fn inputs(&self) -> &'static [InputDef] {
+        Self::INPUTS
+    }
+
+    /// Every coefficient, in vector order.
+    fn coefficients(&self) -> &'static [CoefDef] {
+        Self::COEFFICIENTS
+    }
 
     /// The relations that define derived coefficients (applied before every evaluation).
     fn relations(&self) -> &CompiledRelations;
+
+    /// The measured quantities a re-simulation of a run compares with the model (RMS error).
+    fn compared(&self) -> &'static [Quantity];
 
     /// A typical magnitude of a coefficient for this vehicle (SI), used to scale priors and
     /// the filter's parameter states.
@@ -54,14 +162,25 @@ pub trait Model: Send + Sync {
     /// says what went wrong.
     fn check(&self, x: &[f64], c: &[f64]) -> Result<(), String>;
 
+    /// A vehicle the model is checked on (the conformance suite, `hydroid coefficients`).
+    fn example_vehicle() -> Vehicle;
+
+    /// Example values the model is checked at.
+    fn example(&self) -> Example;
+
     /// Number of states.
     fn nx(&self) -> usize {
         self.states().len()
     }
 
-    /// Index of a coefficient in [`Model::coefficient_names`].
+    /// The coefficient names, in vector order.
+    fn coefficient_names(&self) -> Vec<&'static str> {
+        self.coefficients().iter().map(|c| c.name).collect()
+    }
+
+    /// Index of a coefficient in [`Model::coefficients`].
     fn coefficient_index(&self, name: &str) -> Option<usize> {
-        self.coefficient_names().iter().position(|n| *n == name)
+        self.coefficients().iter().position(|c| c.name == name)
     }
 
     /// Index of the state that a quantity measures.
@@ -69,118 +188,59 @@ pub trait Model: Send + Sync {
         self.states().iter().position(|s| s.quantity == q)
     }
 
+    /// The quantities of the outputs, in vector order (the states' when the model declares
+    /// no outputs).
+    fn output_quantities(&self) -> Vec<Quantity> {
+        if self.outputs().is_empty() {
+            self.states().iter().map(|s| s.quantity).collect()
+        } else {
+            self.outputs().iter().map(|o| o.quantity).collect()
+        }
+    }
+
+    /// Index of the output that a quantity measures.
+    fn output_index(&self, q: Quantity) -> Option<usize> {
+        self.output_quantities().iter().position(|o| *o == q)
+    }
+
+    /// The quantities of the inputs, in vector order.
+    fn input_quantities(&self) -> Vec<Quantity> {
+        self.inputs().iter().map(|i| i.quantity).collect()
+    }
+
     /// Whether a coefficient is derived by a relation (and so cannot be estimated directly).
     fn is_derived(&self, name: &str) -> bool {
         self.coefficient_index(name)
             .is_some_and(|i| self.relations().targets().any(|t| t == i))
     }
-}
 
-/// Analytic added mass of a vehicle (Lamb's k-factors for a spheroid, Fossen 1994).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct AddedMass {
-    /// Surge added mass X_udot, kg.
-    pub xud: f64,
-    /// Sway added mass Y_vdot, kg.
-    pub yvd: f64,
-    /// Yaw added inertia N_rdot, kg m^2.
-    pub nrd: f64,
-}
-
-/// Typical coefficient sizes for the vehicle, used to scale priors (see
-/// [`Model::typical_magnitude`]).
-#[derive(Debug, Clone, Copy)]
-pub struct Scales {
-    /// 0.5 rho A_ref, kg/m: the force per speed squared.
-    pub q: f64,
-    /// Length, m.
-    pub length: f64,
-    /// Analytic (Lamb) added masses when the geometry gives them.
-    pub added: Option<AddedMass>,
-}
-
-impl Scales {
-    /// Size of a coefficient from its unit: damping terms from the prime system
-    /// (q, q L, q L^2, q L^3 for kg/m, kg, kg m, kg m^2), added-mass terms from the
-    /// analytic values where known (Yrd from the geometric mean of Yvd and Nrd, which has
-    /// its unit kg m; Kpd, zero for a spheroid, from Nrd).
-    pub fn of(&self, name: &str) -> f64 {
-        let (q, l) = (self.q, self.length);
-        if let Some(a) = self.added {
-            match name {
-                "Xud" => return a.xud.abs(),
-                "Yvd" | "Zwd" => return a.yvd.abs(),
-                "Nrd" | "Mqd" | "Kpd" => return a.nrd.abs(),
-                "Yrd" | "Nvd" | "Zqd" | "Mwd" => return (a.yvd * a.nrd).abs().sqrt(),
-                _ => {}
+    /// The model's coefficient vector from (name, value) pairs (names the model does not use
+    /// are ignored, missing ones are 0), completed by the relations.
+    fn coefficient_vector(&self, values: &[(&str, f64)]) -> Vec<f64> {
+        let mut c = vec![0.0; self.coefficients().len()];
+        for (n, v) in values {
+            if let Some(i) = self.coefficient_index(n) {
+                c[i] = *v;
             }
         }
-        match crate::coefficients::info(name).map(|i| i.unit) {
-            Some("kg/m") => q,
-            Some("kg") => q * l,
-            Some("kg m") => q * l * l,
-            Some("kg m^2") => q * l * l * l,
-            _ => q,
+        self.relations().apply(&mut c);
+        c
+    }
+
+    /// The outputs y = h(x, u, c) for a state (f64).
+    fn output_values(&self, x: &[f64], u: &[f64], c: &[f64]) -> Vec<f64> {
+        if self.outputs().is_empty() {
+            return x.to_vec();
         }
+        let mut y = vec![0.0; self.outputs().len()];
+        self.measure(x, u, c, &mut y);
+        y
     }
 }
 
-impl Scales {
-    /// Scales for a vehicle: q = 0.5 rho A_ref and its length, and the analytic added mass
-    /// when the geometry gives one.
-    pub fn for_vehicle(
-        vehicle: &crate::config::VehicleConfig,
-        fluid: &crate::config::FluidConfig,
-        added: Option<AddedMass>,
-    ) -> Self {
-        Scales {
-            q: 0.5 * fluid.rho * vehicle.reference_area,
-            length: vehicle.length,
-            added,
-        }
-    }
-}
-
-/// Something to do with a model whose type is chosen at run time (see [`with_model`]).
-pub trait ModelVisitor {
-    /// What the visit returns.
-    type Output;
-    /// Called with the model.
-    fn visit<M: Model>(self, model: &M) -> Self::Output;
-}
-
-/// Which model, and the vehicle it describes.
-#[derive(Debug, Clone, Copy)]
-pub struct ModelSpec<'a> {
-    /// The model.
-    pub name: crate::stages::hekf::ModelName,
-    /// The vehicle.
-    pub vehicle: &'a crate::config::VehicleConfig,
-    /// Prior scales.
-    pub scales: Scales,
-}
-
-/// Builds the model `spec` names and hands it to `visitor`.
-pub fn with_model<V: ModelVisitor>(spec: &ModelSpec, visitor: V) -> V::Output {
-    use crate::stages::hekf::ModelName;
-    let v = spec.vehicle;
-    match spec.name {
-        ModelName::Spheroid3 => visitor.visit(&Spheroid3::new(v.mass, v.izz, spec.scales)),
-        ModelName::Spheroid6 => {
-            let weight = v.mass * spheroid6::G;
-            // validation requires ixx and iyy for this model; izz is a safe stand-in otherwise
-            let ixx = v.ixx.unwrap_or(v.izz);
-            let iyy = v.iyy.unwrap_or(v.izz);
-            let model = Spheroid6::new(
-                v.mass,
-                [ixx, iyy, v.izz],
-                v.buoyancy.unwrap_or(weight),
-                v.bg.unwrap_or(0.0),
-                spec.scales,
-            );
-            visitor.visit(&model)
-        }
-    }
+/// The names of a coefficient table, in order.
+pub fn names(table: &[CoefDef]) -> Vec<&'static str> {
+    table.iter().map(|c| c.name).collect()
 }
 
 /// Checks that `m_eff` (a rigid-body mass or inertia minus its added mass) stays positive.

@@ -3,9 +3,12 @@
 //! States [u, v, r, x, y, psi]; input [thrust]. Origin at the centre of buoyancy, which is
 //! also the centre of gravity (x_G = 0).
 
-use super::{positive_inertia, Model, Scales, StateDef};
+use super::{
+    names, positive_inertia, sname, CoefDef, Example, InputDef, InputRule, Model, Scales, StateDef,
+    Vehicle, VehicleProblem,
+};
 use crate::ad::Scalar;
-use crate::coefficients::{CompiledRelations, SYMMETRY};
+use crate::coefficients::{CompiledRelations, Relation, SYMMETRY};
 use crate::quantity::Quantity;
 
 /// The 3-DOF spheroid: surge, sway, yaw with nonlinear damping and added mass.
@@ -46,33 +49,35 @@ const STATES: &[StateDef] = &[
     },
 ];
 
-/// Coefficient vector layout; derived ones (paper eq. 4) are filled by the relations.
-const COEFFICIENTS: &[&str] = &[
-    "Xud", "Yvd", "Yrd", "Nvd", "Nrd", // added mass
-    "Xuu", "Xuv", "Xvv", "Xvr", "Xrr", // surge
-    "Yvv", "Yrr", "Yur", "Yuv", "Yuvd", "Yuvl", // sway
-    "Nvv", "Nrr", "Nur", "Nuv", "Nuva", "Nuvl", // yaw
-];
-
-mod idx {
-    pub const XUD: usize = 0;
-    pub const YVD: usize = 1;
-    pub const YRD: usize = 2;
-    pub const NVD: usize = 3;
-    pub const NRD: usize = 4;
-    pub const XUU: usize = 5;
-    pub const XUV: usize = 6;
-    pub const XVV: usize = 7;
-    pub const XVR: usize = 8;
-    pub const XRR: usize = 9;
-    pub const YVV: usize = 10;
-    pub const YRR: usize = 11;
-    pub const YUR: usize = 12;
-    pub const YUV: usize = 13;
-    pub const NVV: usize = 16;
-    pub const NRR: usize = 17;
-    pub const NUR: usize = 18;
-    pub const NUV: usize = 19;
+crate::coefficient_table! {
+    /// Coefficient vector layout; derived ones (paper eq. 4) are filled by the relations.
+    COEFFICIENTS;
+    // added mass
+    XUD = sname::XUD,
+    YVD = sname::YVD,
+    YRD = sname::YRD,
+    NVD = sname::NVD,
+    NRD = sname::NRD,
+    // surge
+    XUU = sname::XUU,
+    XUV = sname::XUV,
+    XVV = sname::XVV,
+    XVR = sname::XVR,
+    XRR = sname::XRR,
+    // sway
+    YVV = sname::YVV,
+    YRR = sname::YRR,
+    YUR = sname::YUR,
+    YUV = sname::YUV,
+    YUVD = sname::YUVD,
+    YUVL = sname::YUVL,
+    // yaw
+    NVV = sname::NVV,
+    NRR = sname::NRR,
+    NUR = sname::NUR,
+    NUV = sname::NUV,
+    NUVA = sname::NUVA,
+    NUVL = sname::NUVL,
 }
 
 /// The "true" coefficients of the bundled synthetic spheroid runs (SI): the paper's Table 3
@@ -117,57 +122,64 @@ impl Spheroid3 {
         )
     }
 
-    /// The model's coefficient vector from (name, value) pairs (names the model does not use
-    /// are ignored, missing ones are 0), completed by the relations.
-    pub fn coefficient_vector(&self, values: &[(&str, f64)]) -> Vec<f64> {
-        let mut c = vec![0.0; COEFFICIENTS.len()];
-        for (n, v) in values {
-            if let Some(i) = self.coefficient_index(n) {
-                c[i] = *v;
-            }
-        }
-        self.relations.apply(&mut c);
-        c
-    }
-
     /// A model for mass `mass` (kg) and yaw inertia `izz` (kg m^2).
     pub fn new(mass: f64, izz: f64, scales: Scales) -> Self {
         Spheroid3 {
             mass,
             izz,
             scales,
-            relations: CompiledRelations::compile(&[SYMMETRY], COEFFICIENTS),
+            relations: CompiledRelations::compile(&[SYMMETRY], &names(COEFFICIENTS)),
         }
     }
 }
 
 impl Model for Spheroid3 {
-    fn name(&self) -> &'static str {
-        "spheroid3"
+    const NAME: &'static str = "spheroid3";
+    const DESCRIPTION: &'static str = "horizontal-plane spheroid: surge, sway and yaw with added \
+        mass and nonlinear damping (Rasekh & Mahdi 2020, eq. 2-4)";
+    const COEFFICIENTS: &'static [CoefDef] = COEFFICIENTS;
+    const INPUTS: &'static [InputDef] = &[InputDef {
+        quantity: Quantity::Thrust,
+        rule: InputRule::Interpolate,
+    }];
+
+    const COMPLETING_RELATIONS: &'static [&'static [Relation]] = &[SYMMETRY];
+
+    fn build(v: &Vehicle) -> Result<Self, Vec<VehicleProblem>> {
+        Ok(Spheroid3::new(v.mass, v.izz, v.spheroid_scales()))
     }
 
     fn states(&self) -> &'static [StateDef] {
         STATES
     }
 
-    fn inputs(&self) -> &'static [Quantity] {
-        &[Quantity::Thrust]
-    }
-
-    fn coefficient_names(&self) -> &'static [&'static str] {
-        COEFFICIENTS
-    }
-
     fn relations(&self) -> &CompiledRelations {
         &self.relations
     }
 
+    fn compared(&self) -> &'static [Quantity] {
+        &[Quantity::U, Quantity::V, Quantity::R, Quantity::Yaw]
+    }
+
     fn typical_magnitude(&self, name: &str) -> f64 {
-        self.scales.of(name)
+        self.scales.of_name(name)
+    }
+
+    fn example_vehicle() -> Vehicle {
+        Vehicle::paper_spheroid()
+    }
+
+    fn example(&self) -> Example {
+        Example {
+            coefficients: BOUNDED_TRUTH,
+            state: vec![3.0, 1.0, 0.0, 0.0, 0.0, 0.0],
+            inputs: vec![22.0],
+            estimated: &["Yvd", "Yrd", "Nrd", "Nvv", "Nrr", "Yrr"],
+            duration: 20.0,
+        }
     }
 
     fn derivatives<T: Scalar>(&self, x: &[T], u: &[f64], c: &[T], dx: &mut [T]) {
-        use idx::*;
         let (uu, v, r, psi) = (x[0], x[1], x[2], x[5]);
         let m = self.mass;
         let thrust = u[0];
@@ -202,7 +214,6 @@ impl Model for Spheroid3 {
     }
 
     fn check(&self, x: &[f64], c: &[f64]) -> Result<(), String> {
-        use idx::*;
         positive_inertia("m - Xud", self.mass - c[XUD])?;
         positive_inertia("m - Yvd", self.mass - c[YVD])?;
         positive_inertia("Izz - Nrd", self.izz - c[NRD])?;
@@ -232,9 +243,9 @@ mod tests {
     fn relations_fill_the_coriolis_terms() {
         let m = model();
         let c = paper_coefficients(&m);
-        assert_eq!(c[idx::XVR], 23.626);
-        assert_eq!(c[idx::YUR], -1.164);
-        assert!((c[idx::NUV] - (-23.626 + 1.164 + 13.43)).abs() < 1e-12);
+        assert_eq!(c[XVR], 23.626);
+        assert_eq!(c[YUR], -1.164);
+        assert!((c[NUV] - (-23.626 + 1.164 + 13.43)).abs() < 1e-12);
         assert!(m.is_derived("Xvr") && !m.is_derived("Yvd"));
     }
 

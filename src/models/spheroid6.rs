@@ -9,9 +9,12 @@
 use super::rigid_body::{
     added_mass_coriolis, kinematics, restoring, rigid_body_coriolis, rigid_body_mass, solve,
 };
-use super::{positive_inertia, Model, Scales, StateDef};
+use super::{
+    positive_inertia, sname, CoefDef, Example, InputDef, InputRule, Model, Scales, StateDef,
+    Vehicle, VehicleProblem,
+};
 use crate::ad::Scalar;
-use crate::coefficients::{CompiledRelations, AXISYMMETRY, SYMMETRY};
+use crate::coefficients::{CompiledRelations, Relation, AXISYMMETRY, SYMMETRY};
 use crate::quantity::Quantity;
 
 /// Standard gravity, m/s^2.
@@ -56,42 +59,42 @@ const STATES: &[StateDef] = &[
     state!("psi", Yaw),
 ];
 
-const COEFFICIENTS: &[&str] = &[
+crate::coefficient_table! {
+    /// Coefficient vector layout; derived ones are filled by the relations.
+    COEFFICIENTS;
     // added mass (Fossen 2011, section 6.3)
-    "Xud", "Yvd", "Yrd", "Nvd", "Nrd", "Zwd", "Zqd", "Mwd", "Mqd", "Kpd", // viscous
-    "Xuu", "Xuv", "Xvv", "Xuw", "Xww", "Yvv", "Yrr", "Yuv", "Yuvd", "Yuvl", "Nvv", "Nrr", "Nuvl",
-    "Zww", "Zqq", "Zuw", "Mww", "Mqq", "Muwl", "Kpp",
-];
-
-// Indices into COEFFICIENTS (checked by a test).
-const XUD: usize = 0;
-const YVD: usize = 1;
-const YRD: usize = 2;
-const NVD: usize = 3;
-const NRD: usize = 4;
-const ZWD: usize = 5;
-const ZQD: usize = 6;
-const MWD: usize = 7;
-const MQD: usize = 8;
-const KPD: usize = 9;
-const XUU: usize = 10;
-const XUV: usize = 11;
-const XVV: usize = 12;
-const XUW: usize = 13;
-const XWW: usize = 14;
-const YVV: usize = 15;
-const YRR: usize = 16;
-const YUV: usize = 17;
-const NVV: usize = 20;
-const NRR: usize = 21;
-const NUVL: usize = 22;
-const ZWW: usize = 23;
-const ZQQ: usize = 24;
-const ZUW: usize = 25;
-const MWW: usize = 26;
-const MQQ: usize = 27;
-const MUWL: usize = 28;
-const KPP: usize = 29;
+    XUD = sname::XUD,
+    YVD = sname::YVD,
+    YRD = sname::YRD,
+    NVD = sname::NVD,
+    NRD = sname::NRD,
+    ZWD = sname::ZWD,
+    ZQD = sname::ZQD,
+    MWD = sname::MWD,
+    MQD = sname::MQD,
+    KPD = sname::KPD,
+    // viscous
+    XUU = sname::XUU,
+    XUV = sname::XUV,
+    XVV = sname::XVV,
+    XUW = sname::XUW,
+    XWW = sname::XWW,
+    YVV = sname::YVV,
+    YRR = sname::YRR,
+    YUV = sname::YUV,
+    YUVD = sname::YUVD,
+    YUVL = sname::YUVL,
+    NVV = sname::NVV,
+    NRR = sname::NRR,
+    NUVL = sname::NUVL,
+    ZWW = sname::ZWW,
+    ZQQ = sname::ZQQ,
+    ZUW = sname::ZUW,
+    MWW = sname::MWW,
+    MQQ = sname::MQQ,
+    MUWL = sname::MUWL,
+    KPP = sname::KPP,
+}
 
 impl Spheroid6 {
     /// A model for the given mass (kg), inertias (kg m^2), buoyancy (N) and BG (m).
@@ -102,7 +105,7 @@ impl Spheroid6 {
             buoyancy,
             zg: bg,
             scales,
-            relations: CompiledRelations::compile(&[SYMMETRY, AXISYMMETRY], COEFFICIENTS),
+            relations: CompiledRelations::compile(&[SYMMETRY, AXISYMMETRY], &super::names(COEFFICIENTS)),
         }
     }
 
@@ -125,28 +128,79 @@ impl Spheroid6 {
 }
 
 impl Model for Spheroid6 {
-    fn name(&self) -> &'static str {
-        "spheroid6"
+    const NAME: &'static str = "spheroid6";
+    const DESCRIPTION: &'static str = "axisymmetric 6-DOF spheroid: heave and pitch mirror sway \
+        and yaw (Fossen 2011, ch. 6; added-mass Coriolis terms from the added-mass matrix, \
+        eq. 6.43)";
+    const COEFFICIENTS: &'static [CoefDef] = COEFFICIENTS;
+    const INPUTS: &'static [InputDef] = &[InputDef {
+        quantity: Quantity::Thrust,
+        rule: InputRule::Interpolate,
+    }];
+
+    const COMPLETING_RELATIONS: &'static [&'static [Relation]] = &[SYMMETRY, AXISYMMETRY];
+
+    fn build(v: &Vehicle) -> Result<Self, Vec<VehicleProblem>> {
+        let mut missing = Vec::new();
+        for (key, value) in [("ixx", v.ixx), ("iyy", v.iyy)] {
+            if value.is_none() {
+                missing.push(VehicleProblem {
+                    key: format!("vehicle.{key}"),
+                    message: format!("the spheroid6 model needs vehicle.{key} (kg m^2)"),
+                });
+            }
+        }
+        let (Some(ixx), Some(iyy)) = (v.ixx, v.iyy) else {
+            return Err(missing);
+        };
+        let weight = v.mass * G;
+        Ok(Spheroid6::new(
+            v.mass,
+            [ixx, iyy, v.izz],
+            v.buoyancy.unwrap_or(weight),
+            v.bg.unwrap_or(0.0),
+            v.spheroid_scales(),
+        ))
     }
 
     fn states(&self) -> &'static [StateDef] {
         STATES
     }
 
-    fn inputs(&self) -> &'static [Quantity] {
-        &[Quantity::Thrust]
-    }
-
-    fn coefficient_names(&self) -> &'static [&'static str] {
-        COEFFICIENTS
-    }
-
     fn relations(&self) -> &CompiledRelations {
         &self.relations
     }
 
+    fn compared(&self) -> &'static [Quantity] {
+        &[
+            Quantity::U,
+            Quantity::V,
+            Quantity::W,
+            Quantity::P,
+            Quantity::Q,
+            Quantity::R,
+            Quantity::Yaw,
+        ]
+    }
+
     fn typical_magnitude(&self, name: &str) -> f64 {
-        self.scales.of(name)
+        self.scales.of_name(name)
+    }
+
+    fn example_vehicle() -> Vehicle {
+        Vehicle::paper_spheroid()
+    }
+
+    fn example(&self) -> Example {
+        Example {
+            coefficients: super::spheroid3::BOUNDED_TRUTH,
+            // the paper's manoeuvre: with CG at CB the axisymmetric pitch plane is
+            // Munk-unstable, so the example stays in the horizontal plane
+            state: vec![3.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            inputs: vec![22.0],
+            estimated: &["Yvd", "Yrd", "Nrd", "Nvv", "Nrr", "Yrr"],
+            duration: 20.0,
+        }
     }
 
     fn derivatives<T: Scalar>(&self, x: &[T], u: &[f64], c: &[T], dx: &mut [T]) {

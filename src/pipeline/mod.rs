@@ -8,10 +8,9 @@ mod preflight;
 pub use inputs::{file_sha256, load_input, load_inputs, stage_inputs, InputsByStage, PlannedInput};
 pub use preflight::{available_coefficients, preflight};
 
-use crate::coefficients::{Coefficient, CoefficientSet, Source, AXISYMMETRY, SYMMETRY};
+use crate::coefficients::{Coefficient, CoefficientSet, Source, SYMMETRY};
 use crate::config::{Config, LoadedConfig};
 use crate::error::{Error, Result};
-use crate::models::{AddedMass, ModelSpec, Scales};
 use crate::progress::Progress;
 use crate::record::Record;
 use crate::resim::{resimulate, ResimMetrics, ResimTrace};
@@ -211,12 +210,10 @@ fn hekf_step(
     let fit = records(&inputs.hekf_fit);
     let validation = records(&inputs.hekf_validation);
     let for_filter = fixed_for_filter(known, analytic);
-    let added = added_mass(analytic);
     let stage_inputs = hekf::StageInputs {
         vehicle: &cfg.vehicle,
         fluid: &cfg.fluid,
         known: &for_filter,
-        analytic_added_mass: added,
         runs: &fit,
         base_dir: &loaded.base_dir,
     };
@@ -238,18 +235,14 @@ fn hekf_step(
     final_set.merge_stage(r.coefficients(), r.directions.clone());
     final_set.correlation = Some(r.correlation.clone());
     complete_for(&mut final_set, hc.model);
-    let spec = ModelSpec {
-        name: hc.model,
-        vehicle: &cfg.vehicle,
-        scales: Scales::for_vehicle(&cfg.vehicle, &cfg.fluid, added),
-    };
+    let vehicle = cfg.vehicle.for_model(&cfg.fluid);
     let mut resim = Resimulation::default();
     for (rec, used) in fit
         .iter()
         .map(|r| (r, true))
         .chain(validation.iter().map(|r| (r, false)))
     {
-        let (m, t) = resimulate(&spec, &final_set, rec, used)?;
+        let (m, t) = resimulate(hc.model, &vehicle, &final_set, rec, used)?;
         log.say(crate::resim::warnings(&m, rec));
         resim.metrics.push(m);
         resim.traces.push((rec.clone(), t));
@@ -289,18 +282,9 @@ fn complete_reported(known: &mut CoefficientSet, model: Option<ModelName>, log: 
     }
 }
 
+/// Completes a set by the relations the model declares (symmetry, axisymmetry).
 fn complete_for(set: &mut CoefficientSet, model: ModelName) {
-    set.complete(SYMMETRY);
-    if model == ModelName::Spheroid6 {
-        set.complete(AXISYMMETRY);
+    for relations in model.completing_relations() {
+        set.complete(relations);
     }
-}
-
-fn added_mass(analytic: &[Coefficient]) -> Option<AddedMass> {
-    let get = |n: &str| analytic.iter().find(|c| c.name == n).map(|c| c.value);
-    Some(AddedMass {
-        xud: get("Xud")?,
-        yvd: get("Yvd")?,
-        nrd: get("Nrd")?,
-    })
 }

@@ -1,8 +1,9 @@
 //! The comparison table (coefficient | hydroid +- sigma | analytic | reference | errors) as
 //! aligned text for the terminal and as Markdown for report.md.
 
-use crate::coefficients::{Source, CATALOG};
+use crate::coefficients::Source;
 use crate::markdown_text::markdown_table;
+use crate::models::registry::all_coefficients;
 use crate::numfmt::num;
 use crate::results::{ComparisonRow, RunResult};
 use std::io::{self, Write};
@@ -48,10 +49,10 @@ fn in_table_order(rows: &[ComparisonRow]) -> Vec<&ComparisonRow> {
             .unwrap_or(GROUPS.len())
     };
     let in_catalogue = |name: &str| {
-        CATALOG
+        all_coefficients()
             .iter()
             .position(|c| c.name == name)
-            .unwrap_or(CATALOG.len())
+            .unwrap_or(all_coefficients().len())
     };
     let mut rows: Vec<&ComparisonRow> = rows.iter().collect();
     rows.sort_by(|a, b| {

@@ -10,7 +10,7 @@ use crate::config::{
 };
 use crate::error::{Error, Result};
 use crate::formats::Format;
-use crate::models::{with_model, Model, ModelSpec, ModelVisitor, Scales};
+use crate::models::{with_model, Model, ModelVisitor};
 use crate::quantity::Quantity;
 use crate::stages::hekf::ModelName;
 use crate::units::{check_dim, Unit};
@@ -246,7 +246,7 @@ impl ModelVisitor for Signature {
     fn visit<M: Model>(self, model: &M) -> Self::Output {
         (
             model.states().iter().map(|s| s.quantity).collect(),
-            model.inputs().to_vec(),
+            model.input_quantities(),
         )
     }
 }
@@ -261,12 +261,16 @@ impl SimFile {
             p.known_coefficient(&key, name);
             p.coefficient_sized(&key, *v);
         }
-        let spec = ModelSpec {
-            name: self.model,
-            vehicle: &self.vehicle,
-            scales: Scales::for_vehicle(&self.vehicle, &self.fluid, None),
-        };
-        let (states, inputs) = with_model(&spec, Signature);
+        let (states, inputs) =
+            match with_model(self.model, &self.vehicle.for_model(&self.fluid), Signature) {
+                Ok(signature) => signature,
+                Err(problems) => {
+                    for vp in problems {
+                        p.add(&vp.key, vp.message);
+                    }
+                    return None;
+                }
+            };
         let produces = match self.manoeuvre.kind {
             Kind::TimeHistory => Produces {
                 all: std::iter::once(Quantity::Time)

@@ -2,6 +2,7 @@
 //! interpolated between samples and held beyond the ends; inputs given as steps, sampled.
 
 use crate::config::{InputSpec, Step};
+use crate::models::{InputDef, InputRule};
 use crate::quantity::Quantity;
 
 /// One input held between steps, at each of `times`: `start` until the first change, then
@@ -97,21 +98,24 @@ pub struct InputSeries {
 pub enum Input {
     /// The same value at all times (SI).
     Constant(f64),
-    /// Samples at the series' times (SI).
+    /// Samples at the series' times (SI), interpolated linearly between them.
     Series(Vec<f64>),
+    /// Samples at the series' times (SI), each held until the next.
+    Held(Vec<f64>),
 }
 
 impl InputSeries {
     /// The inputs `wanted` from a record: a column if the record has one, else its constant.
     /// Returns the first input it has neither for.
     pub fn from_record(
-        wanted: &[crate::quantity::Quantity],
+        wanted: &[InputDef],
         rec: &crate::record::Record,
     ) -> Result<Self, crate::quantity::Quantity> {
         let t = rec.time().map(<[f64]>::to_vec).unwrap_or_default();
         let mut inputs = Vec::new();
-        for q in wanted {
+        for InputDef { quantity: q, rule } in wanted {
             let input = match (rec.channel(*q), rec.constants.get(q)) {
+                (Some(v), _) if *rule == InputRule::Hold => Input::Held(v.to_vec()),
                 (Some(v), _) => Input::Series(v.to_vec()),
                 (None, Some(c)) => Input::Constant(*c),
                 (None, None) => return Err(*q),
@@ -150,6 +154,13 @@ impl InputSeries {
                         s[0]
                     } else {
                         s[i] + w * (s[i + 1] - s[i])
+                    }
+                }
+                Input::Held(s) => {
+                    if s.len() == 1 || w < 1.0 {
+                        s[i]
+                    } else {
+                        s[i + 1]
                     }
                 }
             };

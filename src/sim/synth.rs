@@ -6,7 +6,7 @@ use super::inputs::{changes_of, stepped, Input, InputSeries};
 use super::integrate::{complete_coefficients, simulate};
 use crate::coefficients::{Coefficient, CoefficientSet, Source};
 use crate::error::{Error, Result};
-use crate::models::{with_model, Model, ModelSpec, ModelVisitor, Scales};
+use crate::models::{with_model, InputRule, Model, ModelVisitor};
 use crate::quantity::Quantity;
 use rand::{rngs::StdRng, SeedableRng};
 use rand_distr::{Distribution, Normal};
@@ -22,14 +22,12 @@ pub fn synthesize(cfg: &SimConfig) -> Result<Columns> {
         set.insert(Coefficient::new(n, *v, None, Source::Config));
     }
     let mut cols = match &cfg.manoeuvre {
-        Manoeuvre::TimeHistory { .. } => {
-            let spec = ModelSpec {
-                name: cfg.model,
-                vehicle: &cfg.vehicle,
-                scales: Scales::for_vehicle(&cfg.vehicle, &cfg.fluid, None),
-            };
-            with_model(&spec, History { cfg, set: &set })?
-        }
+        Manoeuvre::TimeHistory { .. } => with_model(
+            cfg.model,
+            &cfg.vehicle.for_model(&cfg.fluid),
+            History { cfg, set: &set },
+        )
+        .map_err(Error::vehicle)??,
         Manoeuvre::PolarSweep {
             alpha_deg,
             speeds,
@@ -104,12 +102,12 @@ impl ModelVisitor for History<'_> {
             .keys()
             .chain(steps.iter().flat_map(|s| s.values.keys()))
         {
-            if !model.inputs().contains(q) {
+            if !model.input_quantities().contains(q) {
                 return Err(Error::Usage(format!(
                     "{q} is not an input of the {} model (inputs: {})",
                     model.name(),
                     model
-                        .inputs()
+                        .input_quantities()
                         .iter()
                         .map(|q| q.key())
                         .collect::<Vec<_>>()
@@ -121,17 +119,23 @@ impl ModelVisitor for History<'_> {
         let series: Vec<Input> = model
             .inputs()
             .iter()
-            .map(|q| {
+            .map(|def| {
+                let q = &def.quantity;
                 let start = inputs.get(q).map_or(0.0, |c| c.si);
-                Input::Series(stepped(start, &changes_of(steps, *q), &times))
+                let samples = stepped(start, &changes_of(steps, *q), &times);
+                match def.rule {
+                    InputRule::Interpolate => Input::Series(samples),
+                    InputRule::Hold => Input::Held(samples),
+                }
             })
             .collect();
         let input_series = InputSeries {
             t: times,
             inputs: series,
         };
-        // inputs are linear between samples, as the filter and re-simulation read them: a
-        // step at a sample time ramps over the interval before it
+        // inputs are read between samples by the model's rule, as the filter and
+        // re-simulation read them: an interpolated step at a sample time ramps over the
+        // interval before it
         let xs = simulate(model, &c, &x0, &input_series, &input_series.t, *substeps)
             .map_err(|e| Error::numerical("simulate", e.to_string()))?;
         let InputSeries {
@@ -143,9 +147,9 @@ impl ModelVisitor for History<'_> {
         for (i, s) in model.states().iter().enumerate() {
             cols.insert(s.quantity, xs.iter().map(|x| x[i]).collect());
         }
-        for (q, v) in model.inputs().iter().zip(series) {
-            if let Input::Series(v) = v {
-                cols.insert(*q, v);
+        for (def, v) in model.inputs().iter().zip(series) {
+            if let Input::Series(v) | Input::Held(v) = v {
+                cols.insert(def.quantity, v);
             }
         }
         Ok(cols)

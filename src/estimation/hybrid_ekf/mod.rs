@@ -368,7 +368,7 @@ mod tests {
             f[0] = -x[1];
             f[1] = -x[0];
         }
-        fn observe(&mut self, x: &[f64], y: &mut [f64], h: &mut [f64]) {
+        fn observe(&mut self, _t: f64, x: &[f64], y: &mut [f64], h: &mut [f64]) {
             y[0] = x[0];
             h[0] = 1.0;
             h[1] = 0.0;

@@ -32,7 +32,7 @@ impl HybridEkf {
             }
             return self.update_sequential(sys, t, r);
         }
-        sys.observe(&self.x, &mut w.yhat, &mut w.h);
+        sys.observe(t, &self.x, &mut w.yhat, &mut w.h);
         for k in 0..m {
             w.nu[k] = y[k] - w.yhat[k];
         }

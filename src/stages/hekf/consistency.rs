@@ -94,7 +94,7 @@ pub fn excursion_warning<M: Model>(
         .map(|x| {
             format!(
                 "{} at lines {}-{} (t = {}-{} s, up to {} sigma)",
-                model.states()[run.measured[x.measurement]].quantity,
+                model.output_quantities()[run.measured[x.measurement]],
                 line(x.first),
                 line(x.last),
                 sig3(run.times[x.first]),
@@ -136,7 +136,8 @@ pub fn gate_warning<M: Model>(model: &M, run: &RunData, rejected: &[Rejection]) 
     if rejected.is_empty() {
         return None;
     }
-    let name = |a: usize| model.states()[run.measured[a]].quantity;
+    let outputs = model.output_quantities();
+    let name = |a: usize| outputs[run.measured[a]];
     let mut at: Vec<String> = rejected
         .iter()
         .take(SHOWN)

@@ -163,39 +163,7 @@ pub fn check(
     ))
 }
 
-/// A memory size as written in the configuration: a number with B, kB, MB, GB, TB (powers
-/// of 1000) or KiB, MiB, GiB, TiB (powers of 1024), e.g. `"4 GB"`, `"512 MiB"`.
-pub fn parse_size(text: &str) -> Result<u64, String> {
-    let t = text.trim();
-    let split = t
-        .find(|c: char| !(c.is_ascii_digit() || c == '.'))
-        .unwrap_or(t.len());
-    let (num, unit) = t.split_at(split);
-    let factor: u64 = match unit.trim().to_ascii_lowercase().as_str() {
-        "b" => 1,
-        "kb" => 1_000,
-        "mb" => 1_000_000,
-        "gb" => 1_000_000_000,
-        "tb" => 1_000_000_000_000,
-        "kib" => 1 << 10,
-        "mib" => 1 << 20,
-        "gib" => 1 << 30,
-        "tib" => 1 << 40,
-        _ => {
-            return Err(format!(
-                "'{text}' is not a memory size: expected a number and a unit, e.g. \"4 GB\" \
-                 or \"512 MiB\" (B, kB, MB, GB, TB, KiB, MiB, GiB, TiB)"
-            ))
-        }
-    };
-    match num.parse::<f64>() {
-        Ok(v) if v > 0.0 && v.is_finite() => Ok((v * factor as f64).round() as u64),
-        _ => Err(format!(
-            "'{text}' is not a memory size: expected a positive number before the unit, \
-             e.g. \"4 GB\""
-        )),
-    }
-}
+pub use crate::config::hekf::parse_memory_size as parse_size;
 
 /// Bytes for people: "1.9 GB", "850 MB".
 pub fn size(bytes: u64) -> String {

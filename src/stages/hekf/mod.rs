@@ -1,7 +1,7 @@
 //! Hybrid EKF stage (paper section 4, eq. 9-19 and 22): coefficients appended to the state of
 //! a vehicle model and estimated from CFD motion histories, the rest held fixed.
 
-mod config;
+use crate::config::hekf as config;
 mod consistency;
 pub mod history;
 pub mod identify;
@@ -12,7 +12,8 @@ mod sensitivity;
 pub mod system;
 pub mod tuning;
 
-pub use config::{Checks, HekfConfig, ModelName, Outliers, Preset, Prior, DEFAULT_GATE};
+pub use crate::models::ModelName;
+pub use config::{Checks, HekfConfig, Outliers, Preset, Prior, DEFAULT_GATE};
 pub use history::History;
 mod plausibility;
 pub use result::{HekfResult, PassSummary, RunSummary, RunTraces};
@@ -20,7 +21,7 @@ pub use result::{HekfResult, PassSummary, RunSummary, RunTraces};
 use crate::coefficients::CoefficientSet;
 use crate::config::{FluidConfig, VehicleConfig};
 use crate::error::{Error, Result};
-use crate::models::{with_model, AddedMass, Model, ModelSpec, ModelVisitor, Scales};
+use crate::models::{with_model, Model, ModelVisitor};
 use crate::progress::Progress;
 use crate::quantity::Quantity;
 use crate::record::{Needs, Record};
@@ -30,29 +31,21 @@ use identify::{identify, IdentifyError};
 /// The stage's name in messages and warnings.
 pub(crate) const STAGE: &str = "hekf";
 
-/// Quantities the stage reads from a run: time, every state the model could measure, and its
-/// inputs. (The 6-DOF quantities are read when present, to warn when a 3-DOF model ignores
-/// out-of-plane motion.)
+/// Quantities the stage reads from a run: time, every motion quantity (the 6-DOF ones are
+/// read when present, to warn when a 3-DOF model ignores out-of-plane motion) and every
+/// model's inputs.
 pub fn needs(_cfg: &HekfConfig) -> Needs<'static> {
+    static OPTIONAL: std::sync::OnceLock<Vec<Quantity>> = std::sync::OnceLock::new();
+    let optional = OPTIONAL.get_or_init(|| {
+        Quantity::MOTION
+            .iter()
+            .chain(crate::models::registry::all_inputs())
+            .copied()
+            .collect()
+    });
     Needs {
         required: &[Quantity::Time],
-        optional: &[
-            Quantity::U,
-            Quantity::V,
-            Quantity::W,
-            Quantity::P,
-            Quantity::Q,
-            Quantity::R,
-            Quantity::X,
-            Quantity::Y,
-            Quantity::Z,
-            Quantity::Roll,
-            Quantity::Pitch,
-            Quantity::Yaw,
-            Quantity::Thrust,
-            Quantity::Rudder,
-            Quantity::Rpm,
-        ],
+        optional,
         min_rows: 10,
     }
 }
@@ -65,8 +58,6 @@ pub struct StageInputs<'a> {
     pub fluid: &'a FluidConfig,
     /// Coefficients known from earlier stages, the configuration and analytic estimates.
     pub known: &'a CoefficientSet,
-    /// Analytic added mass used to scale priors, when the geometry gives it.
-    pub analytic_added_mass: Option<AddedMass>,
     /// The identification runs.
     pub runs: &'a [Record],
     /// The configuration's folder: run files are reported relative to it.
@@ -79,19 +70,16 @@ pub fn run(
     inputs: &StageInputs,
     progress: &mut dyn Progress,
 ) -> Result<HekfResult> {
-    let spec = ModelSpec {
-        name: cfg.model,
-        vehicle: inputs.vehicle,
-        scales: Scales::for_vehicle(inputs.vehicle, inputs.fluid, inputs.analytic_added_mass),
-    };
     with_model(
-        &spec,
+        cfg.model,
+        &inputs.vehicle.for_model(inputs.fluid),
         Identify {
             cfg,
             inputs,
             progress,
         },
     )
+    .map_err(Error::vehicle)?
 }
 
 /// Problems the stage would meet, found before any stage runs: estimated coefficients the
@@ -120,8 +108,8 @@ pub fn preflight(
             .err()
             .unwrap_or_default();
             for r in self.runs {
-                for q in model.inputs() {
-                    if !r.has(*q) {
+                for q in model.input_quantities() {
+                    if !r.has(q) {
                         p.push(format!(
                             "run '{}' gives no {q}, which the {} model needs: map a {q} column \
                              or give `constants = {{ {q} = ... }}`",
@@ -148,19 +136,16 @@ pub fn preflight(
             p
         }
     }
-    let spec = ModelSpec {
-        name: cfg.model,
-        vehicle,
-        scales: Scales::for_vehicle(vehicle, fluid, None),
-    };
     with_model(
-        &spec,
+        cfg.model,
+        &vehicle.for_model(fluid),
         Pre {
             cfg,
             available,
             runs,
         },
     )
+    .unwrap_or_else(|problems| problems.into_iter().map(|p| p.message).collect())
 }
 
 struct Identify<'a> {

@@ -71,7 +71,7 @@ pub fn plan<M: Model>(
             (None, Some(s)) => (s, "paper preset"),
             (None, None) => (typical, "the coefficient's expected size"),
         };
-        let unit = crate::coefficients::info(n).map_or("", |c| c.unit);
+        let unit = crate::models::registry::coefficient(n).map_or("", |c| c.unit);
         notes.push(format!(
             "{n}: starts at {init} {unit}, prior sigma {} {unit} ({why})",
             sig(sigma)
@@ -164,7 +164,7 @@ pub fn run_data<M: Model>(
     let measured_q = measured_quantities(model, cfg, rec)?;
     let measured: Vec<usize> = measured_q
         .iter()
-        .map(|q| model.state_index(*q).expect("checked"))
+        .map(|q| model.output_index(*q).expect("checked"))
         .collect();
     let mut y = measurements(rec, &measured_q, times.len());
     let mut warnings = Vec::new();
@@ -178,7 +178,7 @@ pub fn run_data<M: Model>(
             ),
         )
     })?;
-    let (x0, p0) = initial_state(model.nx(), &measured, &y, &r, tuning);
+    let (x0, p0) = initial_state(model, &measured_q, &y, &r, tuning);
     warnings.extend(coverage_warnings(model, rec, &times, &measured_q));
     let summary = RunSummary {
         name: rec.name.clone(),
@@ -223,15 +223,22 @@ fn measured_quantities<M: Model>(
     cfg: &HekfConfig,
     rec: &Record,
 ) -> Result<Vec<Quantity>> {
-    let states = model.states();
+    // what the run measures: the model's outputs (its states unless it declares outputs)
+    let outputs = model.output_quantities();
+    let what = if model.outputs().is_empty() {
+        ("a state", "states")
+    } else {
+        ("an output", "outputs")
+    };
     let measured_q: Vec<Quantity> = match &cfg.measure {
         Some(list) => {
             for q in list {
-                if model.state_index(*q).is_none() {
+                if model.output_index(*q).is_none() {
                     return Err(run_error(
                         rec,
                         format!(
-                            "hekf.measure lists {q}, which is not a state of the {} model",
+                            "hekf.measure lists {q}, which is not {} of the {} model",
+                            what.0,
                             model.name()
                         ),
                     ));
@@ -245,9 +252,9 @@ fn measured_quantities<M: Model>(
             }
             list.clone()
         }
-        None => states
+        None => outputs
             .iter()
-            .map(|s| s.quantity)
+            .copied()
             .filter(|q| rec.channel(*q).is_some())
             .collect(),
     };
@@ -255,10 +262,11 @@ fn measured_quantities<M: Model>(
         return Err(run_error(
             rec,
             format!(
-                "none of the model's states ({}) is in the run",
-                states
+                "none of the model's {} ({}) is in the run",
+                what.1,
+                outputs
                     .iter()
-                    .map(|s| s.quantity.key())
+                    .map(|q| q.key())
                     .collect::<Vec<_>>()
                     .join(", ")
             ),
@@ -326,22 +334,26 @@ fn measurement_noise(
 
 /// The initial state and its covariance: the first measurement (that is not an outlier)
 /// with the measurement's variance where measured, zero with variance 1 elsewhere.
-fn initial_state(
-    nx: usize,
-    measured: &[usize],
+fn initial_state<M: Model>(
+    model: &M,
+    measured_q: &[Quantity],
     y: &[f64],
     r: &[f64],
     tuning: &Resolved,
 ) -> (Vec<f64>, Vec<f64>) {
-    let m = measured.len();
+    let nx = model.nx();
+    let m = measured_q.len();
     let k_len = y.len().checked_div(m).unwrap_or(0);
     let mut x0 = vec![0.0; nx];
     let mut p0 = vec![0.0; nx * nx];
     for i in 0..nx {
         p0[i * nx + i] = 1.0;
     }
-    for (a, &i) in measured.iter().enumerate() {
-        // the first sample that is not an outlier
+    for (a, q) in measured_q.iter().enumerate() {
+        // a state measured directly starts at its first sample that is not an outlier
+        let Some(i) = model.state_index(*q) else {
+            continue;
+        };
         x0[i] = (0..k_len)
             .map(|k| y[k * m + a])
             .find(|v| v.is_finite())
@@ -363,9 +375,7 @@ fn coverage_warnings<M: Model>(
     if let Some(w) = gap_warning(times, &rec.lines) {
         warnings.push(w.for_run(&rec.name));
     }
-    if model.nx() < 12 {
-        warnings.extend(out_of_plane_warnings(rec));
-    }
+    warnings.extend(out_of_plane_warnings(model, rec));
     let unmeasured: Vec<&str> = model
         .states()
         .iter()
@@ -468,8 +478,9 @@ fn gap_warning(times: &[f64], lines: &[usize]) -> Option<Warning> {
     ))
 }
 
-/// Warns when a 3-DOF model is fed a run with out-of-plane motion that is not small.
-fn out_of_plane_warnings(rec: &Record) -> Vec<Warning> {
+/// Warns when a model without out-of-plane states (a 3-DOF model) is fed a run with
+/// out-of-plane motion that is not small.
+fn out_of_plane_warnings<M: Model>(model: &M, rec: &Record) -> Vec<Warning> {
     let peak = |q: Quantity| {
         rec.channel(q)
             .map(|v| v.iter().fold(0.0f64, |a, x| a.max(x.abs())))
@@ -485,20 +496,24 @@ fn out_of_plane_warnings(rec: &Record) -> Vec<Warning> {
         (Quantity::Q, 2f64.to_radians(), "2 deg/s"),
         (Quantity::W, 0.05 * speed, "5 % of the speed"),
     ] {
+        if model.state_index(q).is_some() {
+            continue;
+        }
         if let Some(p) = peak(q) {
             if p > limit {
                 w.push(Warning::new(
                     STAGE,
                     format!(
-                        "{q} reaches {:.3} (more than {what}): the 3-DOF model ignores it",
+                        "{q} reaches {:.3} (more than {what}): the {} model ignores it",
                         if q.dim() == [0, 0, 0, 1] || q.dim() == [0, 0, -1, 1] {
                             p.to_degrees()
                         } else {
                             p
-                        }
+                        },
+                        model.name()
                     ),
-                    "the horizontal-plane coefficients absorb the out-of-plane coupling; \
-                     consider model = \"spheroid6\"",
+                    "the model's coefficients absorb the out-of-plane coupling; consider a \
+                     model with these states (`hydroid coefficients` lists the models)",
                 ));
             }
         }

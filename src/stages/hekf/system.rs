@@ -1,6 +1,8 @@
 //! A vehicle model with unknown coefficients appended to its state (paper eq. 22), as the
 //! filter's [`System`]: x* = [x, z] with z_j = beta_j / s_j (coefficients scaled to order one
-//! so that a 0.5 and a 25 are equally well conditioned), measurements a subset of the states.
+//! so that a 0.5 and a 25 are equally well conditioned), measurements a subset of the model's
+//! outputs: of its states when it declares no measurement function (then the filter updates
+//! one state at a time), else of y = h(x, u, c) with H from automatic differentiation.
 
 use crate::ad::{self, Dual, CHUNK};
 use crate::estimation::System;
@@ -17,7 +19,7 @@ pub struct ModelSystem<'a, M: Model> {
     /// Scale of each estimated coefficient.
     scale: &'a [f64],
     inputs: &'a InputSeries,
-    /// Indices of the measured states.
+    /// Indices of the measured outputs (states when the model declares no outputs).
     measured: &'a [usize],
     // work space
     u: Vec<f64>,
@@ -27,6 +29,7 @@ pub struct ModelSystem<'a, M: Model> {
     xd: Vec<Dual>,
     cd: Vec<Dual>,
     outd: Vec<Dual>,
+    yd: Vec<Dual>,
 }
 
 impl<'a, M: Model> ModelSystem<'a, M> {
@@ -55,7 +58,45 @@ impl<'a, M: Model> ModelSystem<'a, M> {
             xd: vec![ad::constant(0.0); nx],
             cd: vec![ad::constant(0.0); nc],
             outd: vec![ad::constant(0.0); nx],
+            yd: vec![ad::constant(0.0); model.outputs().len()],
         }
+    }
+
+    /// Chunked forward-mode AD over the augmented state (see crate::ad): for each chunk of
+    /// the Jacobian's columns `start..end`, seeds the duals and calls `eval`.
+    fn for_each_chunk(&mut self, x: &[f64], mut eval: impl FnMut(&mut Self, usize, usize)) {
+        let n = self.n();
+        let mut start = 0;
+        while start < n {
+            let end = (start + CHUNK).min(n);
+            self.seed_chunk(x, start, end);
+            eval(self, start, end);
+            start = end;
+        }
+    }
+
+    /// Seeds the dual states and coefficients for the derivatives along augmented states
+    /// `start..end` (one chunk of the Jacobian's columns).
+    fn seed_chunk(&mut self, x: &[f64], start: usize, end: usize) {
+        let nx = self.model.nx();
+        let seed = |i: usize, v: f64, d: f64| {
+            if (start..end).contains(&i) {
+                ad::seeded(v, i - start, d)
+            } else {
+                ad::constant(v)
+            }
+        };
+        for i in 0..nx {
+            self.xd[i] = seed(i, x[i], 1.0);
+        }
+        for (c, &b) in self.cd.iter_mut().zip(&self.base) {
+            *c = ad::constant(b);
+        }
+        for (j, &i) in self.est.iter().enumerate() {
+            // d beta / d z = scale
+            self.cd[i] = seed(nx + j, x[nx + j] * self.scale[j], self.scale[j]);
+        }
+        self.model.relations().apply(&mut self.cd);
     }
 
     /// The completed coefficient vector for augmented state `x` (recomputed only when the
@@ -96,54 +137,45 @@ impl<M: Model> System for ModelSystem<'_, M> {
     }
 
     fn jacobian(&mut self, t: f64, x: &[f64], dx: &mut [f64], f: &mut [f64]) {
-        let nx = self.model.nx();
         let n = self.n();
         self.inputs.at(t, &mut self.u);
-        // chunked forward-mode AD over the augmented state (see crate::ad)
-        let mut start = 0;
-        while start < n {
-            let end = (start + CHUNK).min(n);
-            let seed = |i: usize, v: f64, d: f64| {
-                if (start..end).contains(&i) {
-                    ad::seeded(v, i - start, d)
-                } else {
-                    ad::constant(v)
-                }
-            };
-            for i in 0..nx {
-                self.xd[i] = seed(i, x[i], 1.0);
-            }
-            for (c, &b) in self.cd.iter_mut().zip(&self.base) {
-                *c = ad::constant(b);
-            }
-            for (j, &i) in self.est.iter().enumerate() {
-                // d beta / d z = scale
-                self.cd[i] = seed(nx + j, x[nx + j] * self.scale[j], self.scale[j]);
-            }
-            self.model.relations().apply(&mut self.cd);
-            self.model
-                .derivatives(&self.xd, &self.u, &self.cd, &mut self.outd);
-            for (r, o) in self.outd.iter().enumerate() {
+        self.for_each_chunk(x, |s, start, end| {
+            s.model.derivatives(&s.xd, &s.u, &s.cd, &mut s.outd);
+            for (r, o) in s.outd.iter().enumerate() {
                 dx[r] = o.re;
                 for col in start..end {
                     f[r * n + col] = ad::derivative(o, col - start);
                 }
             }
-            start = end;
-        }
+        });
     }
 
-    fn observe(&mut self, x: &[f64], y: &mut [f64], h: &mut [f64]) {
+    fn observe(&mut self, t: f64, x: &[f64], y: &mut [f64], h: &mut [f64]) {
         let n = self.n();
         h.fill(0.0);
-        for (k, &i) in self.measured.iter().enumerate() {
-            y[k] = x[i];
-            h[k * n + i] = 1.0;
+        if self.model.outputs().is_empty() {
+            for (k, &i) in self.measured.iter().enumerate() {
+                y[k] = x[i];
+                h[k * n + i] = 1.0;
+            }
+            return;
         }
+        // y = h(x, u, c) and its Jacobian by chunked forward-mode AD, as the dynamics'
+        self.inputs.at(t, &mut self.u);
+        self.for_each_chunk(x, |s, start, end| {
+            s.model.measure(&s.xd, &s.u, &s.cd, &mut s.yd);
+            for (k, &o) in s.measured.iter().enumerate() {
+                let out = &s.yd[o];
+                y[k] = out.re;
+                for col in start..end {
+                    h[k * n + col] = ad::derivative(out, col - start);
+                }
+            }
+        });
     }
 
     fn selection(&self) -> Option<&[usize]> {
-        Some(self.measured)
+        self.model.outputs().is_empty().then_some(self.measured)
     }
 
     fn check(&mut self, x: &[f64]) -> Result<(), String> {
@@ -156,7 +188,146 @@ impl<M: Model> System for ModelSystem<'_, M> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::models::Spheroid3;
+    use crate::ad::Scalar;
+    use crate::coefficients::{CompiledRelations, Relation};
+    use crate::models::{
+        CoefDef, Example, InputDef, OutputDef, Spheroid3, StateDef, Vehicle, VehicleProblem,
+    };
+    use crate::quantity::Quantity;
+
+    /// A surge model whose log reads the speed with a calibration error that grows with the
+    /// distance run (y = u (1 + k x)) and whose position is measured: a measurement that is
+    /// not a selection of states.
+    struct LoggedSurge(CompiledRelations);
+
+    impl Model for LoggedSurge {
+        const NAME: &'static str = "logged_surge";
+        const DESCRIPTION: &'static str = "test model";
+        const COEFFICIENTS: &'static [CoefDef] = &[
+            CoefDef::prime("Xuu", "kg/m", "drag"),
+            CoefDef::prime("k", "1/m", "log calibration drift"),
+        ];
+        const INPUTS: &'static [InputDef] = &[];
+        const COMPLETING_RELATIONS: &'static [&'static [Relation]] = &[];
+
+        fn build(_: &Vehicle) -> Result<Self, Vec<VehicleProblem>> {
+            Ok(LoggedSurge(CompiledRelations::compile(&[], &[])))
+        }
+        fn states(&self) -> &'static [StateDef] {
+            &[
+                StateDef {
+                    name: "u",
+                    quantity: Quantity::U,
+                },
+                StateDef {
+                    name: "x",
+                    quantity: Quantity::X,
+                },
+            ]
+        }
+        fn outputs(&self) -> &'static [OutputDef] {
+            &[
+                OutputDef {
+                    name: "log",
+                    quantity: Quantity::U,
+                },
+                OutputDef {
+                    name: "x",
+                    quantity: Quantity::X,
+                },
+            ]
+        }
+        fn measure<T: Scalar>(&self, x: &[T], _u: &[f64], c: &[T], y: &mut [T]) {
+            y[0] = x[0] * (c[1] * x[1] + 1.0);
+            y[1] = x[1];
+        }
+        fn relations(&self) -> &CompiledRelations {
+            &self.0
+        }
+        fn compared(&self) -> &'static [Quantity] {
+            &[Quantity::U]
+        }
+        fn typical_magnitude(&self, _: &str) -> f64 {
+            1.0
+        }
+        fn derivatives<T: Scalar>(&self, x: &[T], _u: &[f64], c: &[T], dx: &mut [T]) {
+            dx[0] = c[0] * x[0] * x[0].abs() / 50.0;
+            dx[1] = x[0];
+        }
+        fn check(&self, _: &[f64], _: &[f64]) -> Result<(), String> {
+            Ok(())
+        }
+        fn example_vehicle() -> Vehicle {
+            Vehicle::paper_spheroid()
+        }
+        fn example(&self) -> Example {
+            Example {
+                coefficients: &[("Xuu", -1.3), ("k", 0.01)],
+                state: vec![2.0, 0.0],
+                inputs: vec![],
+                estimated: &["Xuu", "k"],
+                duration: 10.0,
+            }
+        }
+    }
+
+    #[test]
+    fn a_measurement_function_gives_its_values_and_ad_jacobian() {
+        let m = LoggedSurge::build(&Vehicle::paper_spheroid()).unwrap();
+        let inputs = InputSeries::constant(&[]);
+        let (est, scale, measured) = ([0, 1], [1.3, 0.01], [0, 1]);
+        let mut sys = ModelSystem::new(&m, vec![0.0; 2], &est, &scale, &inputs, &measured);
+        assert!(sys.selection().is_none(), "not a selection of states");
+        let x = [2.0, 15.0, -1.0, 1.0];
+        let (mut y, mut h) = ([0.0; 2], [0.0; 8]);
+        sys.observe(0.0, &x, &mut y, &mut h);
+        // y0 = u (1 + k x) with k = z1 * 0.01 = 0.01
+        assert!((y[0] - 2.0 * 1.15).abs() < 1e-12 && y[1] == 15.0);
+        let mut hf = [0.0; 8];
+        let mut scratch = [0.0; 8];
+        ad::jacobian_fd(
+            &x,
+            2,
+            |xs, out| sys.observe(0.0, xs, out, &mut scratch),
+            &mut hf,
+        );
+        for (a, b) in h.iter().zip(&hf) {
+            assert!((a - b).abs() < 1e-8, "{h:?} vs {hf:?}");
+        }
+        // dy0/dz1 = u x * 0.01
+        assert!((h[3] - 0.3).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_filter_identifies_through_a_measurement_function() {
+        use crate::estimation::HybridEkf;
+        let m = LoggedSurge::build(&Vehicle::paper_spheroid()).unwrap();
+        let truth = m.coefficient_vector(m.example().coefficients);
+        let inputs = InputSeries::constant(&[]);
+        let times: Vec<f64> = (0..2001).map(|k| k as f64 * 0.005).collect();
+        let xs = crate::sim::simulate(&m, &truth, &[2.0, 0.0], &inputs, &times, 1).unwrap();
+        let (est, scale, measured) = ([0, 1], [1.3, 0.01], [0, 1]);
+        let mut sys = ModelSystem::new(&m, vec![0.0; 2], &est, &scale, &inputs, &measured);
+        let x0 = vec![2.0, 0.0, 0.0, 0.0];
+        let mut p0 = vec![0.0; 16];
+        for (i, v) in [1e-6, 1e-6, 1.0, 1.0].iter().enumerate() {
+            p0[i * 4 + i] = *v;
+        }
+        let mut f = HybridEkf::new(4, 2, x0, p0, vec![0.0; 4], 0.005);
+        for (k, x) in xs.iter().enumerate() {
+            if k > 0 {
+                f.predict(&mut sys, times[k - 1], times[k], None).unwrap();
+            }
+            let y = m.output_values(x, &[], &truth);
+            f.update(&mut sys, times[k], &y, &[1e-8, 1e-8]).unwrap();
+        }
+        assert!(
+            (f.x[2] * 1.3 - -1.3).abs() < 1e-3 * 1.3,
+            "Xuu {}",
+            f.x[2] * 1.3
+        );
+        assert!((f.x[3] * 0.01 - 0.01).abs() < 1e-4, "k {}", f.x[3] * 0.01);
+    }
 
     #[test]
     fn augmented_jacobian_matches_finite_differences() {

@@ -10,7 +10,7 @@
 // crate::Error is large (its InputError variant); boxing it is a crate-wide choice.
 
 mod channel;
-mod config;
+use crate::config::polar as config;
 mod data;
 pub mod fit;
 mod mapping;

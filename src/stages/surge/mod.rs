@@ -18,7 +18,7 @@
 
 mod bins;
 mod checks;
-mod config;
+use crate::config::surge as config;
 mod estimate;
 mod naive;
 pub mod regress;

@@ -186,7 +186,7 @@ fn check_one<M: Model>(
     if !(significant && correction.abs() > RELATIVE * value.abs()) {
         return None;
     }
-    let q = model.inputs()[j];
+    let q = model.inputs()[j].quantity;
     let unit = q.si_symbol();
     Some(Finding {
         warning: Warning::new(

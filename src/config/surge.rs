@@ -1,6 +1,6 @@
 //! `[surge]` configuration.
 
-use crate::config::{si, yes, Config, InputSpec, Problems};
+use super::{si, yes, Config, InputSpec, Problems};
 use serde::{Deserialize, Serialize};
 
 /// `[surge]` configuration (see docs/stages.md for every key with an example).

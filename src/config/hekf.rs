@@ -1,29 +1,10 @@
 //! `[hekf]` configuration.
 
-use crate::config::{yes, Config, Constant, InputSpec, Problems};
+use super::{yes, Config, Constant, InputSpec, Problems};
+use crate::models::ModelName;
 use crate::quantity::Quantity;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
-
-/// Which vehicle model the filter identifies.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum ModelName {
-    /// Horizontal-plane spheroid (paper eq. 2): u, v, r, x, y, psi.
-    #[default]
-    Spheroid3,
-    /// Axisymmetric 6-DOF spheroid: heave and pitch mirror sway and yaw.
-    Spheroid6,
-}
-
-impl std::fmt::Display for ModelName {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            ModelName::Spheroid3 => "spheroid3",
-            ModelName::Spheroid6 => "spheroid6",
-        })
-    }
-}
 
 impl std::fmt::Display for Preset {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -173,14 +154,16 @@ pub const MAX_SUBSTEPS: u64 = 1000;
 impl HekfConfig {
     /// Adds every problem with this section to `p`.
     pub fn validate(&self, config: &Config, p: &mut Problems) {
-        if self.model == ModelName::Spheroid6 {
-            for (key, v) in [("ixx", config.vehicle.ixx), ("iyy", config.vehicle.iyy)] {
-                if v.is_none() {
-                    p.add(
-                        &format!("vehicle.{key}"),
-                        format!("the spheroid6 model needs vehicle.{key} (kg m^2)"),
-                    );
-                }
+        // the model says what it needs of the vehicle
+        struct Built;
+        impl crate::models::ModelVisitor for Built {
+            type Output = ();
+            fn visit<M: crate::models::Model>(self, _: &M) {}
+        }
+        let vehicle = config.vehicle.for_model(&config.fluid);
+        if let Err(problems) = crate::models::with_model(self.model, &vehicle, Built) {
+            for vp in problems {
+                p.add(&vp.key, vp.message);
             }
         }
         if self.estimate.is_empty() {
@@ -242,7 +225,7 @@ impl HekfConfig {
         if let Some(n) = self.decimate {
             p.within("hekf.decimate", n as f64, 1.0, 1e6);
         }
-        if let Some(Err(m)) = self.memory_limit.as_deref().map(super::memory::parse_size) {
+        if let Some(Err(m)) = self.memory_limit.as_deref().map(parse_memory_size) {
             p.add("hekf.memory_limit", m);
         }
         for (q, c) in &self.noise {
@@ -284,5 +267,39 @@ impl HekfConfig {
             .enumerate()
             .map(|(i, r)| (format!("hekf.validation[{i}]"), r));
         runs.chain(val).collect()
+    }
+}
+
+/// A memory size as written in the configuration: a number with B, kB, MB, GB, TB (powers
+/// of 1000) or KiB, MiB, GiB, TiB (powers of 1024), e.g. `"4 GB"`, `"512 MiB"`.
+pub fn parse_memory_size(text: &str) -> Result<u64, String> {
+    let t = text.trim();
+    let split = t
+        .find(|c: char| !(c.is_ascii_digit() || c == '.'))
+        .unwrap_or(t.len());
+    let (num, unit) = t.split_at(split);
+    let factor: u64 = match unit.trim().to_ascii_lowercase().as_str() {
+        "b" => 1,
+        "kb" => 1_000,
+        "mb" => 1_000_000,
+        "gb" => 1_000_000_000,
+        "tb" => 1_000_000_000_000,
+        "kib" => 1 << 10,
+        "mib" => 1 << 20,
+        "gib" => 1 << 30,
+        "tib" => 1 << 40,
+        _ => {
+            return Err(format!(
+                "'{text}' is not a memory size: expected a number and a unit, e.g. \"4 GB\" \
+                 or \"512 MiB\" (B, kB, MB, GB, TB, KiB, MiB, GiB, TiB)"
+            ))
+        }
+    };
+    match num.parse::<f64>() {
+        Ok(v) if v > 0.0 && v.is_finite() => Ok((v * factor as f64).round() as u64),
+        _ => Err(format!(
+            "'{text}' is not a memory size: expected a positive number before the unit, \
+             e.g. \"4 GB\""
+        )),
     }
 }

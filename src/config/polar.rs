@@ -1,6 +1,6 @@
 //! `[polar]` configuration: inputs, fitting range, weights and the switchable constraints.
 
-use crate::config::{yes, Config, InputSpec, Problems};
+use super::{yes, Config, InputSpec, Problems};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 

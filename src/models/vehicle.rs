@@ -1,0 +1,89 @@
+//! The vehicle data a model is built from: what the configuration's `[vehicle]` and `[fluid]`
+//! sections give, in SI units, already checked for plausibility; each model takes what it
+//! needs and says what it misses.
+
+use super::coefficient::{AddedMass, Scales};
+
+/// A vehicle and the water it moves in. All values SI.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Vehicle {
+    /// Mass, kg.
+    pub mass: f64,
+    /// Overall length, m.
+    pub length: f64,
+    /// Maximum diameter, m (a body of revolution).
+    pub diameter: Option<f64>,
+    /// Roll moment of inertia about the origin, kg m^2.
+    pub ixx: Option<f64>,
+    /// Pitch moment of inertia about the origin, kg m^2.
+    pub iyy: Option<f64>,
+    /// Yaw moment of inertia about the origin, kg m^2.
+    pub izz: f64,
+    /// Reference area of the force coefficients, m^2.
+    pub reference_area: f64,
+    /// Buoyancy, N (None: neutrally buoyant).
+    pub buoyancy: Option<f64>,
+    /// Distance of the centre of gravity below the centre of buoyancy, m.
+    pub bg: Option<f64>,
+    /// Water density, kg/m^3.
+    pub rho: f64,
+}
+
+/// A problem of the vehicle data for a model: the `vehicle.*` key and what is wrong.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct VehicleProblem {
+    /// The key (`vehicle.ixx`).
+    pub key: String,
+    /// What is wrong or missing.
+    pub message: String,
+}
+
+impl VehicleProblem {
+    /// A missing key the model `model` needs.
+    pub fn missing(model: &str, key: &str, what: &str) -> Self {
+        VehicleProblem {
+            key: format!("vehicle.{key}"),
+            message: format!("the {model} model needs {what}: give `{key}`"),
+        }
+    }
+}
+
+impl Vehicle {
+    /// The paper's 6:1 prolate spheroid in sea water (Rasekh & Mahdi 2020, Table 1: m = 50 kg,
+    /// L = 1.2 m, D = 0.2 m, Izz = 3.7 kg m^2, A_ref = pi D^2 / 4), with Ixx = 0.2 kg m^2 and
+    /// Iyy = Izz, neutrally buoyant with CG at CB.
+    pub fn paper_spheroid() -> Self {
+        Vehicle {
+            mass: 50.0,
+            length: 1.2,
+            diameter: Some(0.2),
+            ixx: Some(0.2),
+            iyy: Some(3.7),
+            izz: 3.7,
+            reference_area: std::f64::consts::PI * 0.01,
+            buoyancy: None,
+            bg: Some(0.0),
+            rho: 1025.0,
+        }
+    }
+
+    /// The prime-system scales of the vehicle: q = 0.5 rho A_ref, its length, and Lamb's
+    /// added masses when it is a prolate spheroid of the given diameter (Fossen 1994,
+    /// section 2.4.1).
+    pub fn spheroid_scales(&self) -> Scales {
+        let added = self.diameter.and_then(|d| {
+            let s =
+                crate::analytic::Spheroid::from_length_diameter(self.length, d, self.rho).ok()?;
+            Some(AddedMass {
+                xud: s.xud(),
+                yvd: s.yvd(),
+                nrd: s.nrd(),
+            })
+        });
+        Scales {
+            q: 0.5 * self.rho * self.reference_area,
+            length: self.length,
+            added,
+        }
+    }
+}
