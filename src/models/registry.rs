@@ -1,6 +1,6 @@
 //! The model registry: the `registry!` list in `src/models/mod.rs` names every model once
 //! (its module, its type); this module turns the list into [`ModelName`] (the configuration's
-//! `model = "..."`), [`with_model`] (build the named model for a vehicle and run generic code
+//! `model = "..."`), [`with_model`](super::with_model) (build the named model for a vehicle and run generic code
 //! with it) and the catalogue of every model's coefficients. `hydroid coefficients`, the
 //! conformance suite and every stage pick a new model up from here.
 
@@ -8,7 +8,7 @@ use super::{CoefDef, Model, ModelName};
 use crate::quantity::Quantity;
 use std::sync::OnceLock;
 
-/// Something to do with a model whose type is chosen at run time (see [`with_model`]).
+/// Something to do with a model whose type is chosen at run time (see [`with_model`](super::with_model)).
 pub trait ModelVisitor {
     /// What the visit returns.
     type Output;
@@ -17,7 +17,7 @@ pub trait ModelVisitor {
 }
 
 /// Declares the models: `Variant => module::Type` per model; declares each module and
-/// generates [`ModelName`] and [`with_model`].
+/// generates [`ModelName`] and [`with_model`](super::with_model).
 macro_rules! registry {
     ($($(#[$doc:meta])* $variant:ident => $module:ident :: $ty:ident),+ $(,)?) => {
         $(pub mod $module; pub use $module::$ty;)+

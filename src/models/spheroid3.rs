@@ -1,6 +1,6 @@
 //! The paper's horizontal-plane spheroid model (Rasekh & Mahdi 2020, eq. 2-4).
 //!
-//! States [u, v, r, x, y, psi]; input [thrust]. Origin at the centre of buoyancy, which is
+//! States `[u, v, r, x, y, psi]`; input `[thrust]`. Origin at the centre of buoyancy, which is
 //! also the centre of gravity (x_G = 0).
 
 use super::{

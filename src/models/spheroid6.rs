@@ -1,7 +1,7 @@
 //! Axisymmetric 6-DOF spheroid: heave and pitch mirror sway and yaw, Munk moments from the
 //! added-mass matrix, weight, buoyancy and BG restoring.
 //!
-//! States [u, v, w, p, q, r, x, y, z, phi, theta, psi]; input [thrust]. Origin at the centre
+//! States [u, v, w, p, q, r, x, y, z, phi, theta, psi]; input `[thrust]`. Origin at the centre
 //! of buoyancy, centre of gravity BG below it. Equations: M nu_dot + C_RB(nu) nu +
 //! C_A(nu) nu + g(eta) = tau_visc + tau_prop (Fossen 2011, eq. 7.190), eta_dot = J(eta) nu.
 //! In the horizontal plane (w = p = q = 0, phi = theta = 0) it reduces to the paper's eq. 2.

@@ -11,7 +11,7 @@ pub use inputs::{InputSummary, LoadedInput};
 use crate::coefficients::{Coefficient, CoefficientSet, Correlation};
 use crate::config::{Config, LoadedConfig, ReferenceConfig};
 use crate::record::Record;
-use crate::resim::{ResimMetrics, ResimTrace};
+pub use crate::resim::{ResimMetrics, ResimTrace};
 use crate::stages::hekf::HekfResult;
 use crate::stages::polar::PolarResult;
 use crate::stages::surge::SurgeResult;
