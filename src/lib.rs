@@ -22,6 +22,7 @@ pub mod linalg;
 pub mod lsq;
 pub mod models;
 pub mod numfmt;
+pub mod ode;
 pub mod output;
 pub mod pipeline;
 pub mod progress;
