@@ -108,7 +108,10 @@ mod tests {
     #[test]
     fn substeps_cover_the_interval_in_equal_steps() {
         let s: Vec<(f64, f64)> = substeps(1.0, 2.0, 4).collect();
-        assert_eq!(s, vec![(1.0, 0.25), (1.25, 0.25), (1.5, 0.25), (1.75, 0.25)]);
+        assert_eq!(
+            s,
+            vec![(1.0, 0.25), (1.25, 0.25), (1.5, 0.25), (1.75, 0.25)]
+        );
         assert_eq!(substeps(0.0, 1.0, 0).count(), 1);
     }
 
