@@ -74,20 +74,29 @@ impl Rk4 {
     {
         let nd = self.nd;
         debug_assert_eq!(x.len(), self.xt.len());
-        f(t, x, &mut self.k[0], true);
-        self.xt[nd..].copy_from_slice(&x[nd..]);
-        for (stage, c) in [(1, 0.5), (2, 0.5), (3, 1.0)] {
-            let (done, next) = self.k.split_at_mut(stage);
-            let prev = &done[stage - 1];
-            for i in 0..nd {
-                self.xt[i] = x[i] + c * h * prev[i];
-            }
-            f(t + c * h, &self.xt, &mut next[0], false);
+        let [k1, k2, k3, k4] = &mut self.k;
+        f(t, x, k1, true);
+        if nd < x.len() {
+            self.xt[nd..].copy_from_slice(&x[nd..]);
         }
-        let [k1, k2, k3, k4] = &self.k;
-        for i in 0..nd {
-            x[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+        // k2, k3, k4 at x + c h k_prev, c = 1/2, 1/2, 1
+        stage_state(&mut self.xt[..nd], &x[..nd], 0.5 * h, k1);
+        f(t + 0.5 * h, &self.xt, k2, false);
+        stage_state(&mut self.xt[..nd], &x[..nd], 0.5 * h, k2);
+        f(t + 0.5 * h, &self.xt, k3, false);
+        stage_state(&mut self.xt[..nd], &x[..nd], h, k3);
+        f(t + h, &self.xt, k4, false);
+        for ((((xi, a), b), c), d) in x[..nd].iter_mut().zip(&*k1).zip(&*k2).zip(&*k3).zip(&*k4) {
+            *xi += h / 6.0 * (a + 2.0 * b + 2.0 * c + d);
         }
+    }
+}
+
+/// The state at which a stage evaluates the derivative: xt = x + ch k.
+#[inline(always)]
+fn stage_state(xt: &mut [f64], x: &[f64], ch: f64, k: &[f64]) {
+    for ((o, xi), ki) in xt.iter_mut().zip(x).zip(k) {
+        *o = xi + ch * ki;
     }
 }
 
