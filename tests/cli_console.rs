@@ -179,6 +179,20 @@ fn fill_in(config: &std::path::Path) {
     std::fs::write(config, filled).unwrap();
 }
 
+/// `hydroid check config`, which must pass.
+#[track_caller]
+fn check_passes(config: &std::path::Path) -> std::process::Output {
+    let o = hydroid(&["check", config.to_str().unwrap()]);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}{}",
+        text(&o.stdout),
+        text(&o.stderr)
+    );
+    o
+}
+
 #[test]
 fn init_writes_a_template_check_accepts_once_filled_in() {
     let dir = tempfile::tempdir().unwrap();
@@ -208,14 +222,7 @@ fn init_writes_a_template_check_accepts_once_filled_in() {
     );
     assert_eq!(std::fs::read(&config).unwrap(), template);
     fill_in(&config);
-    let o = hydroid(&["check", config.to_str().unwrap()]);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}{}",
-        text(&o.stdout),
-        text(&o.stderr)
-    );
+    check_passes(&config);
 
     // the 6-DOF model with the filter alone: what no stage gives is asked for
     let config = dir.path().join("six.toml");
@@ -229,14 +236,7 @@ fn init_writes_a_template_check_accepts_once_filled_in() {
     ]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
     fill_in(&config);
-    let o = hydroid(&["check", config.to_str().unwrap()]);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}{}",
-        text(&o.stdout),
-        text(&o.stderr)
-    );
+    let o = check_passes(&config);
     assert!(text(&o.stdout).contains("spheroid6 model"));
 }
 

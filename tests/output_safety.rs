@@ -43,7 +43,7 @@ impl Example {
         c
     }
 
-    /// Runs hydroid in `cwd` (relative to proj/).
+    /// Runs hydroid in `cwd` (relative to proj/: `../elsewhere` is a folder beside it).
     fn hydroid_in(&self, cwd: &str, args: &[&str]) -> Output {
         let dir = self.proj().join(cwd);
         self.command(&dir, args).output().unwrap()
@@ -153,13 +153,10 @@ fn the_exports_folder_is_never_an_output() {
     // nor a folder holding an input, from another working folder
     std::fs::create_dir(ex.top().join("work")).unwrap();
     let before = ex.snapshot();
-    let o = ex
-        .command(
-            &ex.top().join("work"),
-            &["run", "../proj/configs/spheroid.toml", "--out", "../proj"],
-        )
-        .output()
-        .unwrap();
+    let o = ex.hydroid_in(
+        "../work",
+        &["run", "../proj/configs/spheroid.toml", "--out", "../proj"],
+    );
     refused(&ex, &before, &o, &["refusing", "it holds the input"]);
 }
 
@@ -563,13 +560,7 @@ fn rerun_works_from_any_folder_and_quotes_the_recorded_configuration() {
     let rerun_json = std::fs::read(out.join("rerun.json")).unwrap();
     // from another working folder, with a relative path to the output
     std::fs::create_dir(ex.top().join("elsewhere")).unwrap();
-    let o = ex
-        .command(
-            &ex.top().join("elsewhere"),
-            &["rerun", "../proj/results/deep/out"],
-        )
-        .output()
-        .unwrap();
+    let o = ex.hydroid_in("../elsewhere", &["rerun", "../proj/results/deep/out"]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
     assert_eq!(std::fs::read(out.join("results.json")).unwrap(), results);
     assert_eq!(std::fs::read(out.join("rerun.json")).unwrap(), rerun_json);
@@ -577,32 +568,23 @@ fn rerun_works_from_any_folder_and_quotes_the_recorded_configuration() {
     std::fs::create_dir(ex.top().join("elsewhere/mine")).unwrap();
     std::fs::write(ex.top().join("elsewhere/mine/notes.txt"), "mine").unwrap();
     let before = ex.snapshot();
-    let o = ex
-        .command(
-            &ex.top().join("elsewhere"),
-            &[
-                "rerun",
-                "../proj/results/deep/out",
-                "--out",
-                "mine",
-                "--force",
-            ],
-        )
-        .output()
-        .unwrap();
+    let o = ex.hydroid_in(
+        "../elsewhere",
+        &[
+            "rerun",
+            "../proj/results/deep/out",
+            "--out",
+            "mine",
+            "--force",
+        ],
+    );
     refused(&ex, &before, &o, &["hydroid did not write"]);
     // a problem in the recorded configuration is placed in it, at its own line
     let cfg = out.join("config.toml");
     let t = std::fs::read_to_string(&cfg).unwrap();
     let line = 1 + t.lines().position(|l| l.starts_with("mass = ")).unwrap();
     std::fs::write(&cfg, t.replacen("mass = 50.0", "mass = -50.0", 1)).unwrap();
-    let o = ex
-        .command(
-            &ex.top().join("elsewhere"),
-            &["rerun", "../proj/results/deep/out"],
-        )
-        .output()
-        .unwrap();
+    let o = ex.hydroid_in("../elsewhere", &["rerun", "../proj/results/deep/out"]);
     let e = text(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "{e}");
     assert!(
