@@ -54,6 +54,7 @@ pub(crate) mod lsq;
 pub mod markdown_text;
 pub mod models;
 pub mod numfmt;
+pub mod ode;
 pub mod output;
 pub mod pipeline;
 pub mod progress;

@@ -1,16 +1,10 @@
 //! Fossen's analytic added mass of a prolate spheroid (Lamb's k-factors), library and CLI.
 
+mod common;
+
+use common::{four_figures, named, ANALYTIC_PAPER_SPHEROID};
 use hydroid::analytic::Spheroid;
 use hydroid::coefficients::Source;
-use std::process::Command;
-
-fn four_figures(x: f64, expected: f64) {
-    let half_unit = 0.5 * 10f64.powf(expected.abs().log10().floor() - 3.0);
-    assert!(
-        (x - expected).abs() <= half_unit * (1.0 + 1e-9),
-        "{x} does not round to {expected}"
-    );
-}
 
 #[test]
 fn the_papers_spheroid() {
@@ -94,11 +88,9 @@ fn bad_geometry_is_an_error() {
     }
 }
 
+/// Exit code, stdout and stderr (both UTF-8) of `hydroid args`.
 fn hydroid(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_hydroid"))
-        .args(args)
-        .output()
-        .unwrap();
+    let out = common::hydroid(args);
     (
         out.status.code().unwrap_or(-1),
         String::from_utf8(out.stdout).unwrap(),
@@ -108,16 +100,7 @@ fn hydroid(args: &[&str]) -> (i32, String, String) {
 
 #[test]
 fn cli_prints_the_three_values() {
-    let (code, out, err) = hydroid(&[
-        "analytic",
-        "spheroid",
-        "--length",
-        "1.2",
-        "--diameter",
-        "0.2",
-        "--rho",
-        "1025",
-    ]);
+    let (code, out, err) = hydroid(&[&ANALYTIC_PAPER_SPHEROID[..], &["--rho", "1025"]].concat());
     assert_eq!(code, 0, "{err}");
     for line in [
         "Xud        -1.16396",
@@ -131,24 +114,11 @@ fn cli_prints_the_three_values() {
 
 #[test]
 fn cli_json() {
-    let (code, out, _) = hydroid(&[
-        "analytic",
-        "spheroid",
-        "--length",
-        "1.2",
-        "--diameter",
-        "0.2",
-        "--json",
-    ]);
+    let (code, out, _) = hydroid(&[&ANALYTIC_PAPER_SPHEROID[..], &["--json"]].concat());
     assert_eq!(code, 0);
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert_eq!(v["rho"], 1025.0);
-    let xud = v["coefficients"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|c| c["name"] == "Xud")
-        .unwrap();
+    let xud = named(&v["coefficients"], "Xud");
     assert!((xud["value"].as_f64().unwrap() + 1.1640).abs() < 5e-5);
     assert_eq!(xud["source"], "analytic");
     assert!((v["factors"]["k2"].as_f64().unwrap() - 0.917).abs() < 5e-4);

@@ -1,48 +1,24 @@
 //! The command line as a user meets it: the bundled example end to end, exit codes, every
 //! problem of a bad configuration listed with its place, reruns and comparisons.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
+
+use common::{
+    copy_example, hydroid, hydroid_in, json, named, root, run_example, text, ExampleRun,
+    ANALYTIC_PAPER_SPHEROID,
+};
+use std::path::PathBuf;
+use std::process::Command;
 use std::sync::OnceLock;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn hydroid(args: &[&str]) -> Output {
-    hydroid_in(&root(), args)
-}
-
-fn hydroid_in(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_hydroid"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("the hydroid binary runs")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
-
 /// One run of the bundled example into a temporary folder, shared by the tests that read it.
-fn example_run() -> &'static (tempfile::TempDir, Output) {
-    static RUN: OnceLock<(tempfile::TempDir, Output)> = OnceLock::new();
-    RUN.get_or_init(|| {
-        let dir = tempfile::tempdir().unwrap();
-        let out = dir.path().join("out");
-        let o = hydroid(&[
-            "run",
-            "configs/spheroid.toml",
-            "--out",
-            out.to_str().unwrap(),
-        ]);
-        (dir, o)
-    })
+fn example_run() -> &'static ExampleRun {
+    static RUN: OnceLock<ExampleRun> = OnceLock::new();
+    RUN.get_or_init(|| run_example(&[]))
 }
 
 fn example_out() -> PathBuf {
-    example_run().0.path().join("out")
+    example_run().out.clone()
 }
 
 #[test]
@@ -63,7 +39,7 @@ fn help_and_usage_errors() {
 
 #[test]
 fn bundled_example_runs_end_to_end() {
-    let (_, o) = example_run();
+    let o = &example_run().output;
     assert_eq!(o.status.code(), Some(0), "stderr: {}", text(&o.stderr));
     let stdout = text(&o.stdout);
     // the comparison table goes to stdout, progress to stderr
@@ -86,11 +62,9 @@ fn bundled_example_runs_end_to_end() {
             "{f}"
         );
     }
-    let r: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
+    let r = json(&out.join("results.json"));
     assert_eq!(r["schema"], "hydroid-results/2");
-    let coefs = r["coefficients"].as_array().unwrap();
-    let get = |n: &str| coefs.iter().find(|c| c["name"] == n).unwrap();
+    let get = |n: &str| named(&r["coefficients"], n);
     // every stage contributed, with a sigma
     for (n, src) in [
         ("Xuu", "polar"),
@@ -131,14 +105,8 @@ fn bundled_example_runs_end_to_end() {
 #[test]
 fn identical_inputs_give_byte_identical_results() {
     let first = example_out();
-    let dir = tempfile::tempdir().unwrap();
-    let second = dir.path().join("again");
-    let o = hydroid(&[
-        "run",
-        "configs/spheroid.toml",
-        "--out",
-        second.to_str().unwrap(),
-    ]);
+    let again = run_example(&[]);
+    let (second, o) = (&again.out, &again.output);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
     for f in ["results.json", "coefficients.csv"] {
         let a = std::fs::read(first.join(f)).unwrap();
@@ -361,18 +329,6 @@ fn effective_configuration_is_echoed() {
     assert!(c.contains("a_nonnegative = true"), "{c}");
 }
 
-fn copy_example(to: &Path) {
-    for d in ["configs", "cfd_exports"] {
-        std::fs::create_dir_all(to.join(d)).unwrap();
-        for e in std::fs::read_dir(root().join(d)).unwrap() {
-            let e = e.unwrap();
-            if e.file_type().unwrap().is_file() {
-                std::fs::copy(e.path(), to.join(d).join(e.file_name())).unwrap();
-            }
-        }
-    }
-}
-
 #[test]
 fn rerun_reproduces_and_refuses_changed_inputs() {
     let dir = tempfile::tempdir().unwrap();
@@ -413,16 +369,8 @@ fn rerun_reproduces_and_refuses_changed_inputs() {
 #[test]
 fn compare_prints_differences_between_two_runs() {
     let a = example_out();
-    let dir = tempfile::tempdir().unwrap();
-    let b = dir.path().join("b");
-    let o = hydroid(&[
-        "run",
-        "configs/spheroid.toml",
-        "--out",
-        b.to_str().unwrap(),
-        "--set",
-        "hekf.passes=1",
-    ]);
+    let one_pass = run_example(&["--set", "hekf.passes=1"]);
+    let (b, o) = (&one_pass.out, &one_pass.output);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
     let o = hydroid(&[
         "compare",
@@ -446,16 +394,8 @@ fn compare_prints_differences_between_two_runs() {
 #[test]
 fn closed_stdout_is_not_a_panic() {
     let mut child = Command::new(env!("CARGO_BIN_EXE_hydroid"))
-        .args([
-            "analytic",
-            "spheroid",
-            "--length",
-            "1.2",
-            "--diameter",
-            "0.2",
-            "--rho",
-            "1025",
-        ])
+        .args(ANALYTIC_PAPER_SPHEROID)
+        .args(["--rho", "1025"])
         .current_dir(root())
         .stdout(std::process::Stdio::piped())
         .stderr(std::process::Stdio::piped())
@@ -519,8 +459,7 @@ fn six_dof_export_round_trip_identifies_the_truth() {
         out.to_str().unwrap(),
     ]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
-    let r: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
+    let r = json(&out.join("results.json"));
     let hekf = &r["stages"]["hekf"];
     assert_eq!(hekf["model"], "spheroid6");
     assert_eq!(hekf["runs"][0]["measured"].as_array().unwrap().len(), 12);
@@ -530,12 +469,7 @@ fn six_dof_export_round_trip_identifies_the_truth() {
         ("Nvv", 10.0),
         ("Nrr", -5.0),
     ] {
-        let c = hekf["coefficients"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .find(|c| c["name"] == name)
-            .unwrap();
+        let c = named(&hekf["coefficients"], name);
         let v = c["value"].as_f64().unwrap();
         assert!(
             (v - truth).abs() < 0.01 * truth.abs(),

@@ -3,18 +3,12 @@
 
 mod common;
 
-use common::{hydroid, text};
+use common::{bundled_config_text, hydroid, named, run_example, text, ExampleRun};
 
 /// The bundled example without the HEKF (well under a second), into a temporary folder, with
 /// an input read in the earth frame so that the run has a warning.
-fn quick_run(extra: &[&str]) -> (tempfile::TempDir, std::process::Output) {
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("out");
+fn quick_run(extra: &[&str]) -> ExampleRun {
     let mut args = vec![
-        "run",
-        "configs/spheroid.toml",
-        "--out",
-        out.to_str().unwrap(),
         "--set",
         "hekf.enabled=false",
         "--set",
@@ -23,13 +17,13 @@ fn quick_run(extra: &[&str]) -> (tempfile::TempDir, std::process::Output) {
         "surge.runs[0].constants={yaw=0}",
     ];
     args.extend_from_slice(extra);
-    let o = hydroid(&args);
-    (dir, o)
+    run_example(&args)
 }
 
 #[test]
 fn quiet_prints_only_warnings_and_keeps_the_table() {
-    let (_dir, o) = quick_run(&["--quiet"]);
+    let run = quick_run(&["--quiet"]);
+    let o = &run.output;
     assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
     let stderr = text(&o.stderr);
     // warnings (each with its meaning) and nothing else
@@ -60,7 +54,7 @@ fn quiet_prints_only_warnings_and_keeps_the_table() {
         "{table}"
     );
     // the same run without --quiet says what each stage did
-    let (_dir, o) = quick_run(&[]);
+    let o = quick_run(&[]).output;
     assert!(text(&o.stderr).contains("polar: 7 coefficients"));
     // --quiet is global: it may come before the command, and excludes --verbose
     let o = hydroid(&["-q", "--verbose", "check", "configs/spheroid.toml"]);
@@ -70,17 +64,7 @@ fn quiet_prints_only_warnings_and_keeps_the_table() {
 #[test]
 fn filter_details_with_verbose() {
     // without --verbose: see run_json_prints_results_json_and_only_that
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("out");
-    let o = hydroid(&[
-        "run",
-        "configs/spheroid.toml",
-        "--out",
-        out.to_str().unwrap(),
-        "--set",
-        "hekf.passes=1",
-        "--verbose",
-    ]);
+    let o = run_example(&["--set", "hekf.passes=1", "--verbose"]).output;
     assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
     let verbose = text(&o.stderr);
     assert_eq!(verbose.matches("hekf prior: ").count(), 6, "{verbose}");
@@ -90,15 +74,8 @@ fn filter_details_with_verbose() {
 
 #[test]
 fn run_json_prints_results_json_and_only_that() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("out");
-    let o = hydroid(&[
-        "run",
-        "configs/spheroid.toml",
-        "--out",
-        out.to_str().unwrap(),
-        "--json",
-    ]);
+    let run = run_example(&["--json"]);
+    let (out, o) = (&run.out, &run.output);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("stdout is JSON");
     assert_eq!(v["schema"], "hydroid-results/2");
@@ -141,12 +118,7 @@ fn coefficients_lists_the_catalogue_and_one_model() {
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("stdout is JSON");
     assert_eq!(v["model"]["name"], "spheroid6");
     assert_eq!(v["model"]["states"].as_array().unwrap().len(), 12);
-    let kpp = v["coefficients"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|c| c["name"] == "Kpp")
-        .unwrap();
+    let kpp = named(&v["coefficients"], "Kpp");
     assert_eq!(kpp["unit"], "kg m^2");
     assert_eq!(kpp["given_by"][0]["source"], "hekf");
     let o = hydroid(&["coefficients", "--json"]);
@@ -210,6 +182,20 @@ fn fill_in(config: &std::path::Path) {
     std::fs::write(config, filled).unwrap();
 }
 
+/// `hydroid check config`, which must pass.
+#[track_caller]
+fn check_passes(config: &std::path::Path) -> std::process::Output {
+    let o = hydroid(&["check", config.to_str().unwrap()]);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}{}",
+        text(&o.stdout),
+        text(&o.stderr)
+    );
+    o
+}
+
 #[test]
 fn init_writes_a_template_check_accepts_once_filled_in() {
     let dir = tempfile::tempdir().unwrap();
@@ -239,14 +225,7 @@ fn init_writes_a_template_check_accepts_once_filled_in() {
     );
     assert_eq!(std::fs::read(&config).unwrap(), template);
     fill_in(&config);
-    let o = hydroid(&["check", config.to_str().unwrap()]);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}{}",
-        text(&o.stdout),
-        text(&o.stderr)
-    );
+    check_passes(&config);
 
     // the 6-DOF model with the filter alone: what no stage gives is asked for
     let config = dir.path().join("six.toml");
@@ -260,14 +239,7 @@ fn init_writes_a_template_check_accepts_once_filled_in() {
     ]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
     fill_in(&config);
-    let o = hydroid(&["check", config.to_str().unwrap()]);
-    assert_eq!(
-        o.status.code(),
-        Some(0),
-        "{}{}",
-        text(&o.stdout),
-        text(&o.stderr)
-    );
+    let o = check_passes(&config);
     assert!(text(&o.stdout).contains("spheroid6 model"));
 }
 
@@ -352,12 +324,11 @@ fn compare_json_gives_the_differences() {
     let o = hydroid(&["compare", &a, &b, "--json"]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("stdout is JSON");
-    let rows = v["coefficients"].as_array().unwrap();
-    let yvd = rows.iter().find(|r| r["name"] == "Yvd").unwrap();
+    let yvd = named(&v["coefficients"], "Yvd");
     assert_eq!(yvd["difference"], -0.5);
     assert_eq!(yvd["difference_in_sigma"], -1.0);
     assert_eq!(yvd["b"]["sigma"], 0.4);
-    let nvv = rows.iter().find(|r| r["name"] == "Nvv").unwrap();
+    let nvv = named(&v["coefficients"], "Nvv");
     assert!(nvv["b"].is_null() && nvv["difference"].is_null());
     // a failure keeps its exit code and leaves stdout empty
     let missing = dir.path().join("none.json");
@@ -371,11 +342,7 @@ fn compare_json_gives_the_differences() {
 /// The bundled configuration in a temporary folder, with its validation run's thrust given by
 /// `thrust` (TOML lines for its input table) instead of its thrust column.
 fn validation_thrust_as(thrust: &str) -> (tempfile::TempDir, std::path::PathBuf) {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let text = std::fs::read_to_string(root.join("configs/spheroid.toml")).unwrap();
-    let exports = root.join("cfd_exports").display().to_string() + "/";
-    let text = text
-        .replace("../cfd_exports/", &exports)
+    let text = bundled_config_text()
         .replace("thrust = \"Thrust Monitor: Force\"\n", "")
         .replace(
             "turn_validation.csv\"\n",

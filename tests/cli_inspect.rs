@@ -1,21 +1,19 @@
 //! `hydroid inspect` as a user runs it: text, JSON, --format, and a closed pipe.
 
+mod common;
+
+use common::{hydroid, named, root};
 use std::io::{BufRead, BufReader, Write};
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
 
 fn fixture(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/fixtures/formats")
-        .join(name)
+    root().join("tests/fixtures/formats").join(name)
 }
 
+/// Exit code, stdout and stderr (both UTF-8) of `hydroid inspect args`.
 fn inspect(args: &[&str]) -> (Option<i32>, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_hydroid"))
-        .arg("inspect")
-        .args(args)
-        .output()
-        .unwrap();
+    let out = hydroid(&[&["inspect"], args].concat());
     (
         out.status.code(),
         String::from_utf8(out.stdout).unwrap(),
@@ -89,12 +87,7 @@ fn json_report_of_sixdof_angles_in_si() {
     let (code, out, _) = inspect(&[f.to_str().unwrap(), "--json"]);
     assert_eq!(code, Some(0));
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
-    let yaw = v["columns"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|c| c["name"] == "yaw")
-        .unwrap();
+    let yaw = named(&v["columns"], "yaw");
     assert_eq!(yaw["unit"], "deg");
     assert_eq!(yaw["si_unit"], "rad");
     assert_eq!(yaw["quantity"], "yaw");

@@ -5,18 +5,16 @@
 //! Each file in tests/fixtures/configs/errors/ says what must be reported in `# expect:`
 //! lines at its top (`file:line: key: message`, or a fragment without a place).
 
+mod common;
+
+use common::{hydroid, root, text};
 use hydroid::error::Error;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 /// Fragments that belong to Rust, not to a message for a naval architect.
 const FORBIDDEN: &[&str] = &[
     "usize", "isize", "u32", "u64", "f64", "struct ", "Some(", "None", "untagged", "borrowed", "::",
 ];
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
 
 fn fixtures() -> PathBuf {
     PathBuf::from("tests/fixtures/configs/errors")
@@ -189,18 +187,6 @@ fn a_type_error_leaves_the_rest_checked() {
         assert!(got.contains(e), "expected\n  {e}\nin\n{got}");
     }
     assert_eq!(got.lines().count(), 6, "{got}");
-}
-
-fn hydroid(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_hydroid"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .expect("the hydroid binary runs")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
 }
 
 #[test]

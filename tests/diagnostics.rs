@@ -6,30 +6,14 @@
 //! Each test starts from a copy of the bundled example (configs/ and cfd_exports/) in a
 //! temporary folder and changes one thing, as a user would.
 
+mod common;
+
+use common::{example_copy, json, named, text};
 use serde_json::Value;
 use std::io::Read;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-/// A copy of the bundled example.
-fn example() -> tempfile::TempDir {
-    let dir = tempfile::tempdir().unwrap();
-    for d in ["configs", "cfd_exports"] {
-        std::fs::create_dir_all(dir.path().join(d)).unwrap();
-        for e in std::fs::read_dir(root().join(d)).unwrap() {
-            let e = e.unwrap();
-            if e.file_type().unwrap().is_file() {
-                std::fs::copy(e.path(), dir.path().join(d).join(e.file_name())).unwrap();
-            }
-        }
-    }
-    dir
-}
 
 /// `hydroid run configs/spheroid.toml --out out <extra>` in `dir` (figures off unless asked).
 fn run(dir: &Path, extra: &[&str]) -> Output {
@@ -74,11 +58,11 @@ fn run(dir: &Path, extra: &[&str]) -> Output {
 }
 
 fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
+    text(&o.stderr)
 }
 
 fn results(dir: &Path) -> Value {
-    serde_json::from_str(&std::fs::read_to_string(dir.join("out/results.json")).unwrap()).unwrap()
+    json(&dir.join("out/results.json"))
 }
 
 /// The results.json warnings whose message contains `fragment`.
@@ -94,12 +78,7 @@ fn warnings_with(r: &Value, fragment: &str) -> Vec<Value> {
 
 /// Value and sigma of a coefficient in results.json.
 fn coefficient(r: &Value, name: &str) -> (f64, f64) {
-    let c = r["coefficients"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|c| c["name"] == name)
-        .unwrap_or_else(|| panic!("{name} in the results"));
+    let c = named(&r["coefficients"], name);
     (c["value"].as_f64().unwrap(), c["sigma"].as_f64().unwrap())
 }
 
@@ -136,7 +115,7 @@ const V: usize = 5;
 fn clean_estimates() -> &'static Value {
     static R: std::sync::OnceLock<Value> = std::sync::OnceLock::new();
     R.get_or_init(|| {
-        let dir = example();
+        let dir = example_copy();
         let o = run(dir.path(), &[]);
         assert!(o.status.success(), "{}", stderr(&o));
         results(dir.path())
@@ -159,7 +138,7 @@ fn largest_shift(r: &Value) -> f64 {
 
 #[test]
 fn the_bundled_example_says_its_warnings_with_their_meaning() {
-    let dir = example();
+    let dir = example_copy();
     let o = run(dir.path(), &[]);
     assert!(o.status.success(), "{}", stderr(&o));
     let e = stderr(&o);
@@ -200,7 +179,7 @@ fn the_bundled_example_says_its_warnings_with_their_meaning() {
 
 #[test]
 fn a_wrong_constant_thrust_is_named_not_hidden() {
-    let dir = example();
+    let dir = example_copy();
     let o = run(
         dir.path(),
         &["--set", "hekf.runs[0].constants.thrust=\"30 N\""],
@@ -225,7 +204,7 @@ fn a_wrong_constant_thrust_is_named_not_hidden() {
 
 #[test]
 fn a_two_second_gap_is_crossed_in_regular_steps_and_reported() {
-    let dir = example();
+    let dir = example_copy();
     edit_rows(&dir.path().join(TURN), |_, c| {
         let t: f64 = c[0].trim().parse().unwrap();
         !(t > 8.0 && t <= 10.0)
@@ -245,7 +224,7 @@ fn a_two_second_gap_is_crossed_in_regular_steps_and_reported() {
 
 #[test]
 fn a_five_second_gap_does_not_end_the_run() {
-    let dir = example();
+    let dir = example_copy();
     edit_rows(&dir.path().join(TURN), |_, c| {
         let t: f64 = c[0].trim().parse().unwrap();
         !(t > 8.0 && t <= 13.0)
@@ -260,7 +239,7 @@ fn a_five_second_gap_does_not_end_the_run() {
 
 #[test]
 fn spike_cells_are_left_out_and_named_by_line() {
-    let dir = example();
+    let dir = example_copy();
     edit_rows(&dir.path().join(TURN), |row, c| {
         match row {
             0 => c[U] = "1e308".into(),
@@ -292,7 +271,7 @@ fn spike_cells_are_left_out_and_named_by_line() {
 /// Runs the example with `set` and expects the plausibility checks to stop it with a message
 /// containing `says`.
 fn stopped_before_filtering(set: &[&str], says: &str) {
-    let dir = example();
+    let dir = example_copy();
     let mut extra = Vec::new();
     for s in set {
         extra.extend(["--set", s]);
@@ -307,7 +286,7 @@ fn stopped_before_filtering(set: &[&str], says: &str) {
 
 #[test]
 fn earth_frame_velocities_under_a_body_label_are_named() {
-    let dir = example();
+    let dir = example_copy();
     // u and v replaced by dx/dt and dy/dt (the heading column is in degrees)
     edit_rows(&dir.path().join(TURN), |_, c| {
         let psi = c[3].trim().parse::<f64>().unwrap().to_radians();
@@ -333,7 +312,7 @@ fn earth_frame_velocities_under_a_body_label_are_named() {
 
 #[test]
 fn knots_under_a_metre_per_second_label_are_named() {
-    let dir = example();
+    let dir = example_copy();
     edit_rows(&dir.path().join(TURN), |_, c| {
         for k in [U, V] {
             c[k] = format!(
@@ -378,7 +357,7 @@ fn heading_units_and_signs_and_shared_columns_are_named() {
 
 #[test]
 fn checks_can_be_turned_into_warnings() {
-    let dir = example();
+    let dir = example_copy();
     let o = run(
         dir.path(),
         &[
@@ -400,7 +379,7 @@ fn checks_can_be_turned_into_warnings() {
 
 #[test]
 fn a_polar_in_radians_under_a_degree_label_is_named() {
-    let dir = example();
+    let dir = example_copy();
     edit_rows(&dir.path().join("cfd_exports/polar_sweep.csv"), |_, c| {
         c[0] = format!("{:.9}", c[0].trim().parse::<f64>().unwrap().to_radians());
         true

@@ -1,29 +1,10 @@
 //! Long runs and memory: `hekf.decimate`, the memory check before the filter starts, and
 //! (ignored, release build) the peak memory of a run of a million rows.
 
+mod common;
+
+use common::{bundled_config_text, hydroid, json, named, root, run_example, text};
 use hydroid::stages::hekf::memory::{self, Demand};
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn hydroid(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_hydroid"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .expect("the hydroid binary runs")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
-
-fn json(path: &Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
-}
 
 /// Rows of the bundled example's HEKF runs: the paper manoeuvre (fit), the validation turn.
 fn bundled_demand() -> Demand {
@@ -36,16 +17,8 @@ fn bundled_demand() -> Demand {
 
 #[test]
 fn decimation_uses_one_sample_in_n_and_says_so() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("out");
-    let o = hydroid(&[
-        "run",
-        "configs/spheroid.toml",
-        "--out",
-        out.to_str().unwrap(),
-        "--set",
-        "hekf.decimate=4",
-    ]);
+    let run = run_example(&["--set", "hekf.decimate=4"]);
+    let (out, o) = (&run.out, &run.output);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
     let r = json(&out.join("results.json"));
     let schema = json(&root().join("docs/results.schema.json"));
@@ -69,14 +42,7 @@ fn decimation_uses_one_sample_in_n_and_says_so() {
         "{run}"
     );
     // the estimates are still close to the full-rate run's (truth Yvd -23.626)
-    let yvd = h["coefficients"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|c| c["name"] == "Yvd")
-        .unwrap()["value"]
-        .as_f64()
-        .unwrap();
+    let yvd = named(&h["coefficients"], "Yvd")["value"].as_f64().unwrap();
     assert!((yvd + 23.6).abs() < 2.0, "Yvd {yvd}");
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(report.contains("one sample in 4 of each run used (hekf.decimate)"));
@@ -91,17 +57,9 @@ fn a_run_over_its_memory_limit_stops_before_the_filter_with_the_setting_that_fit
     // room for one sample in 3, not for one in 2
     let limit = d.bytes(3, true);
     assert!(d.bytes(2, true) > limit);
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("out");
     let set = format!("hekf.memory_limit={limit} B");
-    let o = hydroid(&[
-        "run",
-        "configs/spheroid.toml",
-        "--out",
-        out.to_str().unwrap(),
-        "--set",
-        &set,
-    ]);
+    let run = run_example(&["--set", &set]);
+    let (out, o) = (&run.out, &run.output);
     let err = text(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "a configuration error: {err}");
     assert!(err.contains("configs/spheroid.toml"), "{err}");
@@ -186,11 +144,8 @@ fn a_million_rows_run_in_under_2_gb() {
         csv.to_str().unwrap(),
     ]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
-    let exports = root().join("cfd_exports");
-    let cfg = std::fs::read_to_string(root().join("configs/spheroid.toml"))
-        .unwrap()
-        .replace("../cfd_exports/turn_paper.csv", csv.to_str().unwrap())
-        .replace("../cfd_exports/", &format!("{}/", exports.display()));
+    let exports = root().join("cfd_exports/turn_paper.csv");
+    let cfg = bundled_config_text().replace(exports.to_str().unwrap(), csv.to_str().unwrap());
     let cfg_path = dir.path().join("run.toml");
     std::fs::write(&cfg_path, cfg).unwrap();
 

@@ -2,18 +2,13 @@
 //! hydroid wrote (docs/outputs.md). Every case runs the binary in its own temporary copy of
 //! configs/ and cfd_exports/.
 
+mod common;
+
+use common::{copy_example, root, text};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::time::{Duration, Instant};
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
 
 /// A temporary copy of the bundled example: `proj/configs`, `proj/cfd_exports`, and a home
 /// folder `home/` outside it (HOME points there for every command).
@@ -24,16 +19,7 @@ struct Example {
 impl Example {
     fn new() -> Self {
         let tmp = tempfile::tempdir().unwrap();
-        let proj = tmp.path().join("proj");
-        for d in ["configs", "configs/simulate", "cfd_exports"] {
-            std::fs::create_dir_all(proj.join(d)).unwrap();
-            for e in std::fs::read_dir(root().join(d)).unwrap() {
-                let e = e.unwrap();
-                if e.file_type().unwrap().is_file() {
-                    std::fs::copy(e.path(), proj.join(d).join(e.file_name())).unwrap();
-                }
-            }
-        }
+        copy_example(&tmp.path().join("proj"));
         std::fs::create_dir(tmp.path().join("home")).unwrap();
         Example { tmp }
     }
@@ -57,7 +43,7 @@ impl Example {
         c
     }
 
-    /// Runs hydroid in `cwd` (relative to proj/).
+    /// Runs hydroid in `cwd` (relative to proj/: `../elsewhere` is a folder beside it).
     fn hydroid_in(&self, cwd: &str, args: &[&str]) -> Output {
         let dir = self.proj().join(cwd);
         self.command(&dir, args).output().unwrap()
@@ -167,13 +153,10 @@ fn the_exports_folder_is_never_an_output() {
     // nor a folder holding an input, from another working folder
     std::fs::create_dir(ex.top().join("work")).unwrap();
     let before = ex.snapshot();
-    let o = ex
-        .command(
-            &ex.top().join("work"),
-            &["run", "../proj/configs/spheroid.toml", "--out", "../proj"],
-        )
-        .output()
-        .unwrap();
+    let o = ex.hydroid_in(
+        "../work",
+        &["run", "../proj/configs/spheroid.toml", "--out", "../proj"],
+    );
     refused(&ex, &before, &o, &["refusing", "it holds the input"]);
 }
 
@@ -209,19 +192,26 @@ fn inputs_and_the_configuration_reached_through_links_are_protected() {
     }
 }
 
-#[test]
-fn an_output_a_killed_run_had_moved_aside_is_put_back() {
-    let ex = Example::new();
-    let p = ex.proj();
-    // killed between moving the old output aside and moving the new one in place
-    let stale = p.join(".out.partial-99999");
-    std::fs::create_dir_all(stale.join("old")).unwrap();
+/// The staging folder a run killed (pid 99999) left in `proj` for the output folder `out`:
+/// its marker and `inner/results.json` holding `results`.
+fn killed_run_staging(proj: &Path, inner: &str, results: &str) -> PathBuf {
+    let stale = proj.join(".out.partial-99999");
+    std::fs::create_dir_all(stale.join(inner)).unwrap();
     std::fs::write(
         stale.join(".hydroid-staging"),
         r#"{"format":"hydroid-staging/1","target":"out","pid":99999}"#,
     )
     .unwrap();
-    std::fs::write(stale.join("old/results.json"), "the old output").unwrap();
+    std::fs::write(stale.join(inner).join("results.json"), results).unwrap();
+    stale
+}
+
+#[test]
+fn an_output_a_killed_run_had_moved_aside_is_put_back() {
+    let ex = Example::new();
+    let p = ex.proj();
+    // killed between moving the old output aside and moving the new one in place
+    let stale = killed_run_staging(&p, "old", "the old output");
     // any later run into the same folder puts it back
     let o = run_ok(&ex, "", &["--out", "other"]);
     assert!(text(&o.stderr).contains("put back"), "{}", text(&o.stderr));
@@ -541,14 +531,7 @@ fn abandoned_staging_folders_are_swept_only_when_they_are_hydroids() {
     let ex = Example::new();
     let p = ex.proj();
     // what a killed run leaves: the staging marker, its lock free
-    let stale = p.join(".out.partial-99999");
-    std::fs::create_dir_all(stale.join("out")).unwrap();
-    std::fs::write(
-        stale.join(".hydroid-staging"),
-        r#"{"format":"hydroid-staging/1","target":"out","pid":99999}"#,
-    )
-    .unwrap();
-    std::fs::write(stale.join("out/results.json"), "{}").unwrap();
+    let stale = killed_run_staging(&p, "out", "{}");
     // a folder that only looks like one
     let lookalike = p.join(".out.partial-99998");
     std::fs::create_dir(&lookalike).unwrap();
@@ -577,13 +560,7 @@ fn rerun_works_from_any_folder_and_quotes_the_recorded_configuration() {
     let rerun_json = std::fs::read(out.join("rerun.json")).unwrap();
     // from another working folder, with a relative path to the output
     std::fs::create_dir(ex.top().join("elsewhere")).unwrap();
-    let o = ex
-        .command(
-            &ex.top().join("elsewhere"),
-            &["rerun", "../proj/results/deep/out"],
-        )
-        .output()
-        .unwrap();
+    let o = ex.hydroid_in("../elsewhere", &["rerun", "../proj/results/deep/out"]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
     assert_eq!(std::fs::read(out.join("results.json")).unwrap(), results);
     assert_eq!(std::fs::read(out.join("rerun.json")).unwrap(), rerun_json);
@@ -591,32 +568,23 @@ fn rerun_works_from_any_folder_and_quotes_the_recorded_configuration() {
     std::fs::create_dir(ex.top().join("elsewhere/mine")).unwrap();
     std::fs::write(ex.top().join("elsewhere/mine/notes.txt"), "mine").unwrap();
     let before = ex.snapshot();
-    let o = ex
-        .command(
-            &ex.top().join("elsewhere"),
-            &[
-                "rerun",
-                "../proj/results/deep/out",
-                "--out",
-                "mine",
-                "--force",
-            ],
-        )
-        .output()
-        .unwrap();
+    let o = ex.hydroid_in(
+        "../elsewhere",
+        &[
+            "rerun",
+            "../proj/results/deep/out",
+            "--out",
+            "mine",
+            "--force",
+        ],
+    );
     refused(&ex, &before, &o, &["hydroid did not write"]);
     // a problem in the recorded configuration is placed in it, at its own line
     let cfg = out.join("config.toml");
     let t = std::fs::read_to_string(&cfg).unwrap();
     let line = 1 + t.lines().position(|l| l.starts_with("mass = ")).unwrap();
     std::fs::write(&cfg, t.replacen("mass = 50.0", "mass = -50.0", 1)).unwrap();
-    let o = ex
-        .command(
-            &ex.top().join("elsewhere"),
-            &["rerun", "../proj/results/deep/out"],
-        )
-        .output()
-        .unwrap();
+    let o = ex.hydroid_in("../elsewhere", &["rerun", "../proj/results/deep/out"]);
     let e = text(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "{e}");
     assert!(

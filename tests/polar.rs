@@ -2,7 +2,7 @@
 
 mod common;
 
-use common::{fluid, record, vehicle};
+use common::{fluid, four_figures, record, vehicle};
 use hydroid::config::{Config, Problems};
 use hydroid::quantity::Quantity;
 use hydroid::record::Record;
@@ -60,15 +60,6 @@ fn coef(r: &PolarResult, name: &str) -> (f64, Option<f64>) {
         .find(|c| c.name == name)
         .unwrap();
     (c.value, c.sigma)
-}
-
-/// `x` rounds to `expected` at four significant figures.
-fn four_figures(x: f64, expected: f64) {
-    let half_unit = 0.5 * 10f64.powf(expected.abs().log10().floor() - 3.0);
-    assert!(
-        (x - expected).abs() <= half_unit * (1.0 + 1e-9),
-        "{x} does not round to {expected}"
-    );
 }
 
 #[test]

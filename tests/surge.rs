@@ -278,16 +278,20 @@ fn thrust_as_a_column_and_a_time_window() {
     assert_eq!(r.n_samples, 1151);
 }
 
+/// The axial fluid force of the true model, Xuu u|u| + Xud u_dot, at each sample.
+fn fluid_force(u: &[f64], ud: &[f64]) -> Vec<f64> {
+    u.iter()
+        .zip(ud)
+        .map(|(u, a)| XUU * u * u.abs() + XUD * a)
+        .collect()
+}
+
 #[test]
 fn force_column_gives_xuu_and_xud_without_mass_or_thrust() {
     // A CFD code exports the axial fluid force F = Xuu u|u| + Xud u_dot (pressure and
     // viscous, including the fluid's inertial reaction).
     let (t, u, ud) = simulate(0.5, THRUST, 20.0);
-    let f: Vec<f64> = u
-        .iter()
-        .zip(&ud)
-        .map(|(u, a)| XUU * u * u.abs() + XUD * a)
-        .collect();
+    let f = fluid_force(&u, &ud);
     let rec = record(
         "cfd",
         &[
@@ -324,11 +328,7 @@ fn force_column_gives_xuu_and_xud_without_mass_or_thrust() {
 #[test]
 fn a_force_export_with_the_wrong_sign_is_flagged() {
     let (t, u, ud) = simulate(0.5, THRUST, 20.0);
-    let f: Vec<f64> = u
-        .iter()
-        .zip(&ud)
-        .map(|(u, a)| -(XUU * u * u.abs() + XUD * a))
-        .collect();
+    let f: Vec<f64> = fluid_force(&u, &ud).iter().map(|f| -f).collect();
     let rec = record(
         "cfd",
         &[(Quantity::Time, t), (Quantity::U, u), (Quantity::Fx, f)],
@@ -405,11 +405,7 @@ fn xud_standard_errors_are_calibrated() {
     // In the whole-integral fit the noise of u is also in the integral of u|u|, which the
     // stage's sigma accounts for (plain least squares would give about 2.7 here).
     let (t, u, ud) = simulate(0.5, THRUST, 20.0);
-    let f: Vec<f64> = u
-        .iter()
-        .zip(&ud)
-        .map(|(u, a)| XUU * u * u.abs() + XUD * a)
-        .collect();
+    let f = fluid_force(&u, &ud);
     let n = 150;
     let (mut z2_coef, mut z2_force) = (0.0, 0.0);
     for seed in 0..n {

@@ -1,8 +1,10 @@
-//! Fixed-step classical RK4 integration of a model (Butcher 2008, section 32).
+//! Fixed-step classical RK4 integration of a model (Butcher 2008, section 32; the stepper is
+//! [`crate::ode::Rk4`], shared with the hybrid EKF).
 
 use super::InputSeries;
 use crate::coefficients::CoefficientSet;
 use crate::models::Model;
+use crate::ode::{self, Rk4};
 use std::fmt;
 
 /// A simulation that could not continue.
@@ -22,20 +24,6 @@ impl fmt::Display for SimError {
             self.time, self.reason
         )
     }
-}
-
-/// Most RK4 steps one sample interval may take: a longer gap than `MAX_STEPS_PER_INTERVAL`
-/// times the step size is not integrated but reported (it would take hours, and no filter
-/// or simulation result across it would mean anything).
-pub const MAX_STEPS_PER_INTERVAL: usize = 1_000_000;
-
-/// RK4 steps for an interval `dt` so that no step exceeds `max_step`: ceil(dt / max_step),
-/// at least 1. A part per billion of slack keeps an interval equal to the step (up to
-/// rounding of the time stamps) at one step. None when the interval needs more than
-/// [`MAX_STEPS_PER_INTERVAL`] steps.
-pub fn steps_for(dt: f64, max_step: f64) -> Option<usize> {
-    let n = (dt / max_step - 1e-9).ceil().max(1.0);
-    (n <= MAX_STEPS_PER_INTERVAL as f64).then_some(n as usize)
 }
 
 /// The model's coefficient vector from a coefficient set, with the model's relations applied.
@@ -75,9 +63,7 @@ pub fn simulate<M: Model>(
     let mut out = Vec::with_capacity(times.len());
     let mut x = x0.to_vec();
     let mut u = vec![0.0; inputs.len()];
-    let mut k = [vec![0.0; nx], vec![0.0; nx], vec![0.0; nx], vec![0.0; nx]];
-    let mut xt = vec![0.0; nx];
-    let substeps = substeps.max(1);
+    let mut rk4 = Rk4::new(nx, nx);
     if let Some(&t0) = times.first() {
         model
             .check(&x, coefficients)
@@ -85,21 +71,11 @@ pub fn simulate<M: Model>(
         out.push(x.clone());
     }
     for w in times.windows(2) {
-        let h = (w[1] - w[0]) / substeps as f64;
-        for s in 0..substeps {
-            let t = w[0] + h * s as f64;
-            inputs.at(t, &mut u);
-            model.derivatives(&x, &u, coefficients, &mut k[0]);
-            for (stage, c) in [(1usize, 0.5), (2, 0.5), (3, 1.0)] {
-                for i in 0..nx {
-                    xt[i] = x[i] + c * h * k[stage - 1][i];
-                }
-                inputs.at(t + c * h, &mut u);
-                model.derivatives(&xt, &u, coefficients, &mut k[stage]);
-            }
-            for i in 0..nx {
-                x[i] += h / 6.0 * (k[0][i] + 2.0 * k[1][i] + 2.0 * k[2][i] + k[3][i]);
-            }
+        for (t, h) in ode::substeps(w[0], w[1], substeps) {
+            rk4.step(t, h, &mut x, |t, x, dx, _| {
+                inputs.at(t, &mut u);
+                model.derivatives(x, &u, coefficients, dx);
+            });
         }
         model
             .check(&x, coefficients)

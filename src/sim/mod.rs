@@ -8,7 +8,9 @@ pub mod integrate;
 pub mod synth;
 
 pub use inputs::InputSeries;
-pub use integrate::{complete_coefficients, simulate, steps_for, SimError, MAX_STEPS_PER_INTERVAL};
+pub use integrate::{complete_coefficients, simulate, SimError};
+// the step-count rule lives with the stepper; re-exported for the callers that read it here
+pub use crate::ode::{steps_for, MAX_STEPS_PER_INTERVAL};
 
 use crate::error::Result;
 use crate::output::{write_export, Replace};

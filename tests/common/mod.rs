@@ -1,4 +1,6 @@
-//! Helpers shared by the integration tests: in-memory records and the paper's vehicle.
+//! Helpers shared by the integration tests: in-memory records and the paper's vehicle; the
+//! `hydroid` binary run from the repository or a folder, its output as text or JSON; the
+//! bundled example copied into a temporary folder or run into one.
 #![allow(dead_code)]
 
 use hydroid::config::{FluidConfig, VehicleConfig};
@@ -6,7 +8,8 @@ use hydroid::formats::Format;
 use hydroid::quantity::Quantity;
 use hydroid::record::Record;
 use std::collections::BTreeMap;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
 
 /// A record named `name` with the given channels and constants (SI).
 pub fn record(
@@ -54,9 +57,24 @@ pub fn fluid() -> FluidConfig {
     }
 }
 
+/// `x` rounds to `expected` at four significant figures (the paper's tables).
+#[track_caller]
+pub fn four_figures(x: f64, expected: f64) {
+    let half_unit = 0.5 * 10f64.powf(expected.abs().log10().floor() - 3.0);
+    assert!(
+        (x - expected).abs() <= half_unit * (1.0 + 1e-9),
+        "{x} does not round to {expected}"
+    );
+}
+
+/// The repository's root: the bundled example's configs/ and cfd_exports/ are there.
+pub fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
 /// Runs the `hydroid` binary in `dir` with `args`.
-pub fn hydroid_in(dir: &std::path::Path, args: &[&str]) -> std::process::Output {
-    std::process::Command::new(env!("CARGO_BIN_EXE_hydroid"))
+pub fn hydroid_in(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_hydroid"))
         .args(args)
         .current_dir(dir)
         .output()
@@ -64,11 +82,94 @@ pub fn hydroid_in(dir: &std::path::Path, args: &[&str]) -> std::process::Output 
 }
 
 /// Runs the `hydroid` binary in the repository's root with `args`.
-pub fn hydroid(args: &[&str]) -> std::process::Output {
-    hydroid_in(std::path::Path::new(env!("CARGO_MANIFEST_DIR")), args)
+pub fn hydroid(args: &[&str]) -> Output {
+    hydroid_in(&root(), args)
 }
 
 /// Bytes a command printed, as text.
 pub fn text(b: &[u8]) -> String {
     String::from_utf8_lossy(b).into_owned()
+}
+
+/// A JSON file (results.json, the schema ...), parsed.
+pub fn json(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// `hydroid analytic` for the paper's spheroid (1.2 m long, 0.2 m in diameter); a test adds
+/// `--rho`, `--json` ...
+pub const ANALYTIC_PAPER_SPHEROID: [&str; 6] = [
+    "analytic",
+    "spheroid",
+    "--length",
+    "1.2",
+    "--diameter",
+    "0.2",
+];
+
+/// The entry named `name` of a JSON array (the coefficients of results.json, the columns of
+/// `hydroid inspect --json` ...); a test failure naming it when there is none.
+pub fn named<'a>(list: &'a serde_json::Value, name: &str) -> &'a serde_json::Value {
+    list.as_array()
+        .unwrap_or_else(|| panic!("a list, looking for {name}: {list}"))
+        .iter()
+        .find(|e| e["name"] == name)
+        .unwrap_or_else(|| panic!("{name} in the list"))
+}
+
+/// Copies the bundled example (the files of configs/, configs/simulate/ and cfd_exports/)
+/// into the same folders under `to`, so that a test can change it or run it from elsewhere.
+pub fn copy_example(to: &Path) {
+    for d in ["configs", "configs/simulate", "cfd_exports"] {
+        std::fs::create_dir_all(to.join(d)).unwrap();
+        for e in std::fs::read_dir(root().join(d)).unwrap() {
+            let e = e.unwrap();
+            if e.file_type().unwrap().is_file() {
+                std::fs::copy(e.path(), to.join(d).join(e.file_name())).unwrap();
+            }
+        }
+    }
+}
+
+/// A copy of the bundled example in a new temporary folder.
+pub fn example_copy() -> tempfile::TempDir {
+    let dir = tempfile::tempdir().unwrap();
+    copy_example(dir.path());
+    dir
+}
+
+/// The bundled configuration (configs/spheroid.toml) with its exports' paths made absolute,
+/// so that a test can change it and write it anywhere.
+pub fn bundled_config_text() -> String {
+    let exports = root().join("cfd_exports").display().to_string() + "/";
+    std::fs::read_to_string(root().join("configs/spheroid.toml"))
+        .unwrap()
+        .replace("../cfd_exports/", &exports)
+}
+
+/// A run of the bundled example into a temporary folder: its output folder and what the
+/// command printed.
+pub struct ExampleRun {
+    /// The temporary folder (removed when dropped).
+    pub dir: tempfile::TempDir,
+    /// The output folder, `dir/out` (absent when the run wrote nothing).
+    pub out: PathBuf,
+    /// Exit status, stdout and stderr.
+    pub output: Output,
+}
+
+/// `hydroid run configs/spheroid.toml --out <temporary folder>/out <extra>` from the
+/// repository's root.
+pub fn run_example(extra: &[&str]) -> ExampleRun {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let mut args = vec![
+        "run",
+        "configs/spheroid.toml",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    let output = hydroid(&args);
+    ExampleRun { dir, out, output }
 }

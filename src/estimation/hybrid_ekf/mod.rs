@@ -1,7 +1,9 @@
 //! Hybrid (continuous-discrete) extended Kalman filter (paper eq. 9-19; Simon 2006,
 //! section 13.2.3).
 //!
-//! Between samples the state follows x_dot = f(x) with classical RK4. The covariance follows
+//! Between samples the state follows x_dot = f(x) with classical RK4 ([`crate::ode::Rk4`],
+//! the stepper the simulation uses; Butcher 2008, section 32), in steps no longer than
+//! [`HybridEkf::max_step`] ([`crate::ode::steps_for`]). The covariance follows
 //! P_dot = F P + P F^T + Q (paper eq. 15) with F = df/dx frozen at the start of each
 //! sub-step; it is integrated as P <- Phi P Phi^T + Q_d, where Phi is the RK4 propagator of
 //! x_dot = F x (I + hF + (hF)^2/2 + (hF)^3/6 + (hF)^4/24, the same fourth-order accuracy as
@@ -15,6 +17,7 @@
 
 use super::System;
 use crate::linalg::{dot, dot3, matmul, symmetrize};
+use crate::ode::{self, Rk4};
 use std::fmt;
 
 /// The filter failed: non-finite numbers, a covariance that lost positive definiteness, or a
@@ -63,8 +66,7 @@ pub struct HybridEkf {
     // work space
     f: Vec<f64>,
     fp: Vec<f64>,
-    dx: [Vec<f64>; 4],
-    xt: Vec<f64>,
+    rk4: Rk4,
     chol: Vec<f64>,
     phi: Vec<f64>,
     phi_step: Vec<f64>,
@@ -103,8 +105,7 @@ impl HybridEkf {
             beyond: Vec::new(),
             f: z(nd * n),
             fp: z(nd * n),
-            dx: [z(nd), z(nd), z(nd), z(nd)],
-            xt: z(n),
+            rk4: Rk4::new(n, nd),
             chol: z(n * n),
             phi: z(n * n),
             phi_step: z(n * n),
@@ -148,36 +149,30 @@ impl HybridEkf {
         t1: f64,
         phi: Option<&mut [f64]>,
     ) -> Result<(), Divergence> {
-        let (n, nd) = (self.n, self.nd);
-        let steps = crate::sim::steps_for(t1 - t0, self.max_step).ok_or_else(|| Divergence {
+        let n = self.n;
+        let steps = ode::steps_for(t1 - t0, self.max_step).ok_or_else(|| Divergence {
             time: t0,
             reason: format!(
                 "the interval from t = {t0} s to {t1} s would need more than {} RK4 steps of \
                  {} s",
-                crate::sim::MAX_STEPS_PER_INTERVAL,
+                ode::MAX_STEPS_PER_INTERVAL,
                 self.max_step
             ),
         })?;
-        let h = (t1 - t0) / steps as f64;
         if phi.is_some() {
             identity(&mut self.phi, n);
         }
-        for s in 0..steps {
-            let t = t0 + h * s as f64;
-            sys.jacobian(t, &self.x, &mut self.dx[0], &mut self.f);
-            // state: classical RK4 (the parameter part has zero derivative)
-            let stages = [(0.5, 1usize), (0.5, 2), (1.0, 3)];
-            for &(c, stage) in &stages {
-                self.xt.copy_from_slice(&self.x);
-                for i in 0..nd {
-                    self.xt[i] += c * h * self.dx[stage - 1][i];
+        for (t, h) in ode::substeps(t0, t1, steps) {
+            // state: classical RK4 of the dynamic states (the parameters have zero
+            // derivative); F = df/dx at the step's start, for the covariance below
+            let jac = &mut self.f;
+            self.rk4.step(t, h, &mut self.x, |t, x, dx, at_start| {
+                if at_start {
+                    sys.jacobian(t, x, dx, jac);
+                } else {
+                    sys.derivative(t, x, dx);
                 }
-                sys.derivative(t + c * h, &self.xt, &mut self.dx[stage]);
-            }
-            for i in 0..nd {
-                self.x[i] += h / 6.0
-                    * (self.dx[0][i] + 2.0 * self.dx[1][i] + 2.0 * self.dx[2][i] + self.dx[3][i]);
-            }
+            });
             // covariance: P <- Phi P Phi^T + Q_d with Phi the RK4 propagator (module docs)
             self.propagator(h);
             self.covariance_step(h);

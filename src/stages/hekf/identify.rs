@@ -309,34 +309,26 @@ fn passes<M: Model>(
 ) -> Result<Identification, IdentifyError> {
     let nx = model.nx();
     let nb = setup.est.len();
-    let n = nx + nb;
-    let mut z: Vec<f64> = setup
-        .initial
-        .iter()
-        .zip(&setup.scale)
-        .map(|(v, s)| v / s)
-        .collect();
-    let mut pzz: Vec<f64> = setup
-        .prior_sigma
-        .iter()
-        .zip(&setup.scale)
-        .map(|(p, s)| (p / s).powi(2))
-        .collect();
-    let mut q = setup.q.clone();
-    for j in 0..nb {
-        q[nx + j] /= setup.scale[j] * setup.scale[j];
-    }
+    let mut prior = ScaledPrior::new(setup, nx);
     let mut passes = Vec::new();
     let mut traces = Vec::new();
     let mut covariance = vec![0.0; nb * nb];
-    let total: usize = runs.iter().map(RunData::len).sum();
-    let mut row_values = vec![0.0; nb];
-    let mut row_sigmas = vec![0.0; nb];
+    let mut counter = PassProgress {
+        progress,
+        passes: setup.passes,
+        pass: 0,
+        done: 0,
+        total: runs.iter().map(RunData::len).sum(),
+    };
     for pass in 0..setup.passes {
         let last_pass = pass + 1 == setup.passes;
-        let smooth = setup.smoother && last_pass;
-        let samples = keep_traces && last_pass;
-        let mut done = 0;
+        let keep = Keep {
+            samples: keep_traces && last_pass,
+            history: keep_traces,
+            smooth: setup.smoother && last_pass,
+        };
+        counter.pass = pass + 1;
+        counter.done = 0;
         let mut filter: Option<HybridEkf> = None;
         let mut pass_traces = Vec::new();
         for run in runs {
@@ -353,144 +345,22 @@ fn passes<M: Model>(
                 &run.inputs,
                 &run.measured,
             );
-            if let Some(f) = filter.as_mut() {
-                f.restart_dynamic(&run.x0, &run.p0);
-            } else {
-                let mut x = run.x0.clone();
-                x.extend_from_slice(&z);
-                let mut p = vec![0.0; n * n];
-                for i in 0..nx {
-                    for j in 0..nx {
-                        p[i * n + j] = run.p0[i * nx + j];
-                    }
-                }
-                for j in 0..nb {
-                    p[(nx + j) * n + nx + j] = pzz[j];
-                }
-                filter = Some(HybridEkf::new(n, nx, x, p, q.clone(), setup.max_step));
-            }
-            let f = filter.as_mut().expect("created above");
+            let f = start_filter(&mut filter, run, &prior, setup.max_step);
             f.gate = if pass >= setup.gate_from_pass {
                 setup.gate
             } else {
                 0.0
             };
             f.ungated = vec![false; run.measured.len()];
-            let mut gate = GateTracker::new(run.measured.len());
-            let mut gate_log = GateLog::default();
-            let k_len = run.len();
-            let m = run.measured.len();
-            let mut tr = RunTrace {
-                samples: k_len,
-                innovation_squares: vec![0.0; m],
-                ..Default::default()
-            };
-            if samples {
-                tr.times = run.times.clone();
-                tr.states.reserve_exact(k_len * nx);
-                tr.nis.reserve_exact(k_len);
+            let (mut tr, checkpoints) =
+                filter_run(f, &mut sys, run, setup, keep, &mut counter).map_err(fail)?;
+            if keep.smooth {
+                tr.smoothed = Some(smooth_run(&mut sys, run, checkpoints).map_err(fail)?);
             }
-            let mut history = keep_traces.then(|| HistoryBuilder::new(nb, k_len));
-            // the smoother's checkpoints: the whole filter at the start of every segment
-            let segment = rts::segment_length(k_len);
-            let mut checkpoints = Vec::new();
-            let mut phi = vec![0.0; n * n];
-            for k in 0..k_len {
-                if smooth && k % segment == 0 {
-                    checkpoints.push((f.clone(), gate.clone()));
-                }
-                let mut gating = (&mut gate, &mut gate_log);
-                let nis = filter_sample(f, &mut sys, run, k, &mut gating, None, &mut phi)
-                    .map_err(fail)?;
-                if let Some(h) = history.as_mut() {
-                    for j in 0..nb {
-                        row_values[j] = f.x[nx + j] * setup.scale[j];
-                        row_sigmas[j] = f.p[(nx + j) * n + nx + j].max(0.0).sqrt() * setup.scale[j];
-                    }
-                    h.push(k, run.times[k], &row_values, &row_sigmas);
-                }
-                if samples {
-                    tr.states.extend_from_slice(&f.x[..nx]);
-                    tr.nis.push(nis);
-                    for (s, v) in tr.innovation_squares.iter_mut().zip(f.innovation()) {
-                        *s += v * v;
-                    }
-                }
-                done += 1;
-                if done % 250 == 0 || done == total {
-                    progress.filter(pass + 1, setup.passes, done, total);
-                }
-            }
-            gate.finish(&mut gate_log);
-            tr.rejected = gate_log.rejected;
-            tr.excursions = gate_log.excursions;
-            if let Some(&t_end) = run.times.last() {
-                f.check_covariance(t_end).map_err(fail)?;
-            }
-            if smooth {
-                let mut states = vec![0.0; k_len * nx];
-                rts::smooth_segments(
-                    n,
-                    k_len,
-                    segment,
-                    |start, end, trace| {
-                        // segments come last first: the last checkpoint is this segment's
-                        debug_assert_eq!(checkpoints.len(), start / segment + 1);
-                        let (mut g, mut gt) =
-                            checkpoints.pop().expect("one checkpoint per segment");
-                        // the re-run gates as the forward pass did; what it finds was kept then
-                        let mut scratch = GateLog::default();
-                        let mut gating = (&mut gt, &mut scratch);
-                        for k in start..end {
-                            filter_sample(
-                                &mut g,
-                                &mut sys,
-                                run,
-                                k,
-                                &mut gating,
-                                Some(trace),
-                                &mut phi,
-                            )?;
-                        }
-                        Ok(())
-                    },
-                    |k, x| states[k * nx..(k + 1) * nx].copy_from_slice(&x[..nx]),
-                )
-                .map_err(|e| match e {
-                    SmoothError::Filter(d) => fail(d),
-                    SmoothError::NotPositiveDefinite(k) => fail(Divergence {
-                        time: run.times[k],
-                        reason: "the smoother met a predicted covariance that is not \
-                                 positive definite"
-                            .into(),
-                    }),
-                })?;
-                tr.smoothed = Some(states);
-            }
-            tr.history = history.map(HistoryBuilder::finish).unwrap_or_default();
             pass_traces.push(tr);
         }
         let f = filter.expect("at least one run");
-        z.copy_from_slice(&f.x[nx..]);
-        let values: Vec<f64> = z.iter().zip(&setup.scale).map(|(v, s)| v * s).collect();
-        let sigmas: Vec<f64> = (0..nb)
-            .map(|j| f.p[(nx + j) * n + nx + j].max(0.0).sqrt() * setup.scale[j])
-            .collect();
-        for a in 0..nb {
-            for b in 0..nb {
-                covariance[a * nb + b] =
-                    f.p[(nx + a) * n + nx + b] * setup.scale[a] * setup.scale[b];
-            }
-        }
-        if let Some(f) = setup.repeat_prior_factor {
-            // The next pass starts from this estimate with a prior no wider than f times this
-            // pass's sigma: (1/f^2 of the data's information, nothing for f = 100) but enough
-            // to keep its first samples from throwing the estimate far from here.
-            for j in 0..nb {
-                pzz[j] = pzz[j].min((f * sigmas[j] / setup.scale[j]).powi(2));
-            }
-        }
-        passes.push(PassEstimate { values, sigmas });
+        passes.push(pass_summary(&f, setup, &mut prior, &mut covariance));
         if keep_traces {
             traces.push(pass_traces);
         }
@@ -500,6 +370,259 @@ fn passes<M: Model>(
         covariance,
         traces,
     })
+}
+
+/// The estimated coefficients as the filter sees them, divided by their scale
+/// (`Setup::scale`): the estimate a pass starts from, the prior variances, and the process
+/// noise of the augmented state (states, then coefficients).
+struct ScaledPrior {
+    nx: usize,
+    z: Vec<f64>,
+    pzz: Vec<f64>,
+    q: Vec<f64>,
+}
+
+impl ScaledPrior {
+    fn new(setup: &Setup, nx: usize) -> Self {
+        let z = setup
+            .initial
+            .iter()
+            .zip(&setup.scale)
+            .map(|(v, s)| v / s)
+            .collect();
+        let pzz = setup
+            .prior_sigma
+            .iter()
+            .zip(&setup.scale)
+            .map(|(p, s)| (p / s).powi(2))
+            .collect();
+        let mut q = setup.q.clone();
+        for (j, s) in setup.scale.iter().enumerate() {
+            q[nx + j] /= s * s;
+        }
+        ScaledPrior { nx, z, pzz, q }
+    }
+}
+
+/// What a pass keeps of a run besides the estimates.
+#[derive(Debug, Clone, Copy)]
+struct Keep {
+    /// The per-sample traces the report draws (the last pass of `identify`).
+    samples: bool,
+    /// The thinned coefficient history (every pass of `identify`).
+    history: bool,
+    /// Smoothed states (the last pass, when the smoother is on).
+    smooth: bool,
+}
+
+/// The filter's progress through the samples of all runs in one pass.
+struct PassProgress<'a> {
+    progress: &'a mut dyn Progress,
+    /// 1-based.
+    pass: usize,
+    passes: usize,
+    done: usize,
+    total: usize,
+}
+
+impl PassProgress<'_> {
+    /// One more sample filtered: told every 250 samples and at the last.
+    fn sample(&mut self) {
+        self.done += 1;
+        if self.done.is_multiple_of(250) || self.done == self.total {
+            self.progress
+                .filter(self.pass, self.passes, self.done, self.total);
+        }
+    }
+}
+
+/// The filter for the next run of a pass: the first run starts it from the prior (its
+/// initial state and covariance, the coefficients' estimate and prior variances,
+/// uncorrelated); a later run restarts only the dynamic states, keeping what the earlier
+/// runs taught about the coefficients.
+fn start_filter<'a>(
+    filter: &'a mut Option<HybridEkf>,
+    run: &RunData,
+    prior: &ScaledPrior,
+    max_step: f64,
+) -> &'a mut HybridEkf {
+    if let Some(f) = filter.as_mut() {
+        f.restart_dynamic(&run.x0, &run.p0);
+    } else {
+        let (nx, nb) = (prior.nx, prior.z.len());
+        let n = nx + nb;
+        let mut x = run.x0.clone();
+        x.extend_from_slice(&prior.z);
+        let mut p = vec![0.0; n * n];
+        for i in 0..nx {
+            for j in 0..nx {
+                p[i * n + j] = run.p0[i * nx + j];
+            }
+        }
+        for j in 0..nb {
+            p[(nx + j) * n + nx + j] = prior.pzz[j];
+        }
+        *filter = Some(HybridEkf::new(n, nx, x, p, prior.q.clone(), max_step));
+    }
+    filter.as_mut().expect("created above")
+}
+
+/// The smoother's checkpoints of one run: the whole filter and its gate at the start of
+/// every segment of `segment` samples (none when the smoother is off).
+struct Checkpoints {
+    segment: usize,
+    saved: Vec<(HybridEkf, GateTracker)>,
+}
+
+/// The forward pass over one run: every sample through [`filter_sample`], with the innovation
+/// gate's rejections and excursions, what `keep` asks for, and the smoother's checkpoints;
+/// the covariance is checked at the end.
+fn filter_run<M: Model>(
+    f: &mut HybridEkf,
+    sys: &mut ModelSystem<M>,
+    run: &RunData,
+    setup: &Setup,
+    keep: Keep,
+    counter: &mut PassProgress<'_>,
+) -> Result<(RunTrace, Checkpoints), Divergence> {
+    let n = f.n();
+    let nb = setup.est.len();
+    let nx = n - nb;
+    let k_len = run.len();
+    let m = run.measured.len();
+    let mut gate = GateTracker::new(m);
+    let mut gate_log = GateLog::default();
+    let mut tr = RunTrace {
+        samples: k_len,
+        innovation_squares: vec![0.0; m],
+        ..Default::default()
+    };
+    if keep.samples {
+        tr.times = run.times.clone();
+        tr.states.reserve_exact(k_len * nx);
+        tr.nis.reserve_exact(k_len);
+    }
+    let mut history = keep.history.then(|| HistoryBuilder::new(nb, k_len));
+    let mut row_values = vec![0.0; nb];
+    let mut row_sigmas = vec![0.0; nb];
+    let mut checkpoints = Checkpoints {
+        segment: rts::segment_length(k_len),
+        saved: Vec::new(),
+    };
+    let mut phi = vec![0.0; n * n];
+    for k in 0..k_len {
+        if keep.smooth && k % checkpoints.segment == 0 {
+            checkpoints.saved.push((f.clone(), gate.clone()));
+        }
+        let mut gating = (&mut gate, &mut gate_log);
+        let nis = filter_sample(f, sys, run, k, &mut gating, None, &mut phi)?;
+        if let Some(h) = history.as_mut() {
+            for j in 0..nb {
+                row_values[j] = f.x[nx + j] * setup.scale[j];
+                row_sigmas[j] = f.p[(nx + j) * n + nx + j].max(0.0).sqrt() * setup.scale[j];
+            }
+            h.push(k, run.times[k], &row_values, &row_sigmas);
+        }
+        if keep.samples {
+            tr.states.extend_from_slice(&f.x[..nx]);
+            tr.nis.push(nis);
+            for (s, v) in tr.innovation_squares.iter_mut().zip(f.innovation()) {
+                *s += v * v;
+            }
+        }
+        counter.sample();
+    }
+    gate.finish(&mut gate_log);
+    tr.rejected = gate_log.rejected;
+    tr.excursions = gate_log.excursions;
+    if let Some(&t_end) = run.times.last() {
+        f.check_covariance(t_end)?;
+    }
+    tr.history = history.map(HistoryBuilder::finish).unwrap_or_default();
+    Ok((tr, checkpoints))
+}
+
+/// The smoothed states of one run (K x nx): the RTS smoother goes through the run's segments
+/// last first, re-running the filter over each from its checkpoint (through
+/// [`filter_sample`], gating as the forward pass did) to get the priors, transitions and
+/// posteriors it needs.
+fn smooth_run<M: Model>(
+    sys: &mut ModelSystem<M>,
+    run: &RunData,
+    mut checkpoints: Checkpoints,
+) -> Result<Vec<f64>, Divergence> {
+    let Some((first, _)) = checkpoints.saved.first() else {
+        return Ok(Vec::new());
+    };
+    let n = first.n();
+    let nx = run.x0.len();
+    let k_len = run.len();
+    let segment = checkpoints.segment;
+    let mut states = vec![0.0; k_len * nx];
+    let mut phi = vec![0.0; n * n];
+    rts::smooth_segments(
+        n,
+        k_len,
+        segment,
+        |start, end, trace| {
+            // segments come last first: the last checkpoint is this segment's
+            debug_assert_eq!(checkpoints.saved.len(), start / segment + 1);
+            let (mut g, mut gt) = checkpoints.saved.pop().expect("one checkpoint per segment");
+            // the re-run gates as the forward pass did; what it finds was kept then
+            let mut scratch = GateLog::default();
+            let mut gating = (&mut gt, &mut scratch);
+            for k in start..end {
+                filter_sample(&mut g, sys, run, k, &mut gating, Some(trace), &mut phi)?;
+            }
+            Ok(())
+        },
+        |k, x| states[k * nx..(k + 1) * nx].copy_from_slice(&x[..nx]),
+    )
+    .map_err(|e| match e {
+        SmoothError::Filter(d) => d,
+        SmoothError::NotPositiveDefinite(k) => Divergence {
+            time: run.times[k],
+            reason: "the smoother met a predicted covariance that is not positive definite".into(),
+        },
+    })?;
+    Ok(states)
+}
+
+/// The pass's estimates and sigmas (SI) from the filter after its last run, the
+/// coefficients' covariance into `covariance` (nb x nb, SI), and the next pass's start: this
+/// estimate, with the prior narrowed by `Setup::repeat_prior_factor`.
+fn pass_summary(
+    f: &HybridEkf,
+    setup: &Setup,
+    prior: &mut ScaledPrior,
+    covariance: &mut [f64],
+) -> PassEstimate {
+    let (nx, nb) = (prior.nx, prior.z.len());
+    let n = nx + nb;
+    prior.z.copy_from_slice(&f.x[nx..]);
+    let values: Vec<f64> = prior
+        .z
+        .iter()
+        .zip(&setup.scale)
+        .map(|(v, s)| v * s)
+        .collect();
+    let sigmas: Vec<f64> = (0..nb)
+        .map(|j| f.p[(nx + j) * n + nx + j].max(0.0).sqrt() * setup.scale[j])
+        .collect();
+    for a in 0..nb {
+        for b in 0..nb {
+            covariance[a * nb + b] = f.p[(nx + a) * n + nx + b] * setup.scale[a] * setup.scale[b];
+        }
+    }
+    if let Some(f) = setup.repeat_prior_factor {
+        // The next pass starts from this estimate with a prior no wider than f times this
+        // pass's sigma: (1/f^2 of the data's information, nothing for f = 100) but enough
+        // to keep its first samples from throwing the estimate far from here.
+        for j in 0..nb {
+            prior.pzz[j] = prior.pzz[j].min((f * sigmas[j] / setup.scale[j]).powi(2));
+        }
+    }
+    PassEstimate { values, sigmas }
 }
 
 /// One sample of a run: the prediction from the sample before (none at the first) and the
@@ -616,10 +739,7 @@ mod tests {
     fn dense_reference(m: &Spheroid3, s: &Setup, runs: &[RunData]) -> Vec<Vec<f64>> {
         let (nx, nb) = (6, s.est.len());
         let n = nx + nb;
-        let mut q = s.q.clone();
-        for j in 0..nb {
-            q[nx + j] /= s.scale[j] * s.scale[j];
-        }
+        let prior = ScaledPrior::new(s, nx);
         let mut filter: Option<HybridEkf> = None;
         let mut out = Vec::new();
         for run in runs {
@@ -631,23 +751,7 @@ mod tests {
                 &run.inputs,
                 &run.measured,
             );
-            if let Some(f) = filter.as_mut() {
-                f.restart_dynamic(&run.x0, &run.p0);
-            } else {
-                let mut x = run.x0.clone();
-                x.extend(s.initial.iter().zip(&s.scale).map(|(v, sc)| v / sc));
-                let mut p = vec![0.0; n * n];
-                for i in 0..nx {
-                    for j in 0..nx {
-                        p[i * n + j] = run.p0[i * nx + j];
-                    }
-                }
-                for j in 0..nb {
-                    p[(nx + j) * n + nx + j] = (s.prior_sigma[j] / s.scale[j]).powi(2);
-                }
-                filter = Some(HybridEkf::new(n, nx, x, p, q.clone(), s.max_step));
-            }
-            let f = filter.as_mut().unwrap();
+            let f = start_filter(&mut filter, run, &prior, s.max_step);
             // a single pass: the gate applies when it applies from the first pass
             f.gate = if s.gate_from_pass == 0 { s.gate } else { 0.0 };
             f.ungated = vec![false; 6];
