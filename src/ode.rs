@@ -23,6 +23,11 @@
 /// or simulation result across it would mean anything).
 pub const MAX_STEPS_PER_INTERVAL: usize = 1_000_000;
 
+/// The longest RK4 step hydroid takes unless told otherwise, s: the filter's default
+/// sub-steps and the re-simulation keep every step at or below it (10 ms resolves the
+/// manoeuvring time scales of the vehicles hydroid models by two orders of magnitude).
+pub const DEFAULT_MAX_STEP: f64 = 0.01;
+
 /// RK4 steps for an interval `dt` so that no step exceeds `max_step`: ceil(dt / max_step),
 /// at least 1. A part per billion of slack keeps an interval equal to the step (up to
 /// rounding of the time stamps) at one step. None when the interval needs more than

@@ -30,6 +30,9 @@ fn run_into(name: &str) -> Run {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
         .join("report-test")
         .join(name);
+    // this test's own scratch folder: an earlier build's copy (perhaps without the
+    // output marker of today) must not decide the outcome
+    let _ = std::fs::remove_dir_all(&dir);
     let staging = Staging::new(&dir).unwrap();
     report::write(&staging, &loaded, &output).expect("the report is written");
     let dir = staging.commit().unwrap();
@@ -326,6 +329,9 @@ fn without_plots_only_report_md_is_written() {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
         .join("report-test")
         .join("no-plots");
+    // this test's own scratch folder: an earlier build's copy (perhaps without the
+    // output marker of today) must not decide the outcome
+    let _ = std::fs::remove_dir_all(&dir);
     let staging = Staging::new(&dir).unwrap();
     report::write(&staging, &loaded, &r.output).unwrap();
     let dir = staging.commit().unwrap();

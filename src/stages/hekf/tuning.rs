@@ -88,8 +88,10 @@ impl Resolved {
     /// Sub-steps for a sampling interval `dt`: the configured number, else enough to keep
     /// each RK4 step at or below 10 ms.
     pub fn substeps_for(&self, dt: f64) -> usize {
-        self.substeps
-            .unwrap_or_else(|| ((dt / 0.01) - 1e-9).ceil().max(1.0) as usize)
+        self.substeps.unwrap_or_else(|| {
+            crate::ode::steps_for(dt, crate::ode::DEFAULT_MAX_STEP)
+                .unwrap_or(crate::ode::MAX_STEPS_PER_INTERVAL)
+        })
     }
 }
 
