@@ -157,21 +157,11 @@ pub fn model(name: ModelName) -> ModelEntry {
             }
         }
     }
-    // the structure of a model does not depend on the vehicle's numbers
-    let vehicle = Vehicle {
-        mass: 1.0,
-        length: 1.0,
-        diameter: None,
-        ixx: Some(1.0),
-        iyy: Some(1.0),
-        izz: 1.0,
-        reference_area: 1.0,
-        buoyancy: None,
-        bg: None,
-        rho: 1000.0,
-    };
-    let mut entry =
-        with_model(name, &vehicle, Describe).expect("the catalogue's vehicle has every datum");
+    // the structure of a model does not depend on the vehicle's numbers: its example vehicle
+    // (which the conformance suite builds) serves
+    let vehicle = name.example_vehicle();
+    let mut entry = with_model(name, &vehicle, Describe)
+        .expect("every model builds for its example vehicle (tests/conformance.rs)");
     // what the model asks for when the optional data are missing
     let bare = Vehicle {
         diameter: None,
@@ -179,6 +169,7 @@ pub fn model(name: ModelName) -> ModelEntry {
         iyy: None,
         buoyancy: None,
         bg: None,
+        particulars: toml::Table::new(),
         ..vehicle
     };
     if let Err(problems) = with_model(name, &bare, Describe) {

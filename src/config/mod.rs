@@ -116,6 +116,10 @@ pub struct VehicleConfig {
         skip_serializing_if = "Option::is_none"
     )]
     pub bg: Option<f64>,
+    /// What a particular model needs besides the above (`[vehicle.particulars]`: a ship's
+    /// beam, draught, propeller and rudder data ...), read and checked by the model.
+    #[serde(default, skip_serializing_if = "toml::Table::is_empty")]
+    pub particulars: toml::Table,
 }
 
 fn default_vehicle_name() -> String {
@@ -222,6 +226,7 @@ impl VehicleConfig {
             buoyancy: self.buoyancy,
             bg: self.bg,
             rho: fluid.rho,
+            particulars: self.particulars.clone(),
         }
     }
 
@@ -359,6 +364,14 @@ impl Config {
         }
         if let Some(s) = &self.hekf {
             s.validate(self, p);
+        }
+        if !self.vehicle.particulars.is_empty() && !self.hekf.as_ref().is_some_and(|h| h.enabled) {
+            // only a model reads them: without the HEKF stage they would be ignored
+            p.add(
+                "vehicle.particulars",
+                "only a model reads [vehicle.particulars], and no stage here uses one (no \
+                 [hekf] stage): remove them or add the stage",
+            );
         }
         let stage_unusable = ["polar", "surge", "hekf"]
             .iter()

@@ -146,6 +146,7 @@ impl Model for Spheroid3 {
     const COMPLETING_RELATIONS: &'static [&'static [Relation]] = &[SYMMETRY];
 
     fn build(v: &Vehicle) -> Result<Self, Vec<VehicleProblem>> {
+        v.no_particulars(Self::NAME)?;
         Ok(Spheroid3::new(v.mass, v.izz, v.spheroid_scales()))
     }
 

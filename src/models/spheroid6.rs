@@ -141,6 +141,7 @@ impl Model for Spheroid6 {
     const COMPLETING_RELATIONS: &'static [&'static [Relation]] = &[SYMMETRY, AXISYMMETRY];
 
     fn build(v: &Vehicle) -> Result<Self, Vec<VehicleProblem>> {
+        v.no_particulars(Self::NAME)?;
         let mut missing = Vec::new();
         for (key, value) in [("ixx", v.ixx), ("iyy", v.iyy)] {
             if value.is_none() {

@@ -40,6 +40,7 @@ impl Model for Surge1 {
     const COMPLETING_RELATIONS: &'static [&'static [Relation]] = &[];
 
     fn build(v: &Vehicle) -> Result<Self, Vec<VehicleProblem>> {
+        v.no_particulars(Self::NAME)?;
         Ok(Surge1 {
             mass: v.mass,
             scales: v.spheroid_scales(),

@@ -27,6 +27,8 @@ pub struct Vehicle {
     pub bg: Option<f64>,
     /// Water density, kg/m^3.
     pub rho: f64,
+    /// The model's own data (`[vehicle.particulars]`), read by [`Vehicle::particulars`].
+    pub particulars: toml::Table,
 }
 
 /// A problem of the vehicle data for a model: the `vehicle.*` key and what is wrong.
@@ -64,7 +66,50 @@ impl Vehicle {
             buoyancy: None,
             bg: Some(0.0),
             rho: 1025.0,
+            particulars: toml::Table::new(),
         }
+    }
+
+    /// For a model that reads no particulars: `[vehicle.particulars]` must be empty (a key
+    /// there would otherwise be silently ignored).
+    pub fn no_particulars(&self, model: &str) -> Result<(), Vec<VehicleProblem>> {
+        if self.particulars.is_empty() {
+            return Ok(());
+        }
+        let keys: Vec<&str> = self.particulars.keys().map(String::as_str).collect();
+        Err(vec![VehicleProblem {
+            key: "vehicle.particulars".into(),
+            message: format!(
+                "the {model} model reads no particulars, so {} would be ignored: remove them \
+                 or choose the model they are for",
+                keys.join(", ")
+            ),
+        }])
+    }
+
+    /// The model's own data from `[vehicle.particulars]`, read into `T` (a serde type of the
+    /// model's, with `deny_unknown_fields` and units checked as every configuration number:
+    /// `crate::config::si`); every problem names its key under `vehicle.particulars`.
+    pub fn particulars<T: serde::de::DeserializeOwned>(
+        &self,
+        model: &str,
+    ) -> Result<T, Vec<VehicleProblem>> {
+        T::deserialize(toml::Value::Table(self.particulars.clone())).map_err(|e| {
+            let message = e.message().to_string();
+            // serde names the field in the message (missing field `beam`, unknown field ...)
+            let field = message
+                .split('`')
+                .nth(1)
+                .filter(|_| {
+                    message.starts_with("missing field") || message.starts_with("unknown field")
+                })
+                .map(|f| format!(".{f}"))
+                .unwrap_or_default();
+            vec![VehicleProblem {
+                key: format!("vehicle.particulars{field}"),
+                message: format!("the {model} model: {message}"),
+            }]
+        })
     }
 
     /// The prime-system scales of the vehicle: q = 0.5 rho A_ref, its length, and Lamb's
@@ -85,5 +130,52 @@ impl Vehicle {
             length: self.length,
             added,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::si;
+
+    #[derive(Debug, serde::Deserialize)]
+    #[serde(deny_unknown_fields)]
+    struct Ship {
+        #[serde(deserialize_with = "si::value::<_, si::Length>")]
+        beam: f64,
+        #[serde(deserialize_with = "si::value::<_, si::Length>")]
+        draught: f64,
+    }
+
+    fn with(text: &str) -> Vehicle {
+        Vehicle {
+            particulars: toml::from_str(text).unwrap(),
+            ..Vehicle::paper_spheroid()
+        }
+    }
+
+    #[test]
+    fn particulars_are_read_with_units_and_name_their_key() {
+        let s: Ship = with("beam = \"58 m\"\ndraught = 20.8")
+            .particulars("ship")
+            .unwrap();
+        assert_eq!((s.beam, s.draught), (58.0, 20.8));
+        let e = with("beam = 58.0").particulars::<Ship>("ship").unwrap_err();
+        assert_eq!(e[0].key, "vehicle.particulars.draught", "{e:?}");
+        let e = with("beam = 58.0\ndraught = 1.0\nbeem = 2.0")
+            .particulars::<Ship>("ship")
+            .unwrap_err();
+        assert_eq!(e[0].key, "vehicle.particulars.beem", "{e:?}");
+        let e = with("beam = \"58 kg\"\ndraught = 1.0")
+            .particulars::<Ship>("ship")
+            .unwrap_err();
+        assert!(e[0].message.contains("kg"), "{e:?}");
+    }
+
+    #[test]
+    fn a_model_without_particulars_refuses_them() {
+        assert!(with("").no_particulars("spheroid3").is_ok());
+        let e = with("beam = 58.0").no_particulars("spheroid3").unwrap_err();
+        assert!(e[0].message.contains("beam would be ignored"), "{e:?}");
     }
 }

@@ -145,7 +145,9 @@ pub fn preflight(
             runs,
         },
     )
-    .unwrap_or_else(|problems| problems.into_iter().map(|p| p.message).collect())
+    // a model that cannot be built for the vehicle is reported by the configuration's
+    // validation, against the vehicle's keys
+    .unwrap_or_default()
 }
 
 struct Identify<'a> {
