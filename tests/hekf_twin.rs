@@ -114,6 +114,7 @@ fn simulate(man: Man) -> Record {
             initial: initial.iter().map(|(q, v)| (*q, c(v))).collect(),
             inputs: [(Quantity::Thrust, c(thrust))].into_iter().collect(),
             steps,
+            steering: None,
         },
         noise: NoiseConfig { seed, sigma },
         export: ExportConfig {

@@ -47,6 +47,10 @@ kinds! {
     Density = [1, -3, 0, 0];
     /// Pa s.
     Viscosity = [1, -1, -1, 0];
+    /// rad.
+    Angle = [0, 0, 0, 1];
+    /// rad/s.
+    Rate = [0, 0, -1, 1];
 }
 
 /// A number in SI or a string with a unit of dimension `K`, as SI.

@@ -74,6 +74,8 @@ pub enum Manoeuvre {
         inputs: BTreeMap<Quantity, Constant>,
         /// Input changes: at `time`, the listed inputs take new values.
         steps: Vec<Step>,
+        /// A helmsman steering the rudder (turning circle, zig-zag), if any.
+        steering: Option<super::steering::Steering>,
     },
     /// Steady polars implied by the coefficients (paper eq. 5 inverted) over a sweep of
     /// angles of attack and speeds, one row per (speed, angle).
@@ -229,6 +231,8 @@ struct ManoeuvreFile {
     moment_reference_length: Option<f64>,
     #[serde(default)]
     cubic: Option<BTreeMap<Quantity, f64>>,
+    #[serde(default)]
+    steering: Option<super::steering::SteeringFile>,
 }
 
 /// The quantities a manoeuvre produces, and which of them the model integrates or takes as
@@ -354,8 +358,48 @@ impl ManoeuvreFile {
                 let initial = self.initial.unwrap_or_default();
                 let inputs = self.inputs.unwrap_or_default();
                 let steps = self.steps.unwrap_or_default();
-                let ok = check_timing(duration, dt, substeps, p);
+                let mut ok = check_timing(duration, dt, substeps, p);
                 let model_name = model.to_string();
+                let steering = match &self.steering {
+                    None => None,
+                    Some(s) => match s.check("manoeuvre.steering") {
+                        Ok(law) => Some(law),
+                        Err(problems) => {
+                            for (k, m) in problems {
+                                p.add(&k, m);
+                            }
+                            ok = false;
+                            None
+                        }
+                    },
+                };
+                if self.steering.is_some() {
+                    // the helm needs a rudder to turn and a heading to watch, and is the only
+                    // one to move the rudder
+                    if !produces.inputs.contains(&Quantity::Rudder)
+                        || !produces.states.contains(&Quantity::Yaw)
+                    {
+                        p.add(
+                            "manoeuvre.steering",
+                            format!(
+                                "the {model_name} model has no rudder input or no heading \
+                                 state to steer"
+                            ),
+                        );
+                        ok = false;
+                    }
+                    let moved = inputs.contains_key(&Quantity::Rudder)
+                        || steps
+                            .iter()
+                            .any(|s| s.values.contains_key(&Quantity::Rudder));
+                    if moved {
+                        p.add(
+                            "manoeuvre.steering",
+                            "the helm moves the rudder: remove rudder from `inputs` and `steps`",
+                        );
+                        ok = false;
+                    }
+                }
                 for (q, c) in &initial {
                     let key = format!("manoeuvre.initial.{q}");
                     member(p, &key, *q, &produces.states, "a state", &model_name);
@@ -413,6 +457,7 @@ impl ManoeuvreFile {
                     initial,
                     inputs,
                     steps,
+                    steering,
                 })
             }
             Kind::PolarSweep => {
@@ -423,6 +468,7 @@ impl ManoeuvreFile {
                     ("initial", self.initial.is_some()),
                     ("inputs", self.inputs.is_some()),
                     ("steps", self.steps.is_some()),
+                    ("steering", self.steering.is_some()),
                 ] {
                     unused(p, key, given);
                 }

@@ -5,6 +5,7 @@ pub mod config;
 pub mod export;
 pub mod inputs;
 pub mod integrate;
+pub mod steering;
 pub mod synth;
 
 pub use inputs::InputSeries;

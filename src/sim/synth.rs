@@ -74,6 +74,7 @@ impl ModelVisitor for History<'_> {
             initial,
             inputs,
             steps,
+            steering,
         } = &self.cfg.manoeuvre
         else {
             unreachable!("called for time histories only")
@@ -129,15 +130,18 @@ impl ModelVisitor for History<'_> {
                 }
             })
             .collect();
-        let input_series = InputSeries {
+        let mut input_series = InputSeries {
             t: times,
             inputs: series,
         };
         // inputs are read between samples by the model's rule, as the filter and
         // re-simulation read them: an interpolated step at a sample time ramps over the
         // interval before it
-        let xs = simulate(model, &c, &x0, &input_series, &input_series.t, *substeps)
-            .map_err(|e| Error::numerical("simulate", e.to_string()))?;
+        let xs = match steering {
+            None => simulate(model, &c, &x0, &input_series, &input_series.t, *substeps),
+            Some(law) => steered(model, &c, &x0, &mut input_series, *law, *substeps),
+        }
+        .map_err(|e| Error::numerical("simulate", e.to_string()))?;
         let InputSeries {
             t: times,
             inputs: series,
@@ -154,6 +158,45 @@ impl ModelVisitor for History<'_> {
         }
         Ok(cols)
     }
+}
+
+/// Integrates sample by sample with the helm of `law` moving the rudder: at each sample the
+/// helm sees the heading and sets the rudder of the next sample (written into the rudder's
+/// series, which the interval's integration then reads by the model's rule).
+fn steered<M: Model>(
+    model: &M,
+    c: &[f64],
+    x0: &[f64],
+    inputs: &mut InputSeries,
+    law: crate::sim::steering::Steering,
+    substeps: usize,
+) -> std::result::Result<Vec<Vec<f64>>, crate::sim::SimError> {
+    let yaw = model
+        .state_index(Quantity::Yaw)
+        .expect("checked by the loader");
+    let ri = model
+        .input_quantities()
+        .iter()
+        .position(|q| *q == Quantity::Rudder)
+        .expect("checked by the loader");
+    let mut helm = crate::sim::steering::Helm::new(law);
+    let times = inputs.t.clone();
+    let mut xs = Vec::with_capacity(times.len());
+    xs.push(x0.to_vec());
+    for k in 1..times.len() {
+        let dt = times[k] - times[k - 1];
+        let rudder = match &mut inputs.inputs[ri] {
+            Input::Series(s) | Input::Held(s) => {
+                s[k] = helm.next(times[k - 1], xs[k - 1][yaw], s[k - 1], dt);
+                s[k]
+            }
+            Input::Constant(_) => unreachable!("the rudder is a series while steered"),
+        };
+        debug_assert!(rudder.is_finite());
+        let step = simulate(model, c, &xs[k - 1], inputs, &times[k - 1..=k], substeps)?;
+        xs.push(step[1].clone());
+    }
+    Ok(xs)
 }
 
 /// The steady polar implied by the coefficients: paper eq. 5 inverted with q = 0.5 rho A_ref,
