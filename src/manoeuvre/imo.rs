@@ -121,25 +121,24 @@ impl Criterion {
 /// The 10/10 first overshoot limit (MSC.137(76) 5.3.3.1), rad: 10 deg if L/V < 10 s, 20 deg
 /// if L/V >= 30 s, (5 + L/V / 2) deg in between (L/V in s).
 pub fn first_overshoot_limit_10_10(l_over_v: f64) -> f64 {
-    let deg = if l_over_v < 10.0 {
-        10.0
-    } else if l_over_v >= 30.0 {
-        20.0
-    } else {
-        5.0 + 0.5 * l_over_v
-    };
-    deg.to_radians()
+    by_l_over_v(l_over_v, 10.0, 5.0, 0.5, 20.0)
 }
 
 /// The 10/10 second overshoot limit (MSC.137(76) 5.3.3.2), rad: 25 deg if L/V < 10 s, 40 deg
 /// if L/V >= 30 s, (17.5 + 0.75 L/V) deg in between (L/V in s).
 pub fn second_overshoot_limit_10_10(l_over_v: f64) -> f64 {
+    by_l_over_v(l_over_v, 25.0, 17.5, 0.75, 40.0)
+}
+
+/// The shape of both 10/10 limits, rad: `short` deg below 10 s, `long` deg from 30 s,
+/// `base + slope L/V` deg in between (continuous at both ends).
+fn by_l_over_v(l_over_v: f64, short: f64, base: f64, slope: f64, long: f64) -> f64 {
     let deg = if l_over_v < 10.0 {
-        25.0
+        short
     } else if l_over_v >= 30.0 {
-        40.0
+        long
     } else {
-        17.5 + 0.75 * l_over_v
+        base + slope * l_over_v
     };
     deg.to_radians()
 }

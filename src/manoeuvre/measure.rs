@@ -94,6 +94,18 @@ pub struct Named {
     pub value: Measure,
 }
 
+impl Named {
+    /// A named measure (the value cloned).
+    pub fn new(key: &'static str, label: &'static str, kind: Kind, value: &Measure) -> Self {
+        Named {
+            key,
+            label,
+            kind,
+            value: value.clone(),
+        }
+    }
+}
+
 /// The side a ship turns to, from its heading change (heading positive clockwise seen from
 /// above, as in the earth frame x north, y east, z down: a turn to starboard increases it).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]

@@ -63,12 +63,7 @@ pub struct TurningCircle {
 impl TurningCircle {
     /// The measures in the order a table lists them.
     pub fn measures(&self) -> Vec<Named> {
-        let n = |key, label, kind, value: &Measure| Named {
-            key,
-            label,
-            kind,
-            value: value.clone(),
-        };
+        let n = Named::new;
         vec![
             n("advance", "advance", Kind::Length, &self.advance),
             n("transfer", "transfer", Kind::Length, &self.transfer),

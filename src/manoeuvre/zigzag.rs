@@ -59,12 +59,7 @@ pub struct ZigZag {
 impl ZigZag {
     /// The measures in the order a table lists them.
     pub fn measures(&self) -> Vec<Named> {
-        let n = |key, label, kind, value: &Measure| Named {
-            key,
-            label,
-            kind,
-            value: value.clone(),
-        };
+        let n = Named::new;
         vec![
             n(
                 "first_overshoot",
