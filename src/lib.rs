@@ -51,6 +51,7 @@ pub(crate) mod frames;
 pub mod inspect;
 pub(crate) mod linalg;
 pub(crate) mod lsq;
+pub mod manoeuvre;
 pub mod markdown_text;
 pub mod models;
 pub mod numfmt;
