@@ -103,8 +103,8 @@ impl ModelVisitor for Resim<'_> {
         // integrate sample by sample so that a divergence keeps the part before it, in steps
         // no longer than the regular interval nor 10 ms (a gap is crossed in such steps)
         let regular = crate::sampling::median_interval(&times).unwrap_or(0.01);
-        let max_step = regular
-            / steps_for(regular, crate::ode::DEFAULT_MAX_STEP).unwrap_or(1) as f64;
+        let max_step =
+            regular / steps_for(regular, crate::ode::DEFAULT_MAX_STEP).unwrap_or(1) as f64;
         let mut xs = vec![x0.clone()];
         let mut stopped = None;
         for k in 1..times.len() {
