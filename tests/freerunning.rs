@@ -111,13 +111,13 @@ file = "hsva_zigzag_model_scale.dat"
 skip_lines = 4
 names = ["time", "x0", "y0", "psi", "u", "v", "p", "r", "delta", "rev", "thrust", "torque"]
 [columns]
+rudder = { column = "delta", unit = "deg", scale = -1 }   # positive to port in this log
+rpm = { column = "rev", unit = "Hz" }
 time = { column = "time", unit = "s" }
 yaw = { column = "psi", unit = "deg" }
 u = { column = "u", unit = "m/s" }
 v = { column = "v", unit = "m/s" }
 r = { column = "r", unit = "deg/s" }
-rudder = { column = "delta", unit = "deg", scale = -1 }   # positive to port in this log
-rpm = { column = "rev", unit = "Hz" }
 "#;
 
 #[test]
