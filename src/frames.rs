@@ -6,12 +6,23 @@ use crate::quantity::Quantity;
 use std::collections::BTreeMap;
 use std::path::Path;
 
-/// Rotates earth-frame linear and angular velocities into the body frame (Fossen 2011,
-/// eq. 2.18 and 2.29 with the zyx Euler angles): nu1 = R^T eta1_dot, omega_b = R^T omega_e.
+/// Which velocity groups a file gives in the earth frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Groups {
+    /// u, v, w (dx/dt, dy/dt, dz/dt in the file).
+    pub linear: bool,
+    /// p, q, r.
+    pub angular: bool,
+}
+
+/// Rotates earth-frame linear and angular velocities (the `groups` the file gives in the earth
+/// frame) into the body frame (Fossen 2011, eq. 2.18 and 2.29 with the zyx Euler angles):
+/// nu1 = R^T eta1_dot, omega_b = R^T omega_e.
 pub fn rotate_to_body(
     ch: &mut BTreeMap<Quantity, Vec<f64>>,
     constants: &BTreeMap<Quantity, f64>,
     source: &Path,
+    groups: Groups,
 ) -> Result<(), InputError> {
     let n = ch.values().next().map_or(0, Vec::len);
     let angle = |q: Quantity, i: usize| -> Option<f64> {
@@ -30,10 +41,13 @@ pub fn rotate_to_body(
         ([Quantity::U, Quantity::V, Quantity::W], "linear"),
         ([Quantity::P, Quantity::Q, Quantity::R], "angular"),
     ] {
-        if !qs.iter().any(|q| ch.contains_key(q)) {
+        let wanted = match label {
+            "linear" => groups.linear,
+            _ => groups.angular,
+        };
+        if !wanted || !qs.iter().any(|q| ch.contains_key(q)) {
             continue;
         }
-        let _ = label;
         let mut out = [vec![0.0; n], vec![0.0; n], vec![0.0; n]];
         for i in 0..n {
             let phi = angle(Quantity::Roll, i).unwrap_or(0.0);

@@ -48,6 +48,7 @@ pub mod error;
 pub mod estimation;
 pub mod formats;
 pub(crate) mod frames;
+pub mod froude;
 pub mod inspect;
 pub(crate) mod linalg;
 pub(crate) mod lsq;
@@ -70,6 +71,7 @@ pub mod sim;
 pub mod stages;
 pub mod suggest;
 pub mod table;
+pub mod time_stamps;
 pub mod units;
 pub mod warning;
 

@@ -209,6 +209,20 @@ impl Quantity {
         }
     }
 
+    /// The unit a column of this quantity is read in: `unit` itself, except that a propeller
+    /// speed given per unit time counts revolutions (`Hz` is rev/s, `1/min` is rev/min).
+    pub fn column_unit(self, unit: Unit) -> Unit {
+        if self == Quantity::Rpm && unit.dim == [0, 0, -1, 0] {
+            Unit {
+                factor: unit.factor * 2.0 * PI,
+                dim: RATE,
+                ..unit
+            }
+        } else {
+            unit
+        }
+    }
+
     /// The symbol of the internal unit, for tables and reports.
     pub fn si_symbol(self) -> &'static str {
         match self.dim() {
@@ -247,6 +261,19 @@ mod tests {
             assert_eq!(Quantity::from_key(q.key()), Some(q));
         }
         assert_eq!(Quantity::from_key("speedy"), None);
+    }
+
+    #[test]
+    fn propeller_speed_per_unit_time_counts_revolutions() {
+        let rps = Quantity::Rpm.internal_unit().factor;
+        for (text, per_second) in [("Hz", 1.0), ("1/min", 1.0 / 60.0), ("rev/min", 1.0 / 60.0)] {
+            let u = Quantity::Rpm.column_unit(Unit::parse(text).unwrap());
+            assert_eq!(u.dim, RATE, "{text}");
+            assert!((u.factor / rps - per_second).abs() < 1e-12, "{text}");
+        }
+        // only for the propeller speed
+        let hz = Quantity::R.column_unit(Unit::parse("Hz").unwrap());
+        assert_eq!(hz.dim, [0, 0, -1, 0]);
     }
 
     #[test]

@@ -3,7 +3,7 @@
 
 use crate::config::{InputSpec, VelocityFrame};
 use crate::error::{InputError, Place};
-use crate::formats::{self, Format, ReadOptions};
+use crate::formats::{self, Format};
 use crate::quantity::Quantity;
 use crate::table::Table;
 use crate::units::{dim_to_string, unwrap_attitude, Unit};
@@ -86,10 +86,7 @@ pub fn report_path(path: &Path, base: &Path) -> String {
 /// Reads the file `spec` names (relative to `base`) and picks the quantities `needs` asks for.
 pub fn load(spec: &InputSpec, base: &Path, needs: &Needs) -> Result<Record, InputError> {
     let path = base.join(&spec.file);
-    let options = ReadOptions {
-        names: spec.names.clone(),
-    };
-    let table = formats::read(&path, spec.format.0, &options)?;
+    let table = formats::read(&path, spec.format.0, &spec.read_options())?;
     from_table(table, spec, needs)
 }
 
@@ -159,7 +156,7 @@ pub fn from_table(mut table: Table, spec: &InputSpec, needs: &Needs) -> Result<R
         if let Some(u) = t_unit {
             rescale_column(&mut table, t_idx, u);
         }
-        table.drop_repeated_times(t_idx)?;
+        table.drop_repeated_times(t_idx, spec.dt.as_ref().map(|c| c.si))?;
     }
 
     let time_history = picks.iter().any(|p| p.0 == Quantity::Time);
@@ -229,9 +226,33 @@ pub fn from_table(mut table: Table, spec: &InputSpec, needs: &Needs) -> Result<R
     }
 
     let mut warnings = table.warnings.clone();
-    if spec.velocity_frame == VelocityFrame::Earth {
-        crate::frames::rotate_to_body(&mut channels, &constants, &table.source)?;
-        warnings.push("velocities rotated from the earth frame into the body frame".into());
+    if let Some(froude) = &spec.froude {
+        for (q, values) in &mut channels {
+            let f = froude.factor(*q);
+            values.iter_mut().for_each(|v| *v *= f);
+        }
+        for (q, v) in &mut constants {
+            *v *= froude.factor(*q);
+        }
+        warnings.push(froude.describe());
+    }
+    let groups = crate::frames::Groups {
+        linear: spec.velocity_frame == VelocityFrame::Earth,
+        angular: spec.rate_frame.unwrap_or(spec.velocity_frame) == VelocityFrame::Earth,
+    };
+    if groups.linear || groups.angular {
+        crate::frames::rotate_to_body(&mut channels, &constants, &table.source, groups)?;
+        warnings.push(
+            match (groups.linear, groups.angular) {
+                (true, true) => "velocities rotated from the earth frame into the body frame",
+                (true, false) => {
+                    "velocities rotated from the earth frame into the body frame; rates read \
+                     as body rates (rate_frame = \"body\")"
+                }
+                _ => "rates rotated from the earth frame into the body frame",
+            }
+            .into(),
+        );
     }
 
     Ok(Record {
@@ -299,7 +320,8 @@ fn column_unit(
     let unit = match configured {
         Some(text) => Some(Unit::parse(text).map_err(|e| InputError::new(place(), e.to_string()))?),
         None => col.unit.clone(),
-    };
+    }
+    .map(|u| q.column_unit(u));
     match &unit {
         None if q.dim() != crate::units::DIMENSIONLESS => {
             return Err(
@@ -350,10 +372,14 @@ mod tests {
             file: "run.csv".into(),
             format: Default::default(),
             names: None,
+            skip_lines: None,
+            dt: None,
+            froude: None,
             columns: cols.iter().cloned().collect(),
             constants: BTreeMap::new(),
             steps: Vec::new(),
             velocity_frame: VelocityFrame::Body,
+            rate_frame: None,
         }
     }
 

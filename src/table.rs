@@ -112,10 +112,10 @@ impl Table {
     }
 
     /// Converts the columns whose unit is known to SI and, when the time column is known,
-    /// checks it and keeps the last row of exactly repeated time stamps (a restarted run
-    /// writes the overlap again). Angles stay as written (in radians): only the record knows
+    /// checks it and tidies repeated time stamps ([`Table::drop_repeated_times`] with the
+    /// sampling interval `dt` in s when the configuration gives one). Angles stay as written (in radians): only the record knows
     /// which column is an attitude history to unwrap ([`crate::units::unwrap_attitude`]).
-    pub fn finish(&mut self) -> Result<(), InputError> {
+    pub fn finish(&mut self, dt: Option<f64>) -> Result<(), InputError> {
         for c in &mut self.columns {
             if let Some(u) = &c.unit {
                 if u.factor != 1.0 {
@@ -126,62 +126,17 @@ impl Table {
             }
         }
         if let Some(t) = self.time {
-            self.drop_repeated_times(t)?;
+            self.drop_repeated_times(t, dt)?;
         }
         Ok(())
     }
 
-    /// Keeps the last of exactly repeated time stamps and rejects a decreasing time axis.
-    ///
-    /// A run restarted from an earlier time writes the overlap again: every time stamp that
-    /// appears again further down keeps only its last row. What remains must increase.
-    pub fn drop_repeated_times(&mut self, t: usize) -> Result<(), InputError> {
-        let time = &self.columns[t].values;
-        let mut last = std::collections::HashMap::new();
-        for (i, v) in time.iter().enumerate() {
-            if v.is_finite() {
-                last.insert(v.to_bits(), i);
-            }
-        }
-        let keep: Vec<bool> = time
-            .iter()
-            .enumerate()
-            .map(|(i, v)| !v.is_finite() || last[&v.to_bits()] == i)
-            .collect();
-        let repeated = keep.iter().filter(|k| !**k).count();
-        let mut prev: Option<(usize, f64)> = None;
-        for (i, &v) in time.iter().enumerate() {
-            if !keep[i] || !v.is_finite() {
-                continue;
-            }
-            if let Some((_, p)) = prev {
-                if v < p {
-                    return Err(InputError::new(
-                        self.place(i).with_column_name(self.columns[t].name.clone()),
-                        format!("time goes backwards, from {p} to {v}"),
-                    )
-                    .expected(
-                        "time increasing down the file (rows that repeat an earlier time \
-                         exactly, as after a restart, are allowed)",
-                    ));
-                }
-            }
-            prev = Some((i, v));
-        }
-        if repeated > 0 {
-            let first_line = (0..keep.len())
-                .find(|&k| !keep[k])
-                .map_or(0, |k| self.lines[k]);
-            self.warnings.push(format!(
-                "{} repeated time stamp{} (first at line {}); kept the last row of each, as \
-                 written after a restart",
-                repeated,
-                if repeated == 1 { "" } else { "s" },
-                first_line
-            ));
-            self.retain_rows(&keep);
-        }
-        Ok(())
+    /// Tidies repeated time stamps of time column `t` ([`crate::time_stamps`]): identical
+    /// rows dropped, a restart's overlap reduced to its last rows, a time column printed with
+    /// too few digits rebuilt from its uniform sampling (interval `dt` in s, or detected);
+    /// anything else, or a time that goes back, is an error at its line.
+    pub fn drop_repeated_times(&mut self, t: usize, dt: Option<f64>) -> Result<(), InputError> {
+        crate::time_stamps::tidy(self, t, dt)
     }
 
     /// Keeps the rows where `keep` is true.
@@ -228,7 +183,7 @@ mod tests {
     #[test]
     fn restart_keeps_last_row() {
         let mut t = table(&[0.0, 0.1, 0.2, 0.2, 0.3]);
-        t.finish().unwrap();
+        t.finish(None).unwrap();
         assert_eq!(t.columns[0].values, vec![0.0, 0.1, 0.2, 0.3]);
         assert_eq!(t.columns[1].values, vec![0.0, 1.0, 3.0, 4.0]);
         assert_eq!(t.lines, vec![2, 3, 5, 6]);
@@ -239,7 +194,7 @@ mod tests {
     #[test]
     fn restart_from_earlier_time_keeps_the_rewritten_rows() {
         let mut t = table(&[0.8, 0.9, 1.0, 0.9, 1.0, 1.1]);
-        t.finish().unwrap();
+        t.finish(None).unwrap();
         assert_eq!(t.columns[0].values, vec![0.8, 0.9, 1.0, 1.1]);
         assert_eq!(t.columns[1].values, vec![0.0, 3.0, 4.0, 5.0]);
     }
@@ -247,7 +202,7 @@ mod tests {
     #[test]
     fn decreasing_time_names_the_line() {
         let mut t = table(&[0.0, 0.1, 0.05]);
-        let e = t.finish().unwrap_err();
+        let e = t.finish(None).unwrap_err();
         assert_eq!(e.place.line, Some(4));
         assert!(e.to_string().contains("backwards"));
     }
@@ -257,7 +212,7 @@ mod tests {
         let mut t = table(&[0.0, 1.0, 2.0]);
         t.columns[1].values = vec![179.0, -179.0, -170.0];
         t.columns[1].unit = Some(Unit::parse("deg").unwrap());
-        t.finish().unwrap();
+        t.finish(None).unwrap();
         let deg: Vec<f64> = t.columns[1].values.iter().map(|r| r.to_degrees()).collect();
         assert!((deg[1] + 179.0).abs() < 1e-9 && (deg[2] + 170.0).abs() < 1e-9);
     }

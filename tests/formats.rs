@@ -423,12 +423,14 @@ fn generic_without_header_uses_configured_or_default_names() {
     assert_eq!(t.time, None);
     let names = ReadOptions {
         names: Some(vec!["time".into(), "u".into(), "v".into()]),
+        ..Default::default()
     };
     let t = formats::read(&path("generic_noheader.csv"), FormatChoice::Auto, &names).unwrap();
     assert_eq!(t.names(), ["time", "u", "v"]);
     assert_eq!(col(&t, "v")[3], 2.3);
     let wrong = ReadOptions {
         names: Some(vec!["time".into(), "u".into()]),
+        ..Default::default()
     };
     let e = formats::read(&path("generic_noheader.csv"), FormatChoice::Auto, &wrong)
         .unwrap_err()

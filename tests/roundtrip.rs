@@ -152,6 +152,7 @@ proptest! {
         file.write_all(text.as_bytes()).unwrap();
         let options = ReadOptions {
             names: (!l.header).then(|| l.names.clone()),
+            ..Default::default()
         };
         let t = formats::read(file.path(), FormatChoice::Auto, &options)
             .map_err(|e| TestCaseError::fail(format!("{e}\n{text}")))?;

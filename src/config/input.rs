@@ -39,6 +39,18 @@ pub struct InputSpec {
     /// Column names for a file without a header line, in file order.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub names: Option<Vec<String>>,
+    /// Lines at the top of the file that are not part of the table, whatever they hold
+    /// (the title lines of a model-test log); kept as titles.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub skip_lines: Option<usize>,
+    /// The sampling interval of a log whose time column is printed with too few digits
+    /// (stamps repeat while the rows differ): the time base is rebuilt as `t0 + k dt`.
+    /// Detected from the stamps when not given. A number in s or a string with a unit.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dt: Option<Constant>,
+    /// Froude scaling applied when the file is read: `{ lambda = 45.7, to = "model" }`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub froude: Option<crate::froude::Froude>,
     /// Which file column holds each quantity, with its unit if the header does not say it.
     #[serde(default, deserialize_with = "column_map")]
     pub columns: BTreeMap<Quantity, ColumnSpec>,
@@ -57,10 +69,17 @@ pub struct InputSpec {
     /// Frame of the velocity columns: `body` (default) or `earth`.
     #[serde(default)]
     pub velocity_frame: VelocityFrame,
+    /// Frame of the angular rate columns p, q, r when it differs from `velocity_frame` (a
+    /// log of earth-frame dx/dt, dy/dt with body yaw and roll rates: `rate_frame = "body"`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rate_frame: Option<VelocityFrame>,
 }
 
 /// Highest 1-based column number a column map may name (a CFD export has far fewer).
 pub const MAX_COLUMN_INDEX: u64 = 1_000_000;
+
+/// Most title lines `skip_lines` may skip.
+pub const MAX_SKIP_LINES: u64 = 100_000;
 
 impl InputSpec {
     /// Adds every problem with this input (at key path `key`, e.g. `hekf.runs[0]`) to `p`,
@@ -103,7 +122,9 @@ impl InputSpec {
             }
             if let Some(u) = &c.unit {
                 let dim = match Unit::parse(u) {
-                    Ok(unit) => check_dim(&unit, q.dim()).map_err(|m| format!("{q}: {m}")),
+                    Ok(unit) => {
+                        check_dim(&q.column_unit(unit), q.dim()).map_err(|m| format!("{q}: {m}"))
+                    }
                     Err(e) => Err(e.to_string()),
                 };
                 if let Err(m) = dim {
@@ -119,6 +140,42 @@ impl InputSpec {
         }
         if let Some(names) = &self.names {
             p.no_duplicates(&format!("{key}.names"), names.iter().map(String::as_str));
+        }
+        if let Some(n) = self.skip_lines {
+            p.count_within(
+                &format!("{key}.skip_lines"),
+                n as u64,
+                0,
+                MAX_SKIP_LINES,
+                "lines",
+            );
+        }
+        if let Some(dt) = &self.dt {
+            match dt.expect_dim([0, 0, 1, 0]) {
+                Ok(()) => p.positive(&format!("{key}.dt"), dt.si, "s"),
+                Err(m) => p.add(&format!("{key}.dt"), m),
+            }
+        }
+        if let Some(f) = &self.froude {
+            if !(f.lambda.is_finite() && f.lambda > 1.0) {
+                p.add(
+                    &format!("{key}.froude.lambda"),
+                    format!(
+                        "must be the scale ratio L_ship / L_model, a number greater than 1 \
+                         (e.g. 45.7), got {}",
+                        f.lambda
+                    ),
+                );
+            }
+        }
+    }
+
+    /// How the reader is to read the file: `names`, `skip_lines` and `dt` (in s).
+    pub fn read_options(&self) -> crate::formats::ReadOptions {
+        crate::formats::ReadOptions {
+            names: self.names.clone(),
+            skip_lines: self.skip_lines.unwrap_or(0),
+            dt: self.dt.as_ref().map(|c| c.si),
         }
     }
 

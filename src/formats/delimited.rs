@@ -55,9 +55,10 @@ pub(crate) fn read(
     let heads = heads(src, &layout, options, dialect, &mut warnings)?;
     let names: Vec<String> = heads.iter().map(|h| h.name.clone()).collect();
     let rows = match layout.delim {
-        Delim::Char(d) => polars_rows(src, &layout, d, &names)?,
-        Delim::Whitespace => whitespace_rows(src, layout.data.iter().copied(), &names)?,
-    };
+        Delim::Char(d) => polars_rows(src, &layout, d, &names),
+        Delim::Whitespace => whitespace_rows(src, layout.data.iter().copied(), &names),
+    }
+    .map_err(|e| title_hint(e, &layout))?;
     if rows.lines.is_empty() {
         return Err(InputError::new(src.file(), "no data rows").expected("rows of numbers"));
     }
@@ -90,6 +91,19 @@ pub(crate) fn read(
         meta,
         warnings,
     ))
+}
+
+/// An error on the first row of a table without header may be a title line that opens with
+/// a number: the message says how to skip it.
+fn title_hint(mut e: InputError, layout: &Layout) -> InputError {
+    let first = layout.data.first().map(|i| i + 1);
+    if layout.header.is_none() && e.place.line.is_some() && e.place.line == first {
+        e.message.push_str(
+            "; if this line is a title above the table, skip the title lines with \
+             `skip_lines = N` in the configuration",
+        );
+    }
+    e
 }
 
 /// Column heads from the header (or the configured names, or `col1..colN`).

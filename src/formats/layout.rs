@@ -80,8 +80,12 @@ fn is_header_like(fields: &[Field], dc: bool) -> bool {
             .all(|c| !c.text.is_empty() && number(&c.text, dc).is_none())
 }
 
-fn has_number(fields: &[Field], dc: bool) -> bool {
-    fields.iter().any(|c| number(&c.text, dc).is_some())
+/// A line that may be a data row with a problem: it opens with a number. A title line
+/// (`Zig-zag 10/10 run 3`, `KVLCC2 : 35 (deg)`) opens with a word, even if it holds numbers.
+fn opens_with_number(fields: &[Field], dc: bool) -> bool {
+    fields
+        .first()
+        .is_some_and(|c| number(&c.text, dc).is_some())
 }
 
 /// A `[Section]` line (CFX-Post preamble).
@@ -123,8 +127,9 @@ pub(crate) fn scan(src: &Source) -> Result<Layout, InputError> {
         return Err(no_data(src, &cand));
     };
 
-    // The header: the nearest line above the data whose cells are all names. Lines with
-    // numbers between it and the confirmed data are data rows (with a problem to report).
+    // The header: the nearest line above the data whose cells are all names. Lines opening
+    // with a number between it and the confirmed data are data rows (with a problem to
+    // report); lines opening with a word are titles.
     let fits = |f: &[Field]| {
         let named =
             f.len() - usize::from(f.len() > ncols && f.last().is_some_and(|c| c.text.is_empty()));
@@ -174,7 +179,7 @@ pub(crate) fn scan(src: &Source) -> Result<Layout, InputError> {
         if std::mem::take(&mut nearest) && is_header_like(&f, dc) {
             names_above = Some((i, f.len()));
         }
-        if absorbing && commented.is_none() && has_number(&f, dc) {
+        if absorbing && commented.is_none() && opens_with_number(&f, dc) {
             data_start = i;
         } else {
             absorbing = false;
@@ -368,6 +373,25 @@ mod tests {
         assert!(!layout("Towing tank\n1,2.5\n3,4\n5,6\n").decimal_comma_suspect);
         assert_eq!(scan_err("a,b\nrun 3\n1,2\n3,4\n5,6\n"), None);
         assert_eq!(scan_err("a,b,c,d\n1,2,3,4\n3,4,5,6\n5,6,7,8\n"), None);
+    }
+
+    /// Title lines of model-test logs open with a word, whatever numbers they hold; they are
+    /// preamble, not rows. A line opening with a number right above the data is a row.
+    #[test]
+    fn title_lines_above_a_headerless_table() {
+        let rows = "  .000  2.9  -.007\n  .050  2.99  -.0073\n  .100  3.05  -.0075\n";
+        let l = layout(&format!(
+            "HSVA, experimental data CPMC\nZigzag 10 / 10 starting to starboard, run 3\n{rows}"
+        ));
+        assert!(l.header.is_none());
+        assert_eq!(l.preamble, [0, 1]);
+        assert_eq!(l.data, [2, 3, 4]);
+        let l = layout(&format!("KVLCC2\n35 deg turn\n{rows}"));
+        assert_eq!(
+            l.data,
+            [1, 2, 3, 4],
+            "a line opening with a number is a row"
+        );
     }
 
     #[test]

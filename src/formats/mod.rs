@@ -119,6 +119,12 @@ impl FormatChoice {
 pub struct ReadOptions {
     /// Column names for a file without a header line.
     pub names: Option<Vec<String>>,
+    /// Lines at the top of the file that are not part of the table, whatever they hold
+    /// (title lines of a model-test log); kept as `title` metadata.
+    pub skip_lines: usize,
+    /// The sampling interval (s) that rebuilds a time column printed with too few digits
+    /// (see [`crate::time_stamps`]); detected from the stamps when not given.
+    pub dt: Option<f64>,
 }
 
 /// Reads `path` as `choice`, converting columns with stated units to SI.
@@ -138,7 +144,7 @@ pub fn read_within(
     limits: &input::Limits,
 ) -> Result<Table, InputError> {
     let mut table = read_raw_within(path, choice, options, limits)?;
-    table.finish()?;
+    table.finish(options.dt)?;
     Ok(table)
 }
 
@@ -161,7 +167,8 @@ pub fn read_raw_within(
 ) -> Result<Table, InputError> {
     let bytes = input::read_bytes(path, limits)?;
     let decoded = text::decode(path, bytes)?;
-    let src = text::Source::new(path, &decoded);
+    let mut src = text::Source::new(path, &decoded);
+    let titles = src.skip_lines(options.skip_lines)?;
     let format = match choice {
         FormatChoice::Fixed(f) => f,
         FormatChoice::Auto => detect::detect_source(&src)?,
@@ -177,6 +184,8 @@ pub fn read_raw_within(
         Format::OpenFoamForcesLegacy => openfoam::read_forces(&src, options)?,
         Format::OpenFoamSixDof => openfoam::read_sixdof(&src, options)?,
     };
+    let mut table = table;
+    table.meta.splice(0..0, titles);
     text::check_cut_off(&src, table.lines.last().copied())?;
     if table.rows() == 0 {
         return Err(InputError::new(

@@ -38,6 +38,32 @@ impl<'a> Source<'a> {
         }
     }
 
+    /// Blanks the first `n` lines, which then read as empty lines (line numbers stay those of
+    /// the file), and returns their non-blank text as `title` metadata. More lines than the
+    /// file has is an error.
+    pub fn skip_lines(&mut self, n: usize) -> Result<Vec<(String, String)>, InputError> {
+        if n >= self.lines.len() && n > 0 {
+            return Err(InputError::new(
+                self.file(),
+                format!(
+                    "skip_lines = {n}, but the file has only {} line{}",
+                    self.lines.len(),
+                    if self.lines.len() == 1 { "" } else { "s" }
+                ),
+            )
+            .expected("skip_lines smaller than the number of lines: the title lines only"));
+        }
+        let mut titles = Vec::new();
+        for line in &mut self.lines[..n] {
+            let t = line.trim();
+            if !t.is_empty() {
+                titles.push(("title".to_string(), t.to_string()));
+            }
+            *line = "";
+        }
+        Ok(titles)
+    }
+
     /// The whole file.
     pub fn file(&self) -> Place {
         Place::file(self.path)

@@ -112,7 +112,7 @@ pub fn report(mut table: Table) -> Result<InspectReport, InputError> {
         let distinct: std::collections::HashSet<u64> = finite.iter().copied().collect();
         finite.len() - distinct.len()
     });
-    table.finish()?;
+    table.finish(None)?;
     // Ranges as a stage sees them: an attitude history unwrapped, other angles as written.
     let time_history = table.time.is_some();
     for c in &mut table.columns {
