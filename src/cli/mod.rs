@@ -7,6 +7,7 @@ mod compare;
 mod init;
 mod inspect;
 mod json;
+mod manoeuvre;
 mod progress;
 mod rerun;
 mod run;
@@ -48,6 +49,7 @@ enum Command {
     Compare(compare::Args),
     Coefficients(coefficients::Args),
     Init(init::Args),
+    Manoeuvre(manoeuvre::Args),
 }
 
 /// Parses the command line, runs the command and returns the exit code.
@@ -73,6 +75,7 @@ pub fn main() -> i32 {
         Command::Compare(a) => compare::run(a, &mut out),
         Command::Coefficients(a) => coefficients::run(a, &mut out),
         Command::Init(a) => init::run(a, &mut out, say),
+        Command::Manoeuvre(a) => manoeuvre::run(a, &mut out),
     };
     let _ = out.flush();
     match result {
