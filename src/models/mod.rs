@@ -33,6 +33,8 @@ registry::registry! {
     Spheroid6 => spheroid6::Spheroid6,
     /// One-degree-of-freedom surge: added mass, quadratic drag and thrust.
     Surge1 => surge1::Surge1,
+    /// Surface ship, MMG standard method (Yasukawa & Yoshimura 2015): u, v, r, x, y, psi.
+    Mmg3 => mmg3::Mmg3,
 }
 
 /// One state of a model.
