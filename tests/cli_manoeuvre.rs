@@ -21,9 +21,9 @@ fn measures_every_run_and_says_what_a_short_log_cannot_give() {
     );
     assert!(out.contains("this needs 90 deg"), "{out}");
     assert!(!out.contains("NaN"), "{out}");
-    // the IMO limits at full scale: 4.5 L and 5 L with L = 45.7 x 7 m
-    assert!(out.contains("<= 1440 (MSC.137(76) 5.3.1)"), "{out}");
-    assert!(out.contains("<= 1600 (MSC.137(76) 5.3.1)"), "{out}");
+    // the IMO limits in ship lengths, on the run's scale: 4.5 L and 5 L with L = 7 m
+    assert!(out.contains("<= 31.50 (MSC.137(76) 5.3.1)"), "{out}");
+    assert!(out.contains("<= 35.00 (MSC.137(76) 5.3.1)"), "{out}");
     let o = hydroid(&["manoeuvre", LOGS, "--json"]);
     assert_eq!(o.status.code(), Some(0));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("stdout is JSON");
@@ -52,4 +52,51 @@ fn a_run_without_rudder_or_a_bad_scale_is_refused_with_the_reason() {
     let o = hydroid(&["manoeuvre", LOGS, "--scale", "0.5"]);
     assert_eq!(o.status.code(), Some(2));
     assert!(text(&o.stderr).contains("--scale must be a scale ratio of at least 1"));
+}
+
+/// The chain for a ship: `hydroid simulate` steers the KVLCC2 model (mmg3) through a 35 deg
+/// turning circle and a 20/20 zig-zag with its helmsman, `hydroid manoeuvre` measures them.
+/// Yasukawa & Yoshimura (2015) report advance about 3.1 L and tactical diameter about 3.2 L
+/// for the 35 deg turn of their free-running model; the tolerance (0.35 L) covers the rudder
+/// rate, the propeller held at the approach balance and basin scatter (tests/ships.rs).
+#[test]
+fn ship_manoeuvres_steered_by_the_helm_are_measured() {
+    let o = hydroid(&[
+        "manoeuvre",
+        "tests/fixtures/ships/manoeuvres.toml",
+        "--scale",
+        "45.7",
+        "--json",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("stdout is JSON");
+    let l = 7.0;
+    let turn = &v[0]["turning_circle"];
+    let advance = turn["advance"]["value"].as_f64().unwrap() / l;
+    let tactical = turn["tactical_diameter"]["value"].as_f64().unwrap() / l;
+    assert!((advance - 3.1).abs() < 0.35, "advance {advance} L");
+    assert!(
+        (tactical - 3.2).abs() < 0.35,
+        "tactical diameter {tactical} L"
+    );
+    assert_eq!(
+        turn["side"], "starboard",
+        "a positive rudder turns mmg3 to starboard"
+    );
+    // the IMO turning criteria pass, judged in ship lengths
+    let checks = v[0]["checks"].as_array().unwrap();
+    assert!(
+        checks.len() >= 2 && checks.iter().all(|c| c["verdict"] == "pass"),
+        "{checks:?}"
+    );
+    // the zig-zag: the helm reversed the rudder at 20 deg of heading change each time
+    let z = &v[1]["zigzag"];
+    let first = z["first_overshoot"]["value"].as_f64().unwrap().to_degrees();
+    let second = z["second_overshoot"]["value"]
+        .as_f64()
+        .unwrap()
+        .to_degrees();
+    assert!(first > 2.0 && first < 25.0, "first overshoot {first} deg");
+    assert!(second > first, "second overshoot {second} deg");
+    assert!(z["period"]["value"].as_f64().unwrap() > 0.0);
 }

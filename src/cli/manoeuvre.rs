@@ -18,8 +18,9 @@ pub struct Args {
     /// Override a configuration key, e.g. `--set hekf.runs[0].columns.rudder.scale=-1`.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     set: Vec<String>,
-    /// Scale ratio lambda of model-scale runs: the IMO criteria are checked at full scale
-    /// (length lambda L, speed sqrt(lambda) U); 1 for full-scale data.
+    /// Scale ratio lambda of model-scale runs (1 for full-scale data): the IMO criteria are
+    /// judged at full scale (distances in ship lengths; overshoot limits at the full-scale
+    /// L/V, sqrt(lambda) times the run's).
     #[arg(long, value_name = "LAMBDA")]
     scale: Option<f64>,
     /// Print machine-readable JSON instead of text.
@@ -126,9 +127,12 @@ fn measure(rec: &Record, length: f64, scale: Option<f64>) -> Result<RunMeasures,
     if let Some(r) = rudder {
         h = h.with_rudder(r).map_err(fail)?;
     }
+    // The criteria in lengths (advance <= 4.5 L ...) are Froude-invariant and are judged on
+    // the run's own scale; those in L/V (the overshoot limits) need the full-scale
+    // L/V = sqrt(lambda) L/U: a ship of the run's length at speed U / sqrt(lambda) has it.
     let ship = |u: Option<f64>| {
         let (lambda, u) = (scale?, u?);
-        Ship::new(length * lambda, u * lambda.sqrt()).ok()
+        Ship::new(length, u / lambda.sqrt()).ok()
     };
     let mut m = RunMeasures {
         run: rec.name.clone(),

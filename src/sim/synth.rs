@@ -123,7 +123,12 @@ impl ModelVisitor for History<'_> {
             .map(|def| {
                 let q = &def.quantity;
                 let start = inputs.get(q).map_or(0.0, |c| c.si);
-                let samples = stepped(start, &changes_of(steps, *q), &times);
+                // in hydroid's internal unit, as a record holds it (rev/s for rpm)
+                let factor = q.internal_unit().factor;
+                let samples: Vec<f64> = stepped(start, &changes_of(steps, *q), &times)
+                    .into_iter()
+                    .map(|v| v / factor)
+                    .collect();
                 match def.rule {
                     InputRule::Interpolate => Input::Series(samples),
                     InputRule::Hold => Input::Held(samples),
