@@ -94,15 +94,29 @@ impl Vehicle {
         &self,
         model: &str,
     ) -> Result<T, Vec<VehicleProblem>> {
-        T::deserialize(toml::Value::Table(self.particulars.clone())).map_err(|e| {
+        // read through TOML text, so that an error's span names the key it is about
+        let text = toml::to_string(&self.particulars).unwrap_or_default();
+        toml::from_str::<T>(&text).map_err(|e| {
             let message = e.message().to_string();
-            // serde names the field in the message (missing field `beam`, unknown field ...)
-            let field = message
+            // serde names a missing or unknown field in the message; a bad value is on the
+            // line its span points at, `key = value`
+            let quoted = message
                 .split('`')
                 .nth(1)
                 .filter(|_| {
                     message.starts_with("missing field") || message.starts_with("unknown field")
                 })
+                .map(str::to_string);
+            let spanned = e.span().and_then(|span| {
+                let start = text[..span.start.min(text.len())]
+                    .rfind('\n')
+                    .map_or(0, |i| i + 1);
+                let line = text[start..].lines().next()?;
+                let key = line.split('=').next()?.trim().trim_matches('"');
+                (!key.is_empty() && line.contains('=')).then(|| key.to_string())
+            });
+            let field = quoted
+                .or(spanned)
                 .map(|f| format!(".{f}"))
                 .unwrap_or_default();
             vec![VehicleProblem {
@@ -170,6 +184,11 @@ mod tests {
             .particulars::<Ship>("ship")
             .unwrap_err();
         assert!(e[0].message.contains("kg"), "{e:?}");
+        assert_eq!(e[0].key, "vehicle.particulars.beam", "{e:?}");
+        let e = with("beam = 1.0\ndraught = \"1 s\"")
+            .particulars::<Ship>("ship")
+            .unwrap_err();
+        assert_eq!(e[0].key, "vehicle.particulars.draught", "{e:?}");
     }
 
     #[test]
