@@ -13,7 +13,7 @@ pub mod polar;
 mod problems;
 pub(crate) mod si;
 pub mod surge;
-mod words;
+pub(crate) mod words;
 
 pub(crate) use collect::read_collecting;
 pub(crate) use input::quantity_key;

@@ -396,7 +396,7 @@ impl Model for Mmg3 {
     }
 
     fn states(&self) -> &'static [StateDef] {
-        SHIP_STATES
+        super::PLANAR_STATES
     }
 
     fn relations(&self) -> &CompiledRelations {
@@ -474,33 +474,6 @@ impl Model for Mmg3 {
     }
 }
 
-/// The states of a 3-DOF ship: u, v, r, x, y, psi.
-pub(crate) const SHIP_STATES: &[StateDef] = &[
-    StateDef {
-        name: "u",
-        quantity: Quantity::U,
-    },
-    StateDef {
-        name: "v",
-        quantity: Quantity::V,
-    },
-    StateDef {
-        name: "r",
-        quantity: Quantity::R,
-    },
-    StateDef {
-        name: "x",
-        quantity: Quantity::X,
-    },
-    StateDef {
-        name: "y",
-        quantity: Quantity::Y,
-    },
-    StateDef {
-        name: "psi",
-        quantity: Quantity::Yaw,
-    },
-];
 
 /// Horizontal-plane kinematics x_dot = u cos psi - v sin psi, y_dot = u sin psi + v cos psi,
 /// psi_dot = r (Fossen 2011, eq. 2.40 with phi = theta = 0), into `out[0..3]`.

@@ -46,6 +46,35 @@ pub struct StateDef {
     pub quantity: Quantity,
 }
 
+/// The states of a body moving in the horizontal plane, in the order the planar models use:
+/// body-frame u, v, r, then earth-frame x, y and heading psi.
+pub const PLANAR_STATES: &[StateDef] = &[
+    StateDef {
+        name: "u",
+        quantity: Quantity::U,
+    },
+    StateDef {
+        name: "v",
+        quantity: Quantity::V,
+    },
+    StateDef {
+        name: "r",
+        quantity: Quantity::R,
+    },
+    StateDef {
+        name: "x",
+        quantity: Quantity::X,
+    },
+    StateDef {
+        name: "y",
+        quantity: Quantity::Y,
+    },
+    StateDef {
+        name: "psi",
+        quantity: Quantity::Yaw,
+    },
+];
+
 /// One output of a model's measurement function (a sensor reading).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct OutputDef {

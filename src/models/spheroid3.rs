@@ -22,32 +22,7 @@ pub struct Spheroid3 {
     relations: CompiledRelations,
 }
 
-const STATES: &[StateDef] = &[
-    StateDef {
-        name: "u",
-        quantity: Quantity::U,
-    },
-    StateDef {
-        name: "v",
-        quantity: Quantity::V,
-    },
-    StateDef {
-        name: "r",
-        quantity: Quantity::R,
-    },
-    StateDef {
-        name: "x",
-        quantity: Quantity::X,
-    },
-    StateDef {
-        name: "y",
-        quantity: Quantity::Y,
-    },
-    StateDef {
-        name: "psi",
-        quantity: Quantity::Yaw,
-    },
-];
+const STATES: &[StateDef] = super::PLANAR_STATES;
 
 crate::coefficient_table! {
     /// Coefficient vector layout; derived ones (paper eq. 4) are filled by the relations.

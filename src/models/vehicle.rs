@@ -119,6 +119,8 @@ impl Vehicle {
                 .or(spanned)
                 .map(|f| format!(".{f}"))
                 .unwrap_or_default();
+            // in the configuration's words, not serde's
+            let message = crate::config::words::translate(&message, false);
             vec![VehicleProblem {
                 key: format!("vehicle.particulars{field}"),
                 message: format!("the {model} model: {message}"),
@@ -189,6 +191,10 @@ mod tests {
             .particulars::<Ship>("ship")
             .unwrap_err();
         assert_eq!(e[0].key, "vehicle.particulars.draught", "{e:?}");
+        let e = with("beam = 1.0\ndraught = \"\"")
+            .particulars::<Ship>("ship")
+            .unwrap_err();
+        assert!(!e[0].message.contains("f64"), "in words: {e:?}");
     }
 
     #[test]
