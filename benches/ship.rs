@@ -88,17 +88,20 @@ fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("ship");
     g.sample_size(10);
     g.throughput(Throughput::Elements(SAMPLES as u64));
-    g.bench_function("mmg3 filter pass, 10000 samples, 12 estimated (18 states)", |b| {
-        b.iter(|| {
-            identify(
-                black_box(&m),
-                &setup,
-                std::slice::from_ref(&run),
-                &mut Silent,
-            )
-            .unwrap()
-        })
-    });
+    g.bench_function(
+        "mmg3 filter pass, 10000 samples, 12 estimated (18 states)",
+        |b| {
+            b.iter(|| {
+                identify(
+                    black_box(&m),
+                    &setup,
+                    std::slice::from_ref(&run),
+                    &mut Silent,
+                )
+                .unwrap()
+            })
+        },
+    );
     g.finish();
 }
 
