@@ -218,6 +218,7 @@ fn vehicle_config(v: &Vehicle) -> (VehicleConfig, FluidConfig) {
             reference_length: 1.0,
             buoyancy: v.buoyancy,
             bg: v.bg,
+            scale: None,
             particulars: v.particulars.clone(),
         },
         FluidConfig {

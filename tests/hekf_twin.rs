@@ -33,6 +33,7 @@ fn vehicle() -> VehicleConfig {
         // CG at the CB: with BG > 0 a turn rolls the body and the axisymmetric (Munk-unstable)
         // pitch plane follows within a second (see six_dof_model_agrees...)
         bg: Some(0.0),
+        scale: None,
         particulars: Default::default(),
     }
 }

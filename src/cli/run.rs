@@ -74,6 +74,19 @@ pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
         say.note(&format!("wrote {}", dir.display()));
     } else {
         report::table::write_text(out, &output.result)?;
+        for m in &output.result.resimulation {
+            if let Some(cmp) = &m.manoeuvre {
+                writeln!(
+                    out,
+                    "\n{} ({}): {}, the identified model steered as the run ({})",
+                    m.run,
+                    if m.used_for_fit { "fit" } else { "validation" },
+                    cmp.measured.kind(),
+                    cmp.steering_text()
+                )?;
+                write!(out, "{}", cmp.table())?;
+            }
+        }
         writeln!(out, "\nwrote {}", dir.display())?;
     }
     // the warnings were said as they arose; a reminder of where they are kept

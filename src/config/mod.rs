@@ -116,6 +116,11 @@ pub struct VehicleConfig {
         skip_serializing_if = "Option::is_none"
     )]
     pub bg: Option<f64>,
+    /// Scale ratio lambda = L_ship / L_model of the data (1 at full scale): the IMO
+    /// 10/10 zig-zag overshoot limits depend on the full-scale L/V and are judged only when
+    /// it is known (MSC.137(76) 5.3.3).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scale: Option<f64>,
     /// What a particular model needs besides the above (`[vehicle.particulars]`: a ship's
     /// beam, draught, propeller and rudder data ...), read and checked by the model.
     #[serde(default, skip_serializing_if = "toml::Table::is_empty")]
@@ -305,6 +310,17 @@ impl VehicleConfig {
                 "N",
                 "buoyancy is compared with the weight m g",
             );
+        }
+        if let Some(lambda) = self.scale {
+            if !(lambda.is_finite() && (1.0..=1000.0).contains(&lambda)) {
+                p.add(
+                    "vehicle.scale",
+                    format!(
+                        "{lambda} is not a scale ratio L_ship / L_model: expected a number from \
+                         1 (full scale) to 1000"
+                    ),
+                );
+            }
         }
         if let Some(bg) = self.bg {
             p.finite("vehicle.bg", bg);

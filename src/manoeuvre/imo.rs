@@ -104,6 +104,15 @@ impl Criterion {
         }
     }
 
+    /// Whether the limit depends on the full-scale L/V (the 10/10 overshoots), so that a
+    /// model-scale run is judged only when its scale ratio is known.
+    pub fn needs_full_scale_speed(self) -> bool {
+        matches!(
+            self,
+            Criterion::FirstOvershoot10 | Criterion::SecondOvershoot10
+        )
+    }
+
     /// The limit for `ship`, SI (m or rad).
     pub fn limit(self, ship: &Ship) -> f64 {
         let l = ship.length;

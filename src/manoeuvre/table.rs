@@ -89,9 +89,12 @@ impl ComparisonTable {
         ComparisonTable { rows, notes }
     }
 
-    const HEADER: [&'static str; 5] = ["measure", "unit", "measured", "identified model", "limit"];
+    /// The column headings.
+    pub const HEADER: [&'static str; 5] =
+        ["measure", "unit", "measured", "identified model", "limit"];
 
-    fn cells(&self) -> Vec<Vec<String>> {
+    /// The cells, row by row, in the order of [`Self::HEADER`].
+    pub fn cells(&self) -> Vec<Vec<String>> {
         self.rows
             .iter()
             .map(|r| {

@@ -242,7 +242,7 @@ fn hekf_step(
         .map(|r| (r, true))
         .chain(validation.iter().map(|r| (r, false)))
     {
-        let (m, t) = resimulate(hc.model, &vehicle, &final_set, rec, used)?;
+        let (m, t) = resimulate(hc.model, &vehicle, &final_set, rec, used, cfg.vehicle.scale)?;
         log.say(crate::resim::warnings(&m, rec));
         resim.metrics.push(m);
         resim.traces.push((rec.clone(), t));

@@ -168,7 +168,7 @@ impl ModelVisitor for History<'_> {
 /// Integrates sample by sample with the helm of `law` moving the rudder: at each sample the
 /// helm sees the heading and sets the rudder of the next sample (written into the rudder's
 /// series, which the interval's integration then reads by the model's rule).
-fn steered<M: Model>(
+pub(crate) fn steered<M: Model>(
     model: &M,
     c: &[f64],
     x0: &[f64],

@@ -46,6 +46,7 @@ pub fn vehicle() -> VehicleConfig {
         reference_length: 1.0,
         buoyancy: None,
         bg: None,
+        scale: None,
         particulars: Default::default(),
     }
 }

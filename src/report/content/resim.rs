@@ -3,7 +3,7 @@
 use super::fmt::{deg, opt};
 use super::Figures;
 use crate::quantity::Quantity;
-use crate::report::doc::{Col, Document, Table};
+use crate::report::doc::{strong, text, Col, Document, Table};
 use crate::results::RunResult;
 
 pub fn write<'a>(d: &mut Document<'a>, r: &RunResult, figs: &Figures<'a>) {
@@ -56,6 +56,7 @@ pub fn write<'a>(d: &mut Document<'a>, r: &RunResult, figs: &Figures<'a>) {
         }
     }
     d.table(t);
+    manoeuvres(d, r);
     let (mut n_fit, mut n_val) = (0, 0);
     for m in &r.resimulation {
         let (kind, n) = if m.used_for_fit {
@@ -67,5 +68,55 @@ pub fn write<'a>(d: &mut Document<'a>, r: &RunResult, figs: &Figures<'a>) {
         };
         figs.put(d, &format!("track_{kind}_{n}"));
         figs.put(d, &format!("states_{kind}_{n}"));
+    }
+}
+
+/// Each ship manoeuvre beside the identified model's, steered the same way, with the IMO
+/// criteria.
+fn manoeuvres(d: &mut Document<'_>, r: &RunResult) {
+    let runs: Vec<_> = r
+        .resimulation
+        .iter()
+        .filter_map(|m| m.manoeuvre.as_ref().map(|c| (m, c)))
+        .collect();
+    if runs.is_empty() {
+        return;
+    }
+    d.heading(3, "Manoeuvres");
+    d.text(
+        "Each turning circle and zig-zag measured as the IMO explanatory notes (MSC/Circ.1053) \
+         and ITTC 7.5-04-02-01 define them, beside the identified model sailing the same \
+         manoeuvre: steered by the helm from the run's first state with the run's rudder \
+         angle, execute heading, rudder rate and execute time, and the run's propeller \
+         (docs/manoeuvres.md). The limits are the IMO criteria (MSC.137(76) 5.3); a value \
+         marked (fail) exceeds its limit.",
+    );
+    for (m, cmp) in runs {
+        d.para([
+            strong(format!("{}: {}", m.run, cmp.measured.kind())),
+            text(format!(
+                " ({}); the model steered with {}.",
+                if m.used_for_fit {
+                    "fit run"
+                } else {
+                    "validation run"
+                },
+                cmp.steering_text()
+            )),
+        ]);
+        let c = cmp.table();
+        let mut t = Table::new(crate::manoeuvre::ComparisonTable::HEADER)
+            .numeric_from(2)
+            .col(0, Col::Text)
+            .col(1, Col::Text)
+            .col(4, Col::Text);
+        for row in c.cells() {
+            t.row(row);
+        }
+        d.table(t);
+        d.list(c.notes.iter().map(|n| vec![text(n.clone())]).collect());
+        if let Some(note) = &cmp.model_note {
+            d.text(format!("Identified model: {note}."));
+        }
     }
 }

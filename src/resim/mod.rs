@@ -1,6 +1,10 @@
 //! Re-simulation: the identified model run open loop from a CFD run's initial state with its
 //! inputs, compared with the CFD trajectory (RMS errors of u, v, r and heading, and the final
-//! position error as a share of the distance travelled).
+//! position error as a share of the distance travelled); for a ship's turning circle or
+//! zig-zag, also the model steered through the same manoeuvre and measured as the run is
+//! ([`manoeuvre`]).
+
+pub mod manoeuvre;
 
 use crate::coefficients::CoefficientSet;
 use crate::error::{Error, Result};
@@ -35,6 +39,10 @@ pub struct ResimMetrics {
     pub distance: Option<f64>,
     /// Set when the simulation stopped early (it then covers part of the run).
     pub stopped: Option<String>,
+    /// The run's turning circle or zig-zag measures beside the identified model's on the same
+    /// manoeuvre (runs of a model with a rudder that make one).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub manoeuvre: Option<manoeuvre::ManoeuvreComparison>,
 }
 
 /// The simulated trajectory of one run, for plots.
@@ -48,13 +56,15 @@ pub struct ResimTrace {
     pub quantities: Vec<Quantity>,
 }
 
-/// Re-simulates `rec` with the model `model` of `vehicle` and the coefficients of `set`.
+/// Re-simulates `rec` with the model `model` of `vehicle` and the coefficients of `set`;
+/// `scale` is the data's scale ratio (for the IMO criteria of a ship's manoeuvre).
 pub fn resimulate(
     model: ModelName,
     vehicle: &Vehicle,
     set: &CoefficientSet,
     rec: &Record,
     used_for_fit: bool,
+    scale: Option<f64>,
 ) -> Result<(ResimMetrics, ResimTrace)> {
     with_model(
         model,
@@ -63,6 +73,10 @@ pub fn resimulate(
             set,
             rec,
             used_for_fit,
+            scale: manoeuvre::Scale {
+                length: vehicle.length,
+                lambda: scale,
+            },
         },
     )
     .map_err(Error::vehicle)?
@@ -72,6 +86,7 @@ struct Resim<'a> {
     set: &'a CoefficientSet,
     rec: &'a Record,
     used_for_fit: bool,
+    scale: manoeuvre::Scale,
 }
 
 impl ModelVisitor for Resim<'_> {
@@ -171,6 +186,8 @@ impl ModelVisitor for Resim<'_> {
                 distance = Some(d);
             }
         }
+        let steps = steps_for(regular, max_step).unwrap_or(1);
+        let manoeuvre = manoeuvre::compare(model, &c, rec, &inputs, steps, self.scale);
         Ok((
             ResimMetrics {
                 run: rec.name.clone(),
@@ -179,6 +196,7 @@ impl ModelVisitor for Resim<'_> {
                 final_position_error_pct: final_err,
                 distance,
                 stopped,
+                manoeuvre,
             },
             ResimTrace {
                 times,
@@ -236,6 +254,9 @@ pub fn warnings(m: &ResimMetrics, rec: &Record) -> Vec<Warning> {
         poor.push(format!(
             "the final position ({p:.0} % of the distance travelled)"
         ));
+    }
+    if let Some(cmp) = &m.manoeuvre {
+        out.extend(manoeuvre::warnings(cmp, &rec.name));
     }
     if !poor.is_empty() {
         out.push(

@@ -1,0 +1,276 @@
+//! The identified model sailing the run's own standard manoeuvre: a turning circle or a
+//! zig-zag read from the run (rudder angle, execute heading, rudder rate, execute time;
+//! ITTC 7.5-04-02-01, IMO MSC.137(76)), steered by the helm from the run's first sample with
+//! the run's other inputs (propeller), and measured as the run is. An open-loop replay of a
+//! zig-zag's rudder history would reverse the rudder at the run's times whatever heading the
+//! model has reached; steered, the model's overshoots are its own.
+
+use crate::manoeuvre::{self, History, HistoryError, RunMeasures};
+use crate::models::Model;
+use crate::quantity::Quantity;
+use crate::record::Record;
+use crate::sim::inputs::Input;
+use crate::sim::steering::Steering;
+use crate::sim::InputSeries;
+use crate::warning::Warning;
+use serde::Serialize;
+
+/// A tactical or steady turning diameter of the model further than this share from the run's
+/// is a poor prediction of the turn.
+pub const POOR_DIAMETER_SHARE: f64 = 0.1;
+
+/// A zig-zag overshoot of the model further than this from the run's is a poor prediction,
+/// rad (3 deg).
+pub const POOR_OVERSHOOT: f64 = 3.0 * std::f64::consts::PI / 180.0;
+
+/// The run's manoeuvre measured, and the identified model's when steered the same way.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ManoeuvreComparison {
+    /// The helm read from the run, with which the model was steered (SI: rad, rad/s, s).
+    pub steering: Steering,
+    /// The run's measures.
+    pub measured: RunMeasures,
+    /// The identified model's measures, when its manoeuvre could be simulated and measured.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub model: Option<RunMeasures>,
+    /// Why the model's measures are missing or partial (it diverged, never turned ...).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub model_note: Option<String>,
+}
+
+impl ManoeuvreComparison {
+    /// The measures side by side, with the IMO criteria checked on each.
+    pub fn table(&self) -> manoeuvre::ComparisonTable {
+        let model = self.model.as_ref().map(RunMeasures::measures);
+        manoeuvre::ComparisonTable::new(
+            &self.measured.measures(),
+            model.as_deref(),
+            &self.measured.checks,
+            self.model.as_ref().map_or(&[][..], |m| &m.checks[..]),
+        )
+    }
+
+    /// How the model was steered, in words: "35 deg rudder at 15.8 deg/s from t = 5 s".
+    pub fn steering_text(&self) -> String {
+        let deg = |a: f64| crate::numfmt::num(a.to_degrees());
+        match self.steering {
+            Steering::Turn {
+                rudder,
+                rate,
+                execute,
+            } => format!(
+                "rudder {} deg at {} deg/s from t = {} s, held",
+                deg(rudder),
+                deg(rate),
+                crate::numfmt::num(execute)
+            ),
+            Steering::ZigZag {
+                rudder,
+                heading,
+                rate,
+                execute,
+            } => format!(
+                "rudder {} deg at {} deg/s from t = {} s, reversed at {} deg of heading change",
+                deg(rudder),
+                deg(rate),
+                crate::numfmt::num(execute),
+                deg(heading)
+            ),
+        }
+    }
+}
+
+/// The ship of the run: its length (m) and scale ratio (None when unknown).
+#[derive(Debug, Clone, Copy)]
+pub struct Scale {
+    /// Ship length L of the run, m.
+    pub length: f64,
+    /// Scale ratio lambda (1 at full scale).
+    pub lambda: Option<f64>,
+}
+
+/// The run's measures and the model's on the same manoeuvre, or None when the run is not a
+/// standard manoeuvre of a steered model (no rudder input or heading state, no rudder or
+/// heading in the run, or no turn that the measures recognise).
+pub fn compare<M: Model>(
+    model: &M,
+    c: &[f64],
+    rec: &Record,
+    inputs: &InputSeries,
+    substeps: usize,
+    scale: Scale,
+) -> Option<ManoeuvreComparison> {
+    let rudder_input = model
+        .input_quantities()
+        .iter()
+        .position(|q| *q == Quantity::Rudder)?;
+    let yaw = model.state_index(Quantity::Yaw)?;
+    let rudder = rec.channel(Quantity::Rudder)?;
+    let h = manoeuvre::history_of(|q| rec.channel(q).map(<[f64]>::to_vec)).ok()??;
+    let measured = manoeuvre::measure_history(&h, scale.length, scale.lambda).ok()?;
+    let steering = law_of(&measured, h.time(), rudder)?;
+
+    let mut steered_inputs = inputs.clone();
+    steered_inputs.inputs[rudder_input] = Input::Held(vec![rudder[0]; h.time().len()]);
+    let x0: Vec<f64> = model
+        .states()
+        .iter()
+        .map(|s| rec.channel(s.quantity).map_or(0.0, |v| v[0]))
+        .collect();
+    let (xs, note) =
+        match crate::sim::synth::steered(model, c, &x0, &mut steered_inputs, steering, substeps) {
+            Ok(xs) => (xs, None),
+            Err(e) => {
+                return Some(ManoeuvreComparison {
+                    steering,
+                    measured,
+                    model: None,
+                    model_note: Some(format!("the steered model stopped: {e}")),
+                })
+            }
+        };
+    let helm = match &steered_inputs.inputs[rudder_input] {
+        Input::Held(s) | Input::Series(s) => s.clone(),
+        Input::Constant(v) => vec![*v; xs.len()],
+    };
+    let (model_measures, failure) = match model_history(model, h.time(), &xs, yaw, helm)
+        .and_then(|mh| manoeuvre::measure_history(&mh, scale.length, scale.lambda))
+    {
+        Ok(m) => (Some(m), note),
+        Err(e) => (
+            None,
+            Some(format!("the model's manoeuvre cannot be measured: {e}")),
+        ),
+    };
+    Some(ManoeuvreComparison {
+        steering,
+        measured,
+        model: model_measures,
+        model_note: failure,
+    })
+}
+
+/// The helm that sailed the run: a zig-zag's rudder angle (its first excursion's sign) and
+/// execute heading, or a turn's held rudder; the steepest rudder rate of the run; the execute
+/// time the measures found.
+fn law_of(m: &RunMeasures, time: &[f64], rudder: &[f64]) -> Option<Steering> {
+    let rate = manoeuvre::rudder_rate(time, rudder)?;
+    match (&m.zigzag, &m.turning_circle) {
+        (Some(z), _) => {
+            let after = time.iter().position(|t| *t > z.execute_time)?;
+            let first = rudder[after..].iter().find(|d| d.abs() > 1e-6)?;
+            Some(Steering::ZigZag {
+                rudder: z.rudder_angle.value()?.copysign(*first),
+                heading: z.heading_angle,
+                rate,
+                execute: z.execute_time,
+            })
+        }
+        (None, Some(t)) => Some(Steering::Turn {
+            rudder: t.rudder_angle.value()?,
+            rate,
+            execute: t.execute_time,
+        }),
+        (None, None) => None,
+    }
+}
+
+/// The model's simulated history in the measures' terms (x, y, heading, u, v from its states;
+/// the rudder the helm moved).
+fn model_history<M: Model>(
+    model: &M,
+    time: &[f64],
+    xs: &[Vec<f64>],
+    yaw: usize,
+    rudder: Vec<f64>,
+) -> Result<History, HistoryError> {
+    let n = xs.len();
+    let state = |q: Quantity| {
+        model
+            .state_index(q)
+            .map(|i| xs.iter().map(|x| x[i]).collect::<Vec<f64>>())
+    };
+    manoeuvre::history_of(|q| match q {
+        Quantity::Time => Some(time[..n].to_vec()),
+        Quantity::Yaw => Some(xs.iter().map(|x| x[yaw]).collect()),
+        Quantity::Rudder => Some(rudder[..n].to_vec()),
+        q => state(q),
+    })
+    .map(|h| h.expect("time and heading are given"))
+}
+
+/// Warnings on the model's manoeuvre against the run's: it turns the other way, could not be
+/// steered or measured, or misses the turning diameters by more than
+/// [`POOR_DIAMETER_SHARE`] or an overshoot by more than [`POOR_OVERSHOOT`].
+pub fn warnings(cmp: &ManoeuvreComparison, run: &str) -> Vec<Warning> {
+    let kind = cmp.measured.kind();
+    let warn = |message: String, meaning: &str| {
+        Warning::new("resimulation", message, meaning.to_string()).for_run(run)
+    };
+    let mut out = Vec::new();
+    if let Some(note) = &cmp.model_note {
+        out.push(warn(
+            format!("the identified model's {kind}: {note}"),
+            "the model cannot be judged on this manoeuvre, and should not be used to predict \
+             it until the reason is understood",
+        ));
+    }
+    let Some(model) = &cmp.model else {
+        return out;
+    };
+    if let (Some(a), Some(b)) = (cmp.measured.side(), model.side()) {
+        if a != b {
+            out.push(warn(
+                format!(
+                    "the identified model turns to {b} where the run turns to {a} with the \
+                     same rudder"
+                ),
+                "a rudder or yaw coefficient has the wrong sign, or the rudder column's sign \
+                 convention differs from the model's (columns.rudder.scale = -1 reverses it): \
+                 none of its coefficients can be trusted",
+            ));
+            return out;
+        }
+    }
+    let measured = cmp.measured.measures();
+    let pairs = model.measures().into_iter().filter_map(|n| {
+        let judged = matches!(
+            n.key,
+            "tactical_diameter" | "steady_diameter" | "first_overshoot" | "second_overshoot"
+        );
+        let run = measured.iter().find(|m| m.key == n.key)?;
+        judged.then(|| (n.label, run.value.value(), n.value.value()))
+    });
+    let mut poor = Vec::new();
+    for (label, measured, predicted) in pairs {
+        let (Some(a), Some(b)) = (measured, predicted) else {
+            continue;
+        };
+        if label.contains("diameter") {
+            if (b - a).abs() > POOR_DIAMETER_SHARE * a.abs() {
+                poor.push(format!(
+                    "{label} {b:.3} m against {a:.3} m ({:+.0} %)",
+                    100.0 * (b - a) / a
+                ));
+            }
+        } else if (b - a).abs() > POOR_OVERSHOOT {
+            poor.push(format!(
+                "{label} {:.1} deg against {:.1} deg",
+                b.to_degrees(),
+                a.to_degrees()
+            ));
+        }
+    }
+    if !poor.is_empty() {
+        out.push(warn(
+            format!(
+                "the identified model predicts the {kind} poorly: {}",
+                poor.join("; ")
+            ),
+            "the manoeuvre measures a naval architect quotes from this model would be wrong \
+             by this much: the model structure, a fixed coefficient or an input differs from \
+             the run's, or the run lies outside what the fit runs covered",
+        ));
+    }
+    out
+}

@@ -1,0 +1,172 @@
+//! Twin experiment of the bundled ship example (configs/ship_kvlcc2.toml): the KVLCC2 model's
+//! MMG hull derivatives (Yasukawa & Yoshimura 2015) identified from +-35 deg turning circles
+//! made by `hydroid simulate` with sensor noise, and the identified model sailing the turns
+//! and the validation 20/20 zig-zag against the truth model sailing them without noise.
+
+mod common;
+
+use common::{hydroid, json, named, root, text};
+use std::path::Path;
+
+/// The truth: Y&Y 2015 Table 2, as configs/vehicles/kvlcc2_mmg.toml holds it.
+const TRUTH: [(&str, f64); 12] = [
+    ("Yv_p", -0.315),
+    ("Yr_p", 0.083),
+    ("Yvvv_p", -1.607),
+    ("Yvvr_p", 0.379),
+    ("Yvrr_p", -0.391),
+    ("Yrrr_p", 0.008),
+    ("Nv_p", -0.137),
+    ("Nr_p", -0.049),
+    ("Nvvv_p", -0.030),
+    ("Nvvr_p", -0.294),
+    ("Nvrr_p", 0.055),
+    ("Nrrr_p", -0.013),
+];
+
+/// The bundled manoeuvre `name` simulated again without its sensor noise into `dir`.
+fn noise_free(dir: &Path, name: &str) -> String {
+    let src =
+        std::fs::read_to_string(root().join(format!("configs/simulate/{name}.toml"))).unwrap();
+    let (head, rest) = src.split_once("[noise]").expect("a [noise] section");
+    let (_, export) = rest.split_once("[export]").expect("an [export] section");
+    let vehicle = root().join("configs/vehicles").display().to_string();
+    let text = format!("{head}[export]{export}")
+        .replace("../../cfd_exports/", "")
+        .replace("../vehicles/", &format!("{vehicle}/"));
+    let cfg = dir.join(format!("{name}.toml"));
+    std::fs::write(&cfg, text).unwrap();
+    let o = hydroid(&["simulate", cfg.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", text_of(&o));
+    cfg.display().to_string()
+}
+
+fn text_of(o: &std::process::Output) -> String {
+    format!("{}{}", text(&o.stdout), text(&o.stderr))
+}
+
+#[test]
+fn turning_circles_identify_the_hull_and_the_model_sails_the_zigzag_as_the_truth() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = hydroid(&[
+        "run",
+        "configs/ship_kvlcc2.toml",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text_of(&o));
+    let console = text(&o.stdout);
+    assert!(
+        console.contains("20/20 zig-zag (validation): zig-zag, the identified model steered"),
+        "the manoeuvre tables are on the console: {console}"
+    );
+    let r = json(&out.join("results.json"));
+    // the manoeuvre tables follow the results schema
+    let schema = json(&root().join("docs/results.schema.json"));
+    let validator = jsonschema::draft202012::new(&schema).expect("the schema is valid");
+    let errors: Vec<String> = validator
+        .iter_errors(&r)
+        .map(|e| format!("{}: {e}", e.instance_path()))
+        .collect();
+    assert!(errors.is_empty(), "{errors:#?}");
+    let mut broken = r.clone();
+    broken["resimulation"][2]["manoeuvre"]["steering"]["rate"] = serde_json::json!(-1.0);
+    assert!(!validator.is_valid(&broken), "the schema checks the helm");
+
+    // every estimated hull derivative within 2 sigma; the linear ones within 2 %
+    for (name, truth) in TRUTH {
+        let c = named(&r["coefficients"], name);
+        let (v, s) = (c["value"].as_f64().unwrap(), c["sigma"].as_f64().unwrap());
+        assert!(
+            (v - truth).abs() <= 2.0 * s,
+            "{name} = {v} +- {s}, truth {truth}"
+        );
+        println!(
+            "{name}: {v:.5} +- {s:.5}, truth {truth} ({:+.2} sigma)",
+            (v - truth) / s
+        );
+        if ["Yv_p", "Yr_p", "Nv_p", "Nr_p"].contains(&name) {
+            assert!(
+                ((v - truth) / truth).abs() < 0.02,
+                "{name} = {v}, truth {truth}"
+            );
+        }
+    }
+
+    // the truth model sailing the same manoeuvres without noise
+    let truth_dir = tempfile::tempdir().unwrap();
+    let mut truth = Vec::new();
+    for name in ["kvlcc2_turn35", "kvlcc2_turn35_port", "kvlcc2_zigzag20"] {
+        noise_free(truth_dir.path(), name);
+        truth.push(truth_dir.path().join(format!("{name}.csv")));
+    }
+    let measured = measure(&truth, dir.path());
+    let resim = r["resimulation"].as_array().unwrap();
+    assert_eq!(resim.len(), 3);
+    for (i, m) in resim.iter().enumerate() {
+        let model = &m["manoeuvre"]["model"];
+        if i < 2 {
+            let got = model["turning_circle"]["tactical_diameter"]["value"]
+                .as_f64()
+                .unwrap();
+            let want = measured[i]["turning_circle"]["tactical_diameter"]["value"]
+                .as_f64()
+                .unwrap();
+            println!("run {i}: tactical diameter {got:.4} m, truth model {want:.4} m");
+            assert!(
+                ((got - want) / want).abs() < 0.01,
+                "run {i}: tactical diameter {got} m, truth model {want} m"
+            );
+            assert_eq!(
+                model["turning_circle"]["side"],
+                measured[i]["turning_circle"]["side"]
+            );
+        } else {
+            for key in ["first_overshoot", "second_overshoot"] {
+                let got = model["zigzag"][key]["value"].as_f64().unwrap().to_degrees();
+                let want = measured[i]["zigzag"][key]["value"]
+                    .as_f64()
+                    .unwrap()
+                    .to_degrees();
+                println!("{key}: {got:.3} deg, truth model {want:.3} deg");
+                assert!(
+                    (got - want).abs() < 0.5,
+                    "{key}: {got} deg, truth model {want} deg"
+                );
+            }
+        }
+    }
+    assert!(
+        r["warnings"].as_array().unwrap().is_empty(),
+        "{}",
+        r["warnings"]
+    );
+}
+
+/// `hydroid manoeuvre --json` of the noise-free exports, through a configuration that reads
+/// them as configs/ship_kvlcc2.toml reads its runs.
+fn measure(exports: &[std::path::PathBuf], dir: &Path) -> Vec<serde_json::Value> {
+    let base = std::fs::read_to_string(root().join("configs/ship_kvlcc2.toml")).unwrap();
+    let mut cfg = base.replace(
+        "\"../cfd_exports/kvlcc2_turn35.csv\"",
+        &format!("{:?}", exports[0].display().to_string()),
+    );
+    cfg = cfg.replace(
+        "\"../cfd_exports/kvlcc2_turn35_port.csv\"",
+        &format!("{:?}", exports[1].display().to_string()),
+    );
+    cfg = cfg.replace(
+        "\"../cfd_exports/kvlcc2_zigzag20.csv\"",
+        &format!("{:?}", exports[2].display().to_string()),
+    );
+    let path = dir.join("truth.toml");
+    std::fs::write(&path, cfg).unwrap();
+    let o = hydroid(&["manoeuvre", path.to_str().unwrap(), "--json"]);
+    assert_eq!(o.status.code(), Some(0), "{}", text_of(&o));
+    serde_json::from_slice::<serde_json::Value>(&o.stdout)
+        .unwrap()
+        .as_array()
+        .unwrap()
+        .clone()
+}
