@@ -170,3 +170,32 @@ fn measure(exports: &[std::path::PathBuf], dir: &Path) -> Vec<serde_json::Value>
         .unwrap()
         .clone()
 }
+
+/// A validation log whose rudder sign convention is the opposite of the model's: the model,
+/// steered with the log's rudder, turns the other way, and the run says so on the console and
+/// in results.json instead of printing a table that looks like a poor fit.
+#[test]
+fn a_model_turning_the_other_way_is_reported() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = hydroid(&[
+        "run",
+        "configs/ship_kvlcc2.toml",
+        "--out",
+        out.to_str().unwrap(),
+        "--set",
+        "hekf.validation[0].columns.rudder={column=\"rudder\",scale=-1}",
+        "--set",
+        "hekf.passes=1",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text_of(&o));
+    let said = "the identified model turns to port where the run turns to starboard";
+    assert!(text(&o.stderr).contains(said), "{}", text_of(&o));
+    let r = json(&out.join("results.json"));
+    let w = r["warnings"].as_array().unwrap();
+    assert!(
+        w.iter()
+            .any(|w| w["run"] == "20/20 zig-zag" && w["message"].as_str().unwrap().contains(said)),
+        "{w:?}"
+    );
+}
