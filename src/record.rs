@@ -106,6 +106,7 @@ pub fn from_table(mut table: Table, spec: &InputSpec, needs: &Needs) -> Result<R
 
     // Resolve every wanted quantity to a column (explicit map first, then by name).
     let mut picks: Vec<(Quantity, usize, Option<Unit>, f64)> = Vec::new();
+    let mut implicit_skipped = Vec::new();
     let wanted = needs.required.iter().chain(needs.optional).copied();
     let mut seen = Vec::new();
     for q in wanted.chain(spec.columns.keys().copied()) {
@@ -147,7 +148,20 @@ pub fn from_table(mut table: Table, spec: &InputSpec, needs: &Needs) -> Result<R
                 None => continue,
             },
         };
-        let unit = column_unit(&table, idx, q, unit_text.as_deref())?;
+        let unit = match column_unit(&table, idx, q, unit_text.as_deref()) {
+            Ok(u) => u,
+            // a column found only by its name, for a quantity the run can do without, whose
+            // unit nothing gives: left out with a note rather than stopping the run
+            Err(_) if !spec.columns.contains_key(&q) && !needs.required.contains(&q) => {
+                implicit_skipped.push(format!(
+                    "column '{}' was not used for {q}: it is not in the column map and the \
+                     header gives no unit (map it with a unit to use it)",
+                    table.columns[idx].name
+                ));
+                continue;
+            }
+            Err(e) => return Err(e),
+        };
         picks.push((q, idx, unit, scale));
     }
 
@@ -226,6 +240,7 @@ pub fn from_table(mut table: Table, spec: &InputSpec, needs: &Needs) -> Result<R
     }
 
     let mut warnings = table.warnings.clone();
+    warnings.extend(implicit_skipped);
     if let Some(froude) = &spec.froude {
         for (q, values) in &mut channels {
             let f = froude.factor(*q);

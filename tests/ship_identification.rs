@@ -199,3 +199,49 @@ fn a_model_turning_the_other_way_is_reported() {
         "{w:?}"
     );
 }
+
+/// The same turns as a model basin logs them (tests/fixtures/ships/README.md: headerless,
+/// title lines, time stamps that repeat past 100 s, earth-frame velocities, degrees, rpm,
+/// the rudder positive to port), read by a configuration written from docs/config.md:
+/// the same estimates as from the CSV exports.
+#[test]
+fn basin_logs_are_read_and_identified_as_the_exports() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = hydroid(&[
+        "run",
+        "tests/fixtures/ships/marin_logs.toml",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text_of(&o));
+    let err = text(&o.stderr);
+    assert!(err.contains("rebuilt the time base"), "{err}");
+    assert!(
+        err.contains("velocities rotated from the earth frame"),
+        "{err}"
+    );
+    let r = json(&out.join("results.json"));
+    for (name, truth) in TRUTH {
+        let c = named(&r["coefficients"], name);
+        let (v, s) = (c["value"].as_f64().unwrap(), c["sigma"].as_f64().unwrap());
+        assert!(
+            (v - truth).abs() <= 2.0 * s,
+            "{name} = {v} +- {s}, truth {truth}"
+        );
+        if ["Yv_p", "Yr_p", "Nv_p", "Nr_p"].contains(&name) {
+            assert!(
+                ((v - truth) / truth).abs() < 0.02,
+                "{name} = {v}, truth {truth}"
+            );
+        }
+    }
+    // the identified model turns the way the logs do, the rudder sign read through the map
+    for m in r["resimulation"].as_array().unwrap() {
+        let cmp = &m["manoeuvre"];
+        assert_eq!(
+            cmp["model"]["turning_circle"]["side"],
+            cmp["measured"]["turning_circle"]["side"]
+        );
+    }
+}
