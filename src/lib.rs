@@ -44,6 +44,7 @@ pub mod analytic;
 pub mod catalogue;
 pub mod coefficients;
 pub mod config;
+pub mod course_stability;
 pub mod error;
 pub mod estimation;
 pub mod formats;

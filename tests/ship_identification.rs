@@ -6,6 +6,9 @@
 mod common;
 
 use common::{hydroid, json, named, root, text};
+use hydroid::course_stability::sway_yaw;
+use hydroid::models::mmg3::{KVLCC2, KVLCC2_RPS};
+use hydroid::models::{Mmg3, Model};
 use std::path::Path;
 
 /// The truth: Y&Y 2015 Table 2, as configs/vehicles/kvlcc2_mmg.toml holds it.
@@ -142,6 +145,33 @@ fn turning_circles_identify_the_hull_and_the_model_sails_the_zigzag_as_the_truth
         "{}",
         r["warnings"]
     );
+
+    // Nomoto's indices of the identified model against the truth model's, linearised at the
+    // same approach (KVLCC2 is course-unstable: K and T negative)
+    let s = &r["steering"];
+    let m = Mmg3::build(&Mmg3::example_vehicle()).unwrap();
+    let truth = sway_yaw(
+        &m,
+        &m.coefficient_vector(KVLCC2),
+        &[s["speed"].as_f64().unwrap(), 0.0, 0.0, 0.0, 0.0, 0.0],
+        &[0.0, KVLCC2_RPS],
+    )
+    .unwrap()
+    .nomoto()
+    .unwrap();
+    for (key, want) in [("k", truth.k), ("t", truth.t)] {
+        let (got, sigma) = (
+            s[key].as_f64().unwrap(),
+            s[&format!("{key}_sigma")].as_f64().unwrap(),
+        );
+        println!("Nomoto {key}: {got:.4} +- {sigma:.4}, truth model {want:.4}");
+        assert!(
+            (got - want).abs() <= 2.0 * sigma,
+            "{key}: {got} +- {sigma}, truth {want}"
+        );
+    }
+    assert_eq!(s["course_stable"], false);
+    assert!(!truth.course_stable);
 }
 
 /// `hydroid manoeuvre --json` of the noise-free exports, through a configuration that reads

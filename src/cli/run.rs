@@ -87,6 +87,14 @@ pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
                 write!(out, "{}", cmp.table())?;
             }
         }
+        if let Some(s) = &output.result.steering {
+            writeln!(
+                out,
+                "\nNomoto's indices of the identified model at {}: {}",
+                s.at,
+                s.text()
+            )?;
+        }
         writeln!(out, "\nwrote {}", dir.display())?;
     }
     // the warnings were said as they arose; a reminder of where they are kept

@@ -12,6 +12,7 @@ use crate::coefficients::{Coefficient, CoefficientSet, Source, SYMMETRY};
 use crate::config::{Config, LoadedConfig};
 use crate::error::{Error, Result};
 use crate::progress::Progress;
+use crate::quantity::Quantity;
 use crate::record::Record;
 use crate::resim::{resimulate, ResimMetrics, ResimTrace};
 use crate::results::{compare, InputSummary, LoadedInput, RunOutput, RunResult, StageResults};
@@ -83,6 +84,8 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutp
         resim.metrics,
         log.warnings,
     );
+    let mut result = result;
+    result.steering = resim.steering;
     Ok(RunOutput {
         result,
         resim_traces: resim.traces,
@@ -194,6 +197,7 @@ fn surge_step(
 struct Resimulation {
     metrics: Vec<ResimMetrics>,
     traces: Vec<(Record, ResimTrace)>,
+    steering: Option<crate::course_stability::SteeringIndices>,
 }
 
 /// The HEKF stage on its fit runs, then the identified model re-simulated against the fit
@@ -246,6 +250,19 @@ fn hekf_step(
         log.say(crate::resim::warnings(&m, rec));
         resim.metrics.push(m);
         resim.traces.push((rec.clone(), t));
+    }
+    // Nomoto's indices of the identified model at the approach of the first run with a
+    // rudder (ships: to compare with K and T from a zig-zag)
+    if let Some(rec) = fit.iter().find(|r| r.channel(Quantity::Rudder).is_some()) {
+        match crate::course_stability::at_approach(hc.model, &vehicle, &final_set, rec) {
+            Some(Ok(s)) => resim.steering = Some(s),
+            Some(Err(e)) => log.say([Warning::new(
+                "hekf",
+                format!("no Nomoto indices for the identified model: {e}"),
+                "the model's steering cannot be summarised by K and T at this speed",
+            )]),
+            None => {}
+        }
     }
     Ok((r, resim))
 }

@@ -56,6 +56,9 @@ pub struct RunResult {
     pub stages: StageResults,
     /// The identified model re-simulated against each run.
     pub resimulation: Vec<ResimMetrics>,
+    /// Nomoto's indices of the identified model (a model with a rudder; ships).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub steering: Option<crate::course_stability::SteeringIndices>,
     /// Everything the user should know, from every stage and input, with what it means.
     pub warnings: Vec<crate::warning::Warning>,
     /// The effective configuration (defaults and overrides applied).
@@ -137,6 +140,7 @@ impl RunResult {
             comparison,
             stages,
             resimulation,
+            steering: None,
             warnings,
             configuration: c.clone(),
         }

@@ -57,6 +57,17 @@ pub fn write<'a>(d: &mut Document<'a>, r: &RunResult, figs: &Figures<'a>) {
     }
     d.table(t);
     manoeuvres(d, r);
+    if let Some(s) = &r.steering {
+        d.heading(3, "Steering indices (Nomoto)");
+        d.text(format!(
+            "The identified model's sway-yaw equations linearised about straight motion at {} \
+             (Fossen 2011, 7.1): {}. The sigmas carry the coefficients' uncertainties and \
+             correlations. A zig-zag identified directly with a Nomoto model gives K and T to \
+             compare.",
+            s.at,
+            s.text()
+        ));
+    }
     let (mut n_fit, mut n_val) = (0, 0);
     for m in &r.resimulation {
         let (kind, n) = if m.used_for_fit {
