@@ -41,6 +41,7 @@
 
 pub mod ad;
 pub mod analytic;
+pub mod autopilot;
 pub mod catalogue;
 pub mod coefficients;
 pub mod config;
