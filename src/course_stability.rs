@@ -8,10 +8,12 @@
 //! nu_dot = A nu + b delta (A = d nu_dot / d nu by automatic differentiation, b by a central
 //! difference in the rudder: the models take their inputs as plain numbers), and
 //!
-//!     r / delta = K (1 + T3 s) / ((1 + T1 s)(1 + T2 s))               (Fossen 2011, eq. 7.46)
-//!     T1 T2 = 1 / det A,  T1 + T2 = -tr A / det A,
-//!     K = (a21 b_v - a11 b_r) / det A,  K T3 = b_r / det A,
-//!     first order: T = T1 + T2 - T3                                    (Fossen 2011, eq. 7.50)
+//! ```text
+//! r / delta = K (1 + T3 s) / ((1 + T1 s)(1 + T2 s))               (Fossen 2011, eq. 7.46)
+//! T1 T2 = 1 / det A,  T1 + T2 = -tr A / det A,
+//! K = (a21 b_v - a11 b_r) / det A,  K T3 = b_r / det A,
+//! first order: T = T1 + T2 - T3                                    (Fossen 2011, eq. 7.50)
+//! ```
 //!
 //! The ship is course-stable (straight-line stable) when det A > 0 and tr A < 0, i.e. both
 //! time constants positive (Fossen 2011, 7.1.2, the stability criterion C > 0).
