@@ -275,3 +275,71 @@ fn basin_logs_are_read_and_identified_as_the_exports() {
         );
     }
 }
+
+/// Model mismatch (configs/ship_paper.toml): the paper's linear model identified on the MMG
+/// model's turns fits them to a few percent but predicts the validation zig-zag poorly, and
+/// the run says so (innovation test, manoeuvre comparison, re-simulation) instead of
+/// presenting its tiny filter sigmas as the truth.
+#[test]
+fn the_papers_linear_model_on_mmg_runs_is_reported_as_a_mismatch() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = hydroid(&[
+        "run",
+        "configs/ship_paper.toml",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text_of(&o));
+    let r = json(&out.join("results.json"));
+    let said = |what: &str, run: &str| {
+        r["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|w| w["run"] == run && w["message"].as_str().unwrap().contains(what))
+    };
+    for run in ["35 deg starboard turn", "35 deg port turn"] {
+        assert!(said("inconsistent with the noise model", run), "{run}");
+    }
+    assert!(said("predicts the zig-zag poorly", "20/20 zig-zag"));
+    // the turns it was fitted to: tactical diameter within 10 %
+    for m in &r["resimulation"].as_array().unwrap()[..2] {
+        let c = &m["manoeuvre"];
+        let got = c["model"]["turning_circle"]["tactical_diameter"]["value"]
+            .as_f64()
+            .unwrap();
+        let want = c["measured"]["turning_circle"]["tactical_diameter"]["value"]
+            .as_f64()
+            .unwrap();
+        assert!(((got - want) / want).abs() < 0.1, "{got} against {want}");
+    }
+}
+
+/// The bundled vehicle files load with their model: each, with a fluid and a run of the
+/// bundled turn, passes `hydroid check` (every key read, every particular known).
+#[test]
+fn vehicle_files_load_with_their_model() {
+    let dir = tempfile::tempdir().unwrap();
+    let export = root().join("cfd_exports/kvlcc2_turn35.csv");
+    for (file, model, estimate) in [
+        ("kvlcc2_mmg.toml", "mmg3", "Yv_p"),
+        ("kcs_linear_paper.toml", "ship_linear", "b1"),
+    ] {
+        let mut text = std::fs::read_to_string(root().join("configs/vehicles").join(file)).unwrap();
+        if !text.contains("[fluid]") {
+            text.push_str("\n[fluid]\nrho = 1000.0\nmu = 0.001\n");
+        }
+        text.push_str(&format!(
+            "\n[hekf]\nmodel = \"{model}\"\nestimate = [\"{estimate}\"]\n[[hekf.runs]]\n\
+             file = {:?}\n[hekf.runs.columns]\ntime = \"time\"\nx = \"x\"\ny = \"y\"\n\
+             yaw = \"heading\"\nu = \"u\"\nv = \"v\"\nr = \"yaw rate\"\nrudder = \"rudder\"\n\
+             rpm = \"propeller\"\n",
+            export.display().to_string()
+        ));
+        let cfg = dir.path().join(file);
+        std::fs::write(&cfg, text).unwrap();
+        let o = hydroid(&["check", cfg.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(0), "{file}: {}", text_of(&o));
+    }
+}

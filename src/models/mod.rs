@@ -35,6 +35,8 @@ registry::registry! {
     Surge1 => surge1::Surge1,
     /// Surface ship, MMG standard method (Yasukawa & Yoshimura 2015): u, v, r, x, y, psi.
     Mmg3 => mmg3::Mmg3,
+    /// Surface ship, reduced Abkowitz model linear in 16 parameters (Hajizadeh et al. 2015).
+    ShipLinear => ship_linear::ShipLinear,
 }
 
 /// One state of a model.
