@@ -23,6 +23,28 @@ pub struct Args {
 /// Runs the command.
 pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
     hydroid::output::clean_up_on_signals()?;
+    let loaded = hydroid::sim::config::load(&args.config)?;
+    if loaded.config.sweep.is_some() {
+        let result = hydroid::sim::sweep::simulate_sweep(&loaded)?;
+        let dir = hydroid::sim::sweep::write_sweep(
+            &loaded,
+            &args.config,
+            &result,
+            args.out.as_deref(),
+            Replace::forced(args.force),
+        )?;
+        for w in &result.warnings {
+            eprintln!("warning: {w}");
+        }
+        writeln!(out, "{}", hydroid::sim::sweep::summary(&result))?;
+        writeln!(
+            out,
+            "wrote {} ({} turning circles)",
+            dir.display(),
+            result.cases.len()
+        )?;
+        return Ok(0);
+    }
     let (path, rows) = hydroid::sim::run_file(
         &args.config,
         args.out.as_deref(),

@@ -52,8 +52,10 @@ pub struct SimConfig {
     pub manoeuvre: Manoeuvre,
     /// Measurement noise added to the export.
     pub noise: NoiseConfig,
-    /// How to write it.
-    pub export: ExportConfig,
+    /// How to write it (a configuration writes an export or a sweep).
+    pub export: Option<ExportConfig>,
+    /// A turning-circle sweep over rudder angles and approach speeds, written as a folder.
+    pub sweep: Option<super::sweep::Sweep>,
 }
 
 /// The manoeuvre.
@@ -197,7 +199,10 @@ struct SimFile {
     manoeuvre: ManoeuvreFile,
     #[serde(default)]
     noise: NoiseConfig,
-    export: ExportConfig,
+    #[serde(default)]
+    export: Option<ExportConfig>,
+    #[serde(default)]
+    sweep: Option<super::sweep::SweepFile>,
 }
 
 #[derive(Deserialize, Clone, Copy, PartialEq, Eq)]
@@ -237,10 +242,10 @@ struct ManoeuvreFile {
 
 /// The quantities a manoeuvre produces, and which of them the model integrates or takes as
 /// inputs.
-struct Produces {
-    states: Vec<Quantity>,
-    inputs: Vec<Quantity>,
-    all: Vec<Quantity>,
+pub(super) struct Produces {
+    pub(super) states: Vec<Quantity>,
+    pub(super) inputs: Vec<Quantity>,
+    pub(super) all: Vec<Quantity>,
 }
 
 struct Signature;
@@ -298,7 +303,37 @@ impl SimFile {
         };
         let manoeuvre = self.manoeuvre.check(self.model, &produces, p);
         check_noise(&self.noise, &produces, p);
-        let layout = check_export(&self.export, &produces, p);
+        let (layout, sweep) = match (&self.export, self.sweep) {
+            (Some(e), None) => (check_export(e, &produces, p), None),
+            (None, Some(s)) => {
+                if !self.noise.sigma.is_empty() {
+                    p.add(
+                        "noise",
+                        "is not used by a sweep: its turning circles are measured without noise",
+                    );
+                }
+                (
+                    Some(Format::Delimited),
+                    s.check(manoeuvre.as_ref(), &produces, p),
+                )
+            }
+            (Some(_), Some(_)) => {
+                p.add(
+                    "sweep",
+                    "a configuration writes either an export (`[export]`) or a sweep \
+                     (`[sweep]`), not both",
+                );
+                (None, None)
+            }
+            (None, None) => {
+                p.add(
+                    "export",
+                    "the required section `[export]` is missing (or give `[sweep]` for a \
+                     turning-circle sweep)",
+                );
+                (None, None)
+            }
+        };
         Some((
             SimConfig {
                 title: self.title,
@@ -309,6 +344,7 @@ impl SimFile {
                 manoeuvre: manoeuvre?,
                 noise: self.noise,
                 export: self.export,
+                sweep,
             },
             layout?,
         ))

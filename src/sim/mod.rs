@@ -6,6 +6,7 @@ pub mod export;
 pub mod inputs;
 pub mod integrate;
 pub mod steering;
+pub mod sweep;
 pub mod synth;
 
 pub use inputs::InputSeries;
@@ -26,16 +27,22 @@ pub fn run_file(
     replace: Replace,
 ) -> Result<(PathBuf, usize)> {
     let loaded = config::load(config_path)?;
+    let Some(export_cfg) = &loaded.config.export else {
+        return Err(crate::error::Error::Usage(format!(
+            "{} is a sweep: `hydroid simulate` writes it as a folder (sim::sweep)",
+            config_path.display()
+        )));
+    };
     let cols = synth::synthesize(&loaded.config)?;
     let title = loaded
         .config
         .title
         .clone()
         .unwrap_or_else(|| "hydroid simulate".into());
-    let text = export::render(loaded.layout, &loaded.config.export, &cols, &title)?;
+    let text = export::render(loaded.layout, export_cfg, &cols, &title)?;
     let path = match out {
         Some(p) => p.to_path_buf(),
-        None => loaded.base_dir.join(&loaded.config.export.file),
+        None => loaded.base_dir.join(&export_cfg.file),
     };
     write_export(&path, text.as_bytes(), &[config_path], replace)?;
     let rows = cols.values().next().map_or(0, Vec::len);

@@ -15,6 +15,7 @@ pub mod nis;
 pub mod polar;
 pub mod style;
 pub mod surge;
+pub mod sweep;
 pub mod tracks;
 
 use crate::error::{Error, Result};

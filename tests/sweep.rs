@@ -1,0 +1,144 @@
+//! `hydroid simulate` with `[sweep]`: turning circles over rudder angle and approach speed
+//! (configs/simulate/kvlcc2_sweep.toml, the KVLCC2 model with mmg3).
+
+mod common;
+
+use common::{hydroid, root, text};
+use std::path::Path;
+
+const SWEEP: &str = "configs/simulate/kvlcc2_sweep.toml";
+
+fn run_into(out: &Path) -> std::process::Output {
+    hydroid(&["simulate", SWEEP, "--out", out.to_str().unwrap()])
+}
+
+fn rows(csv: &str) -> Vec<Vec<String>> {
+    csv.lines()
+        .skip(1)
+        .map(|l| l.split(',').map(str::to_string).collect())
+        .collect()
+}
+
+#[test]
+fn the_diameter_falls_as_the_rudder_rises_and_reruns_are_identical() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("sweep");
+    let o = run_into(&out);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stdout).contains("14 turning circles"),
+        "{}",
+        text(&o.stdout)
+    );
+    let csv = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
+    let rows = rows(&csv);
+    // tactical diameter (L) is column 9: by rudder, each side
+    for side in ["starboard", "port"] {
+        let d: Vec<f64> = rows
+            .iter()
+            .filter(|r| r[0] == "rudder" && r[3] == side)
+            .map(|r| r[9].parse().unwrap())
+            .collect();
+        assert_eq!(d.len(), 4, "{side}");
+        assert!(d.windows(2).all(|w| w[1] < w[0]), "{side}: {d:?}");
+        // the 35 deg turn as the KVLCC2 free-running tests (about 3.2 L, tests/ships.rs)
+        assert!((d[3] - 3.2).abs() < 0.35, "{side}: {}", d[3]);
+    }
+    for f in [
+        "sweep.md",
+        "tracks_rudder.svg",
+        "tracks_speed.svg",
+        "diameter_vs_rudder.svg",
+        "diameter_vs_speed.svg",
+        "diameter_vs_speed.png",
+    ] {
+        assert!(out.join(f).is_file(), "{f}");
+    }
+    // a rerun replaces its own output with the same bytes
+    let first: Vec<Vec<u8>> = ["sweep.csv", "sweep.md", "tracks_rudder.svg"]
+        .iter()
+        .map(|f| std::fs::read(out.join(f)).unwrap())
+        .collect();
+    let o = run_into(&out);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    for (f, bytes) in ["sweep.csv", "sweep.md", "tracks_rudder.svg"]
+        .iter()
+        .zip(first)
+    {
+        assert_eq!(std::fs::read(out.join(f)).unwrap(), bytes, "{f}");
+    }
+}
+
+#[test]
+fn each_speed_case_holds_its_approach_speed_with_the_balanced_propeller() {
+    let loaded = hydroid::sim::config::load(&root().join(SWEEP)).unwrap();
+    let result = hydroid::sim::sweep::simulate_sweep(&loaded).unwrap();
+    let speed_cases: Vec<_> = result
+        .cases
+        .iter()
+        .filter(|c| c.varies == hydroid::sim::sweep::Varies::Speed)
+        .collect();
+    assert_eq!(speed_cases.len(), 6);
+    for c in speed_cases {
+        let approach = c.turn.approach_speed.value().unwrap();
+        assert!(
+            ((approach - c.speed) / c.speed).abs() < 1e-3,
+            "{} m/s held as {approach}",
+            c.speed
+        );
+        let (_, rps) = c.propeller.unwrap();
+        assert!(rps > 5.0 && rps < 20.0, "{rps} rev/s");
+    }
+}
+
+#[test]
+fn a_folder_hydroid_did_not_write_is_never_replaced() {
+    let dir = tempfile::tempdir().unwrap();
+    let mine = dir.path().join("mine");
+    std::fs::create_dir(&mine).unwrap();
+    std::fs::write(mine.join("notes.txt"), "keep").unwrap();
+    let o = run_into(&mine);
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o.stderr));
+    assert_eq!(
+        std::fs::read_to_string(mine.join("notes.txt")).unwrap(),
+        "keep"
+    );
+}
+
+#[test]
+fn bad_sweeps_name_their_keys() {
+    let dir = tempfile::tempdir().unwrap();
+    let src = std::fs::read_to_string(root().join(SWEEP)).unwrap();
+    for (from, to, key) in [
+        (
+            "rudder = [\"10 deg\", \"15 deg\", \"25 deg\", \"35 deg\"]",
+            "rudder = [\"10 deg\", \"90 deg\"]",
+            "sweep.rudder[1]",
+        ),
+        ("sides = \"both\"", "sides = \"all\"", "sides"),
+        (
+            "rudder = [\"10 deg\", \"15 deg\", \"25 deg\", \"35 deg\"]",
+            "rudder = [\"10 m/s\"]",
+            "rudder",
+        ),
+        (
+            "kind = \"turn\"",
+            "kind = \"zigzag\"\nheading = \"20 deg\"",
+            "sweep",
+        ),
+    ] {
+        assert!(src.contains(from), "{from}");
+        let cfg = dir.path().join("bad.toml");
+        std::fs::write(&cfg, src.replace(from, to)).unwrap();
+        let o = hydroid(&[
+            "simulate",
+            cfg.to_str().unwrap(),
+            "--out",
+            dir.path().join("o").to_str().unwrap(),
+        ]);
+        let err = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{to}: {err}");
+        assert!(err.contains(key), "{to}: {err}");
+        assert!(err.contains("bad.toml"), "{err}");
+    }
+}
