@@ -118,7 +118,7 @@ fn simulate(man: Man) -> Record {
             steering: None,
         },
         noise: NoiseConfig { seed, sigma },
-        export: ExportConfig {
+        export: Some(ExportConfig {
             file: "unused.csv".into(),
             layout: "delimited".into(),
             columns: vec![ExportColumn {
@@ -129,7 +129,8 @@ fn simulate(man: Man) -> Record {
             wrap_angles: false,
             digits: 17,
             separator: None,
-        },
+        }),
+        sweep: None,
     };
     let cols = synthesize(&cfg).unwrap();
     let rows = cols[&Quantity::Time].len();
