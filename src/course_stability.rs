@@ -1,6 +1,6 @@
 //! Nomoto's steering indices and the linear course stability of any manoeuvring model with
 //! a rudder: the sway-yaw equations linearised about straight motion at speed U (Fossen
-//! 2011, Handbook of Marine Craft Hydrodynamics and Motion Control, 7.1: the linear
+//! 2011, Handbook of Marine Craft Hydrodynamics and Motion Control, 7.1 and 7.2: the linear
 //! manoeuvring model and Nomoto's second- and first-order models), so that a hull model
 //! identified from turning circles can be compared with K and T identified from a zig-zag.
 //!
@@ -9,14 +9,14 @@
 //! difference in the rudder: the models take their inputs as plain numbers), and
 //!
 //! ```text
-//! r / delta = K (1 + T3 s) / ((1 + T1 s)(1 + T2 s))               (Fossen 2011, eq. 7.46)
+//! r / delta = K (1 + T3 s) / ((1 + T1 s)(1 + T2 s))               (Fossen 2011, 7.2)
 //! T1 T2 = 1 / det A,  T1 + T2 = -tr A / det A,
 //! K = (a21 b_v - a11 b_r) / det A,  K T3 = b_r / det A,
-//! first order: T = T1 + T2 - T3                                    (Fossen 2011, eq. 7.50)
+//! first order: T = T1 + T2 - T3                                    (Fossen 2011, 7.2)
 //! ```
 //!
 //! The ship is course-stable (straight-line stable) when det A > 0 and tr A < 0, i.e. both
-//! time constants positive (Fossen 2011, 7.1.2, the stability criterion C > 0).
+//! time constants positive (Fossen 2011, 7.1, the straight-line stability criterion).
 
 use crate::coefficients::CoefficientSet;
 use crate::models::Model;
@@ -127,7 +127,7 @@ pub fn sway_yaw<M: Model>(
 }
 
 impl SwayYaw {
-    /// Nomoto's indices (Fossen 2011, eq. 7.46-7.50), or why there are none (a rudder that
+    /// Nomoto's indices (Fossen 2011, 7.2), or why there are none (a rudder that
     /// moves no yaw, a singular system).
     pub fn nomoto(&self) -> Result<Nomoto, NotSteerable> {
         let [[a11, a12], [a21, a22]] = self.a;

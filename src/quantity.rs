@@ -74,6 +74,12 @@ pub enum Quantity {
     BowPlanes,
     /// Propeller speed, rev/s (configured as rpm or rps).
     Rpm,
+    /// Wave-induced heading psi_H, rad (a model state no export gives: the Nomoto wave
+    /// filter's, Fossen 2011 section 8.2).
+    WaveYaw,
+    /// Integral of the wave-induced heading, xi = int psi_H dt, rad s (the wave filter's other
+    /// state).
+    WaveYawIntegral,
 }
 
 const ANGLE: Dim = [0, 0, 0, 1];
@@ -86,7 +92,7 @@ const NONE: Dim = [0, 0, 0, 0];
 
 impl Quantity {
     /// Every quantity, in the order the documentation lists them.
-    pub const ALL: [Quantity; 31] = [
+    pub const ALL: [Quantity; 33] = [
         Quantity::Time,
         Quantity::X,
         Quantity::Y,
@@ -118,6 +124,8 @@ impl Quantity {
         Quantity::SternPlanes,
         Quantity::BowPlanes,
         Quantity::Rpm,
+        Quantity::WaveYaw,
+        Quantity::WaveYawIntegral,
     ];
 
     /// The motion of a body: velocities and rates (body frame), positions and attitude
@@ -171,6 +179,8 @@ impl Quantity {
             Quantity::SternPlanes => "stern_planes",
             Quantity::BowPlanes => "bow_planes",
             Quantity::Rpm => "rpm",
+            Quantity::WaveYaw => "wave_yaw",
+            Quantity::WaveYawIntegral => "wave_yaw_integral",
         }
     }
 
@@ -184,7 +194,8 @@ impl Quantity {
         match self {
             Quantity::Time => [0, 0, 1, 0],
             Quantity::X | Quantity::Y | Quantity::Z => LENGTH,
-            Quantity::Roll | Quantity::Pitch | Quantity::Yaw => ANGLE,
+            Quantity::Roll | Quantity::Pitch | Quantity::Yaw | Quantity::WaveYaw => ANGLE,
+            Quantity::WaveYawIntegral => [0, 0, 1, 1],
             Quantity::Alpha | Quantity::Rudder | Quantity::SternPlanes | Quantity::BowPlanes => {
                 ANGLE
             }
@@ -229,6 +240,7 @@ impl Quantity {
             [0, 0, 1, 0] => "s",
             LENGTH => "m",
             ANGLE => "rad",
+            [0, 0, 1, 1] => "rad s",
             SPEED => "m/s",
             RATE if self == Quantity::Rpm => "rev/s",
             RATE => "rad/s",

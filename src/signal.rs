@@ -109,9 +109,79 @@ fn median_of(v: &mut [f64]) -> f64 {
     *m
 }
 
+/// The frequency (rad/s) in `[lo, hi]` at which the periodogram of `x` sampled at `t` peaks,
+/// after the slow part of `x` (its centred moving average over `window` seconds) is taken
+/// away: |sum_k x_k exp(-i w t_k)|^2 on 400 frequencies spaced evenly in log w, refined by a
+/// parabola through the peak and its neighbours. Direct sums, so uneven sampling is fine.
+/// None for fewer than 16 samples or no variation.
+pub fn spectral_peak(t: &[f64], x: &[f64], window: f64, lo: f64, hi: f64) -> Option<f64> {
+    let n = t.len().min(x.len());
+    if n < 16 || !(lo > 0.0 && hi > lo) {
+        return None;
+    }
+    // centred moving average by two pointers over time
+    let (mut a, mut b, mut sum) = (0usize, 0usize, 0.0);
+    let mut fast = Vec::with_capacity(n);
+    for k in 0..n {
+        while b < n && t[b] <= t[k] + 0.5 * window {
+            sum += x[b];
+            b += 1;
+        }
+        while t[a] < t[k] - 0.5 * window {
+            sum -= x[a];
+            a += 1;
+        }
+        fast.push(x[k] - sum / (b - a) as f64);
+    }
+    const STEPS: usize = 400;
+    let power = |w: f64| {
+        let (mut re, mut im) = (0.0, 0.0);
+        for k in 0..n {
+            let (s, c) = (w * t[k]).sin_cos();
+            re += fast[k] * c;
+            im -= fast[k] * s;
+        }
+        re * re + im * im
+    };
+    let ws: Vec<f64> = (0..STEPS)
+        .map(|j| lo * (hi / lo).powf(j as f64 / (STEPS - 1) as f64))
+        .collect();
+    let ps: Vec<f64> = ws.iter().map(|w| power(*w)).collect();
+    let (j, &pmax) = ps.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1))?;
+    if pmax <= 0.0 || pmax.is_nan() {
+        return None;
+    }
+    if j == 0 || j + 1 == STEPS {
+        return Some(ws[j]);
+    }
+    // parabola through the three points (in log w)
+    let (l0, l1, l2) = (ws[j - 1].ln(), ws[j].ln(), ws[j + 1].ln());
+    let (p0, p1, p2) = (ps[j - 1], ps[j], ps[j + 1]);
+    let denom = p0 - 2.0 * p1 + p2;
+    let shift = if denom.abs() > 0.0 {
+        0.5 * (p0 - p2) / denom
+    } else {
+        0.0
+    };
+    Some((l1 + shift.clamp(-1.0, 1.0) * 0.5 * (l2 - l0)).exp())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_spectral_peak_finds_a_wave_under_a_slow_swing() {
+        // a 0.5 rad slow swing of 140 s period and a 0.02 rad wave of 8 s, at 10 Hz
+        let t: Vec<f64> = (0..6000).map(|k| k as f64 * 0.1).collect();
+        let w = 2.0 * std::f64::consts::PI / 8.0;
+        let x: Vec<f64> = t
+            .iter()
+            .map(|t| 0.5 * (t * 2.0 * std::f64::consts::PI / 140.0).sin() + 0.02 * (w * t).sin())
+            .collect();
+        let peak = spectral_peak(&t, &x, 40.0, 0.25, 2.0).unwrap();
+        assert!((peak / w - 1.0).abs() < 0.01, "{peak} against {w}");
+    }
     use rand::{rngs::StdRng, SeedableRng};
     use rand_distr::{Distribution, Normal};
 

@@ -416,6 +416,7 @@ fn bundled_exports_are_what_their_simulate_configs_make() {
         ("turn_validation", "turn_validation.csv"),
         ("kvlcc2_turn35", "kvlcc2_turn35.csv"),
         ("kvlcc2_turn35_port", "kvlcc2_turn35_port.csv"),
+        ("nomoto_zigzag_waves", "nomoto_zigzag_waves.csv"),
         ("kvlcc2_zigzag20", "kvlcc2_zigzag20.csv"),
     ] {
         let out = dir.path().join(export);

@@ -116,6 +116,7 @@ fn simulate(man: Man) -> Record {
             inputs: [(Quantity::Thrust, c(thrust))].into_iter().collect(),
             steps,
             steering: None,
+            process_noise: Default::default(),
         },
         noise: NoiseConfig { seed, sigma },
         export: Some(ExportConfig {

@@ -37,6 +37,8 @@ registry::registry! {
     Mmg3 => mmg3::Mmg3,
     /// Surface ship, reduced Abkowitz model linear in 16 parameters (Hajizadeh et al. 2015).
     ShipLinear => ship_linear::ShipLinear,
+    /// Course keeping in waves: Nomoto steering with a rudder bias and wave-induced yaw.
+    NomotoWave => nomoto_wave::NomotoWave,
 }
 
 /// One state of a model.
@@ -194,6 +196,13 @@ pub trait Model: Send + Sync + Sized {
     /// A physical sanity check of state and coefficients (e.g. m - Yvd > 0); the message
     /// says what went wrong.
     fn check(&self, x: &[f64], c: &[f64]) -> Result<(), String>;
+
+    /// A first value of the estimated coefficient `name` read from the runs' measurements,
+    /// used when the configuration gives no `hekf.prior.NAME.initial` (None, the default:
+    /// start at zero). The wave filter reads its wave frequency from the heading spectrum.
+    fn initial_guess(&self, _name: &str, _runs: &[crate::record::Record]) -> Option<f64> {
+        None
+    }
 
     /// A vehicle the model is checked on (the conformance suite, `hydroid coefficients`).
     fn example_vehicle() -> Vehicle;

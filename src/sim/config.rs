@@ -78,6 +78,9 @@ pub enum Manoeuvre {
         steps: Vec<Step>,
         /// A helmsman steering the rudder (turning circle, zig-zag), if any.
         steering: Option<super::steering::Steering>,
+        /// White-noise forcing per state, variance per second (SI^2/s): waves on a wave-yaw
+        /// state, gusts on a rate.
+        process_noise: BTreeMap<Quantity, f64>,
     },
     /// Steady polars implied by the coefficients (paper eq. 5 inverted) over a sweep of
     /// angles of attack and speeds, one row per (speed, angle).
@@ -238,6 +241,8 @@ struct ManoeuvreFile {
     cubic: Option<BTreeMap<Quantity, f64>>,
     #[serde(default)]
     steering: Option<super::steering::SteeringFile>,
+    #[serde(default)]
+    process_noise: Option<BTreeMap<Quantity, f64>>,
 }
 
 /// The quantities a manoeuvre produces, and which of them the model integrates or takes as
@@ -486,6 +491,21 @@ impl ManoeuvreFile {
                         }
                     }
                 }
+                let process_noise = self.process_noise.unwrap_or_default();
+                for (q, v) in &process_noise {
+                    let key = format!("manoeuvre.process_noise.{q}");
+                    member(p, &key, *q, &produces.states, "a state", &model_name);
+                    if !(v.is_finite() && *v >= 0.0) {
+                        p.add(
+                            &key,
+                            format!(
+                                "a white-noise intensity (variance per second, SI), 0 or more, \
+                                 got {v}"
+                            ),
+                        );
+                        ok = false;
+                    }
+                }
                 ok.then_some(Manoeuvre::TimeHistory {
                     duration,
                     dt,
@@ -494,6 +514,7 @@ impl ManoeuvreFile {
                     inputs,
                     steps,
                     steering,
+                    process_noise,
                 })
             }
             Kind::PolarSweep => {
@@ -505,6 +526,7 @@ impl ManoeuvreFile {
                     ("inputs", self.inputs.is_some()),
                     ("steps", self.steps.is_some()),
                     ("steering", self.steering.is_some()),
+                    ("process_noise", self.process_noise.is_some()),
                 ] {
                     unused(p, key, given);
                 }

@@ -12,6 +12,9 @@ use rand::{rngs::StdRng, SeedableRng};
 use rand_distr::{Distribution, Normal};
 use std::collections::BTreeMap;
 
+/// Mixed into the noise seed for the process noise, so that the two streams differ.
+const PROCESS_SEED: u64 = 0x05ee_d0f0_a7e5;
+
 /// Simulated quantities in SI, all of the same length.
 pub type Columns = BTreeMap<Quantity, Vec<f64>>;
 
@@ -75,6 +78,7 @@ impl ModelVisitor for History<'_> {
             inputs,
             steps,
             steering,
+            process_noise,
         } = &self.cfg.manoeuvre
         else {
             unreachable!("called for time histories only")
@@ -142,20 +146,68 @@ impl ModelVisitor for History<'_> {
         // inputs are read between samples by the model's rule, as the filter and
         // re-simulation read them: an interpolated step at a sample time ramps over the
         // interval before it
-        let xs = match steering {
-            None => simulate(model, &c, &x0, &input_series, &input_series.t, *substeps),
-            Some(law) => steered(model, &c, &x0, &mut input_series, *law, *substeps),
+        // process noise (waves, gusts): a Gaussian increment of variance q dt on each forced
+        // state after every sample interval (Euler-Maruyama on dx = f dt + sqrt(q) dW), from
+        // its own seed so that the measurement noise does not change the motion
+        let forced: Vec<(usize, f64)> = process_noise
+            .iter()
+            .filter_map(|(q, v)| model.state_index(*q).map(|i| (i, *v)))
+            .collect();
+        let mut rng = StdRng::seed_from_u64(self.cfg.noise.seed ^ PROCESS_SEED);
+        let mut forcing = |x: &mut [f64], dt: f64| {
+            for &(i, q) in &forced {
+                let d = Normal::new(0.0, (q * dt).sqrt()).expect("q >= 0, checked by the loader");
+                x[i] += d.sample(&mut rng);
+            }
+        };
+        let xs = match (steering, forced.is_empty()) {
+            (None, true) => simulate(model, &c, &x0, &input_series, &input_series.t, *substeps),
+            (law, _) => per_sample(
+                model,
+                &c,
+                &x0,
+                &mut input_series,
+                *law,
+                *substeps,
+                &mut forcing,
+            ),
         }
         .map_err(|e| Error::numerical("simulate", e.to_string()))?;
         let InputSeries {
             t: times,
             inputs: series,
         } = input_series;
+        // what the sensors read: the model's outputs where it declares a measurement
+        // function (a compass reads psi_L + psi_H), its states elsewhere
+        let output_cols: Vec<(Quantity, Vec<f64>)> = if model.outputs().is_empty() {
+            Vec::new()
+        } else {
+            let replay = InputSeries {
+                t: times.clone(),
+                inputs: series.clone(),
+            };
+            let mut u = vec![0.0; replay.len()];
+            let ys: Vec<Vec<f64>> = xs
+                .iter()
+                .zip(&times)
+                .map(|(x, &t)| {
+                    replay.at(t, &mut u);
+                    model.output_values(x, &u, &c)
+                })
+                .collect();
+            model
+                .output_quantities()
+                .into_iter()
+                .enumerate()
+                .map(|(a, q)| (q, ys.iter().map(|y| y[a]).collect()))
+                .collect()
+        };
         let mut cols = Columns::new();
         cols.insert(Quantity::Time, times);
         for (i, s) in model.states().iter().enumerate() {
             cols.insert(s.quantity, xs.iter().map(|x| x[i]).collect());
         }
+        cols.extend(output_cols);
         for (def, v) in model.inputs().iter().zip(series) {
             if let Input::Series(v) | Input::Held(v) = v {
                 cols.insert(def.quantity, v);
@@ -176,30 +228,48 @@ pub(crate) fn steered<M: Model>(
     law: crate::sim::steering::Steering,
     substeps: usize,
 ) -> std::result::Result<Vec<Vec<f64>>, crate::sim::SimError> {
-    let yaw = model
-        .state_index(Quantity::Yaw)
-        .expect("checked by the loader");
-    let ri = model
-        .input_quantities()
-        .iter()
-        .position(|q| *q == Quantity::Rudder)
-        .expect("checked by the loader");
-    let mut helm = crate::sim::steering::Helm::new(law);
+    per_sample(model, c, x0, inputs, Some(law), substeps, &mut |_, _| {})
+}
+
+/// Integrates sample by sample, with the helm of `law` (if any) moving the rudder, and
+/// `forcing(x, dt)` applied to the state after each interval of `dt` (a process noise).
+fn per_sample<M: Model>(
+    model: &M,
+    c: &[f64],
+    x0: &[f64],
+    inputs: &mut InputSeries,
+    law: Option<crate::sim::steering::Steering>,
+    substeps: usize,
+    forcing: &mut dyn FnMut(&mut [f64], f64),
+) -> std::result::Result<Vec<Vec<f64>>, crate::sim::SimError> {
+    let mut helm = law.map(|law| {
+        let yaw = model
+            .state_index(Quantity::Yaw)
+            .expect("checked by the loader");
+        let ri = model
+            .input_quantities()
+            .iter()
+            .position(|q| *q == Quantity::Rudder)
+            .expect("checked by the loader");
+        (crate::sim::steering::Helm::new(law), yaw, ri)
+    });
     let times = inputs.t.clone();
     let mut xs = Vec::with_capacity(times.len());
     xs.push(x0.to_vec());
     for k in 1..times.len() {
         let dt = times[k] - times[k - 1];
-        let rudder = match &mut inputs.inputs[ri] {
-            Input::Series(s) | Input::Held(s) => {
-                s[k] = helm.next(times[k - 1], xs[k - 1][yaw], s[k - 1], dt);
-                s[k]
+        if let Some((helm, yaw, ri)) = &mut helm {
+            match &mut inputs.inputs[*ri] {
+                Input::Series(s) | Input::Held(s) => {
+                    s[k] = helm.next(times[k - 1], xs[k - 1][*yaw], s[k - 1], dt);
+                }
+                Input::Constant(_) => unreachable!("the rudder is a series while steered"),
             }
-            Input::Constant(_) => unreachable!("the rudder is a series while steered"),
-        };
-        debug_assert!(rudder.is_finite());
+        }
         let step = simulate(model, c, &xs[k - 1], inputs, &times[k - 1..=k], substeps)?;
-        xs.push(step[1].clone());
+        let mut x = step[1].clone();
+        forcing(&mut x, dt);
+        xs.push(x);
     }
     Ok(xs)
 }

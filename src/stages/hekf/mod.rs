@@ -162,7 +162,7 @@ impl ModelVisitor for Identify<'_> {
     fn visit<M: Model>(self, model: &M) -> Result<HekfResult> {
         let (cfg, inputs) = (self.cfg, self.inputs);
         let tuning = tuning::Resolved::from_config(cfg);
-        let plan = prepare::plan(model, cfg, &tuning, inputs.known)?;
+        let plan = prepare::plan(model, cfg, &tuning, inputs.known, inputs.runs)?;
         let mut runs = Vec::new();
         let mut summaries = Vec::new();
         for rec in inputs.runs {

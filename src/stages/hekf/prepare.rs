@@ -44,6 +44,7 @@ pub fn plan<M: Model>(
     cfg: &HekfConfig,
     tuning: &Resolved,
     known: &CoefficientSet,
+    runs: &[Record],
 ) -> Result<Plan> {
     let names = model.coefficient_names();
     let est = coefficient_problems(model, cfg, |n| known.contains(n))
@@ -65,7 +66,14 @@ pub fn plan<M: Model>(
     for (&i, n) in est.iter().zip(&cfg.estimate) {
         let typical = model.typical_magnitude(names[i]);
         let p = cfg.prior.get(n);
-        let init = p.and_then(|p| p.initial).unwrap_or(0.0);
+        // the configured start, else what the model reads from the runs, else zero
+        let (init, from_data) = match p.and_then(|p| p.initial) {
+            Some(v) => (v, false),
+            None => match model.initial_guess(n, runs) {
+                Some(v) if v.is_finite() => (v, true),
+                _ => (0.0, false),
+            },
+        };
         let (sigma, why) = match (p.and_then(|p| p.sigma), tuning.prior_sigma) {
             (Some(s), _) => (s, "configured"),
             (None, Some(s)) => (s, "paper preset"),
@@ -73,7 +81,17 @@ pub fn plan<M: Model>(
         };
         let unit = crate::models::registry::coefficient(n).map_or("", |c| c.unit);
         notes.push(format!(
-            "{n}: starts at {init} {unit}, prior sigma {} {unit} ({why})",
+            "{n}: starts at {} {unit}{}, prior sigma {} {unit} ({why})",
+            if from_data {
+                sig(init)
+            } else {
+                init.to_string()
+            },
+            if from_data {
+                " (read from the runs by the model)"
+            } else {
+                ""
+            },
             sig(sigma)
         ));
         initial.push(init);
@@ -363,6 +381,45 @@ fn initial_state<M: Model>(
     (x0, p0)
 }
 
+/// Control inputs (rudder, planes) that never move in a run: the response to them, which
+/// identifies the steering coefficients, is not in its data.
+fn still_inputs<M: Model>(model: &M, rec: &Record) -> Vec<Warning> {
+    let controls = [Quantity::Rudder, Quantity::SternPlanes, Quantity::BowPlanes];
+    model
+        .input_quantities()
+        .into_iter()
+        .filter(|q| controls.contains(q))
+        .filter_map(|q| {
+            let held = match rec.channel(q) {
+                Some(v) => {
+                    let (lo, hi) = v
+                        .iter()
+                        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+                            (a.min(*x), b.max(*x))
+                        });
+                    // less than 0.1 deg of motion
+                    (hi - lo < 0.1f64.to_radians()).then_some(0.5 * (lo + hi))
+                }
+                None => rec.constants.get(&q).copied(),
+            }?;
+            Some(
+                Warning::new(
+                    STAGE,
+                    format!(
+                        "the {q} does not move in this run (held at {:.2} deg)",
+                        held.to_degrees()
+                    ),
+                    "nothing in this run shows the response to it: the coefficients of the \
+                     steering response (a gain such as Nomoto's K, a rudder bias) cannot be \
+                     identified from it, and their sigmas say so; the states are still \
+                     filtered",
+                )
+                .for_run(&rec.name),
+            )
+        })
+        .collect()
+}
+
 /// What the run does not cover well: gaps in time, out-of-plane motion a 3-DOF model
 /// ignores, states it does not measure.
 fn coverage_warnings<M: Model>(
@@ -376,6 +433,7 @@ fn coverage_warnings<M: Model>(
         warnings.push(w.for_run(&rec.name));
     }
     warnings.extend(out_of_plane_warnings(model, rec));
+    warnings.extend(still_inputs(model, rec));
     let unmeasured: Vec<&str> = model
         .states()
         .iter()

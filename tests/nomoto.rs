@@ -1,0 +1,196 @@
+//! Course keeping in waves (configs/nomoto.toml, docs/models/nomoto.md): twin experiments of
+//! the nomoto_wave model, a 20/20 zig-zag of the frigate in waves with a noisy compass, the
+//! hybrid EKF identifying K, T and the rudder bias while separating the wave-induced yaw.
+
+mod common;
+
+use common::root;
+use hydroid::quantity::Quantity;
+use hydroid::sim::config::{load as load_sim, Manoeuvre};
+use hydroid::sim::synth::synthesize;
+
+/// Truth of the bundled log: K = 0.18 1/s, T = 27 s, bias 1 deg.
+const K: f64 = 0.18;
+const T: f64 = 27.0;
+
+struct Twin {
+    /// K, 1/T, delta0 with sigmas.
+    estimates: Vec<(String, f64, f64)>,
+    /// RMS of the filtered low-frequency heading against the truth, rad.
+    psi_l_rms: f64,
+    /// RMS of the wave-induced heading, rad.
+    wave_rms: f64,
+}
+
+/// Simulates `sim` (a simulate configuration in configs/simulate) with `w0` and the process
+/// noise `q`, writes its log, and identifies it with configs/nomoto.toml (`estimate_w0`: the
+/// wave frequency estimated too, starting from the 8 s guess).
+fn twin(w0: f64, q: f64, estimate_w0: bool) -> Twin {
+    let dir = tempfile::tempdir().unwrap();
+    let sim_path = root().join("configs/simulate/nomoto_zigzag_waves.toml");
+    let mut sim = load_sim(&sim_path).unwrap();
+    sim.config.coefficients.insert("w0".into(), w0);
+    if let Manoeuvre::TimeHistory { process_noise, .. } = &mut sim.config.manoeuvre {
+        process_noise.insert(Quantity::WaveYaw, q);
+    }
+    let noisy = synthesize(&sim.config).unwrap();
+    let mut clean_cfg = sim.config.clone();
+    clean_cfg.noise.sigma.clear();
+    let clean = synthesize(&clean_cfg).unwrap();
+    // the compass log in the bundled layout
+    let mut csv = String::from("time (s),compass (deg),rudder (deg)\n");
+    let (time, yaw, rudder) = (
+        &noisy[&Quantity::Time],
+        &noisy[&Quantity::Yaw],
+        &noisy[&Quantity::Rudder],
+    );
+    for ((t, y), d) in time.iter().zip(yaw).zip(rudder) {
+        csv.push_str(&format!("{t},{},{}\n", y.to_degrees(), d.to_degrees()));
+    }
+    std::fs::write(dir.path().join("log.csv"), csv).unwrap();
+    let mut text = std::fs::read_to_string(root().join("configs/nomoto.toml"))
+        .unwrap()
+        .replace("../cfd_exports/nomoto_zigzag_waves.csv", "log.csv")
+        .replace("w0 = 0.785398163397", &format!("w0 = {w0}"));
+    if estimate_w0 {
+        text = text
+            .replace(
+                "estimate = [\"K\", \"inv_T\", \"delta0\"]",
+                "estimate = [\"K\", \"inv_T\", \"delta0\", \"w0\"]",
+            )
+            .replace(&format!("w0 = {w0}"), "")
+            .replace(
+                "delta0 = { initial = 0.0, sigma = 0.05 }",
+                "delta0 = { initial = 0.0, sigma = 0.05 }\nw0 = { sigma = 0.5 }",
+            );
+    }
+    let cfg = dir.path().join("nomoto.toml");
+    std::fs::write(&cfg, text).unwrap();
+    let loaded = hydroid::config::load(&cfg, &[]).unwrap();
+    let out = hydroid::pipeline::run(&loaded, &mut hydroid::progress::Silent).unwrap();
+    let h = out.result.stages.hekf.as_ref().unwrap();
+    let estimates = h
+        .coefficients
+        .iter()
+        .map(|c| (c.name.clone(), c.value, c.sigma.unwrap()))
+        .collect();
+    // psi_L is state 1 of 4; truth: the clean compass minus the wave yaw (Fossen's form)
+    let tr = &h.traces[0];
+    let states = tr.smoothed.as_ref().unwrap_or(&tr.filtered);
+    let truth: Vec<f64> = clean[&Quantity::Yaw]
+        .iter()
+        .zip(&clean[&Quantity::WaveYaw])
+        .map(|(c, w)| c - w)
+        .collect();
+    let n = tr.times.len();
+    let psi_l_rms = ((0..n)
+        .map(|k| (states[k * 4 + 1] - truth[k]).powi(2))
+        .sum::<f64>()
+        / n as f64)
+        .sqrt();
+    let waves = &clean[&Quantity::WaveYaw];
+    let wave_rms = (waves.iter().map(|w| w * w).sum::<f64>() / waves.len() as f64).sqrt();
+    Twin {
+        estimates,
+        psi_l_rms,
+        wave_rms,
+    }
+}
+
+fn check(t: &Twin, label: &str) {
+    for (name, v, s) in &t.estimates {
+        println!("{label}: {name} = {v:.6} +- {s:.6}");
+    }
+    let get = |n: &str| t.estimates.iter().find(|e| e.0 == n).unwrap();
+    let (_, k, sk) = get("K");
+    let (_, inv_t, st) = get("inv_T");
+    let (_, bias, sb) = get("delta0");
+    let t_est = 1.0 / inv_t;
+    assert!(((k - K) / K).abs() < 0.02, "{label}: K {k}");
+    assert!(((t_est - T) / T).abs() < 0.02, "{label}: T {t_est}");
+    assert!(
+        (bias - 1f64.to_radians()).abs() < 0.1f64.to_radians(),
+        "{label}: bias {bias}"
+    );
+    assert!((k - K).abs() <= 2.0 * sk, "{label}: K {k} +- {sk}");
+    assert!(
+        (inv_t - 1.0 / T).abs() <= 2.0 * st,
+        "{label}: 1/T {inv_t} +- {st}"
+    );
+    assert!(
+        (bias - 1f64.to_radians()).abs() <= 2.0 * sb,
+        "{label}: bias {bias} +- {sb}"
+    );
+    // the wave yaw's amplitude: sqrt(2) times its RMS (a sine of that RMS)
+    let amplitude = std::f64::consts::SQRT_2 * t.wave_rms;
+    println!(
+        "{label}: filtered psi_L RMS error {:.4} deg, wave yaw amplitude {:.3} deg",
+        t.psi_l_rms.to_degrees(),
+        amplitude.to_degrees()
+    );
+    assert!(t.psi_l_rms < amplitude / 5.0, "{label}");
+}
+
+#[test]
+fn a_zigzag_in_8_s_waves_gives_k_t_and_the_bias_and_the_low_frequency_heading() {
+    let w0 = 2.0 * std::f64::consts::PI / 8.0;
+    check(&twin(w0, 9.6e-5, false), "8 s waves");
+}
+
+/// Waves of 5 s and of 20 s period (a wave yaw of about 1 deg each), the wave frequency
+/// estimated by the filter, starting where the model reads it from the compass spectrum.
+#[test]
+fn short_and_long_waves_with_the_wave_frequency_estimated() {
+    for period in [5.0, 20.0] {
+        let w0 = 2.0 * std::f64::consts::PI / period;
+        let q = 4.0 * 0.1 * w0 * 1f64.to_radians().powi(2);
+        let t = twin(w0, q, true);
+        let label = format!("{period} s waves");
+        check(&t, &label);
+        let (_, w, s) = t.estimates.iter().find(|e| e.0 == "w0").unwrap();
+        println!("{label}: w0 {w:.4} +- {s:.4}, truth {w0:.4}");
+        assert!(((w - w0) / w0).abs() < 0.05, "{label}: w0 {w}, truth {w0}");
+    }
+}
+
+/// A compass log with the rudder held amidships: nothing identifies K, and the run says so,
+/// while the filter still gives the low-frequency heading, finite everywhere.
+#[test]
+fn a_log_without_rudder_action_is_reported_and_still_filtered() {
+    let dir = tempfile::tempdir().unwrap();
+    let src = std::fs::read_to_string(root().join("cfd_exports/nomoto_zigzag_waves.csv")).unwrap();
+    let mut csv = String::new();
+    for (i, line) in src.lines().enumerate() {
+        if i == 0 {
+            csv.push_str(line);
+        } else {
+            let mut cells: Vec<&str> = line.split(',').collect();
+            cells[2] = "0";
+            csv.push_str(&cells.join(","));
+        }
+        csv.push('\n');
+    }
+    std::fs::write(dir.path().join("log.csv"), csv).unwrap();
+    let text = std::fs::read_to_string(root().join("configs/nomoto.toml"))
+        .unwrap()
+        .replace("../cfd_exports/nomoto_zigzag_waves.csv", "log.csv");
+    let cfg = dir.path().join("nomoto.toml");
+    std::fs::write(&cfg, text).unwrap();
+    let loaded = hydroid::config::load(&cfg, &[]).unwrap();
+    let out = hydroid::pipeline::run(&loaded, &mut hydroid::progress::Silent).unwrap();
+    assert!(
+        out.result
+            .warnings
+            .iter()
+            .any(|w| w.message.contains("the rudder does not move in this run")),
+        "{:?}",
+        out.result.warnings
+    );
+    let h = out.result.stages.hekf.as_ref().unwrap();
+    let tr = &h.traces[0];
+    assert!(tr.filtered.iter().all(|v| v.is_finite()));
+    assert!(h
+        .coefficients
+        .iter()
+        .all(|c| c.value.is_finite() && c.sigma.is_some_and(f64::is_finite)));
+}
