@@ -230,7 +230,7 @@ impl Model for NomotoWave {
             coefficients: FRIGATE_9MS,
             state: vec![0.005, 0.1, 0.0, 0.0],
             inputs: vec![5f64.to_radians()],
-            estimated: &["K", "inv_T"],
+            estimated: &["K"],
             duration: 120.0,
         }
     }
