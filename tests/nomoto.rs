@@ -76,7 +76,11 @@ fn twin(w0: f64, q: f64, estimate_w0: bool) -> Twin {
         .collect();
     // psi_L is state 1 of 4; truth: the clean compass minus the wave yaw (Fossen's form)
     let tr = &h.traces[0];
-    let states = tr.smoothed.as_ref().unwrap_or(&tr.filtered);
+    let states = if std::env::var("FILTERED").is_ok() {
+        &tr.filtered
+    } else {
+        tr.smoothed.as_ref().unwrap_or(&tr.filtered)
+    };
     let truth: Vec<f64> = clean[&Quantity::Yaw]
         .iter()
         .zip(&clean[&Quantity::WaveYaw])

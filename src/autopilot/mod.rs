@@ -5,6 +5,7 @@
 //! commanded heading (Fossen 2011, 10.2.1: a low-pass filter cascaded with a mass-damper-
 //! spring), with the rudder limited in angle and rate as a steering gear is.
 
+pub mod closed_loop;
 mod pid;
 mod reference;
 

@@ -45,6 +45,10 @@ impl<'a, M: Model> ModelSystem<'a, M> {
     ) -> Self {
         let nx = model.nx();
         let nc = base.len();
+        // the completed base: the coefficients as they are when nothing is estimated (the
+        // cache below is keyed on the estimated part of the state, empty then)
+        let mut c = base.clone();
+        model.relations().apply(&mut c);
         ModelSystem {
             model,
             base,
@@ -53,7 +57,7 @@ impl<'a, M: Model> ModelSystem<'a, M> {
             inputs,
             measured,
             u: vec![0.0; inputs.len()],
-            c: vec![0.0; nc],
+            c,
             c_for: vec![f64::NAN; est.len()],
             xd: vec![ad::constant(0.0); nx],
             cd: vec![ad::constant(0.0); nc],
@@ -367,5 +371,29 @@ mod tests {
         }
         // the estimated Yvd moves Xvr and Nuva inside the dynamics: du_dot/dz(Yvd) != 0
         assert!(fa[6].abs() > 1e-6);
+    }
+
+    /// With no coefficient estimated (an online wave filter), the filter's prediction is the
+    /// model's own motion: the coefficients are the base, not zeros (a cache keyed on the
+    /// estimated part of the state, empty then, once left them at zero).
+    #[test]
+    fn with_nothing_estimated_the_prediction_is_the_models_motion() {
+        use crate::estimation::hybrid_ekf::HybridEkf;
+        use crate::models::nomoto_wave::{NomotoWave, FRIGATE_9MS};
+        use crate::sim::{simulate, InputSeries};
+        let m = NomotoWave::build(&NomotoWave::example_vehicle()).unwrap();
+        let c = m.coefficient_vector(FRIGATE_9MS);
+        let mut x = vec![0.0, 0.0, 0.01, 0.0];
+        let mut ekf = HybridEkf::new(4, 4, x.clone(), vec![0.0; 16], vec![0.0; 4], 0.1);
+        for k in 1..=100 {
+            let t = k as f64 * 0.1;
+            let held = InputSeries::constant(&[(t * 0.1).sin() * 0.3]);
+            x = simulate(&m, &c, &x, &held, &[t - 0.1, t], 1).unwrap()[1].clone();
+            let mut sys = ModelSystem::new(&m, c.clone(), &[], &[], &held, &[0]);
+            ekf.predict(&mut sys, t - 0.1, t, None).unwrap();
+        }
+        for (a, b) in x.iter().zip(&ekf.x) {
+            assert!((a - b).abs() < 1e-9, "{x:?} against {:?}", ekf.x);
+        }
     }
 }
