@@ -198,3 +198,34 @@ fn a_log_without_rudder_action_is_reported_and_still_filtered() {
         .iter()
         .all(|c| c.value.is_finite() && c.sigma.is_some_and(f64::is_finite)));
 }
+
+/// The bundled run's autopilot (configs/nomoto.toml [autopilot]): fed the wave filter, the
+/// rudder rate RMS falls by at least half against the raw compass and gyro, the heading kept
+/// no worse than 20 % (the paper's result), on the console and in results.json.
+#[test]
+fn the_bundled_autopilot_calms_the_rudder_with_the_filtered_heading() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = common::hydroid(&["run", "configs/nomoto.toml", "--out", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
+    let console = common::text(&o.stdout);
+    assert!(
+        console.contains("wave filter (psi_L, r_L): heading error RMS"),
+        "{console}"
+    );
+    let r = common::json(&out.join("results.json"));
+    let a = &r["autopilot"];
+    let (raw, filtered) = (&a["raw"], &a["filtered"]);
+    let get = |v: &serde_json::Value, k: &str| v[k].as_f64().unwrap();
+    assert!(
+        get(filtered, "rudder_rate_rms") <= 0.5 * get(raw, "rudder_rate_rms"),
+        "{a}"
+    );
+    assert!(
+        get(filtered, "heading_error_rms") <= 1.2 * get(raw, "heading_error_rms"),
+        "{a}"
+    );
+    let schema = common::json(&root().join("docs/results.schema.json"));
+    let validator = jsonschema::draft202012::new(&schema).unwrap();
+    assert!(validator.is_valid(&r));
+}

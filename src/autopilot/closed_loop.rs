@@ -219,7 +219,7 @@ mod tests {
     /// fed the filtered heading, the autopilot moves the rudder far less for the same
     /// heading-keeping.
     #[test]
-    fn the_filtered_heading_calms_the_rudder_at_the_same_heading_error() {
+    fn the_filtered_heading_calms_the_rudder_without_losing_the_heading() {
         let m = NomotoWave::build(&NomotoWave::example_vehicle()).unwrap();
         let c = m.coefficient_vector(FRIGATE_9MS);
         let s = Scenario {
@@ -256,8 +256,9 @@ mod tests {
             deg(filtered.rudder_rate_rms)
         );
         assert!(filtered.rudder_rate_rms <= 0.5 * raw.rudder_rate_rms);
+        // no worse than 20 % in heading keeping
         assert!(
-            (filtered.heading_error_rms / raw.heading_error_rms - 1.0).abs() <= 0.2,
+            filtered.heading_error_rms <= 1.2 * raw.heading_error_rms,
             "heading error {} against {}",
             filtered.heading_error_rms,
             raw.heading_error_rms

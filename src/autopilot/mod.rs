@@ -12,6 +12,60 @@ mod reference;
 pub use pid::{Autopilot, Gains, RudderLimits, TuningError};
 pub use reference::ReferenceModel;
 
+/// What the autopilot step gave.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct AutopilotResult {
+    /// Nomoto K of the identified model, 1/s.
+    pub k: f64,
+    /// Nomoto T of the identified model, s.
+    pub t: f64,
+    /// The PID gains placed from them.
+    pub gains: Gains,
+    /// Fed the raw compass and gyro.
+    pub raw: closed_loop::ClosedLoop,
+    /// Fed the wave filter's low-frequency heading and yaw rate.
+    pub filtered: closed_loop::ClosedLoop,
+}
+
+impl AutopilotResult {
+    /// The comparison in words, one line per feed.
+    pub fn lines(&self) -> Vec<String> {
+        let line = |what: &str, c: &closed_loop::ClosedLoop| {
+            format!(
+                "{what}: heading error RMS {:.3} deg, rudder RMS {:.3} deg, rudder rate RMS \
+                 {:.3} deg/s",
+                c.heading_error_rms.to_degrees(),
+                c.rudder_rms.to_degrees(),
+                c.rudder_rate_rms.to_degrees()
+            )
+        };
+        vec![
+            line("raw compass and gyro", &self.raw),
+            line("wave filter (psi_L, r_L)", &self.filtered),
+        ]
+    }
+
+    /// Warnings: the filter that does not calm the rudder.
+    pub fn warnings(&self) -> Vec<crate::warning::Warning> {
+        let mut out = Vec::new();
+        if self.filtered.rudder_rate_rms > 0.5 * self.raw.rudder_rate_rms {
+            out.push(crate::warning::Warning::new(
+                "autopilot",
+                format!(
+                    "fed the wave filter, the rudder rate RMS is {:.2} deg/s against {:.2} deg/s \
+                     raw: less than halved",
+                    self.filtered.rudder_rate_rms.to_degrees(),
+                    self.raw.rudder_rate_rms.to_degrees()
+                ),
+                "the wave filter does not take the wave-frequency motion out of what the \
+                 autopilot sees as well as it should: check the wave frequency, the wave \
+                 process noise and the compass noise",
+            ));
+        }
+        out
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -95,6 +95,17 @@ pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
                 s.text()
             )?;
         }
+        if let Some(a) = &output.result.autopilot {
+            writeln!(
+                out,
+                "\nAutopilot tuned from K = {:.4} 1/s, T = {:.2} s (K_p {:.3}, K_d {:.3} s, K_i \
+                 {:.4} 1/s), closed around the identified model in waves:",
+                a.k, a.t, a.gains.kp, a.gains.kd, a.gains.ki
+            )?;
+            for l in a.lines() {
+                writeln!(out, "  {l}")?;
+            }
+        }
         writeln!(out, "\nwrote {}", dir.display())?;
     }
     // the warnings were said as they arose; a reminder of where they are kept

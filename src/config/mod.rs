@@ -3,6 +3,7 @@
 //! ([`polar`], [`surge`], [`hekf`]) lives here, so that the stages depend on the
 //! configuration and not the other way round.
 
+pub mod autopilot;
 mod collect;
 pub mod hekf;
 mod input;
@@ -57,6 +58,9 @@ pub struct Config {
     /// Hybrid EKF stage.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub hekf: Option<HekfConfig>,
+    /// The autopilot tuned from the identified Nomoto model, closed around it in waves.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub autopilot: Option<autopilot::AutopilotConfig>,
 }
 
 /// The vehicle. All values SI.
@@ -380,6 +384,16 @@ impl Config {
         }
         if let Some(s) = &self.hekf {
             s.validate(self, p);
+        }
+        if let Some(a) = &self.autopilot {
+            a.validate(p);
+            if !self.hekf.as_ref().is_some_and(|h| h.enabled) {
+                p.add(
+                    "autopilot",
+                    "the autopilot is tuned from and closed around the HEKF's identified model: \
+                     add the [hekf] stage",
+                );
+            }
         }
         if !self.vehicle.particulars.is_empty() && !self.hekf.as_ref().is_some_and(|h| h.enabled) {
             // only a model reads them: without the HEKF stage they would be ignored

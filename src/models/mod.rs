@@ -204,6 +204,12 @@ pub trait Model: Send + Sync + Sized {
         None
     }
 
+    /// Nomoto's K (1/s) and T (s) when the model is itself a Nomoto steering model (its
+    /// coefficients hold them), for the autopilot's tuning; None (the default) otherwise.
+    fn nomoto_gains(&self, _c: &[f64]) -> Option<(f64, f64)> {
+        None
+    }
+
     /// A vehicle the model is checked on (the conformance suite, `hydroid coefficients`).
     fn example_vehicle() -> Vehicle;
 

@@ -208,6 +208,10 @@ impl Model for NomotoWave {
         crate::signal::spectral_peak(t, psi, 30.0, two_pi / 30.0, two_pi / 3.0)
     }
 
+    fn nomoto_gains(&self, c: &[f64]) -> Option<(f64, f64)> {
+        (c[INV_T] > 0.0).then(|| (c[K], 1.0 / c[INV_T]))
+    }
+
     fn example_vehicle() -> Vehicle {
         // the frigate of Van Amerongen (1982) at 9 m/s; the model reads only the particulars
         Vehicle {

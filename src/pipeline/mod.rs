@@ -2,6 +2,7 @@
 //! set -> re-simulation -> comparison. Each step is a plain function of data to data; the
 //! run's result ([`crate::results`]) is what comes out.
 
+pub mod autopilot;
 mod inputs;
 mod preflight;
 
@@ -70,6 +71,18 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutp
         resim = runs;
     }
     complete_reported(&mut known, model_name, &mut log);
+    let mut autopilot_result = None;
+    if let (Some(a), Some(hc), Some(name)) = (&cfg.autopilot, &cfg.hekf, model_name) {
+        let vehicle = cfg.vehicle.for_model(&cfg.fluid);
+        let r = autopilot::run(name, &vehicle, &known, hc, a)?;
+        log.stage(&format!(
+            "autopilot: rudder rate RMS {:.3} deg/s raw, {:.3} deg/s filtered",
+            r.raw.rudder_rate_rms.to_degrees(),
+            r.filtered.rudder_rate_rms.to_degrees()
+        ));
+        log.say(r.warnings());
+        autopilot_result = Some(r);
+    }
     let comparison = compare(&known, &analytic, cfg.reference.as_ref());
     let result = RunResult::new(
         loaded,
@@ -86,6 +99,7 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutp
     );
     let mut result = result;
     result.steering = resim.steering;
+    result.autopilot = autopilot_result;
     Ok(RunOutput {
         result,
         resim_traces: resim.traces,

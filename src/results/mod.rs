@@ -59,6 +59,9 @@ pub struct RunResult {
     /// Nomoto's indices of the identified model (a model with a rudder; ships).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub steering: Option<crate::course_stability::SteeringIndices>,
+    /// The autopilot tuned from the identified Nomoto model, closed around it in waves.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub autopilot: Option<crate::autopilot::AutopilotResult>,
     /// Everything the user should know, from every stage and input, with what it means.
     pub warnings: Vec<crate::warning::Warning>,
     /// The effective configuration (defaults and overrides applied).
@@ -141,6 +144,7 @@ impl RunResult {
             stages,
             resimulation,
             steering: None,
+            autopilot: None,
             warnings,
             configuration: c.clone(),
         }

@@ -57,6 +57,44 @@ pub fn write<'a>(d: &mut Document<'a>, r: &RunResult, figs: &Figures<'a>) {
     }
     d.table(t);
     manoeuvres(d, r);
+    if let Some(a) = &r.autopilot {
+        d.heading(3, "Autopilot in waves");
+        d.text(format!(
+            "A PID heading autopilot tuned from the identified K = {:.4} 1/s and T = {:.2} s by \
+             pole placement (w_n = {} rad/s, zeta = {}: K_p = {:.3}, K_d = {:.3} s, K_i = {:.4} \
+             1/s), with a third-order heading reference model, closed around the identified \
+             model in the same waves: once fed the raw compass and gyro, once the wave \
+             filter's low-frequency heading and yaw rate (the hybrid EKF on the same model, \
+             run online). Heading error is the low-frequency heading's from the reference.",
+            a.k,
+            a.t,
+            crate::numfmt::num(a.gains.omega_n),
+            crate::numfmt::num(a.gains.zeta),
+            a.gains.kp,
+            a.gains.kd,
+            a.gains.ki
+        ));
+        let mut t = Table::new([
+            "autopilot fed",
+            "heading error RMS (deg)",
+            "rudder RMS (deg)",
+            "rudder rate RMS (deg/s)",
+        ])
+        .numeric_from(1)
+        .col(0, Col::Text);
+        for (what, c) in [
+            ("raw compass and gyro", &a.raw),
+            ("wave filter", &a.filtered),
+        ] {
+            t.row([
+                what.to_string(),
+                format!("{:.3}", c.heading_error_rms.to_degrees()),
+                format!("{:.3}", c.rudder_rms.to_degrees()),
+                format!("{:.3}", c.rudder_rate_rms.to_degrees()),
+            ]);
+        }
+        d.table(t);
+    }
     if let Some(s) = &r.steering {
         d.heading(3, "Steering indices (Nomoto)");
         d.text(format!(

@@ -1,0 +1,156 @@
+//! `[autopilot]` configuration: the heading autopilot tuned from the identified Nomoto K and
+//! T and closed around the identified model in waves, fed the raw compass and gyro or the
+//! wave filter's estimate (docs/models/nomoto.md).
+
+use super::{si, Problems};
+use serde::{Deserialize, Serialize};
+
+fn default_omega() -> f64 {
+    0.05
+}
+fn default_zeta() -> f64 {
+    0.9
+}
+fn default_reference_omega() -> f64 {
+    0.03
+}
+fn default_reference_zeta() -> f64 {
+    1.0
+}
+fn default_duration() -> f64 {
+    600.0
+}
+fn default_dt() -> f64 {
+    0.1
+}
+fn default_rudder_limit() -> f64 {
+    35f64.to_radians()
+}
+fn default_rudder_rate() -> f64 {
+    2.32f64.to_radians()
+}
+fn default_change_at() -> f64 {
+    50.0
+}
+fn default_rate_noise() -> f64 {
+    1e-7
+}
+
+/// `[autopilot]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AutopilotConfig {
+    /// Closed-loop natural frequency w_n the PID places, rad/s (default 0.05).
+    #[serde(
+        default = "default_omega",
+        deserialize_with = "si::value::<_, si::Rate>"
+    )]
+    pub omega_n: f64,
+    /// Closed-loop relative damping (default 0.9).
+    #[serde(default = "default_zeta")]
+    pub zeta: f64,
+    /// Natural frequency of the heading reference model, rad/s (default 0.03).
+    #[serde(
+        default = "default_reference_omega",
+        deserialize_with = "si::value::<_, si::Rate>"
+    )]
+    pub reference_omega: f64,
+    /// Damping of the reference model (default 1: no overshoot).
+    #[serde(default = "default_reference_zeta")]
+    pub reference_zeta: f64,
+    /// The ordered course change (default 10 deg).
+    #[serde(
+        default = "default_course_change",
+        deserialize_with = "si::value::<_, si::Angle>"
+    )]
+    pub course_change: f64,
+    /// When it is ordered (default 50 s).
+    #[serde(
+        default = "default_change_at",
+        deserialize_with = "si::value::<_, si::Time>"
+    )]
+    pub change_at: f64,
+    /// Duration of each closed-loop run (default 600 s).
+    #[serde(
+        default = "default_duration",
+        deserialize_with = "si::value::<_, si::Time>"
+    )]
+    pub duration: f64,
+    /// Sampling interval of the compass and the autopilot (default 0.1 s).
+    #[serde(default = "default_dt", deserialize_with = "si::value::<_, si::Time>")]
+    pub dt: f64,
+    /// Largest rudder angle (default 35 deg).
+    #[serde(
+        default = "default_rudder_limit",
+        deserialize_with = "si::value::<_, si::Angle>"
+    )]
+    pub rudder_limit: f64,
+    /// Steering gear rate (default 2.32 deg/s, IMO).
+    #[serde(
+        default = "default_rudder_rate",
+        deserialize_with = "si::value::<_, si::Rate>"
+    )]
+    pub rudder_rate: f64,
+    /// Compass noise standard deviation (required: the log's).
+    #[serde(deserialize_with = "si::value::<_, si::Angle>")]
+    pub compass_noise: f64,
+    /// Yaw-rate gyro noise of the raw feed (default 0.01 deg/s).
+    #[serde(
+        default = "default_gyro_noise",
+        deserialize_with = "si::value::<_, si::Rate>"
+    )]
+    pub gyro_noise: f64,
+    /// The wave filter's process noise on the low-frequency yaw rate, rad^2/s^3 (default
+    /// 1e-7).
+    #[serde(default = "default_rate_noise")]
+    pub rate_noise: f64,
+    /// Seed of the waves and the sensor noise (the same for both feeds; default 1).
+    #[serde(default = "default_seed")]
+    pub seed: u64,
+}
+
+fn default_course_change() -> f64 {
+    10f64.to_radians()
+}
+fn default_gyro_noise() -> f64 {
+    0.01f64.to_radians()
+}
+fn default_seed() -> u64 {
+    1
+}
+
+impl AutopilotConfig {
+    /// Adds every problem to `p` (keys `autopilot.*`).
+    pub fn validate(&self, p: &mut Problems) {
+        for (key, v, unit) in [
+            ("omega_n", self.omega_n, "rad/s"),
+            ("zeta", self.zeta, "-"),
+            ("reference_omega", self.reference_omega, "rad/s"),
+            ("reference_zeta", self.reference_zeta, "-"),
+            ("duration", self.duration, "s"),
+            ("dt", self.dt, "s"),
+            ("rudder_limit", self.rudder_limit, "rad"),
+            ("rudder_rate", self.rudder_rate, "rad/s"),
+            ("compass_noise", self.compass_noise, "rad"),
+            ("gyro_noise", self.gyro_noise, "rad/s"),
+        ] {
+            p.positive(&format!("autopilot.{key}"), v, unit);
+        }
+        p.finite("autopilot.course_change", self.course_change);
+        if !(self.rate_noise.is_finite() && self.rate_noise >= 0.0) {
+            p.add(
+                "autopilot.rate_noise",
+                "a process noise intensity, 0 or more",
+            );
+        }
+        if self.dt > 0.0 && self.duration / self.dt > 1e6 {
+            p.add(
+                "autopilot.duration",
+                "at most a million samples per closed-loop run (duration / dt)",
+            );
+        }
+        if self.change_at < 0.0 || self.change_at > self.duration {
+            p.add("autopilot.change_at", "within the run, 0 to duration");
+        }
+    }
+}
