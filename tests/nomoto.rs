@@ -38,7 +38,7 @@ fn twin(w0: f64, q: f64, estimate_w0: bool) -> Twin {
     clean_cfg.noise.sigma.clear();
     let clean = synthesize(&clean_cfg).unwrap();
     // the compass log in the bundled layout
-    let mut csv = String::from("time (s),compass (deg),rudder (deg)\n");
+    let mut csv = String::from("\"time (s)\",\"compass (deg)\",\"rudder (deg)\"\n");
     let (time, yaw, rudder) = (
         &noisy[&Quantity::Time],
         &noisy[&Quantity::Yaw],
@@ -190,6 +190,12 @@ fn a_log_without_rudder_action_is_reported_and_still_filtered() {
         "{:?}",
         out.result.warnings
     );
+    // the autopilot cannot be tuned from an unidentified K: said, and the run stands
+    assert!(out
+        .result
+        .warnings
+        .iter()
+        .any(|w| w.stage == "autopilot" && w.message.contains("was not run")));
     let h = out.result.stages.hekf.as_ref().unwrap();
     let tr = &h.traces[0];
     assert!(tr.filtered.iter().all(|v| v.is_finite()));

@@ -74,14 +74,25 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutp
     let mut autopilot_result = None;
     if let (Some(a), Some(hc), Some(name)) = (&cfg.autopilot, &cfg.hekf, model_name) {
         let vehicle = cfg.vehicle.for_model(&cfg.fluid);
-        let r = autopilot::run(name, &vehicle, &known, hc, a)?;
-        log.stage(&format!(
-            "autopilot: rudder rate RMS {:.3} deg/s raw, {:.3} deg/s filtered",
-            r.raw.rudder_rate_rms.to_degrees(),
-            r.filtered.rudder_rate_rms.to_degrees()
-        ));
-        log.say(r.warnings());
-        autopilot_result = Some(r);
+        // the identification stands on its own: an autopilot that cannot be tuned or closed
+        // (K not identified, an unstable model) is a warning, not the end of the run
+        match autopilot::run(name, &vehicle, &known, hc, a) {
+            Ok(r) => {
+                log.stage(&format!(
+                    "autopilot: rudder rate RMS {:.3} deg/s raw, {:.3} deg/s filtered",
+                    r.raw.rudder_rate_rms.to_degrees(),
+                    r.filtered.rudder_rate_rms.to_degrees()
+                ));
+                log.say(r.warnings());
+                autopilot_result = Some(r);
+            }
+            Err(e) => log.say([Warning::new(
+                "autopilot",
+                format!("the autopilot was not run: {e}"),
+                "the [autopilot] section asks for a closed loop around the identified model; \
+                 with these coefficients none can be tuned",
+            )]),
+        }
     }
     let comparison = compare(&known, &analytic, cfg.reference.as_ref());
     let result = RunResult::new(
