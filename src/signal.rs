@@ -109,6 +109,41 @@ fn median_of(v: &mut [f64]) -> f64 {
     *m
 }
 
+/// `steps` frequencies from `lo` to `hi` (rad/s), evenly spaced in log w.
+pub fn log_frequencies(lo: f64, hi: f64, steps: usize) -> Vec<f64> {
+    (0..steps)
+        .map(|j| lo * (hi / lo).powf(j as f64 / (steps.max(2) - 1) as f64))
+        .collect()
+}
+
+/// The periodogram |sum_k x_k exp(-i w t_k)|^2 (dt / (pi T)), a one-sided power spectral
+/// density in x^2 s/rad for even sampling, at each frequency of `ws` (rad/s): direct sums, so
+/// uneven sampling is fine.
+pub fn periodogram(t: &[f64], x: &[f64], ws: &[f64]) -> Vec<f64> {
+    let n = t.len().min(x.len());
+    if n < 2 {
+        return vec![0.0; ws.len()];
+    }
+    let span = t[n - 1] - t[0];
+    let dt = span / (n - 1) as f64;
+    let norm = if span > 0.0 {
+        dt * dt / (std::f64::consts::PI * span)
+    } else {
+        0.0
+    };
+    ws.iter()
+        .map(|w| {
+            let (mut re, mut im) = (0.0, 0.0);
+            for k in 0..n {
+                let (s, c) = (w * t[k]).sin_cos();
+                re += x[k] * c;
+                im -= x[k] * s;
+            }
+            (re * re + im * im) * norm
+        })
+        .collect()
+}
+
 /// The frequency (rad/s) in `[lo, hi]` at which the periodogram of `x` sampled at `t` peaks,
 /// after the slow part of `x` (its centred moving average over `window` seconds) is taken
 /// away: |sum_k x_k exp(-i w t_k)|^2 on 400 frequencies spaced evenly in log w, refined by a
@@ -134,19 +169,8 @@ pub fn spectral_peak(t: &[f64], x: &[f64], window: f64, lo: f64, hi: f64) -> Opt
         fast.push(x[k] - sum / (b - a) as f64);
     }
     const STEPS: usize = 400;
-    let power = |w: f64| {
-        let (mut re, mut im) = (0.0, 0.0);
-        for k in 0..n {
-            let (s, c) = (w * t[k]).sin_cos();
-            re += fast[k] * c;
-            im -= fast[k] * s;
-        }
-        re * re + im * im
-    };
-    let ws: Vec<f64> = (0..STEPS)
-        .map(|j| lo * (hi / lo).powf(j as f64 / (STEPS - 1) as f64))
-        .collect();
-    let ps: Vec<f64> = ws.iter().map(|w| power(*w)).collect();
+    let ws = log_frequencies(lo, hi, STEPS);
+    let ps = periodogram(&t[..n], &fast, &ws);
     let (j, &pmax) = ps.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1))?;
     if pmax <= 0.0 || pmax.is_nan() {
         return None;

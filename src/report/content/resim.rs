@@ -94,6 +94,8 @@ pub fn write<'a>(d: &mut Document<'a>, r: &RunResult, figs: &Figures<'a>) {
             ]);
         }
         d.table(t);
+        figs.put(d, "autopilot");
+        figs.put(d, "heading_spectrum");
     }
     if let Some(s) = &r.steering {
         d.heading(3, "Steering indices (Nomoto)");

@@ -7,6 +7,7 @@
 //! data exist; non-finite samples are left out of lines (they break the line), and a figure
 //! with nothing finite to show is refused with an error naming it.
 
+pub mod autopilot;
 pub mod axes;
 pub mod budget;
 pub mod convergence;
@@ -176,6 +177,10 @@ pub fn render_all(out: &RunOutput, png_dir: Option<&Path>) -> Result<Vec<Figure>
         if let Some(s) = tracks::States::new(run) {
             jobs.push(job(s));
         }
+    }
+    if let Some(a) = &r.autopilot {
+        jobs.push(job(autopilot::Histories(a)));
+        jobs.push(job(autopilot::Spectrum(a)));
     }
     let mut figures: Vec<Figure> = jobs.par_iter().map(|j| j(png_dir)).collect::<Result<_>>()?;
     figures.sort_by_key(|f| f.meta.section);
