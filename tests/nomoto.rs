@@ -235,3 +235,34 @@ fn the_bundled_autopilot_calms_the_rudder_with_the_filtered_heading() {
     let validator = jsonschema::draft202012::new(&schema).unwrap();
     assert!(validator.is_valid(&r));
 }
+
+/// Bad autopilot and process-noise values are named with their key (and line).
+#[test]
+fn bad_autopilot_and_process_noise_values_name_their_keys() {
+    let o = common::hydroid(&[
+        "check",
+        "configs/nomoto.toml",
+        "--set",
+        "autopilot.omega_n=-1",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(common::text(&o.stderr).contains("autopilot.omega_n"));
+    let dir = tempfile::tempdir().unwrap();
+    let src = std::fs::read_to_string(root().join("configs/simulate/nomoto_zigzag_waves.toml"))
+        .unwrap()
+        .replace("../../cfd_exports/", "");
+    for (bad, key) in [
+        ("wave_yaw = -1.0", "manoeuvre.process_noise.wave_yaw"),
+        ("rudder = 1e-4", "manoeuvre.process_noise.rudder"),
+    ] {
+        let cfg = dir.path().join("bad.toml");
+        std::fs::write(&cfg, src.replace("wave_yaw = 9.6e-5", bad)).unwrap();
+        let o = common::hydroid(&["simulate", cfg.to_str().unwrap()]);
+        let err = common::text(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{bad}: {err}");
+        assert!(
+            err.contains(key) && err.contains("bad.toml:"),
+            "{bad}: {err}"
+        );
+    }
+}
