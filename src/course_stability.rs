@@ -26,8 +26,9 @@ use serde::Serialize;
 /// Nomoto's indices at one speed.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Nomoto {
-    /// Speed of the straight motion linearised about, m/s.
-    pub speed: f64,
+    /// Speed of the straight motion linearised about, m/s (None for a Nomoto model, which
+    /// holds K and T as coefficients).
+    pub speed: Option<f64>,
     /// Steady-turn gain K, 1/s (yaw rate per rudder angle; positive when a positive rudder
     /// turns to a positive yaw rate).
     pub k: f64,
@@ -152,7 +153,7 @@ impl SwayYaw {
         };
         let t3 = br / gain_num;
         Ok(Nomoto {
-            speed: self.speed,
+            speed: Some(self.speed),
             k: gain_num / det,
             t: sum - t3,
             t1,
@@ -173,7 +174,7 @@ pub struct SteeringIndices {
     pub k_sigma: Option<f64>,
     /// One-sigma uncertainty of T, s.
     pub t_sigma: Option<f64>,
-    /// Where the model was linearised: "the approach of run 'turn' (u = 1.179 m/s, rpm
+    /// Where they come from: "linearised at the approach of run 'turn' (u = 1.179 m/s, rpm
     /// 710.8)".
     pub at: String,
 }
@@ -189,17 +190,21 @@ impl SteeringIndices {
         };
         let roots = match (n.t1, n.t2) {
             (Some(a), Some(b)) => format!(
-                "T1 = {} s, T2 = {} s",
+                " (T1 = {} s, T2 = {} s, T3 = {} s)",
                 crate::numfmt::num(a),
-                crate::numfmt::num(b)
+                crate::numfmt::num(b),
+                crate::numfmt::num(n.t3)
             ),
-            _ => "complex sway-yaw poles".to_string(),
+            (Some(_), None) => String::new(),
+            _ => format!(
+                " (complex sway-yaw poles, T3 = {} s)",
+                crate::numfmt::num(n.t3)
+            ),
         };
         format!(
-            "K = {} 1/s, T = {} s ({roots}, T3 = {} s): {}",
+            "K = {} 1/s, T = {} s{roots}: {}",
             pm(n.k, self.k_sigma),
             pm(n.t, self.t_sigma),
-            crate::numfmt::num(n.t3),
             if n.course_stable {
                 "course-stable"
             } else {
@@ -221,10 +226,43 @@ pub fn steering_indices<M: Model>(
     inputs: &[f64],
     at: String,
 ) -> Result<SteeringIndices, NotSteerable> {
+    with_sigmas(model, set, at, |c| sway_yaw(model, c, x, inputs)?.nomoto())
+}
+
+/// Nomoto's K and T of a model that is itself a Nomoto model ([`Model::nomoto_gains`]),
+/// with their sigmas as [`steering_indices`] gives them.
+pub fn nomoto_model_indices<M: Model>(
+    model: &M,
+    set: &CoefficientSet,
+) -> Result<SteeringIndices, NotSteerable> {
+    with_sigmas(model, set, "its own coefficients K and 1/T".into(), |c| {
+        let (k, t) = model.nomoto_gains(c).ok_or_else(|| {
+            NotSteerable("the identified 1/T is not positive: no time constant T".into())
+        })?;
+        Ok(Nomoto {
+            speed: None,
+            k,
+            t,
+            t1: Some(t),
+            t2: None,
+            t3: 0.0,
+            course_stable: t > 0.0,
+        })
+    })
+}
+
+/// The indices `of` the completed coefficients of `set`, and their sigmas along the set's
+/// uncertainty directions.
+fn with_sigmas<M: Model>(
+    model: &M,
+    set: &CoefficientSet,
+    at: String,
+    of: impl Fn(&[f64]) -> Result<Nomoto, NotSteerable>,
+) -> Result<SteeringIndices, NotSteerable> {
     let names = model.coefficient_names();
     let base = crate::sim::complete_coefficients(model, set)
         .map_err(|missing| NotSteerable(format!("no value for {}", missing.join(", "))))?;
-    let nomoto = sway_yaw(model, &base, x, inputs)?.nomoto()?;
+    let nomoto = of(&base)?;
     let (mut vk, mut vt, mut any) = (0.0, 0.0, false);
     for d in &set.directions {
         let mut c = base.clone();
@@ -241,7 +279,7 @@ pub fn steering_indices<M: Model>(
             continue;
         }
         model.relations().apply(&mut c);
-        let moved = sway_yaw(model, &c, x, inputs)?.nomoto()?;
+        let moved = of(&c)?;
         vk += (moved.k - nomoto.k).powi(2);
         vt += (moved.t - nomoto.t).powi(2);
         any = true;
@@ -271,6 +309,12 @@ pub fn at_approach(
         type Output = Option<Result<SteeringIndices, NotSteerable>>;
         fn visit<M: Model>(self, model: &M) -> Self::Output {
             let has = |q| model.state_index(q).is_some();
+            // a Nomoto model: its own K and T
+            if let Ok(c) = crate::sim::complete_coefficients(model, self.set) {
+                if model.nomoto_gains(&c).is_some() {
+                    return Some(nomoto_model_indices(model, self.set));
+                }
+            }
             let rudder = model.input_quantities().contains(&Quantity::Rudder);
             if !(rudder && has(Quantity::U) && has(Quantity::V) && has(Quantity::R)) {
                 return None;
@@ -297,7 +341,7 @@ pub fn at_approach(
                 .collect();
             let speed = model.state_index(Quantity::U).map_or(0.0, |i| x[i]);
             let mut at = format!(
-                "the approach of run '{}' (u = {} m/s",
+                "linearised at the approach of run '{}' (u = {} m/s",
                 self.rec.name,
                 crate::numfmt::num(speed)
             );

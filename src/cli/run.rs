@@ -90,7 +90,7 @@ pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
         if let Some(s) = &output.result.steering {
             writeln!(
                 out,
-                "\nNomoto's indices of the identified model at {}: {}",
+                "\nNomoto's indices of the identified model ({}): {}",
                 s.at,
                 s.text()
             )?;

@@ -100,10 +100,9 @@ pub fn write<'a>(d: &mut Document<'a>, r: &RunResult, figs: &Figures<'a>) {
     if let Some(s) = &r.steering {
         d.heading(3, "Steering indices (Nomoto)");
         d.text(format!(
-            "The identified model's sway-yaw equations linearised about straight motion at {} \
-             (Fossen 2011, 7.1): {}. The sigmas carry the coefficients' uncertainties and \
-             correlations. A zig-zag identified directly with a Nomoto model gives K and T to \
-             compare.",
+            "Nomoto's indices of the identified model ({}; Fossen 2011, 7.1-7.2): {}. The \
+             sigmas carry the coefficients' uncertainties and correlations. A zig-zag \
+             identified directly with a Nomoto model gives K and T to compare.",
             s.at,
             s.text()
         ));
