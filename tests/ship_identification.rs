@@ -325,6 +325,7 @@ fn vehicle_files_load_with_their_model() {
     for (file, model, estimate) in [
         ("kvlcc2_mmg.toml", "mmg3", "Yv_p"),
         ("kcs_linear_paper.toml", "ship_linear", "b1"),
+        ("kcs_mmg.toml", "mmg3", "Yv_p"),
     ] {
         let mut text = std::fs::read_to_string(root().join("configs/vehicles").join(file)).unwrap();
         if !text.contains("[fluid]") {

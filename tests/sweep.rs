@@ -142,3 +142,48 @@ fn bad_sweeps_name_their_keys() {
         assert!(err.contains("bad.toml"), "{err}");
     }
 }
+
+/// The KCS vehicle file (configs/vehicles/kcs_mmg.toml, the SIMMAN 2008 set converted from
+/// drift-angle form): its 35 deg turns at the paper's 1.7 m/s, propeller balanced, are a
+/// KCS-sized circle (a little over 3 ship lengths) to both sides, and diameters fall as the
+/// rudder rises: a sign slip in the conversion would break one of these.
+#[test]
+fn the_kcs_vehicle_file_turns_like_a_container_ship() {
+    let dir = tempfile::tempdir().unwrap();
+    let vehicle = std::fs::read_to_string(root().join("configs/vehicles/kcs_mmg.toml")).unwrap();
+    let body = &vehicle[vehicle.find("[vehicle]").unwrap()..];
+    let cfg = format!(
+        "title = \"KCS\"\nmodel = \"mmg3\"\n{body}\n[fluid]\nrho = 1000.0\nmu = 0.001\n\n\
+         [manoeuvre]\nkind = \"time_history\"\nduration = 150\ndt = 0.1\nsubsteps = 10\n\
+         initial = {{ u = \"1.7 m/s\" }}\ninputs = {{ rpm = \"13.97 rps\" }}\n\
+         [manoeuvre.steering]\nkind = \"turn\"\nrudder = \"35 deg\"\nrate = \"16.8 deg/s\"\n\
+         execute = \"5 s\"\n\n[sweep]\nrudder = [\"15 deg\", \"35 deg\"]\n\
+         speed = [\"1.7 m/s\"]\nspeed_rudder = \"35 deg\"\nsides = \"both\"\ndir = \"out\"\n"
+    );
+    let path = dir.path().join("kcs.toml");
+    std::fs::write(&path, cfg).unwrap();
+    let o = hydroid(&["simulate", path.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let csv = std::fs::read_to_string(dir.path().join("out/sweep.csv")).unwrap();
+    let rows = rows(&csv);
+    for side in ["starboard", "port"] {
+        let d = |varies: &str, rudder: f64| -> (f64, f64) {
+            let r = rows
+                .iter()
+                .find(|r| {
+                    r[0] == varies
+                        && r[3] == side
+                        && (r[1].parse::<f64>().unwrap().abs() - rudder).abs() < 1e-6
+                })
+                .unwrap();
+            (r[6].parse().unwrap(), r[9].parse().unwrap())
+        };
+        let (advance, tactical) = d("speed", 35.0);
+        assert!(
+            (3.0..3.6).contains(&tactical),
+            "{side}: tactical {tactical} L"
+        );
+        assert!((2.9..3.5).contains(&advance), "{side}: advance {advance} L");
+        assert!(d("rudder", 15.0).1 > d("rudder", 35.0).1, "{side}");
+    }
+}
