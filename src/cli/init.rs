@@ -31,15 +31,13 @@ pub struct Args {
     /// created) or a file name ending in .toml.
     #[arg(default_value = ".")]
     path: PathBuf,
-    /// The stages to set up, in pipeline order.
-    #[arg(
-        long,
-        value_enum,
-        value_delimiter = ',',
-        default_value = "polar,surge,hekf"
-    )]
-    stages: Vec<Stage>,
-    /// The HEKF's model: spheroid3 or spheroid6 (see `hydroid coefficients MODEL`).
+    /// The stages to set up, in pipeline order (default: polar,surge,hekf for a model whose
+    /// coefficients the polar and surge stages give, such as the spheroid's; hekf alone for
+    /// the others: ships, Nomoto).
+    #[arg(long, value_enum, value_delimiter = ',')]
+    stages: Option<Vec<Stage>>,
+    /// The HEKF's model (`hydroid coefficients` lists them: spheroid3, spheroid6, mmg3,
+    /// ship_linear, nomoto_wave ...).
     #[arg(long, default_value = "spheroid3")]
     model: String,
 }
@@ -47,7 +45,14 @@ pub struct Args {
 /// Runs the command.
 pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
     let model = catalogue::model_named(&args.model).map_err(Error::Usage)?;
-    let has = |s: Stage| args.stages.contains(&s);
+    let stages = args.stages.clone().unwrap_or_else(|| {
+        if uses_stage_coefficients(model) {
+            vec![Stage::Polar, Stage::Surge, Stage::Hekf]
+        } else {
+            vec![Stage::Hekf]
+        }
+    });
+    let has = |s: Stage| stages.contains(&s);
     let file = if args.path.extension().is_some_and(|e| e == "toml") {
         args.path.clone()
     } else {
@@ -104,6 +109,7 @@ fn template(polar: bool, surge: bool, hekf: bool, model: ModelName) -> String {
              bg = 0.0                       # m, centre of buoyancy above the centre of gravity\n",
         ));
     }
+    s.push_str(&particulars(model));
     s.push_str(
         "\n[fluid]\n\
          rho = 1025.0                   # kg/m^3\n\
@@ -152,6 +158,44 @@ fn template(polar: bool, surge: bool, hekf: bool, model: ModelName) -> String {
     }
     if hekf {
         s.push_str(&hekf_section(model));
+    }
+    s
+}
+
+/// Whether the model uses a coefficient that the polar or the surge stage gives (then those
+/// stages belong in its template).
+fn uses_stage_coefficients(model: ModelName) -> bool {
+    let entries = catalogue::entries();
+    catalogue::model(model).coefficients.iter().any(|c| {
+        entries.iter().any(|e| {
+            e.name == c.name
+                && e.given_by.iter().any(|p| {
+                    matches!(
+                        p.source,
+                        hydroid::coefficients::Source::Polar | hydroid::coefficients::Source::Surge
+                    )
+                })
+        })
+    })
+}
+
+/// The `[vehicle.particulars]` a model needs, as values to replace.
+fn particulars(model: ModelName) -> String {
+    let keys: Vec<String> = catalogue::model(model)
+        .vehicle_needs
+        .iter()
+        .filter_map(|k| k.strip_prefix("particulars.").map(str::to_string))
+        .collect();
+    if keys.is_empty() {
+        return String::new();
+    }
+    let mut s = format!(
+        "\n[vehicle.particulars]          # REPLACE: what the {model} model reads besides the \
+         above\n                               # (meanings and units: docs/models/, \
+         `hydroid coefficients {model}`)\n"
+    );
+    for k in keys {
+        let _ = writeln!(s, "{k} = 0.0");
     }
     s
 }
@@ -262,5 +306,23 @@ mod tests {
             "{t}"
         );
         assert!(t.contains("pitch = \"pitch\""), "{t}");
+    }
+
+    #[test]
+    fn a_ship_template_asks_for_its_particulars_and_no_polar() {
+        assert!(uses_stage_coefficients(ModelName::Spheroid3));
+        assert!(!uses_stage_coefficients(ModelName::Mmg3));
+        let t = template(false, false, true, ModelName::Mmg3);
+        assert!(t.contains("[vehicle.particulars]"), "{t}");
+        assert!(
+            t.contains("\ndraught = 0.0\n") && t.contains("\nwake_c2_neg = 0.0\n"),
+            "{t}"
+        );
+        assert!(
+            !t.contains("[polar]") && t.contains("model = \"mmg3\""),
+            "{t}"
+        );
+        let t = template(true, true, true, ModelName::Spheroid3);
+        assert!(!t.contains("[vehicle.particulars]"), "{t}");
     }
 }
