@@ -71,7 +71,9 @@ fn the_diameter_falls_as_the_rudder_rises_and_reruns_are_identical() {
 
 #[test]
 fn each_speed_case_holds_its_approach_speed_with_the_balanced_propeller() {
-    let loaded = hydroid::sim::config::load(&root().join(SWEEP)).unwrap();
+    // the paper's own study on the KCS (configs/simulate/kcs_sweep.toml), at its speeds
+    let loaded =
+        hydroid::sim::config::load(&root().join("configs/simulate/kcs_sweep.toml")).unwrap();
     let result = hydroid::sim::sweep::simulate_sweep(&loaded).unwrap();
     let speed_cases: Vec<_> = result
         .cases
@@ -87,7 +89,7 @@ fn each_speed_case_holds_its_approach_speed_with_the_balanced_propeller() {
             c.speed
         );
         let (_, rps) = c.propeller.unwrap();
-        assert!(rps > 5.0 && rps < 20.0, "{rps} rev/s");
+        assert!(rps > 5.0 && rps < 25.0, "{rps} rev/s");
     }
 }
 
