@@ -346,6 +346,89 @@ mod tests {
         assert!(last[2] < 0.0, "a positive rudder turns to port (c3 < 0)");
     }
 
+    /// The steady speed straight ahead at constant n, from 1.7 m/s after 600 s (the surge time
+    /// constant is 1 / |a1 + a8 n|, 8.5 s at 10 rev/s).
+    fn straight_speed(m: &ShipLinear, c: &[f64], n_rev_per_s: f64) -> f64 {
+        let xs = simulate(
+            m,
+            c,
+            &[1.7, 0.0, 0.0, 0.0, 0.0, 0.0],
+            &InputSeries::constant(&[0.0, n_rev_per_s]),
+            &[0.0, 600.0],
+            6000,
+        )
+        .unwrap();
+        xs[1][0]
+    }
+
+    /// At the 10-12 rev/s a KCS 1:52.67 model turns its propeller near 1.7 m/s, the paper's
+    /// surge equation (eq. 2 with v = r = delta = 0: u = -a9 n^2 / (a1 + a8 n), hand-solved
+    /// 2.188, 2.341, 2.497 m/s) gives 1.3 to 1.5 times the test speed with n in rev/s, and
+    /// 60 times as much with n in rev/min (100 to 121 m/s): only rev/s is a ship.
+    #[test]
+    fn the_papers_set_at_model_propeller_rates_is_plausible_in_rps_and_absurd_in_rpm() {
+        let (rps, c) = paper(toml::Table::new());
+        for (n, u) in [(10.0, 2.188), (11.0, 2.341), (12.0, 2.497)] {
+            let got = straight_speed(&rps, &c, n);
+            assert!((got - u).abs() < 2e-3, "rev/s, n = {n}: {got} m/s");
+        }
+        let (rpm, c) = paper(toml::toml! { rate_unit = "rpm" });
+        for n in [10.0, 11.0, 12.0] {
+            let got = straight_speed(&rpm, &c, n);
+            assert!(got > 100.0, "rev/min, n = {n} rev/s: {got} m/s");
+        }
+    }
+
+    /// The paper's surge balance is fitted about one operating point: with a1 > 0 the speed
+    /// -a9 n^2 / (a1 + a8 n) has a minimum of 1.576 m/s at n = 2 a1 / |a8| = 4.71 rev/s (no
+    /// rate holds the ship slower), and below a1 / |a8| = 2.36 rev/s the surge is unstable.
+    #[test]
+    fn the_papers_surge_balance_has_a_minimum_speed_and_runs_away_at_low_rates() {
+        let (m, c) = paper(toml::Table::new());
+        let slowest = straight_speed(&m, &c, 4.71);
+        assert!((slowest - 1.576).abs() < 2e-3, "{slowest}");
+        for n in [3.0, 4.0, 5.5, 6.456] {
+            assert!(straight_speed(&m, &c, n) > slowest, "n = {n}");
+        }
+        assert!(straight_speed(&m, &c, 2.0) > 100.0, "n = 2 rev/s");
+    }
+
+    /// The sway-yaw equations alone (eq. 3; the surge parameters zeroed so u stays at the test
+    /// speed 1.7 m/s), 35 deg of rudder: stable in both units, but a steady turn of 748 ship
+    /// lengths at 5.0 deg drift in radians and of 66 ship lengths at 78.6 deg drift (sway
+    /// 8.5 m/s, five times the forward speed) in degrees. The KCS turns on a few lengths at
+    /// 35 deg (configs/vehicles/kcs_mmg.toml: tactical diameter 3.2 L): neither unit makes the
+    /// printed b and c a ship, whatever a4 does to the surge.
+    #[test]
+    fn the_papers_sway_and_yaw_alone_do_not_turn_like_a_ship_in_either_rudder_unit() {
+        let steady = |particulars: toml::Table| {
+            let (m, mut c) = paper(particulars);
+            for name in ["a1", "a2", "a3", "a4", "a5", "a6", "a7", "a8", "a9"] {
+                c[m.coefficient_index(name).unwrap()] = 0.0;
+            }
+            let xs = simulate(
+                &m,
+                &c,
+                &[1.7, 0.0, 0.0, 0.0, 0.0, 0.0],
+                &InputSeries::constant(&[35f64.to_radians(), 6.456]),
+                &[0.0, 500.0, 600.0],
+                6000,
+            )
+            .unwrap();
+            let (x, last) = (&xs[1], &xs[2]);
+            assert!((x[2] - last[2]).abs() < 1e-3 * last[2].abs(), "steady");
+            let diameter = 2.0 * last[0].hypot(last[1]) / last[2].abs() / 4.36;
+            let drift = last[1].atan2(last[0]).to_degrees();
+            (diameter, drift)
+        };
+        let (d_rad, drift_rad) = steady(toml::Table::new());
+        assert!((d_rad - 748.0).abs() < 2.0, "{d_rad} L");
+        assert!((drift_rad + 5.0).abs() < 0.1, "{drift_rad} deg");
+        let (d_deg, drift_deg) = steady(toml::toml! { rudder_unit = "deg" });
+        assert!((d_deg - 66.0).abs() < 0.5, "{d_deg} L");
+        assert!((drift_deg + 78.6).abs() < 0.1, "{drift_deg} deg");
+    }
+
     #[test]
     fn an_unknown_unit_names_the_key() {
         let v = Vehicle {
