@@ -39,7 +39,7 @@ const DT: f64 = 0.1;
 const DURATION: f64 = 60.0;
 /// The rudder is put over at this time, after a straight approach, s.
 const EXECUTE: f64 = 5.0;
-/// The rudder rate of the paper's KCS model (its Table 2), deg/s.
+/// The rudder rate of the paper's KCS model (its Tables 1-2), deg/s.
 const RUDDER_RATE: f64 = 16.8;
 
 /// One turning test: rudder angle (deg, positive to starboard in this set) and propeller
