@@ -81,3 +81,95 @@ pub fn rotation_zyx(phi: f64, theta: f64, psi: f64) -> [[f64; 3]; 3] {
         [-st, ct * sf, ct * cf],
     ]
 }
+
+/// The unit quaternion [eta, eps1, eps2, eps3] (scalar first) of the zyx Euler angles: the
+/// product of the yaw, pitch and roll half-angle rotations (Fossen 2011, section 2.2.2, the
+/// quaternion of R(phi, theta, psi) in eq. 2.18), with eta >= 0.
+pub fn quaternion_from_zyx(phi: f64, theta: f64, psi: f64) -> [f64; 4] {
+    let (sf, cf) = (0.5 * phi).sin_cos();
+    let (st, ct) = (0.5 * theta).sin_cos();
+    let (sp, cp) = (0.5 * psi).sin_cos();
+    let q = [
+        cp * ct * cf + sp * st * sf,
+        cp * ct * sf - sp * st * cf,
+        cp * st * cf + sp * ct * sf,
+        sp * ct * cf - cp * st * sf,
+    ];
+    if q[0] < 0.0 {
+        q.map(|v| -v)
+    } else {
+        q
+    }
+}
+
+/// The zyx Euler angles (phi, theta, psi) of a unit quaternion [eta, eps1, eps2, eps3]
+/// (scalar first): read off the rotation matrix R(q) (Fossen 2011, eq. 2.72, the
+/// Euler angles from R as in section 2.2.3): phi = atan2(R32, R33), theta = -asin(R31),
+/// psi = atan2(R21, R11). `q` must be normalised; theta is clamped at +-90 deg.
+pub fn zyx_from_quaternion(q: [f64; 4]) -> (f64, f64, f64) {
+    let [e, x, y, z] = q;
+    let r11 = 1.0 - 2.0 * (y * y + z * z);
+    let r21 = 2.0 * (x * y + z * e);
+    let r31 = 2.0 * (x * z - y * e);
+    let r32 = 2.0 * (y * z + x * e);
+    let r33 = 1.0 - 2.0 * (x * x + y * y);
+    (r32.atan2(r33), -r31.clamp(-1.0, 1.0).asin(), r21.atan2(r11))
+}
+
+/// How far the norm of a quaternion read from a file may be from 1 before the row is
+/// refused (a file rounds its parts; a larger error is not a rotation).
+pub const QUATERNION_NORM_TOLERANCE: f64 = 1e-3;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quaternion_and_euler_angles_round_trip() {
+        for &(phi, th, psi) in &[
+            (0.0, 0.0, 0.0),
+            (0.3, -0.2, 2.9),
+            (-1.2, 0.7, -3.0),
+            (2.5, 1.3, 0.4),
+            (0.1, -1.4, -1.7),
+        ] {
+            let q = quaternion_from_zyx(phi, th, psi);
+            let norm: f64 = q.iter().map(|v| v * v).sum::<f64>().sqrt();
+            assert!((norm - 1.0).abs() < 1e-14, "norm {norm}");
+            let (a, b, c) = zyx_from_quaternion(q);
+            assert!((a - phi).abs() < 1e-12, "phi {a} vs {phi}");
+            assert!((b - th).abs() < 1e-12, "theta {b} vs {th}");
+            assert!((c - psi).abs() < 1e-12, "psi {c} vs {psi}");
+        }
+    }
+
+    #[test]
+    fn the_quaternion_rotates_like_the_euler_matrix() {
+        // R(q) = I + 2 eta S(eps) + 2 S(eps)^2 (Fossen 2011, eq. 2.72) against eq. 2.18
+        let (phi, th, psi) = (0.4, -0.3, 1.1);
+        let [e, x, y, z] = quaternion_from_zyx(phi, th, psi);
+        let rq = [
+            [
+                1.0 - 2.0 * (y * y + z * z),
+                2.0 * (x * y - z * e),
+                2.0 * (x * z + y * e),
+            ],
+            [
+                2.0 * (x * y + z * e),
+                1.0 - 2.0 * (x * x + z * z),
+                2.0 * (y * z - x * e),
+            ],
+            [
+                2.0 * (x * z - y * e),
+                2.0 * (y * z + x * e),
+                1.0 - 2.0 * (x * x + y * y),
+            ],
+        ];
+        let r = rotation_zyx(phi, th, psi);
+        for i in 0..3 {
+            for j in 0..3 {
+                assert!((rq[i][j] - r[i][j]).abs() < 1e-14, "R[{i}][{j}]");
+            }
+        }
+    }
+}

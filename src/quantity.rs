@@ -80,6 +80,16 @@ pub enum Quantity {
     /// Integral of the wave-induced heading, xi = int psi_H dt, rad s (the wave filter's other
     /// state).
     WaveYawIntegral,
+    /// Scalar part eta of the body-to-earth attitude quaternion (unit quaternion, scalar
+    /// first; Fossen 2011, section 2.2.2). The four parts are read together and turned into
+    /// roll, pitch and yaw ([`crate::frames::zyx_from_quaternion`]).
+    QuatW,
+    /// First vector part eps_1 of the attitude quaternion.
+    QuatX,
+    /// Second vector part eps_2 of the attitude quaternion.
+    QuatY,
+    /// Third vector part eps_3 of the attitude quaternion.
+    QuatZ,
 }
 
 const ANGLE: Dim = [0, 0, 0, 1];
@@ -92,7 +102,7 @@ const NONE: Dim = [0, 0, 0, 0];
 
 impl Quantity {
     /// Every quantity, in the order the documentation lists them.
-    pub const ALL: [Quantity; 33] = [
+    pub const ALL: [Quantity; 37] = [
         Quantity::Time,
         Quantity::X,
         Quantity::Y,
@@ -126,6 +136,18 @@ impl Quantity {
         Quantity::Rpm,
         Quantity::WaveYaw,
         Quantity::WaveYawIntegral,
+        Quantity::QuatW,
+        Quantity::QuatX,
+        Quantity::QuatY,
+        Quantity::QuatZ,
+    ];
+
+    /// The attitude quaternion's parts, scalar first.
+    pub const QUATERNION: [Quantity; 4] = [
+        Quantity::QuatW,
+        Quantity::QuatX,
+        Quantity::QuatY,
+        Quantity::QuatZ,
     ];
 
     /// The motion of a body: velocities and rates (body frame), positions and attitude
@@ -181,6 +203,10 @@ impl Quantity {
             Quantity::Rpm => "rpm",
             Quantity::WaveYaw => "wave_yaw",
             Quantity::WaveYawIntegral => "wave_yaw_integral",
+            Quantity::QuatW => "quat_w",
+            Quantity::QuatX => "quat_x",
+            Quantity::QuatY => "quat_y",
+            Quantity::QuatZ => "quat_z",
         }
     }
 
@@ -205,6 +231,7 @@ impl Quantity {
             Quantity::Fx | Quantity::Fy | Quantity::Fz | Quantity::Thrust => FORCE,
             Quantity::Mx | Quantity::My | Quantity::Mz => MOMENT,
             Quantity::Cd | Quantity::Cl | Quantity::Cm | Quantity::Cs => NONE,
+            Quantity::QuatW | Quantity::QuatX | Quantity::QuatY | Quantity::QuatZ => NONE,
         }
     }
 

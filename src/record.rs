@@ -104,6 +104,9 @@ pub fn from_table(mut table: Table, spec: &InputSpec, needs: &Needs) -> Result<R
         constants.insert(*q, c.si / q.internal_unit().factor);
     }
 
+    // An attitude quaternion mapped in full stands for roll, pitch and yaw.
+    let from_quaternion = attitude_from_quaternion(spec, &file_place)?;
+
     // Resolve every wanted quantity to a column (explicit map first, then by name).
     let mut picks: Vec<(Quantity, usize, Option<Unit>, f64)> = Vec::new();
     let mut implicit_skipped = Vec::new();
@@ -111,7 +114,11 @@ pub fn from_table(mut table: Table, spec: &InputSpec, needs: &Needs) -> Result<R
     let mut seen = Vec::new();
     for q in wanted.chain(spec.columns.keys().copied()) {
         let stepped = spec.steps.iter().any(|s| s.values.contains_key(&q));
-        if seen.contains(&q) || constants.contains_key(&q) || stepped {
+        if seen.contains(&q)
+            || constants.contains_key(&q)
+            || stepped
+            || (from_quaternion && q.is_euler_angle())
+        {
             continue;
         }
         seen.push(q);
@@ -209,6 +216,10 @@ pub fn from_table(mut table: Table, spec: &InputSpec, needs: &Needs) -> Result<R
         channels.insert(*q, values);
     }
 
+    if from_quaternion {
+        euler_from_quaternion(&table, time_history, &mut channels, &mut units)?;
+    }
+
     let rows = table.rows();
     if rows < needs.min_rows {
         return Err(InputError::new(
@@ -281,6 +292,87 @@ pub fn from_table(mut table: Table, spec: &InputSpec, needs: &Needs) -> Result<R
         meta: table.meta.clone(),
         warnings,
     })
+}
+
+/// Whether the column map gives the attitude as a quaternion: all four parts mapped, and no
+/// Euler angle given as well; a partial map or both forms is an error naming the file.
+fn attitude_from_quaternion(spec: &InputSpec, place: &Place) -> Result<bool, InputError> {
+    let mapped: Vec<Quantity> = Quantity::QUATERNION
+        .into_iter()
+        .filter(|q| spec.columns.contains_key(q))
+        .collect();
+    if mapped.is_empty() {
+        return Ok(false);
+    }
+    if mapped.len() < 4 {
+        let missing: Vec<&str> = Quantity::QUATERNION
+            .iter()
+            .filter(|q| !mapped.contains(q))
+            .map(|q| q.key())
+            .collect();
+        return Err(InputError::new(
+            place.clone(),
+            format!(
+                "the attitude quaternion needs all four parts in the column map; missing: {}",
+                missing.join(", ")
+            ),
+        )
+        .expected("quat_w, quat_x, quat_y and quat_z (scalar part first)"));
+    }
+    let euler = [Quantity::Roll, Quantity::Pitch, Quantity::Yaw];
+    if let Some(q) = euler
+        .into_iter()
+        .find(|q| spec.columns.contains_key(q) || spec.constants.contains_key(q))
+    {
+        return Err(InputError::new(
+            place.clone(),
+            format!("{q} is given both as a column and through the attitude quaternion: keep one"),
+        ));
+    }
+    Ok(true)
+}
+
+/// Replaces the four quaternion channels by roll, pitch and yaw (zyx, Fossen 2011 section
+/// 2.2.3), unwrapped like read angles. A row whose quaternion is not of unit norm (within
+/// [`crate::frames::QUATERNION_NORM_TOLERANCE`]) is an error naming its line.
+fn euler_from_quaternion(
+    table: &Table,
+    time_history: bool,
+    channels: &mut BTreeMap<Quantity, Vec<f64>>,
+    units: &mut BTreeMap<Quantity, String>,
+) -> Result<(), InputError> {
+    let parts = Quantity::QUATERNION.map(|q| {
+        units.remove(&q);
+        channels.remove(&q).unwrap_or_default()
+    });
+    let n = parts[0].len();
+    let mut angles = [vec![0.0; n], vec![0.0; n], vec![0.0; n]];
+    for i in 0..n {
+        let q = [parts[0][i], parts[1][i], parts[2][i], parts[3][i]];
+        let norm = q.iter().map(|v| v * v).sum::<f64>().sqrt();
+        if (norm - 1.0).abs() > crate::frames::QUATERNION_NORM_TOLERANCE {
+            return Err(InputError::new(
+                table.place(i),
+                format!("the attitude quaternion has norm {norm:.6}, not 1"),
+            )
+            .expected("a unit quaternion (quat_w, quat_x, quat_y, quat_z)"));
+        }
+        let (phi, theta, psi) = crate::frames::zyx_from_quaternion(q.map(|v| v / norm));
+        angles[0][i] = phi;
+        angles[1][i] = theta;
+        angles[2][i] = psi;
+    }
+    let [roll, pitch, yaw] = angles;
+    for (q, mut values) in [
+        (Quantity::Roll, roll),
+        (Quantity::Pitch, pitch),
+        (Quantity::Yaw, yaw),
+    ] {
+        unwrap_attitude(q, time_history, &mut values);
+        units.insert(q, "rad (from the quaternion)".into());
+        channels.insert(q, values);
+    }
+    Ok(())
 }
 
 /// A column named exactly like the quantity key (or the table's declared time column).

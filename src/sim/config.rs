@@ -764,7 +764,10 @@ fn check_export(e: &ExportConfig, produces: &Produces, p: &mut Problems) -> Opti
     };
     for (i, c) in e.columns.iter().enumerate() {
         let key = format!("export.columns[{i}]");
-        if !produces.all.contains(&c.quantity) {
+        // the attitude quaternion is written from the Euler angles of a run that has a heading
+        let from_attitude =
+            Quantity::QUATERNION.contains(&c.quantity) && produces.all.contains(&Quantity::Yaw);
+        if !produces.all.contains(&c.quantity) && !from_attitude {
             let names: Vec<&str> = produces.all.iter().map(|q| q.key()).collect();
             p.add(
                 &format!("{key}.quantity"),

@@ -81,14 +81,22 @@ fn prepare<'a>(
 ) -> Result<Vec<(&'a ExportColumn, Vec<f64>, String)>> {
     let mut out = Vec::new();
     for c in &cfg.columns {
-        let v = cols.get(&c.quantity).ok_or_else(|| {
-            Error::Usage(format!(
-                "export column '{}' asks for {}, which this manoeuvre does not produce (it gives {})",
-                c.name,
-                c.quantity,
-                cols.keys().map(|q| q.key()).collect::<Vec<_>>().join(", ")
-            ))
-        })?;
+        let derived;
+        let v = match cols.get(&c.quantity) {
+            Some(v) => v,
+            None if Quantity::QUATERNION.contains(&c.quantity) && cols.contains_key(&Quantity::Yaw) => {
+                derived = quaternion_part(cols, c.quantity);
+                &derived
+            }
+            None => {
+                return Err(Error::Usage(format!(
+                    "export column '{}' asks for {}, which this manoeuvre does not produce (it gives {})",
+                    c.name,
+                    c.quantity,
+                    cols.keys().map(|q| q.key()).collect::<Vec<_>>().join(", ")
+                )))
+            }
+        };
         let internal = c.quantity.internal_unit();
         let (unit_text, factor) = match &c.unit {
             Some(u) => {
@@ -109,6 +117,27 @@ fn prepare<'a>(
         out.push((c, values, unit_text));
     }
     Ok(out)
+}
+
+/// One part of the attitude quaternion (scalar first) from the roll, pitch and yaw columns
+/// (a missing roll or pitch is zero), as a 6-DOF solver that tracks its orientation as a
+/// quaternion writes it.
+fn quaternion_part(cols: &Columns, part: Quantity) -> Vec<f64> {
+    let k = Quantity::QUATERNION
+        .iter()
+        .position(|q| *q == part)
+        .unwrap_or(0);
+    let yaw = cols.get(&Quantity::Yaw).map_or(&[][..], Vec::as_slice);
+    let angle = |q: Quantity, i: usize| cols.get(&q).map_or(0.0, |v| v[i]);
+    (0..yaw.len())
+        .map(|i| {
+            crate::frames::quaternion_from_zyx(
+                angle(Quantity::Roll, i),
+                angle(Quantity::Pitch, i),
+                yaw[i],
+            )[k]
+        })
+        .collect()
 }
 
 /// CFX writes units with spaces between factors and `^-1` powers: `m s^-1`.
