@@ -40,9 +40,9 @@ fn rps(rpm: f64) -> f64 {
 /// kinetic energy 0.5 nu^T M nu (added mass included) plus the potential energy of weight
 /// and buoyancy stays constant: M nu_dot = -C_RB(nu) nu - g(eta) with a skew-symmetric
 /// C_RB. This catches the two sign errors of the 2024 MSS npsauv.m (heave rigid-body term
-/// and the (I_z - I_x) p r pitch term), which gain about 30 % in 30 s: flipping the sign of
-/// the heave rigid-body term in `NpsAuv::rigid_body_coriolis` makes this test fail (checked:
-/// relative drift 1.2e-1 instead of 3e-12).
+/// and the (I_z - I_x) p r pitch term), which gain about 30 % in 30 s. Checked: flipping the
+/// sign of the heave rigid-body term in `NpsAuv::rigid_body_coriolis` gives a relative drift
+/// of 9.2e-1, flipping the (I_z - I_x) p r pitch term 1.9e-2; as built the drift is 2.0e-12.
 #[test]
 fn energy_is_conserved_without_damping() {
     let mut v: Vehicle = nps_auv_vehicle();
@@ -69,6 +69,7 @@ fn energy_is_conserved_without_damping() {
     // the motion is not trivial: the rates change
     let last = xs.last().unwrap();
     assert!((last[3] - x0[3]).abs() > 1e-3, "{last:?}");
+    println!("energy: E0 = {e0:.3} J, worst relative drift {worst:.3e} over 30 s");
     assert!(worst < 1e-6, "relative energy drift {worst:.3e} (E0 = {e0:.1} J)");
 }
 
@@ -79,10 +80,11 @@ fn straight_speed(rpm: f64, duration: f64) -> (f64, f64) {
     let xs = run(&m, &c, &ahead(1.0), &[0.0, 0.0, 0.0, rps(rpm)], duration, 0.5);
     let u_end = xs.last().unwrap()[0];
     let u_before = xs[xs.len() - 101][0];
-    // straight: nothing else moves
+    // straight: nothing else moves (but for the trace of the surge-pitch coupling m z_G of
+    // the mass matrix while the speed changes, and the products of inertia)
     let last = xs.last().unwrap();
-    for i in [1, 2, 3, 4, 5, 9, 10] {
-        assert!(last[i].abs() < 1e-9, "state {i} = {}", last[i]);
+    for i in [1, 2, 3, 4, 5, 9, 10, 11] {
+        assert!(last[i].abs() < 1e-6, "state {i} = {}", last[i]);
     }
     (u_end, (u_end - u_before).abs())
 }
@@ -136,8 +138,9 @@ fn rudder_turns_to_port_and_stern_planes_pitch_nose_down() {
     println!("stern planes +10 deg, 60 s: theta = {:.4} rad, z = {:.3} m, q = {:.5}", x[10], x[8], x[4]);
     assert!(x[10] < -0.01, "theta = {}", x[10]);
     assert!(x[8] > 0.1, "z = {}", x[8]);
-    // the horizontal plane is untouched by the stern planes alone (no roll, no yaw)
-    assert!(x[5].abs() < 1e-9 && x[9].abs() < 1e-9, "{x:?}");
+    // the stern planes alone hardly touch the horizontal plane (only through the products
+    // of inertia, 13.58 kg m^2)
+    assert!(x[5].abs() < 1e-6 && x[9].abs() < 1e-6, "{x:?}");
 }
 
 /// (d) The paper's helix: rudder and stern planes at 10 deg (0.175 rad), 500 rpm, from the

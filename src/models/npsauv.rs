@@ -542,7 +542,7 @@ impl NpsAuv {
     pub fn rigid_body_coriolis<T: Scalar>(&self, nu: &[T; 6]) -> [T; 6] {
         let v1 = [nu[0], nu[1], nu[2]];
         let v2 = [nu[3], nu[4], nu[5]];
-        let rg = self.r_g.map(T::from);
+        let rg = [T::from(self.r_g[0]), T::from(self.r_g[1]), T::from(self.r_g[2])];
         let i = &self.inertia;
         let iv2: [T; 3] = std::array::from_fn(|k| v2[0] * i[k][0] + v2[1] * i[k][1] + v2[2] * i[k][2]);
         let w1 = cross(v2, v1);
