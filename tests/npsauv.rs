@@ -104,10 +104,12 @@ fn straight_speed(rpm: f64, duration: f64) -> (f64, f64) {
 /// (b) Straight ahead at 500 rpm with the control surfaces at zero the speed settles where
 /// the propulsion law's thrust balances the hull resistance, eta = k n / u = 1 (MSS
 /// npsauv.m: prop = 0.012 n / u, n in rad/s): u = 0.012 * 500 * 2 pi / 60 = 0.628 m/s.
-/// Measured: 0.6283 m/s after 900 s from 1 m/s (500 rpm), 1.2566 m/s at 1000 rpm, 1.885 m/s
-/// at 1500 rpm (the MSS file's limit). The source says no more than that balance; the
-/// 0.63 m/s at 500 rpm is below the 1-3 m/s one might expect of a 5.3 m vehicle, because the
-/// MSS file converts rpm to rad/s before applying Healey & Lienard's 0.012.
+/// Measured: 0.62833 m/s after 900 s from 1 m/s at 500 rpm (still changing by 6.8e-6 m/s
+/// over the last 50 s), 1.25664 m/s at 1000 rpm, 1.88496 m/s at 1500 rpm (the MSS file's
+/// limit): the balance to five digits. The source says no more than that balance; 0.63 m/s at
+/// 500 rpm is below the 1-3 m/s one might expect of a 5.3 m vehicle, because the MSS file
+/// converts rpm to rad/s before applying Healey & Lienard's 0.012 (with n in rpm the same law
+/// would give 6 m/s).
 #[test]
 fn straight_line_speed_settles_and_grows_with_rpm() {
     let (u500, change500) = straight_speed(500.0, 900.0);
@@ -125,6 +127,10 @@ fn straight_line_speed_settles_and_grows_with_rpm() {
     assert!(change1000 < 1e-3, "{change1000}");
     assert!(u1000 > u500 * 1.5, "{u1000} vs {u500}");
     let (u1500, _) = straight_speed(1500.0, 900.0);
+    println!(
+        "straight: {u500:.5} m/s at 500 rpm (changing {change500:.1e} m/s in the last 50 s), \
+         {u1000:.5} at 1000 rpm ({change1000:.1e}), {u1500:.5} at 1500 rpm"
+    );
     assert!(u1500 > u1000 && (0.3..3.0).contains(&u1500), "{u1500}");
 }
 
@@ -134,8 +140,8 @@ fn straight_line_speed_settles_and_grows_with_rpm() {
 /// rudder angle gives a negative yaw moment). M_delta_s = -0.041: a positive stern-plane
 /// angle pitches the nose down (q < 0, theta < 0) and the vehicle goes deeper (z grows, z
 /// down). Measured from 0.628 m/s at 500 rpm, 60 s after the step: rudder 10 deg gives
-/// r = -0.0103 rad/s, psi = -0.55 rad; stern planes 10 deg give theta = -0.095 rad and
-/// z = +1.5 m.
+/// r = -0.0198 rad/s, psi = -1.064 rad, y = -13.3 m; stern planes 10 deg give theta =
+/// -0.0996 rad and z = +1.87 m.
 #[test]
 fn rudder_turns_to_port_and_stern_planes_pitch_nose_down() {
     let (m, c) = published();
@@ -169,9 +175,10 @@ fn rudder_turns_to_port_and_stern_planes_pitch_nose_down() {
 
 /// (d) The paper's helix: rudder and stern planes at 10 deg (0.175 rad), 500 rpm, from the
 /// straight-line speed. After the transient the turn rate, the speed and the rate of depth
-/// change settle: a helix. Measured (last 200 s of 800 s): r = -0.0103 rad/s (a turn to
-/// port of radius 53 m, period 610 s), u = 0.54 m/s, dz/dt = +0.05 m/s (descending),
-/// theta = -0.07 rad, phi = +0.001 rad.
+/// change settle: a helix. Measured (last 200 s of 800 s): r = -0.01670 rad/s (a turn to
+/// port, period 376 s, radius u / |r| = 31.9 m), u = 0.5332 m/s, dz/dt = +0.0198 m/s
+/// (descending 7.4 m per turn), theta = -0.0841 rad, phi = +0.0104 rad; the turn rate varies
+/// by 6.7e-7 rad/s over those 200 s.
 #[test]
 fn the_papers_helix_turns_and_descends_steadily() {
     let (m, c) = published();
