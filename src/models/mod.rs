@@ -39,6 +39,8 @@ registry::registry! {
     ShipLinear => ship_linear::ShipLinear,
     /// Course keeping in waves: Nomoto steering with a rudder bias and wave-induced yaw.
     NomotoWave => nomoto_wave::NomotoWave,
+    /// NPS AUV II, 6-DOF: Healey & Lienard (1993) terms, Fossen's rigid-body kinetics.
+    NpsAuv => npsauv::NpsAuv,
 }
 
 /// One state of a model.
