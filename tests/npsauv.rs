@@ -395,3 +395,73 @@ fn the_papers_helix_identifies_its_17_coefficients() {
         lines.join("\n")
     );
 }
+
+/// The whole way a user takes: configs/vehicles/npsauv.toml as the configuration's vehicle
+/// and known coefficients, a helix export with the propeller speed in rpm, `hydroid run`
+/// with the hybrid EKF estimating N_delta_r and M_delta_s from the noise-free log: each
+/// within 1 % (their published values taken out of the file's [coefficients], so that the
+/// truth is nowhere in the configuration).
+#[test]
+fn the_vehicle_file_runs_an_identification_end_to_end() {
+    let (m, truth) = published();
+    let inputs = [0.175, 0.175, 0.0, rps(500.0)];
+    let dt = 0.05;
+    let xs = run(&m, &truth, &ahead(2.0), &inputs, 30.0, dt);
+    let mut csv = String::from(
+        "time [s],u [m/s],v [m/s],w [m/s],p [rad/s],q [rad/s],r [rad/s],roll [rad],\
+         pitch [rad],yaw [rad],rudder [deg],stern_planes [deg],bow_planes [deg],rpm [rpm]\n",
+    );
+    for (k, x) in xs.iter().enumerate() {
+        csv.push_str(&format!("{:.6}", k as f64 * dt));
+        for i in [0, 1, 2, 3, 4, 5, 9, 10, 11] {
+            csv.push_str(&format!(",{:.17e}", x[i]));
+        }
+        csv.push_str(&format!(
+            ",{:.17e},{:.17e},0,500\n",
+            inputs[0].to_degrees(),
+            inputs[1].to_degrees()
+        ));
+    }
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("helix.csv"), csv).unwrap();
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = std::fs::read_to_string(root.join("configs/vehicles/npsauv.toml")).unwrap();
+    assert!(text.contains("\nNdr = -1.3e-2\n") && text.contains("\nMds = -4.1e-2\n"));
+    let mut text = text
+        .replace("\nNdr = -1.3e-2\n", "\nNdr = 0.0\n")
+        .replace("\nMds = -4.1e-2\n", "\nMds = 0.0\n");
+    text.push_str(
+        "\n[hekf]\nmodel = \"npsauv\"\nestimate = [\"Ndr\", \"Mds\"]\n[[hekf.runs]]\n\
+         file = \"helix.csv\"\n",
+    );
+    let cfg = dir.path().join("npsauv.toml");
+    std::fs::write(&cfg, text).unwrap();
+    let out = dir.path().join("out");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_hydroid"))
+        .args(["run", cfg.to_str().unwrap(), "--out", out.to_str().unwrap()])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    let said = format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert_eq!(o.status.code(), Some(0), "{said}");
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("results.json")).unwrap()).unwrap();
+    for (name, want) in [("Ndr", -1.3e-2), ("Mds", -4.1e-2)] {
+        let c = r["coefficients"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|c| c["name"] == name)
+            .unwrap_or_else(|| panic!("{name} in {}", r["coefficients"]));
+        let v = c["value"].as_f64().unwrap();
+        println!("{name}: {v:.6e} (published {want:e})");
+        assert!(
+            ((v - want) / want).abs() < 0.01,
+            "{name} = {v}, published {want}"
+        );
+    }
+}

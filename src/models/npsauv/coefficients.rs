@@ -1,0 +1,243 @@
+//! The NPS AUV II coefficient table (Healey & Lienard 1993 as coded in MSS npsauv.m; the
+//! names and order of ../shared/data/npsauv_coefficients.csv, with the renames the model's
+//! documentation gives) and the published values.
+
+use super::{CoefDef, Size};
+
+/// Reference of the force coefficients of terms in (speed)^2: 0.5 rho L^2.
+const R2: &str = "0.5 rho L^2";
+/// Reference of force/speed*rate and moment/speed^2 terms: 0.5 rho L^3.
+const R3: &str = "0.5 rho L^3";
+/// Reference of force/rate^2 and moment/speed*rate terms: 0.5 rho L^4.
+const R4: &str = "0.5 rho L^4";
+/// Reference of moment/rate^2 terms: 0.5 rho L^5.
+const R5: &str = "0.5 rho L^5";
+
+/// A non-dimensional Healey & Lienard coefficient; `size` is its published value (its
+/// typical magnitude), 1e-2 where the published value is 0.
+const fn hl(name: &'static str, meaning: &'static str, size: f64, reference: &'static str) -> CoefDef {
+    CoefDef {
+        name,
+        unit: "-",
+        meaning,
+        size: Size::Fixed(size),
+        reference: Some(reference),
+    }
+}
+
+crate::coefficient_table! {
+    /// Coefficient vector layout: the Healey & Lienard set as coded in MSS npsauv.m, in the
+    /// order of ../shared/data/npsauv_coefficients.csv.
+    pub COEFFICIENTS;
+    // surge
+    XPP = hl("Xpp", "NPS AUV surge X'_pp (p^2)", 7.0e-3, R4),
+    XQQ = hl("Xqq", "NPS AUV surge X'_qq (q^2)", -1.5e-2, R4),
+    XRR = hl("Xrr_hl", "NPS AUV surge X'_rr (r^2), Healey & Lienard", 4.0e-3, R4),
+    XPR = hl("Xpr", "NPS AUV surge X'_pr (p r)", 7.5e-4, R4),
+    XUDOT = hl("Xudot", "NPS AUV surge added mass X'_udot", -7.6e-3, R3),
+    XWQ = hl("Xwq", "NPS AUV surge X'_wq (w q)", -2.0e-1, R3),
+    XVP = hl("Xvp", "NPS AUV surge X'_vp (v p)", -3.0e-3, R3),
+    XVR = hl("Xvr_hl", "NPS AUV surge X'_vr (v r), Healey & Lienard", 2.0e-2, R3),
+    XQDS = hl("Xqds", "NPS AUV surge X'_q delta_s (u q delta_s)", 2.5e-2, R3),
+    XQDB2 = hl("Xqdb2", "NPS AUV surge X'_q delta_b/2 (u q (delta_bp + delta_bs))", -1.3e-3, R3),
+    XRDR = hl("Xrdr", "NPS AUV surge X'_r delta_r (u r delta_r)", -1.0e-3, R3),
+    XVV = hl("Xvv_hl", "NPS AUV surge X'_vv (v^2), Healey & Lienard", 5.3e-2, R2),
+    XWW = hl("Xww_hl", "NPS AUV surge X'_ww (w^2), Healey & Lienard", 1.7e-1, R2),
+    XVDR = hl("Xvdr", "NPS AUV surge X'_v delta_r (u v delta_r)", 1.7e-3, R2),
+    XWDS = hl("Xwds", "NPS AUV surge X'_w delta_s (u w delta_s)", 4.6e-2, R2),
+    XWDB2 = hl("Xwdb2", "NPS AUV surge X'_w delta_b/2 (u w (delta_bp + delta_bs))", 0.5e-2, R2),
+    XDSDS = hl("Xdsds", "NPS AUV surge X'_delta_s delta_s (u^2 delta_s^2)", -1.0e-2, R2),
+    XDRDR = hl("Xdrdr", "NPS AUV surge X'_delta_r delta_r (u^2 delta_r^2)", -1.0e-2, R2),
+    XQDSN = hl("Xqdsn", "NPS AUV surge X'_q delta_s n (u q delta_s eps(n))", 2.0e-3, R3),
+    XWDSN = hl("Xwdsn", "NPS AUV surge X'_w delta_s n (u w delta_s eps(n))", 3.5e-3, R2),
+    XDSDSN = hl("Xdsdsn", "NPS AUV surge X'_delta_s delta_s n (u^2 delta_s^2 eps(n))", -1.6e-3, R2),
+    // sway
+    YPDOT = hl("Ypdot", "NPS AUV sway added mass Y'_pdot", 1.2e-4, R4),
+    YRDOT = hl("Yrdot", "NPS AUV sway added mass Y'_rdot", 1.2e-3, R4),
+    YPQ = hl("Ypq", "NPS AUV sway Y'_pq (p q)", 4.0e-3, R4),
+    YQR = hl("Yqr", "NPS AUV sway Y'_qr (q r)", -6.5e-3, R4),
+    YVDOT = hl("Yvdot", "NPS AUV sway added mass Y'_vdot", -5.5e-2, R3),
+    YP = hl("Yp", "NPS AUV sway Y'_p (u p)", 3.0e-3, R3),
+    YR = hl("Yr", "NPS AUV sway Y'_r (u r)", 3.0e-2, R3),
+    YVQ = hl("Yvq", "NPS AUV sway Y'_vq (v q)", 2.4e-2, R3),
+    YWP = hl("Ywp", "NPS AUV sway Y'_wp (w p)", 2.3e-1, R3),
+    YWR = hl("Ywr", "NPS AUV sway Y'_wr (w r)", -1.9e-2, R3),
+    YV = hl("Yv", "NPS AUV sway Y'_v (u v)", -1.0e-1, R2),
+    YVW = hl("Yvw", "NPS AUV sway Y'_vw (v w)", 6.8e-2, R2),
+    YDR = hl("Ydr", "NPS AUV sway Y'_delta_r (u^2 delta_r)", 2.7e-2, R2),
+    // heave
+    ZQDOT = hl("Zqdot", "NPS AUV heave added mass Z'_qdot", -6.8e-3, R4),
+    ZPP = hl("Zpp", "NPS AUV heave Z'_pp (p^2)", 1.3e-4, R4),
+    ZPR = hl("Zpr", "NPS AUV heave Z'_pr (p r)", 6.7e-3, R4),
+    ZRR = hl("Zrr", "NPS AUV heave Z'_rr (r^2)", -7.4e-3, R4),
+    ZWDOT = hl("Zwdot", "NPS AUV heave added mass Z'_wdot", -2.4e-1, R3),
+    ZQ = hl("Zq", "NPS AUV heave Z'_q (u q)", -1.4e-1, R3),
+    ZVP = hl("Zvp", "NPS AUV heave Z'_vp (v p)", -4.8e-2, R3),
+    ZVR = hl("Zvr", "NPS AUV heave Z'_vr (v r)", 4.5e-2, R3),
+    ZW = hl("Zw", "NPS AUV heave Z'_w (u w)", -3.0e-1, R2),
+    ZVV = hl("Zvv", "NPS AUV heave Z'_vv (v^2)", -6.8e-2, R2),
+    ZDS = hl("Zds", "NPS AUV heave Z'_delta_s (u^2 delta_s)", -7.3e-2, R2),
+    ZDB2 = hl("Zdb2", "NPS AUV heave Z'_delta_b/2 (u^2 (delta_bp + delta_bs))", -1.3e-2, R2),
+    ZQN = hl("Zqn", "NPS AUV heave Z'_qn (u q eps(n))", -2.9e-3, R3),
+    ZWN = hl("Zwn", "NPS AUV heave Z'_wn (u w eps(n))", -5.1e-3, R2),
+    ZDSN = hl("Zdsn", "NPS AUV heave Z'_delta_s n (u^2 delta_s eps(n))", -1.0e-2, R2),
+    // roll
+    KPDOT = hl("Kpdot", "NPS AUV roll added inertia K'_pdot", -1.0e-3, R5),
+    KRDOT = hl("Krdot", "NPS AUV roll added inertia K'_rdot", -3.4e-5, R5),
+    KPQ = hl("Kpq", "NPS AUV roll K'_pq (p q)", -6.9e-5, R5),
+    KQR = hl("Kqr", "NPS AUV roll K'_qr (q r)", 1.7e-2, R5),
+    KVDOT = hl("Kvdot", "NPS AUV roll added mass K'_vdot", 1.2e-4, R4),
+    KP = hl("Kp", "NPS AUV roll K'_p (u p)", -1.1e-2, R4),
+    KR = hl("Kr", "NPS AUV roll K'_r (u r)", -8.4e-4, R4),
+    KVQ = hl("Kvq", "NPS AUV roll K'_vq (v q)", -5.1e-3, R4),
+    KWP = hl("Kwp", "NPS AUV roll K'_wp (w p)", -1.3e-4, R4),
+    KWR = hl("Kwr", "NPS AUV roll K'_wr (w r)", 1.4e-2, R4),
+    KV = hl("Kv", "NPS AUV roll K'_v (u v)", 3.1e-3, R3),
+    KVW = hl("Kvw", "NPS AUV roll K'_vw (v w)", -1.9e-1, R3),
+    KDB2 = hl("Kdb2", "NPS AUV roll K'_delta_b/2 (u^2 (delta_bp + delta_bs)), 0 published", 1e-2, R3),
+    KPN = hl("Kpn", "NPS AUV roll K'_pn (u p eps(n))", -5.7e-4, R4),
+    KPROP = hl("Kprop", "NPS AUV roll K'_prop (u^2), propeller torque, 0 published", 1e-2, R3),
+    // pitch
+    MQDOT = hl("Mqdot", "NPS AUV pitch added inertia M'_qdot", -1.7e-2, R5),
+    MPP = hl("Mpp", "NPS AUV pitch M'_pp (p^2)", 5.3e-5, R5),
+    MPR = hl("Mpr", "NPS AUV pitch M'_pr (p r)", 5.0e-3, R5),
+    MRR = hl("Mrr", "NPS AUV pitch M'_rr (r^2)", 2.9e-3, R5),
+    MWDOT = hl("Mwdot", "NPS AUV pitch added mass M'_wdot", -6.8e-3, R4),
+    MQ = hl("Mq", "NPS AUV pitch M'_q = Healey & Lienard M'_uq (u q)", -6.8e-2, R4),
+    MVP = hl("Mvp", "NPS AUV pitch M'_vp (v p)", 1.2e-3, R4),
+    MVR = hl("Mvr", "NPS AUV pitch M'_vr (v r)", 1.7e-2, R4),
+    MW = hl("Mw", "NPS AUV pitch M'_w = Healey & Lienard M'_uw (u w)", 1.0e-1, R3),
+    MVV = hl("Mvv", "NPS AUV pitch M'_vv (v^2)", -2.6e-2, R3),
+    MDS = hl("Mds", "NPS AUV pitch M'_delta_s (u^2 delta_s)", -4.1e-2, R3),
+    MDB2 = hl("Mdb2", "NPS AUV pitch M'_delta_b/2 (u^2 (delta_bp + delta_bs))", 3.5e-3, R3),
+    MQN = hl("Mqn", "NPS AUV pitch M'_qn (u q eps(n))", -1.6e-3, R4),
+    MWN = hl("Mwn", "NPS AUV pitch M'_wn (u w eps(n))", -2.9e-3, R3),
+    MDSN = hl("Mdsn", "NPS AUV pitch M'_delta_s n (u^2 delta_s eps(n))", -5.2e-3, R3),
+    // yaw
+    NPDOT = hl("Npdot", "NPS AUV yaw added inertia N'_pdot", -3.4e-5, R5),
+    NRDOT = hl("Nrdot", "NPS AUV yaw added inertia N'_rdot", -3.4e-3, R5),
+    NPQ = hl("Npq", "NPS AUV yaw N'_pq (p q)", -2.1e-2, R5),
+    NQR = hl("Nqr", "NPS AUV yaw N'_qr (q r)", 2.7e-3, R5),
+    NVDOT = hl("Nvdot", "NPS AUV yaw added mass N'_vdot", 1.2e-3, R4),
+    NP = hl("Np", "NPS AUV yaw N'_p (u p)", -8.4e-4, R4),
+    NR = hl("Nr", "NPS AUV yaw N'_r (u r)", -1.6e-2, R4),
+    NVQ = hl("Nvq", "NPS AUV yaw N'_vq (v q)", -1.0e-2, R4),
+    NWP = hl("Nwp", "NPS AUV yaw N'_wp (w p)", -1.7e-2, R4),
+    NWR = hl("Nwr", "NPS AUV yaw N'_wr (w r)", 7.4e-3, R4),
+    NV = hl("Nv", "NPS AUV yaw N'_v (u v)", -7.4e-3, R3),
+    NVW = hl("Nvw", "NPS AUV yaw N'_vw (v w)", -2.7e-2, R3),
+    NDR = hl("Ndr", "NPS AUV yaw N'_delta_r (u^2 delta_r)", -1.3e-2, R3),
+    NPROP = hl("Nprop", "NPS AUV yaw N'_prop (u^2), propeller, 0 published", 1e-2, R3),
+}
+
+/// The published NPS AUV II coefficient set (Healey & Lienard 1993 as coded in MSS npsauv.m;
+/// ../shared/data/npsauv_coefficients.csv), under this model's names.
+pub const PUBLISHED: &[(&str, f64)] = &[
+    ("Xpp", 7.0e-3),
+    ("Xqq", -1.5e-2),
+    ("Xrr_hl", 4.0e-3),
+    ("Xpr", 7.5e-4),
+    ("Xudot", -7.6e-3),
+    ("Xwq", -2.0e-1),
+    ("Xvp", -3.0e-3),
+    ("Xvr_hl", 2.0e-2),
+    ("Xqds", 2.5e-2),
+    ("Xqdb2", -1.3e-3),
+    ("Xrdr", -1.0e-3),
+    ("Xvv_hl", 5.3e-2),
+    ("Xww_hl", 1.7e-1),
+    ("Xvdr", 1.7e-3),
+    ("Xwds", 4.6e-2),
+    ("Xwdb2", 0.5e-2),
+    ("Xdsds", -1.0e-2),
+    ("Xdrdr", -1.0e-2),
+    ("Xqdsn", 2.0e-3),
+    ("Xwdsn", 3.5e-3),
+    ("Xdsdsn", -1.6e-3),
+    ("Ypdot", 1.2e-4),
+    ("Yrdot", 1.2e-3),
+    ("Ypq", 4.0e-3),
+    ("Yqr", -6.5e-3),
+    ("Yvdot", -5.5e-2),
+    ("Yp", 3.0e-3),
+    ("Yr", 3.0e-2),
+    ("Yvq", 2.4e-2),
+    ("Ywp", 2.3e-1),
+    ("Ywr", -1.9e-2),
+    ("Yv", -1.0e-1),
+    ("Yvw", 6.8e-2),
+    ("Ydr", 2.7e-2),
+    ("Zqdot", -6.8e-3),
+    ("Zpp", 1.3e-4),
+    ("Zpr", 6.7e-3),
+    ("Zrr", -7.4e-3),
+    ("Zwdot", -2.4e-1),
+    ("Zq", -1.4e-1),
+    ("Zvp", -4.8e-2),
+    ("Zvr", 4.5e-2),
+    ("Zw", -3.0e-1),
+    ("Zvv", -6.8e-2),
+    ("Zds", -7.3e-2),
+    ("Zdb2", -1.3e-2),
+    ("Zqn", -2.9e-3),
+    ("Zwn", -5.1e-3),
+    ("Zdsn", -1.0e-2),
+    ("Kpdot", -1.0e-3),
+    ("Krdot", -3.4e-5),
+    ("Kpq", -6.9e-5),
+    ("Kqr", 1.7e-2),
+    ("Kvdot", 1.2e-4),
+    ("Kp", -1.1e-2),
+    ("Kr", -8.4e-4),
+    ("Kvq", -5.1e-3),
+    ("Kwp", -1.3e-4),
+    ("Kwr", 1.4e-2),
+    ("Kv", 3.1e-3),
+    ("Kvw", -1.9e-1),
+    ("Kdb2", 0.0),
+    ("Kpn", -5.7e-4),
+    ("Kprop", 0.0),
+    ("Mqdot", -1.7e-2),
+    ("Mpp", 5.3e-5),
+    ("Mpr", 5.0e-3),
+    ("Mrr", 2.9e-3),
+    ("Mwdot", -6.8e-3),
+    ("Mq", -6.8e-2),
+    ("Mvp", 1.2e-3),
+    ("Mvr", 1.7e-2),
+    ("Mw", 1.0e-1),
+    ("Mvv", -2.6e-2),
+    ("Mds", -4.1e-2),
+    ("Mdb2", 3.5e-3),
+    ("Mqn", -1.6e-3),
+    ("Mwn", -2.9e-3),
+    ("Mdsn", -5.2e-3),
+    ("Npdot", -3.4e-5),
+    ("Nrdot", -3.4e-3),
+    ("Npq", -2.1e-2),
+    ("Nqr", 2.7e-3),
+    ("Nvdot", 1.2e-3),
+    ("Np", -8.4e-4),
+    ("Nr", -1.6e-2),
+    ("Nvq", -1.0e-2),
+    ("Nwp", -1.7e-2),
+    ("Nwr", 7.4e-3),
+    ("Nv", -7.4e-3),
+    ("Nvw", -2.7e-2),
+    ("Ndr", -1.3e-2),
+    ("Nprop", 0.0),
+];
+
+/// The 17 coefficients Mousavian et al. (2015) estimate, by their names (`Mq` = M_uq,
+/// `Mw` = M_uw).
+pub const PAPER_17: &[&str] = &[
+    "Mq", "Mds", "Mw", "Nr", "Ndr", "Nv", "Np", "Zds", "Zq", "Zw", "Ydr", "Yr", "Yv", "Yp", "Kp",
+    "Kr", "Kv",
+];
+
+/// The added-mass coefficients (the only ones of the energy test, tests/npsauv.rs).
+pub const ADDED_MASS: &[&str] = &[
+    "Xudot", "Yvdot", "Ypdot", "Yrdot", "Zwdot", "Zqdot", "Kvdot", "Kpdot", "Krdot", "Mwdot",
+    "Mqdot", "Nvdot", "Npdot", "Nrdot",
+];
+
