@@ -418,6 +418,8 @@ fn bundled_exports_are_what_their_simulate_configs_make() {
         ("kvlcc2_turn35_port", "kvlcc2_turn35_port.csv"),
         ("nomoto_zigzag_waves", "nomoto_zigzag_waves.csv"),
         ("kvlcc2_zigzag20", "kvlcc2_zigzag20.csv"),
+        ("ship150_zigzag20", "ship150_zigzag20.csv"),
+        ("ship150_nomoto_waves", "ship150_nomoto_waves.csv"),
     ] {
         let out = dir.path().join(export);
         let o = hydroid(&[
