@@ -418,6 +418,9 @@ fn bundled_exports_are_what_their_simulate_configs_make() {
         ("kvlcc2_turn35_port", "kvlcc2_turn35_port.csv"),
         ("nomoto_zigzag_waves", "nomoto_zigzag_waves.csv"),
         ("kvlcc2_zigzag20", "kvlcc2_zigzag20.csv"),
+        ("npsauv_helix", "npsauv_helix.dat"),
+        ("npsauv_zigzag_vertical", "npsauv_zigzag_vertical.csv"),
+        ("npsauv_zigzag_horizontal", "npsauv_zigzag_horizontal.csv"),
     ] {
         let out = dir.path().join(export);
         let o = hydroid(&[
