@@ -237,12 +237,13 @@ fn the_vertical_zigzag_oscillates_in_pitch() {
         z.period
     );
     reverses_at_the_change(&cols, &z, Quantity::Pitch, ten);
-    // overshoots: positive (the pitch goes on after the reversal) and smaller than the
-    // reversing change itself for a vehicle this stable in pitch (BG = 0.061 m)
+    // overshoots: positive (the pitch goes on after the reversal) and a fraction of the
+    // reversing change for a vehicle this stable in pitch (BG = 0.061 m); measured 1.9 to
+    // 2.2 deg, period 24.0 s (the last reversal's overshoot may be cut by the end of the run)
     for o in &z.overshoots[..z.overshoots.len() - 1] {
-        assert!(*o > 0.0 && *o < 10.0, "{o} deg");
+        assert!((0.5..5.0).contains(o), "{o} deg");
     }
-    assert!((5.0..60.0).contains(&z.period), "{} s", z.period);
+    assert!((10.0..40.0).contains(&z.period), "{} s", z.period);
     // the horizontal plane is hardly touched (only through the products of inertia)
     let yaw = cols[&Quantity::Yaw]
         .iter()
@@ -268,12 +269,17 @@ fn the_horizontal_zigzag_oscillates_in_heading() {
         z.period
     );
     reverses_at_the_change(&cols, &z, Quantity::Yaw, twenty);
+    // measured 13.5 to 14.9 deg, period 32.9 s: a large overshoot, as for a slender body
+    // with a small rudder at 1.9 m/s
     for o in &z.overshoots[..z.overshoots.len() - 1] {
-        assert!(*o > 0.0 && *o < 20.0, "{o} deg");
+        assert!((5.0..20.0).contains(o), "{o} deg");
     }
-    assert!((10.0..150.0).contains(&z.period), "{} s", z.period);
-    // the stern planes and the pitch stay still
-    assert!(cols[&Quantity::SternPlanes].iter().all(|d| *d == 0.0));
+    assert!((20.0..60.0).contains(&z.period), "{} s", z.period);
+    // the vertical plane is only touched through the heel and the products of inertia
+    let pitch = cols[&Quantity::Pitch]
+        .iter()
+        .fold(0.0f64, |m, x| m.max(x.abs()));
+    assert!(pitch < 5f64.to_radians(), "{}", pitch.to_degrees());
 }
 
 /// The helm on the stern planes needs the model to have them: a model without stern planes

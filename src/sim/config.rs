@@ -923,7 +923,15 @@ mod tests {
 
     #[test]
     fn the_bundled_configurations_load() {
-        for f in ["polar_sweep", "surge_run", "turn_paper", "turn_validation"] {
+        for f in [
+            "polar_sweep",
+            "surge_run",
+            "turn_paper",
+            "turn_validation",
+            "npsauv_helix",
+            "npsauv_zigzag_vertical",
+            "npsauv_zigzag_horizontal",
+        ] {
             let path = format!("configs/simulate/{f}.toml");
             load(Path::new(&path)).unwrap_or_else(|e| panic!("{f}: {e}"));
         }
