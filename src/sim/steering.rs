@@ -29,6 +29,11 @@ pub enum Surface {
 }
 
 impl Surface {
+    /// True for the rudder (the default surface).
+    pub fn is_rudder(&self) -> bool {
+        *self == Surface::Rudder
+    }
+
     /// The model input the helm moves.
     pub fn input(self) -> Quantity {
         match self {
@@ -93,7 +98,9 @@ pub enum Steering {
         rate: f64,
         /// Execute time, s (the approach before it with the surface at zero).
         execute: f64,
-        /// The surface moved.
+        /// The surface moved (written only when not the rudder, so that results of ships
+        /// read as before).
+        #[serde(skip_serializing_if = "Surface::is_rudder")]
         surface: Surface,
     },
     /// Zig-zag delta/psi_e: the surface to `rudder`, reversed each time the watched angle's
@@ -108,7 +115,9 @@ pub enum Steering {
         rate: f64,
         /// Execute time, s.
         execute: f64,
-        /// The surface moved.
+        /// The surface moved (written only when not the rudder, so that results of ships
+        /// read as before).
+        #[serde(skip_serializing_if = "Surface::is_rudder")]
         surface: Surface,
     },
 }
