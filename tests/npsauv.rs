@@ -58,9 +58,7 @@ fn energy_is_conserved_without_damping() {
     assert_eq!(added.len(), ADDED_MASS.len());
     let c = m.coefficient_vector(&added);
     // every velocity non-zero, and a heel and trim so that the restoring forces work
-    let x0 = [
-        1.2, 0.3, -0.25, 0.15, -0.1, 0.12, 0.0, 0.0, 0.0, 0.1, -0.05, 0.3,
-    ];
+    let x0 = [1.2, 0.3, -0.25, 0.15, -0.1, 0.12, 0.0, 0.0, 0.0, 0.1, -0.05, 0.3];
     let energy = |x: &[f64]| m.kinetic_energy(x, &c) + m.potential_energy(x);
     let e0 = energy(&x0);
     let xs = run(&m, &c, &x0, &[0.0; 4], 30.0, 0.01);
@@ -72,24 +70,14 @@ fn energy_is_conserved_without_damping() {
     let last = xs.last().unwrap();
     assert!((last[3] - x0[3]).abs() > 1e-3, "{last:?}");
     println!("energy: E0 = {e0:.3} J, worst relative drift {worst:.3e} over 30 s");
-    assert!(
-        worst < 1e-6,
-        "relative energy drift {worst:.3e} (E0 = {e0:.1} J)"
-    );
+    assert!(worst < 1e-6, "relative energy drift {worst:.3e} (E0 = {e0:.1} J)");
 }
 
 /// Speed after `duration` s straight ahead at `rpm` from 1 m/s, and its change over the
 /// last 50 s.
 fn straight_speed(rpm: f64, duration: f64) -> (f64, f64) {
     let (m, c) = published();
-    let xs = run(
-        &m,
-        &c,
-        &ahead(1.0),
-        &[0.0, 0.0, 0.0, rps(rpm)],
-        duration,
-        0.5,
-    );
+    let xs = run(&m, &c, &ahead(1.0), &[0.0, 0.0, 0.0, rps(rpm)], duration, 0.5);
     let u_end = xs.last().unwrap()[0];
     let u_before = xs[xs.len() - 101][0];
     // straight: nothing else moves (but for the trace of the surge-pitch coupling m z_G of
@@ -112,14 +100,8 @@ fn straight_speed(rpm: f64, duration: f64) -> (f64, f64) {
 fn straight_line_speed_settles_and_grows_with_rpm() {
     let (u500, change500) = straight_speed(500.0, 900.0);
     let want = 0.012 * 500.0 * 2.0 * std::f64::consts::PI / 60.0;
-    assert!(
-        change500 < 1e-3,
-        "still changing by {change500:.2e} m/s in 50 s"
-    );
-    assert!(
-        (u500 - want).abs() < 0.01 * want,
-        "{u500} m/s, balance {want} m/s"
-    );
+    assert!(change500 < 1e-3, "still changing by {change500:.2e} m/s in 50 s");
+    assert!((u500 - want).abs() < 0.01 * want, "{u500} m/s, balance {want} m/s");
     assert!((0.3..3.0).contains(&u500), "{u500} m/s");
     let (u1000, change1000) = straight_speed(1000.0, 900.0);
     assert!(change1000 < 1e-3, "{change1000}");
@@ -144,10 +126,7 @@ fn rudder_turns_to_port_and_stern_planes_pitch_nose_down() {
     let ten = 10f64.to_radians();
     let xs = run(&m, &c, &ahead(u0), &[ten, 0.0, 0.0, n], 60.0, 0.5);
     let x = xs.last().unwrap();
-    println!(
-        "rudder +10 deg, 60 s: r = {:.4} rad/s, psi = {:.3} rad, y = {:.2} m",
-        x[5], x[11], x[7]
-    );
+    println!("rudder +10 deg, 60 s: r = {:.4} rad/s, psi = {:.3} rad, y = {:.2} m", x[5], x[11], x[7]);
     assert!(x[5] < 0.0 && x[11] < -0.1, "r = {}, psi = {}", x[5], x[11]);
     // the other way round for a negative rudder angle
     let xs = run(&m, &c, &ahead(u0), &[-ten, 0.0, 0.0, n], 60.0, 0.5);
@@ -156,10 +135,7 @@ fn rudder_turns_to_port_and_stern_planes_pitch_nose_down() {
     // stern planes
     let xs = run(&m, &c, &ahead(u0), &[0.0, ten, 0.0, n], 60.0, 0.5);
     let x = xs.last().unwrap();
-    println!(
-        "stern planes +10 deg, 60 s: theta = {:.4} rad, z = {:.3} m, q = {:.5}",
-        x[10], x[8], x[4]
-    );
+    println!("stern planes +10 deg, 60 s: theta = {:.4} rad, z = {:.3} m, q = {:.5}", x[10], x[8], x[4]);
     assert!(x[10] < -0.01, "theta = {}", x[10]);
     assert!(x[8] > 0.1, "z = {}", x[8]);
     // the stern planes alone hardly touch the horizontal plane (only through the products
@@ -176,14 +152,7 @@ fn rudder_turns_to_port_and_stern_planes_pitch_nose_down() {
 fn the_papers_helix_turns_and_descends_steadily() {
     let (m, c) = published();
     let u0 = 0.012 * 500.0 * 2.0 * std::f64::consts::PI / 60.0;
-    let xs = run(
-        &m,
-        &c,
-        &ahead(u0),
-        &[0.175, 0.175, 0.0, rps(500.0)],
-        800.0,
-        0.5,
-    );
+    let xs = run(&m, &c, &ahead(u0), &[0.175, 0.175, 0.0, rps(500.0)], 800.0, 0.5);
     let tail = &xs[xs.len() - 401..];
     let mean = |i: usize| tail.iter().map(|x| x[i]).sum::<f64>() / tail.len() as f64;
     let spread = |i: usize| {
@@ -207,11 +176,7 @@ fn the_papers_helix_turns_and_descends_steadily() {
     );
     // a turn to port (positive rudder), steady
     assert!(r < -1e-3, "r = {r}");
-    assert!(
-        spread(5) < 0.01 * r.abs(),
-        "turn rate not steady: {}",
-        spread(5)
-    );
+    assert!(spread(5) < 0.01 * r.abs(), "turn rate not steady: {}", spread(5));
     assert!(spread(0) < 0.01 * u, "speed not steady: {}", spread(0));
     // a steady change of depth
     assert!(z_rate.abs() > 1e-3, "dz/dt = {z_rate}");
