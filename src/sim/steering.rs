@@ -3,11 +3,10 @@
 //! (rudder put over to +delta; reversed to -delta when the heading has changed by psi_e
 //! towards the turn; and so on), the rudder moving at most at the steering gear's rate.
 //!
-//! The same helm works the stern planes in the vertical plane, the vertical zig-zag of
-//! submarine and AUV practice (the overshoot manoeuvre in pitch: planes to +delta, reversed
-//! when the pitch angle has changed by theta_e from the execute pitch; Feldman 1995, DTNSRDC
-//! submarine standard manoeuvres; Fossen 2011, sec. 13.2 for the helm rule): it watches the
-//! pitch angle where the rudder's helm watches the heading.
+//! The same helm works the stern planes in the vertical plane: the vertical zig-zag
+//! (overshoot manoeuvre) of submarine and AUV practice, the ITTC rule with the pitch angle in
+//! place of the heading (planes to +delta, reversed when the pitch angle has changed by
+//! theta_e from the execute pitch towards the current motion, and so on).
 //!
 //! Signs follow the model's own convention: the first deflection is the angle as the model
 //! reads it (its sign chooses the side), and the zig-zag reverses the surface on the change
