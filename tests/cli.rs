@@ -420,6 +420,9 @@ fn bundled_exports_are_what_their_simulate_configs_make() {
         ("kvlcc2_zigzag20", "kvlcc2_zigzag20.csv"),
         ("ship150_zigzag20", "ship150_zigzag20.csv"),
         ("ship150_nomoto_waves", "ship150_nomoto_waves.csv"),
+        ("npsauv_helix", "npsauv_helix.dat"),
+        ("npsauv_zigzag_vertical", "npsauv_zigzag_vertical.csv"),
+        ("npsauv_zigzag_horizontal", "npsauv_zigzag_horizontal.csv"),
     ] {
         let out = dir.path().join(export);
         let o = hydroid(&[

@@ -516,7 +516,8 @@ fn a_fixed_format_overrides_detection() {
 
 #[test]
 fn the_synthetic_exports_of_hydroid_simulate_read_back() {
-    // cfd_exports/ holds what `hydroid simulate` writes in CFX and STAR-CCM+ layouts.
+    // cfd_exports/ holds what `hydroid simulate` writes in CFX and STAR-CCM+ layouts, and the
+    // NPS AUV II helix as OpenFOAM sixDoFRigidBodyState output (docs/simulate.md).
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("cfd_exports");
     let Ok(entries) = std::fs::read_dir(&dir) else {
         return;
@@ -532,7 +533,10 @@ fn the_synthetic_exports_of_hydroid_simulate_read_back() {
         let t = formats::read(&p, FormatChoice::Auto, &ReadOptions::default())
             .unwrap_or_else(|e| panic!("{e}"));
         assert!(
-            matches!(t.format, Format::Cfx | Format::StarCcm),
+            matches!(
+                t.format,
+                Format::Cfx | Format::StarCcm | Format::OpenFoamSixDof
+            ),
             "{}",
             p.display()
         );

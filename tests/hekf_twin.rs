@@ -115,6 +115,7 @@ fn simulate(man: Man) -> Record {
             initial: initial.iter().map(|(q, v)| (*q, c(v))).collect(),
             inputs: [(Quantity::Thrust, c(thrust))].into_iter().collect(),
             steps,
+            rates: Default::default(),
             steering: None,
             process_noise: Default::default(),
         },

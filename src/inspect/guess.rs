@@ -156,6 +156,11 @@ fn guess_words(name: &str, unit: Option<&Unit>) -> Option<Quantity> {
             Some(Rudder)
         } else if only(&["propeller", "speed"]) {
             Some(Rpm)
+        } else if only(&["stern", "planes"]) || only(&["stern", "plane"]) {
+            // `stern_planes`, `Stern Planes`: the words of the single names above
+            Some(SternPlanes)
+        } else if only(&["bow", "planes"]) || only(&["bow", "plane"]) {
+            Some(BowPlanes)
         } else {
             None
         }
@@ -186,6 +191,8 @@ mod tests {
             Some(Quantity::R)
         );
         assert_eq!(g("Heading", Some("degree")), Some(Quantity::Yaw));
+        assert_eq!(g("stern_planes", Some("deg")), Some(Quantity::SternPlanes));
+        assert_eq!(g("Bow Planes", Some("degree")), Some(Quantity::BowPlanes));
         assert_eq!(g("Monitor Point: Fy", Some("N")), Some(Quantity::Fy));
         assert_eq!(g("Force X Monitor: Force", Some("N")), Some(Quantity::Fx));
         assert_eq!(g("total_z", Some("N m")), Some(Quantity::Mz));

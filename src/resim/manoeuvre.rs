@@ -10,7 +10,7 @@ use crate::models::Model;
 use crate::quantity::Quantity;
 use crate::record::Record;
 use crate::sim::inputs::Input;
-use crate::sim::steering::Steering;
+use crate::sim::steering::{Steering, Surface};
 use crate::sim::InputSeries;
 use crate::warning::Warning;
 use serde::Serialize;
@@ -58,6 +58,7 @@ impl ManoeuvreComparison {
                 rudder,
                 rate,
                 execute,
+                ..
             } => format!(
                 "rudder {} deg at {} deg/s from t = {} s, held",
                 deg(rudder),
@@ -69,6 +70,7 @@ impl ManoeuvreComparison {
                 heading,
                 rate,
                 execute,
+                ..
             } => format!(
                 "rudder {} deg at {} deg/s from t = {} s, reversed at {} deg of heading change",
                 deg(rudder),
@@ -164,12 +166,14 @@ fn law_of(m: &RunMeasures, time: &[f64], rudder: &[f64]) -> Option<Steering> {
                 heading: z.heading_angle,
                 rate,
                 execute: z.execute_time,
+                surface: Surface::Rudder,
             })
         }
         (None, Some(t)) => Some(Steering::Turn {
             rudder: t.rudder_angle.value()?,
             rate,
             execute: t.execute_time,
+            surface: Surface::Rudder,
         }),
         (None, None) => None,
     }

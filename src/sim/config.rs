@@ -76,6 +76,9 @@ pub enum Manoeuvre {
         inputs: BTreeMap<Quantity, Constant>,
         /// Input changes: at `time`, the listed inputs take new values.
         steps: Vec<Step>,
+        /// Largest rate of change per input (SI per second): an input with a rate moves
+        /// towards each new value at most at that rate (an actuator) instead of jumping.
+        rates: BTreeMap<Quantity, f64>,
         /// A helmsman steering the rudder (turning circle, zig-zag), if any.
         steering: Option<super::steering::Steering>,
         /// White-noise forcing per state, variance per second (SI^2/s): waves on a wave-yaw
@@ -231,6 +234,8 @@ struct ManoeuvreFile {
     inputs: Option<BTreeMap<Quantity, Constant>>,
     #[serde(default)]
     steps: Option<Vec<Step>>,
+    #[serde(default)]
+    rates: Option<BTreeMap<Quantity, Constant>>,
     #[serde(default)]
     alpha_deg: Option<Vec<f64>>,
     #[serde(default, deserialize_with = "si::list::<_, si::Speed>")]
@@ -414,29 +419,52 @@ impl ManoeuvreFile {
                         }
                     },
                 };
-                if self.steering.is_some() {
-                    // the helm needs a rudder to turn and a heading to watch, and is the only
-                    // one to move the rudder
-                    if !produces.inputs.contains(&Quantity::Rudder)
-                        || !produces.states.contains(&Quantity::Yaw)
-                    {
+                let rates = check_rates(self.rates.unwrap_or_default(), produces, &model_name, p);
+                ok &= rates.is_some();
+                let rates = rates.unwrap_or_default();
+                if let Some(file) = &self.steering {
+                    // the helm needs a surface to move and an angle to watch (the rudder and
+                    // the heading, or the stern planes and the pitch), and is the only one to
+                    // move that surface
+                    let surface = file.surface;
+                    let (input, watched) = (surface.input(), surface.watched());
+                    if !produces.inputs.contains(&input) || !produces.states.contains(&watched) {
+                        let key = if surface == super::steering::Surface::Rudder {
+                            "manoeuvre.steering"
+                        } else {
+                            "manoeuvre.steering.surface"
+                        };
                         p.add(
-                            "manoeuvre.steering",
+                            key,
                             format!(
-                                "the {model_name} model has no rudder input or no heading \
-                                 state to steer"
+                                "the {model_name} model has no {} input or no {} state to steer",
+                                surface.words(),
+                                surface.watched_words()
                             ),
                         );
                         ok = false;
                     }
-                    let moved = inputs.contains_key(&Quantity::Rudder)
-                        || steps
-                            .iter()
-                            .any(|s| s.values.contains_key(&Quantity::Rudder));
+                    let moved = inputs.contains_key(&input)
+                        || steps.iter().any(|s| s.values.contains_key(&input));
                     if moved {
                         p.add(
                             "manoeuvre.steering",
-                            "the helm moves the rudder: remove rudder from `inputs` and `steps`",
+                            format!(
+                                "the helm moves the {0}: remove {input} from `inputs` and \
+                                 `steps`",
+                                surface.words()
+                            ),
+                        );
+                        ok = false;
+                    }
+                    if rates.contains_key(&input) {
+                        p.add(
+                            &format!("manoeuvre.rates.{input}"),
+                            format!(
+                                "the helm moves the {} at `manoeuvre.steering.rate`: remove \
+                                 {input} from `rates`",
+                                surface.words()
+                            ),
                         );
                         ok = false;
                     }
@@ -513,6 +541,7 @@ impl ManoeuvreFile {
                     initial,
                     inputs,
                     steps,
+                    rates,
                     steering,
                     process_noise,
                 })
@@ -525,6 +554,7 @@ impl ManoeuvreFile {
                     ("initial", self.initial.is_some()),
                     ("inputs", self.inputs.is_some()),
                     ("steps", self.steps.is_some()),
+                    ("rates", self.rates.is_some()),
                     ("steering", self.steering.is_some()),
                     ("process_noise", self.process_noise.is_some()),
                 ] {
@@ -656,6 +686,40 @@ fn check_timing(duration: f64, dt: f64, substeps: u64, p: &mut Problems) -> bool
         }
     }
     ok
+}
+
+/// The inputs' rates (`manoeuvre.rates`) in SI per second, or None when one is unusable: each
+/// an input of the model, of its quantity's dimension per second, positive and finite.
+fn check_rates(
+    rates: BTreeMap<Quantity, Constant>,
+    produces: &Produces,
+    model: &str,
+    p: &mut Problems,
+) -> Option<BTreeMap<Quantity, f64>> {
+    let mut ok = true;
+    let mut out = BTreeMap::new();
+    for (q, c) in rates {
+        let key = format!("manoeuvre.rates.{q}");
+        let before = p.list.len();
+        member(p, &key, q, &produces.inputs, "an input", model);
+        // a rate is the input's dimension per second: [kg, m, s, rad] exponents, s - 1
+        let mut dim = q.dim();
+        dim[2] -= 1;
+        if let Err(m) = c.expect_dim(dim) {
+            p.add(&key, format!("a rate of {q} per second: {m}"));
+        } else if !(c.si.is_finite() && c.si > 0.0) {
+            p.add(
+                &key,
+                format!(
+                    "must be a positive rate, got {}; leave {q} out for steps that jump",
+                    c.text
+                ),
+            );
+        }
+        ok &= p.list.len() == before;
+        out.insert(q, c.si);
+    }
+    ok.then_some(out)
 }
 
 fn member(p: &mut Problems, key: &str, q: Quantity, allowed: &[Quantity], what: &str, model: &str) {
@@ -862,7 +926,15 @@ mod tests {
 
     #[test]
     fn the_bundled_configurations_load() {
-        for f in ["polar_sweep", "surge_run", "turn_paper", "turn_validation"] {
+        for f in [
+            "polar_sweep",
+            "surge_run",
+            "turn_paper",
+            "turn_validation",
+            "npsauv_helix",
+            "npsauv_zigzag_vertical",
+            "npsauv_zigzag_horizontal",
+        ] {
             let path = format!("configs/simulate/{f}.toml");
             load(Path::new(&path)).unwrap_or_else(|e| panic!("{f}: {e}"));
         }

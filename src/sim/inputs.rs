@@ -23,6 +23,38 @@ pub fn stepped(start: f64, changes: &[(f64, f64)], times: &[f64]) -> Vec<f64> {
         .collect()
 }
 
+/// Like [`stepped`], through an actuator of largest rate `rate` (per second, > 0): from
+/// `start`, the value moves towards the latest commanded value at most at `rate` and stops on
+/// it, so that each step becomes a ramp of slope `rate` lasting |change| / rate (a first-order
+/// rate limiter, the steering-gear model of IMO MSC.137(76) and ITTC 7.5-04-02-01 applied to
+/// any input). The command is piecewise constant, so the ramp is exact at every sample time,
+/// whatever the step times; a change within 1e-12 s after a sample applies from that sample,
+/// as in [`stepped`].
+pub fn rate_limited(start: f64, changes: &[(f64, f64)], times: &[f64], rate: f64) -> Vec<f64> {
+    let (mut value, mut command) = (start, start);
+    let mut clock = times.first().copied().unwrap_or(0.0);
+    let mut next = changes.iter().peekable();
+    // the actuator from `clock` to `to` towards `command`
+    let toward = |value: f64, command: f64, span: f64| {
+        let most = rate * span.max(0.0);
+        value + (command - value).clamp(-most, most)
+    };
+    times
+        .iter()
+        .map(|t| {
+            while let Some((at, v)) = next.next_if(|(at, _)| *t >= at - 1e-12) {
+                let at = at.min(*t).max(clock);
+                value = toward(value, command, at - clock);
+                clock = at;
+                command = *v;
+            }
+            value = toward(value, command, t - clock);
+            clock = *t;
+            value
+        })
+        .collect()
+}
+
 /// The changes of `q` in `steps`, (time, SI value), in time order (steps at the same time in
 /// the order given).
 pub fn changes_of(steps: &[Step], q: Quantity) -> Vec<(f64, f64)> {

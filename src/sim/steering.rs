@@ -3,57 +3,175 @@
 //! (rudder put over to +delta; reversed to -delta when the heading has changed by psi_e
 //! towards the turn; and so on), the rudder moving at most at the steering gear's rate.
 //!
-//! Signs follow the model's own convention: `rudder` is the first rudder angle as the model
-//! reads it (its sign chooses the side), and the zig-zag reverses the rudder on the heading
-//! change the ship actually makes, so the helm works whichever way a positive rudder turns
-//! the model.
+//! The same helm works the stern planes in the vertical plane: the vertical zig-zag
+//! (overshoot manoeuvre) of submarine and AUV practice, the ITTC rule with the pitch angle in
+//! place of the heading (planes to +delta, reversed when the pitch angle has changed by
+//! theta_e from the execute pitch towards the current motion, and so on).
+//!
+//! Signs follow the model's own convention: the first deflection is the angle as the model
+//! reads it (its sign chooses the side), and the zig-zag reverses the surface on the change
+//! of the watched angle the vehicle actually makes, so the helm works whichever way a
+//! positive deflection turns or pitches the model.
 
+use crate::quantity::Quantity;
 use serde::{Deserialize, Serialize};
 
-/// A rudder law of a standard manoeuvre (SI: rad, rad/s, s).
+/// The control surface a helm moves, and the attitude angle it watches.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Surface {
+    /// The rudder, watching the heading (horizontal plane; today's helm).
+    #[default]
+    Rudder,
+    /// The stern planes, watching the pitch angle (vertical plane).
+    SternPlanes,
+}
+
+impl Surface {
+    /// True for the rudder (the default surface).
+    pub fn is_rudder(&self) -> bool {
+        *self == Surface::Rudder
+    }
+
+    /// The model input the helm moves.
+    pub fn input(self) -> Quantity {
+        match self {
+            Surface::Rudder => Quantity::Rudder,
+            Surface::SternPlanes => Quantity::SternPlanes,
+        }
+    }
+
+    /// The state the helm watches.
+    pub fn watched(self) -> Quantity {
+        match self {
+            Surface::Rudder => Quantity::Yaw,
+            Surface::SternPlanes => Quantity::Pitch,
+        }
+    }
+
+    /// The surface in words ("rudder", "stern planes").
+    pub fn words(self) -> &'static str {
+        match self {
+            Surface::Rudder => "rudder",
+            Surface::SternPlanes => "stern planes",
+        }
+    }
+
+    /// The watched angle in words ("heading", "pitch").
+    pub fn watched_words(self) -> &'static str {
+        match self {
+            Surface::Rudder => "heading",
+            Surface::SternPlanes => "pitch",
+        }
+    }
+
+    /// The key of the surface-specific name of the first deflection (`rudder`) and of the
+    /// reversing change (`heading`, `pitch`).
+    fn keys(self) -> (Option<&'static str>, &'static str) {
+        match self {
+            Surface::Rudder => (Some("rudder"), "heading"),
+            Surface::SternPlanes => (None, "pitch"),
+        }
+    }
+
+    /// Largest reversing change, rad: a heading turns through up to 180 deg, a pitch angle
+    /// stays within 90 deg of level (zyx Euler angles, Fossen 2011 sec. 2.2.1).
+    fn largest_change(self) -> f64 {
+        match self {
+            Surface::Rudder => std::f64::consts::PI,
+            Surface::SternPlanes => std::f64::consts::FRAC_PI_2,
+        }
+    }
+}
+
+/// A law of a standard manoeuvre (SI: rad, rad/s, s) on one control surface.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum Steering {
-    /// Turning circle: rudder to `rudder` at `execute`, then held.
+    /// Turning circle (or, on the stern planes, a steady dive or climb): the surface to
+    /// `rudder` at `execute`, then held.
     Turn {
-        /// Rudder angle, rad (its sign chooses the side).
+        /// Deflection, rad (its sign chooses the side).
         rudder: f64,
-        /// Largest rudder rate, rad/s.
+        /// Largest deflection rate, rad/s.
         rate: f64,
-        /// Execute time, s (the approach before it with the rudder amidships).
+        /// Execute time, s (the approach before it with the surface at zero).
         execute: f64,
+        /// The surface moved (written only when not the rudder, so that results of ships
+        /// read as before).
+        #[serde(skip_serializing_if = "Surface::is_rudder")]
+        surface: Surface,
     },
-    /// Zig-zag delta/psi_e: rudder to `rudder`, reversed each time the heading change from
-    /// the execute heading reaches `heading` towards the current turn.
+    /// Zig-zag delta/psi_e: the surface to `rudder`, reversed each time the watched angle's
+    /// change from its execute value reaches `heading` towards the current motion.
     ZigZag {
-        /// First rudder angle, rad (its sign chooses the side).
+        /// First deflection, rad (its sign chooses the side).
         rudder: f64,
-        /// Heading change that reverses the rudder, rad (positive).
+        /// Change of the watched angle (heading, pitch) that reverses the surface, rad
+        /// (positive).
         heading: f64,
-        /// Largest rudder rate, rad/s.
+        /// Largest deflection rate, rad/s.
         rate: f64,
         /// Execute time, s.
         execute: f64,
+        /// The surface moved (written only when not the rudder, so that results of ships
+        /// read as before).
+        #[serde(skip_serializing_if = "Surface::is_rudder")]
+        surface: Surface,
     },
 }
 
+impl Steering {
+    /// The surface the law moves.
+    pub fn surface(&self) -> Surface {
+        match self {
+            Steering::Turn { surface, .. } | Steering::ZigZag { surface, .. } => *surface,
+        }
+    }
+}
+
 /// How a configuration writes a steering law (`[manoeuvre.steering]`).
-#[derive(Debug, Clone, Deserialize)]
+#[derive(Debug, Clone, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SteeringFile {
     /// `turn` or `zigzag`.
     pub kind: SteeringKind,
-    /// First rudder angle (`"35 deg"`; its sign chooses the side).
-    #[serde(deserialize_with = "crate::config::si::value::<_, crate::config::si::Angle>")]
-    pub rudder: f64,
-    /// Zig-zag heading change that reverses the rudder (`"20 deg"`).
+    /// The surface: `rudder` (default, watches the heading) or `stern_planes` (watches the
+    /// pitch angle).
+    #[serde(default)]
+    pub surface: Surface,
+    /// First rudder angle (`"35 deg"`; its sign chooses the side); the rudder only.
+    #[serde(
+        default,
+        deserialize_with = "crate::config::si::option::<_, crate::config::si::Angle>"
+    )]
+    pub rudder: Option<f64>,
+    /// First deflection of any surface (`"10 deg"`), instead of `rudder`.
+    #[serde(
+        default,
+        deserialize_with = "crate::config::si::option::<_, crate::config::si::Angle>"
+    )]
+    pub deflection: Option<f64>,
+    /// Zig-zag heading change that reverses the rudder (`"20 deg"`); the rudder only.
     #[serde(
         default,
         deserialize_with = "crate::config::si::option::<_, crate::config::si::Angle>"
     )]
     pub heading: Option<f64>,
-    /// Largest rudder rate (`"2.32 deg/s"`, IMO's full-scale steering gear; faster at model
-    /// scale by sqrt(lambda)).
+    /// Zig-zag pitch change that reverses the stern planes (`"10 deg"`); the planes only.
+    #[serde(
+        default,
+        deserialize_with = "crate::config::si::option::<_, crate::config::si::Angle>"
+    )]
+    pub pitch: Option<f64>,
+    /// Zig-zag change of the watched angle of any surface, instead of `heading` or `pitch`.
+    #[serde(
+        default,
+        deserialize_with = "crate::config::si::option::<_, crate::config::si::Angle>"
+    )]
+    pub angle: Option<f64>,
+    /// Largest deflection rate (`"2.32 deg/s"`, IMO's full-scale steering gear; faster at
+    /// model scale by sqrt(lambda)).
     #[serde(deserialize_with = "crate::config::si::value::<_, crate::config::si::Rate>")]
     pub rate: f64,
     /// Execute time (default 0 s).
@@ -65,32 +183,107 @@ pub struct SteeringFile {
 }
 
 /// The kinds of steering.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum SteeringKind {
     /// Turning circle.
+    #[default]
     Turn,
     /// Zig-zag.
     Zigzag,
+}
+
+/// The one value given under either of two keys, `specific` (if the surface has one) and
+/// `general`; a problem names the key when both or the wrong one are given. Returns the
+/// value (None when neither) and the key it came from.
+fn one_of(
+    key: &str,
+    surface: Surface,
+    specific: (Option<&'static str>, Option<f64>),
+    others: &[(&'static str, Option<f64>)],
+    general: (&'static str, Option<f64>),
+    p: &mut Vec<(String, String)>,
+) -> (Option<f64>, &'static str) {
+    for (name, value) in others {
+        if value.is_some() {
+            p.push((
+                format!("{key}.{name}"),
+                format!(
+                    "is not used by the helm of the {}: write `{}`",
+                    surface.words(),
+                    specific.0.unwrap_or(general.0)
+                ),
+            ));
+        }
+    }
+    match (specific, general.1) {
+        ((Some(name), Some(_)), Some(_)) => {
+            p.push((
+                format!("{key}.{}", general.0),
+                format!("gives the same value as `{name}`: keep one"),
+            ));
+            (None, general.0)
+        }
+        ((Some(name), Some(v)), None) => (Some(v), name),
+        (_, Some(v)) => (Some(v), general.0),
+        ((name, _), None) => (None, name.unwrap_or(general.0)),
+    }
 }
 
 impl SteeringFile {
     /// The law, or every problem with its key under `key`.
     pub fn check(&self, key: &str) -> Result<Steering, Vec<(String, String)>> {
         let mut p = Vec::new();
-        if !(self.rudder.is_finite() && self.rudder != 0.0 && self.rudder.abs() <= 1.0) {
+        let surface = self.surface;
+        let (rudder_key, change_key) = surface.keys();
+        // `rudder` is the rudder's own word: for another surface it is a wrong key
+        let rudder_elsewhere = [("rudder", self.rudder)];
+        let (first, first_key) = one_of(
+            key,
+            surface,
+            (rudder_key, rudder_key.and(self.rudder)),
+            if rudder_key.is_none() {
+                &rudder_elsewhere[..]
+            } else {
+                &[]
+            },
+            ("deflection", self.deflection),
+            &mut p,
+        );
+        let (wrong_change, other_change) = match surface {
+            Surface::Rudder => ("pitch", self.pitch),
+            Surface::SternPlanes => ("heading", self.heading),
+        };
+        let own_change = match surface {
+            Surface::Rudder => self.heading,
+            Surface::SternPlanes => self.pitch,
+        };
+        let (change, change_key) = one_of(
+            key,
+            surface,
+            (Some(change_key), own_change),
+            &[(wrong_change, other_change)],
+            ("angle", self.angle),
+            &mut p,
+        );
+        let first = first.unwrap_or(f64::NAN);
+        if !(first.is_finite() && first != 0.0 && first.abs() <= 1.0) {
             p.push((
-                format!("{key}.rudder"),
+                format!("{key}.{first_key}"),
                 format!(
-                    "must be a rudder angle other than 0 and at most 57 deg either side, got {} deg",
-                    self.rudder.to_degrees()
+                    "must be a {} angle other than 0 and at most 57 deg either side, got {} deg",
+                    surface.words(),
+                    first.to_degrees()
                 ),
             ));
         }
         if !(self.rate.is_finite() && self.rate > 0.0) {
             p.push((
                 format!("{key}.rate"),
-                "must be a positive rudder rate, e.g. \"2.32 deg/s\"".to_string(),
+                format!(
+                    "must be a positive {} rate, e.g. \"2.32 deg/s\"",
+                    surface.words()
+                ),
             ));
         }
         let execute = self.execute.unwrap_or(0.0);
@@ -102,33 +295,41 @@ impl SteeringFile {
         }
         let law = match self.kind {
             SteeringKind::Turn => {
-                if self.heading.is_some() {
+                if change.is_some() {
                     p.push((
-                        format!("{key}.heading"),
+                        format!("{key}.{change_key}"),
                         "is not used by a turning circle (only by a zigzag)".to_string(),
                     ));
                 }
                 Steering::Turn {
-                    rudder: self.rudder,
+                    rudder: first,
                     rate: self.rate,
                     execute,
+                    surface,
                 }
             }
             SteeringKind::Zigzag => {
-                let heading = self.heading.unwrap_or(f64::NAN);
-                if !(heading.is_finite() && heading > 0.0 && heading < std::f64::consts::PI) {
+                let heading = change.unwrap_or(f64::NAN);
+                let largest = surface.largest_change();
+                if !(heading.is_finite() && heading > 0.0 && heading < largest) {
                     p.push((
-                        format!("{key}.heading"),
-                        "a zigzag needs the heading change that reverses the rudder, from 0 to \
-                         180 deg, e.g. heading = \"20 deg\""
-                            .to_string(),
+                        format!("{key}.{change_key}"),
+                        format!(
+                            "a zigzag needs the {0} change that reverses the {1}, from 0 to {2} \
+                             deg, e.g. {change_key} = \"{3} deg\"",
+                            surface.watched_words(),
+                            surface.words(),
+                            largest.to_degrees(),
+                            if surface == Surface::Rudder { 20 } else { 10 }
+                        ),
                     ));
                 }
                 Steering::ZigZag {
-                    rudder: self.rudder,
+                    rudder: first,
                     heading,
                     rate: self.rate,
                     execute,
+                    surface,
                 }
             }
         };
@@ -140,7 +341,8 @@ impl SteeringFile {
     }
 }
 
-/// The helm during a run: the rudder command and the rudder angle, sample by sample.
+/// The helm during a run: the surface's command and its angle, sample by sample. The
+/// names speak of the rudder and the heading; on the stern planes read planes and pitch.
 #[derive(Debug, Clone)]
 pub struct Helm {
     law: Steering,
@@ -173,8 +375,9 @@ impl Helm {
                 rudder,
                 rate,
                 execute,
-            } => (rudder, rate, execute),
-            Steering::ZigZag {
+                ..
+            }
+            | Steering::ZigZag {
                 rudder,
                 rate,
                 execute,
@@ -236,6 +439,7 @@ mod tests {
             rudder: 0.6,
             rate: 0.1,
             execute: 1.0,
+            surface: Surface::Rudder,
         };
         let (_, d) = run(law, -0.5, 0.1, 200);
         assert_eq!(d[10], 0.0, "amidships before the execute time");
@@ -251,6 +455,7 @@ mod tests {
                 heading: 0.35,
                 rate: 0.2,
                 execute: 0.0,
+                surface: Surface::Rudder,
             };
             let (psi, d) = run(law, k, 0.05, 4000);
             // the rudder reverses only after the heading passed psi_e towards the turn
@@ -272,10 +477,9 @@ mod tests {
     fn bad_laws_name_their_keys() {
         let f = SteeringFile {
             kind: SteeringKind::Zigzag,
-            rudder: 0.0,
-            heading: None,
+            rudder: Some(0.0),
             rate: -1.0,
-            execute: None,
+            ..SteeringFile::default()
         };
         let e = f.check("manoeuvre.steering").unwrap_err();
         let keys: Vec<&str> = e.iter().map(|(k, _)| k.as_str()).collect();
@@ -287,5 +491,44 @@ mod tests {
                 "manoeuvre.steering.heading"
             ]
         );
+        // the stern planes: `rudder` and `heading` are the rudder's words, a pitch change
+        // beyond 90 deg is no pitch
+        let f = SteeringFile {
+            kind: SteeringKind::Zigzag,
+            surface: Surface::SternPlanes,
+            rudder: Some(0.1),
+            heading: Some(0.1),
+            pitch: Some(2.0),
+            rate: 0.1,
+            ..SteeringFile::default()
+        };
+        let e = f.check("s").unwrap_err();
+        let keys: Vec<&str> = e.iter().map(|(k, _)| k.as_str()).collect();
+        assert_eq!(
+            keys,
+            ["s.rudder", "s.heading", "s.deflection", "s.pitch"],
+            "{e:?}"
+        );
+        // `deflection` and `angle` read for any surface; `heading` and `angle` together are
+        // one value twice
+        let f = SteeringFile {
+            kind: SteeringKind::Zigzag,
+            surface: Surface::SternPlanes,
+            deflection: Some(0.1),
+            angle: Some(0.1),
+            rate: 0.1,
+            ..SteeringFile::default()
+        };
+        assert_eq!(f.check("s").unwrap().surface(), Surface::SternPlanes);
+        let f = SteeringFile {
+            kind: SteeringKind::Zigzag,
+            rudder: Some(0.1),
+            heading: Some(0.1),
+            angle: Some(0.1),
+            rate: 0.1,
+            ..SteeringFile::default()
+        };
+        let e = f.check("s").unwrap_err();
+        assert_eq!(e[0].0, "s.angle", "{e:?}");
     }
 }

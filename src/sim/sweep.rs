@@ -78,14 +78,20 @@ impl SweepFile {
     ) -> Option<Sweep> {
         let law = match manoeuvre {
             Some(Manoeuvre::TimeHistory {
-                steering: Some(law @ Steering::Turn { .. }),
+                steering:
+                    Some(
+                        law @ Steering::Turn {
+                            surface: super::steering::Surface::Rudder,
+                            ..
+                        },
+                    ),
                 ..
             }) => Some(*law),
             Some(_) => {
                 p.add(
                     "sweep",
                     "a sweep varies a turning circle: the manoeuvre must be a `time_history` \
-                     with `[manoeuvre.steering] kind = \"turn\"`",
+                     with `[manoeuvre.steering] kind = \"turn\"` on the rudder",
                 );
                 None
             }

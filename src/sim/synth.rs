@@ -2,7 +2,7 @@
 //! coefficients imply), with seeded measurement noise, as SI columns ready to export.
 
 use super::config::{Manoeuvre, SimConfig};
-use super::inputs::{changes_of, stepped, Input, InputSeries};
+use super::inputs::{changes_of, rate_limited, stepped, Input, InputSeries};
 use super::integrate::{complete_coefficients, simulate};
 use crate::coefficients::{Coefficient, CoefficientSet, Source};
 use crate::error::{Error, Result};
@@ -77,6 +77,7 @@ impl ModelVisitor for History<'_> {
             initial,
             inputs,
             steps,
+            rates,
             steering,
             process_noise,
         } = &self.cfg.manoeuvre
@@ -120,7 +121,8 @@ impl ModelVisitor for History<'_> {
                 )));
             }
         }
-        // inputs: start values, then steps (held between steps), in one sweep per input
+        // inputs: start values, then steps (held between steps, or ramped at the input's
+        // rate), in one sweep per input
         let series: Vec<Input> = model
             .inputs()
             .iter()
@@ -129,10 +131,12 @@ impl ModelVisitor for History<'_> {
                 let start = inputs.get(q).map_or(0.0, |c| c.si);
                 // in hydroid's internal unit, as a record holds it (rev/s for rpm)
                 let factor = q.internal_unit().factor;
-                let samples: Vec<f64> = stepped(start, &changes_of(steps, *q), &times)
-                    .into_iter()
-                    .map(|v| v / factor)
-                    .collect();
+                let changes = changes_of(steps, *q);
+                let si = match rates.get(q) {
+                    Some(rate) => rate_limited(start, &changes, &times, *rate),
+                    None => stepped(start, &changes, &times),
+                };
+                let samples: Vec<f64> = si.into_iter().map(|v| v / factor).collect();
                 match def.rule {
                     InputRule::Interpolate => Input::Series(samples),
                     InputRule::Hold => Input::Held(samples),
@@ -217,9 +221,10 @@ impl ModelVisitor for History<'_> {
     }
 }
 
-/// Integrates sample by sample with the helm of `law` moving the rudder: at each sample the
-/// helm sees the heading and sets the rudder of the next sample (written into the rudder's
-/// series, which the interval's integration then reads by the model's rule).
+/// Integrates sample by sample with the helm of `law` moving its surface: at each sample the
+/// helm sees the watched angle (heading, pitch) and sets the surface of the next sample
+/// (written into the surface's series, which the interval's integration then reads by the
+/// model's rule).
 pub(crate) fn steered<M: Model>(
     model: &M,
     c: &[f64],
@@ -231,7 +236,7 @@ pub(crate) fn steered<M: Model>(
     per_sample(model, c, x0, inputs, Some(law), substeps, &mut |_, _| {})
 }
 
-/// Integrates sample by sample, with the helm of `law` (if any) moving the rudder, and
+/// Integrates sample by sample, with the helm of `law` (if any) moving its surface, and
 /// `forcing(x, dt)` applied to the state after each interval of `dt` (a process noise).
 fn per_sample<M: Model>(
     model: &M,
@@ -242,17 +247,30 @@ fn per_sample<M: Model>(
     substeps: usize,
     forcing: &mut dyn FnMut(&mut [f64], f64),
 ) -> std::result::Result<Vec<Vec<f64>>, crate::sim::SimError> {
-    let mut helm = law.map(|law| {
-        let yaw = model
-            .state_index(Quantity::Yaw)
-            .expect("checked by the loader");
-        let ri = model
-            .input_quantities()
-            .iter()
-            .position(|q| *q == Quantity::Rudder)
-            .expect("checked by the loader");
-        (crate::sim::steering::Helm::new(law), yaw, ri)
-    });
+    // the helm watches the surface's angle (heading or pitch) and moves its input
+    let mut helm = match law {
+        None => None,
+        Some(law) => {
+            let surface = law.surface();
+            let watched = model.state_index(surface.watched());
+            let moved = model
+                .input_quantities()
+                .iter()
+                .position(|q| *q == surface.input());
+            let (Some(watched), Some(moved)) = (watched, moved) else {
+                return Err(crate::sim::SimError {
+                    time: 0.0,
+                    reason: format!(
+                        "the {} model has no {} input or no {} state to steer",
+                        model.name(),
+                        surface.words(),
+                        surface.watched_words()
+                    ),
+                });
+            };
+            Some((crate::sim::steering::Helm::new(law), watched, moved))
+        }
+    };
     let times = inputs.t.clone();
     let mut xs = Vec::with_capacity(times.len());
     xs.push(x0.to_vec());
@@ -263,7 +281,12 @@ fn per_sample<M: Model>(
                 Input::Series(s) | Input::Held(s) => {
                     s[k] = helm.next(times[k - 1], xs[k - 1][*yaw], s[k - 1], dt);
                 }
-                Input::Constant(_) => unreachable!("the rudder is a series while steered"),
+                Input::Constant(_) => {
+                    return Err(crate::sim::SimError {
+                        time: times[k - 1],
+                        reason: "the steered surface is not a series".into(),
+                    })
+                }
             }
         }
         let step = simulate(model, c, &xs[k - 1], inputs, &times[k - 1..=k], substeps)?;
