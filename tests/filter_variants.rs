@@ -11,19 +11,23 @@ use hydroid::stages::hekf::HekfResult;
 const K: f64 = 0.18;
 const T: f64 = 27.0;
 
-/// Runs `text` (a configuration for the bundled log, written beside configs/) and returns
-/// the HEKF result.
-fn run(text: &str) -> HekfResult {
-    let dir = tempfile::tempdir().unwrap();
+/// Writes `text` (a configuration for the bundled log) into `dir`, the log's path made
+/// absolute.
+fn write_config(dir: &std::path::Path, text: &str) -> std::path::PathBuf {
+    let log = root().join("cfd_exports/nomoto_zigzag_waves.csv");
     let text = text.replace(
         "../cfd_exports/nomoto_zigzag_waves.csv",
-        root()
-            .join("cfd_exports/nomoto_zigzag_waves.csv")
-            .to_str()
-            .unwrap(),
+        log.to_str().unwrap(),
     );
-    let cfg = dir.path().join("filter.toml");
+    let cfg = dir.join("filter.toml");
     std::fs::write(&cfg, text).unwrap();
+    cfg
+}
+
+/// Runs `text` (a configuration for the bundled log) and returns the HEKF result.
+fn run(text: &str) -> HekfResult {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = write_config(dir.path(), text);
     let loaded = hydroid::config::load(&cfg, &[]).unwrap();
     let out = hydroid::pipeline::run(&loaded, &mut hydroid::progress::Silent).unwrap();
     out.result.stages.hekf.clone().unwrap()
@@ -103,20 +107,11 @@ fn the_continuous_filter_recovers_the_truth_within_two_sigma() {
 #[test]
 fn an_unknown_filter_names_the_key_and_the_choices() {
     let dir = tempfile::tempdir().unwrap();
-    let text = nomoto_without_autopilot()
-        .replace(
-            "model = \"nomoto_wave\"",
-            "model = \"nomoto_wave\"\nfilter = \"euler\"",
-        )
-        .replace(
-            "../cfd_exports/nomoto_zigzag_waves.csv",
-            root()
-                .join("cfd_exports/nomoto_zigzag_waves.csv")
-                .to_str()
-                .unwrap(),
-        );
-    let cfg = dir.path().join("bad.toml");
-    std::fs::write(&cfg, text).unwrap();
+    let text = nomoto_without_autopilot().replace(
+        "model = \"nomoto_wave\"",
+        "model = \"nomoto_wave\"\nfilter = \"euler\"",
+    );
+    let cfg = write_config(dir.path(), &text);
     let e = hydroid::config::load(&cfg, &[]).unwrap_err().to_string();
     assert!(e.contains("hekf.filter"), "{e}");
     for choice in ["hybrid", "discrete", "continuous"] {

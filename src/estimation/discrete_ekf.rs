@@ -98,37 +98,7 @@ impl HybridEkf {
 mod tests {
     use super::*;
 
-    /// x_dot = A x (2 dynamic states) with one constant parameter; y = x_0.
-    struct Linear {
-        a: [f64; 4],
-    }
-
-    impl System for Linear {
-        fn n(&self) -> usize {
-            3
-        }
-        fn nd(&self) -> usize {
-            2
-        }
-        fn m(&self) -> usize {
-            1
-        }
-        fn derivative(&mut self, _t: f64, x: &[f64], dx: &mut [f64]) {
-            dx[0] = self.a[0] * x[0] + self.a[1] * x[1];
-            dx[1] = self.a[2] * x[0] + self.a[3] * x[1];
-        }
-        fn jacobian(&mut self, t: f64, x: &[f64], dx: &mut [f64], f: &mut [f64]) {
-            self.derivative(t, x, dx);
-            f.copy_from_slice(&[self.a[0], self.a[1], 0.0, self.a[2], self.a[3], 0.0]);
-        }
-        fn observe(&mut self, _t: f64, x: &[f64], y: &mut [f64], h: &mut [f64]) {
-            y[0] = x[0];
-            h.copy_from_slice(&[1.0, 0.0, 0.0]);
-        }
-        fn check(&mut self, _x: &[f64]) -> Result<(), String> {
-            Ok(())
-        }
-    }
+    use crate::estimation::test_systems::Linear;
 
     fn mul(a: &[f64], b: &[f64], n: usize) -> Vec<f64> {
         let mut o = vec![0.0; n * n];
@@ -153,7 +123,11 @@ mod tests {
     #[test]
     fn the_prediction_is_one_euler_step_and_its_covariance() {
         let a = [-0.3, 1.2, -0.7, -0.1];
-        let mut sys = Linear { a };
+        let mut sys = Linear {
+            a: a.to_vec(),
+            nd: 2,
+            n: 3,
+        };
         let x0 = vec![0.4, -1.3, 2.0];
         let p0 = vec![0.5, 0.1, 0.05, 0.1, 0.8, -0.02, 0.05, -0.02, 0.3];
         let q = vec![1e-3, 2e-3, 5e-4];
@@ -201,7 +175,9 @@ mod tests {
     #[test]
     fn an_unstable_euler_step_is_refused_with_its_time() {
         let mut sys = Linear {
-            a: [-30.0, 0.0, 0.0, -1.0],
+            a: vec![-30.0, 0.0, 0.0, -1.0],
+            nd: 2,
+            n: 3,
         };
         let mut f = HybridEkf::new(3, 2, vec![1.0; 3], vec![0.0; 9], vec![0.0; 3], 0.1);
         f.kind = FilterKind::Discrete;

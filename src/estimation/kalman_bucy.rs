@@ -69,21 +69,36 @@ const RICCATI_STEP: f64 = 0.5;
 
 impl Work {
     fn size(&mut self, n: usize, nd: usize, m: usize) {
-        let sizes: [(&mut Vec<f64>, usize); 12] = [
-            (&mut self.dx, nd),
-            (&mut self.rc, m),
-            (&mut self.yhat, m),
-            (&mut self.h, m * n),
-            (&mut self.f, nd * n),
-            (&mut self.fp, nd * n),
-            (&mut self.col, n),
-            (&mut self.xs, n),
-            (&mut self.ps, n * n),
-            (&mut self.kx, 4 * n),
-            (&mut self.kp, 4 * n * n),
-            (&mut self.nu, m),
+        // lengths in the order of the vectors below
+        let lengths = [
+            nd,
+            m,
+            m,
+            m * n,
+            nd * n,
+            nd * n,
+            n,
+            n,
+            n * n,
+            4 * n,
+            4 * n * n,
+            m,
         ];
-        for (v, len) in sizes {
+        let vectors = [
+            &mut self.dx,
+            &mut self.rc,
+            &mut self.yhat,
+            &mut self.h,
+            &mut self.f,
+            &mut self.fp,
+            &mut self.col,
+            &mut self.xs,
+            &mut self.ps,
+            &mut self.kx,
+            &mut self.kp,
+            &mut self.nu,
+        ];
+        for (v, len) in vectors.into_iter().zip(lengths) {
             v.resize(len, 0.0);
         }
     }
@@ -204,19 +219,9 @@ impl HybridEkf {
     pub(super) fn predict_kalman_bucy<S: System>(
         &mut self,
         sys: &mut S,
-        t0: f64,
-        t1: f64,
-        phi: Option<&mut [f64]>,
+        (t0, t1): (f64, f64),
     ) -> Result<(), Divergence> {
         debug_assert_eq!(self.kind, FilterKind::Continuous);
-        if phi.is_some() {
-            return Err(Divergence {
-                time: t0,
-                reason: "the continuous (Kalman-Bucy) filter has no transition matrix between \
-                         samples: the RTS smoother cannot run on it"
-                    .into(),
-            });
-        }
         let (n, nd) = (self.n, self.nd);
         let m = self.kb.y.len();
         let mut w = std::mem::take(&mut self.kb);
@@ -334,9 +339,7 @@ impl HybridEkf {
     pub(super) fn hold_measurement<S: System>(
         &mut self,
         sys: &mut S,
-        t: f64,
-        y: &[f64],
-        r: &[f64],
+        (t, y, r): (f64, &[f64], &[f64]),
     ) -> Result<f64, Divergence> {
         let (n, nd, m) = (self.n, self.nd, y.len());
         self.beyond.clear();
@@ -416,44 +419,24 @@ impl HybridEkf {
 mod tests {
     use super::*;
 
-    /// x_dot = a x + w, y = x + v.
-    struct Scalar {
-        a: f64,
-    }
+    use crate::estimation::test_systems::Linear;
 
-    impl System for Scalar {
-        fn n(&self) -> usize {
-            1
-        }
-        fn nd(&self) -> usize {
-            1
-        }
-        fn m(&self) -> usize {
-            1
-        }
-        fn derivative(&mut self, _t: f64, x: &[f64], dx: &mut [f64]) {
-            dx[0] = self.a * x[0];
-        }
-        fn jacobian(&mut self, t: f64, x: &[f64], dx: &mut [f64], f: &mut [f64]) {
-            self.derivative(t, x, dx);
-            f[0] = self.a;
-        }
-        fn observe(&mut self, _t: f64, x: &[f64], y: &mut [f64], h: &mut [f64]) {
-            y[0] = x[0];
-            h[0] = 1.0;
-        }
-        fn check(&mut self, _x: &[f64]) -> Result<(), String> {
-            Ok(())
+    /// x_dot = a x + w, y = x + v.
+    fn scalar(a: f64) -> Linear {
+        Linear {
+            a: vec![a],
+            nd: 1,
+            n: 1,
         }
     }
 
     #[test]
     fn the_covariance_converges_to_the_steady_state_riccati_solution() {
         // 0 = 2 a P - P^2 / R_c + q  =>  P = R_c (a + sqrt(a^2 + q / R_c))
-        let (a, q, r_d, dt) = (-0.5, 0.2, 0.01, 0.1);
+        let (a, q, r_d, dt): (f64, f64, f64, f64) = (-0.5, 0.2, 0.01, 0.1);
         let r_c = r_d * dt;
         let want = r_c * (a + (a * a + q / r_c).sqrt());
-        let mut sys = Scalar { a };
+        let mut sys = scalar(a);
         let mut f = HybridEkf::new(1, 1, vec![0.0], vec![1.0], vec![q], dt);
         f.kind = FilterKind::Continuous;
         let mut t = 0.0;
@@ -475,7 +458,7 @@ mod tests {
 
     #[test]
     fn a_measurement_beyond_the_gate_is_not_held() {
-        let mut sys = Scalar { a: 0.0 };
+        let mut sys = scalar(0.0);
         let mut f = HybridEkf::new(1, 1, vec![0.0], vec![1e-4], vec![0.0], 0.1);
         f.kind = FilterKind::Continuous;
         f.gate = 5.0;

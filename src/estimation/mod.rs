@@ -14,6 +14,8 @@ pub mod hybrid_ekf;
 pub mod kalman_bucy;
 pub mod nis;
 pub mod rts;
+#[cfg(test)]
+mod test_systems;
 
 pub use hybrid_ekf::{Divergence, HybridEkf};
 

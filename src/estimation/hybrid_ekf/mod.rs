@@ -179,7 +179,13 @@ impl HybridEkf {
                 Ok(())
             }),
             FilterKind::Discrete => self.propagate(sys, t0, t1, phi, Self::euler_step),
-            FilterKind::Continuous => self.predict_kalman_bucy(sys, t0, t1, phi),
+            FilterKind::Continuous if phi.is_some() => Err(Divergence {
+                time: t0,
+                reason: "the continuous (Kalman-Bucy) filter has no transition matrix between \
+                         samples: the RTS smoother cannot run on it"
+                    .into(),
+            }),
+            FilterKind::Continuous => self.predict_kalman_bucy(sys, (t0, t1)),
         }
     }
 

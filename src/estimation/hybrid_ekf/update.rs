@@ -18,7 +18,7 @@ impl HybridEkf {
     ) -> Result<f64, Divergence> {
         if self.kind == crate::estimation::FilterKind::Continuous {
             // the Kalman-Bucy filter uses y over the next interval (kalman_bucy.rs)
-            return self.hold_measurement(sys, t, y, r);
+            return self.hold_measurement(sys, (t, y, r));
         }
         let n = self.n;
         let m = y.len();
