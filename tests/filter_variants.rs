@@ -48,8 +48,9 @@ fn nomoto_without_autopilot() -> String {
 }
 
 /// configs/nomoto_paper.toml: the paper's discrete EKF, its wave model and random walks on
-/// K, 1/T and the bias give K and T within 5 % of the truth of the log (simulated with
-/// Fossen's wave model, which the paper's form only approximates).
+/// K, 1/T and the bias give K and T within 2 % of the truth of the log (simulated with
+/// Fossen's wave model, which the paper's form only approximates; measured: -0.36 % and
+/// -0.34 %), the bias within 0.1 deg, each within 2 sigma.
 #[test]
 fn the_papers_discrete_filter_gives_k_and_t() {
     let text = std::fs::read_to_string(root().join("configs/nomoto_paper.toml")).unwrap();
@@ -66,12 +67,18 @@ fn the_papers_discrete_filter_gives_k_and_t() {
         bias.to_degrees(),
         sb.to_degrees()
     );
-    assert!(((k - K) / K).abs() < 0.05, "K {k}");
-    assert!(((1.0 / inv_t - T) / T).abs() < 0.05, "T {}", 1.0 / inv_t);
+    assert!(((k - K) / K).abs() < 0.02, "K {k}");
+    assert!(((1.0 / inv_t - T) / T).abs() < 0.02, "T {}", 1.0 / inv_t);
     assert!(
-        (bias - 1f64.to_radians()).abs() < 0.2f64.to_radians(),
+        (bias - 1f64.to_radians()).abs() < 0.1f64.to_radians(),
         "bias {}",
         bias.to_degrees()
+    );
+    assert!((k - K).abs() <= 2.0 * sk, "K {k} +- {sk}");
+    assert!((inv_t - 1.0 / T).abs() <= 2.0 * st, "1/T {inv_t} +- {st}");
+    assert!(
+        (bias - 1f64.to_radians()).abs() <= 2.0 * sb,
+        "bias {bias} +- {sb}"
     );
     assert!(h.traces[0].smoothed.is_some(), "the smoother runs on Phi");
 }
@@ -99,7 +106,7 @@ fn the_continuous_filter_recovers_the_truth_within_two_sigma() {
         );
     }
     let (k, _) = estimate(&h, "K");
-    assert!(((k - K) / K).abs() < 0.05, "K {k}");
+    assert!(((k - K) / K).abs() < 0.02, "K {k}");
 }
 
 /// `hekf.filter` takes hybrid, discrete or continuous; anything else is a configuration
