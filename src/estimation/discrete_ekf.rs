@@ -1,10 +1,10 @@
 //! The discrete-time extended Kalman filter ([`FilterKind::Discrete`]): the prediction of
-//! Simon 2006, "Optimal State Estimation", section 13.1 (eq. 13.47), with the model
+//! Simon 2006, "Optimal State Estimation", section 13.1, with the model
 //! discretised by explicit Euler as the Nomoto wave-filter paper writes it (Dinh, Hoang &
 //! Pham 2016, eq. 20-25):
 //!
 //!     x_k+1 = x_k + Delta f(x_k, u_k)                 (paper eq. 20-24)
-//!     Phi_k = I + Delta F_k,   F_k = df/dx (x_k)       (Simon 2006, eq. 13.47)
+//!     Phi_k = I + Delta F_k,   F_k = df/dx (x_k)       (Simon 2006, section 13.1)
 //!     P_k+1 = Phi_k P_k Phi_k^T + Q_d,   Q_d = Q Delta
 //!
 //! then the Joseph-form update shared with the hybrid filter
@@ -53,7 +53,7 @@ impl HybridEkf {
         let (n, nd) = (self.n, self.nd);
         let mut dx = std::mem::take(&mut self.kb.dx);
         dx.resize(nd, 0.0);
-        // f(x_k) and F_k = df/dx at x_k (Simon 2006, eq. 13.47)
+        // f(x_k) and F_k = df/dx at x_k (Simon 2006, section 13.1)
         sys.jacobian(t, &self.x, &mut dx, &mut self.f);
         let norm = dynamic_row_sum_norm(&self.f, nd, n);
         let stable = h * norm <= EULER_LIMIT;
@@ -84,7 +84,7 @@ impl HybridEkf {
         for i in 0..nd {
             top[i * n + i] += 1.0;
         }
-        // P <- Phi P Phi^T + Q h (Simon 2006, eq. 13.47 with Q_d = Q h)
+        // P <- Phi P Phi^T + Q h (Simon 2006, section 13.1, with Q_d = Q h)
         matmul(&self.phi_step[..nd * n], &self.p, nd, n, n, &mut self.fp);
         congruence_blocks(&mut self.p, &self.fp, &self.phi_step[..nd * n], nd, n);
         for (i, q) in self.q.iter().enumerate() {

@@ -1,5 +1,5 @@
 //! The continuous-time extended Kalman filter ([`FilterKind::Continuous`]): the Kalman-Bucy
-//! form of Simon 2006, "Optimal State Estimation", section 13.3 (eq. 13.53-13.55), as the
+//! form of Simon 2006, "Optimal State Estimation", section 13.3, as the
 //! NPS AUV paper uses it (Mousavian, Koofigar & Ekramian 2015):
 //!
 //!     xhat_dot = f(xhat, u) + K (y - h(xhat)),   K = P H^T R_c^-1
@@ -19,7 +19,7 @@
 //!
 //!     R_c = R_d dt
 //!
-//! (the zero-order hold of a sampled white noise; Simon 2006, section 8.1), so that each
+//! (a white noise of density R_c averaged over dt has variance R_c / dt), so that each
 //! sample carries the information 1 / R_d of one discrete measurement, whatever the
 //! interval. A missing measurement (NaN) or one rejected by the innovation gate is not held.
 //!
@@ -174,11 +174,11 @@ impl Work {
         out_p: &mut [f64],
     ) {
         let n = x.len();
-        // f(xhat) and F (Simon 2006, eq. 13.53)
+        // f(xhat) and F (Simon 2006, section 13.3)
         sys.jacobian(t, x, &mut self.dx, &mut self.f);
         out_x[..nd].copy_from_slice(&self.dx);
         out_x[nd..].fill(0.0);
-        // F P + P F^T + Q (eq. 13.55), F zero below its nd rows
+        // F P + P F^T + Q (Simon 2006, section 13.3), F zero below its nd rows
         matmul(&self.f, p, nd, n, n, &mut self.fp);
         for i in 0..n {
             for j in 0..n {
