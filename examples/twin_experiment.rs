@@ -94,6 +94,7 @@ fn main() {
         gate: 0.0,
         gate_from_pass: 1,
         repeat_prior_factor: Some(100.0),
+        filter: Default::default(),
     };
     let t0 = std::time::Instant::now();
     let id = identify(&model, &setup, &[run], &mut Silent).unwrap_or_else(|e| panic!("{:?}", e));

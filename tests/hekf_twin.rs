@@ -180,6 +180,7 @@ fn config(preset: Preset, model: ModelName) -> HekfConfig {
         noise: BTreeMap::new(),
         process_noise: BTreeMap::new(),
         gate: None,
+        filter: Default::default(),
         outliers: Outliers::default(),
         checks: Checks::default(),
         measure: None,

@@ -49,8 +49,8 @@ pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
     let dir = staging.commit()?;
     if let Some(h) = &output.result.stages.hekf {
         say.detail(&format!(
-            "hekf settings: {} preset, {} passes, {} RK4 sub-steps per sample",
-            h.preset, h.settings.passes, h.settings.substeps
+            "hekf settings: {} preset, {} passes, {} sub-steps per sample, {} filter",
+            h.preset, h.settings.passes, h.settings.substeps, h.settings.filter
         ));
         for t in &h.tuning {
             say.detail(&format!("hekf prior: {t}"));

@@ -1,6 +1,7 @@
 //! `[hekf]` configuration.
 
 use super::{yes, Config, Constant, InputSpec, Problems};
+pub use crate::estimation::FilterKind;
 use crate::models::ModelName;
 use crate::quantity::Quantity;
 use serde::{Deserialize, Serialize};
@@ -93,6 +94,11 @@ pub struct HekfConfig {
     /// Tuning preset; explicit keys below override it.
     #[serde(default)]
     pub preset: Preset,
+    /// Which form of the extended Kalman filter runs: `hybrid` (continuous-discrete, the
+    /// default), `discrete` (explicit Euler between samples, the Nomoto wave-filter paper) or
+    /// `continuous` (Kalman-Bucy, the NPS AUV paper); docs/hekf.md, "Filter forms".
+    #[serde(default, skip_serializing_if = "FilterKind::is_default")]
+    pub filter: FilterKind,
     /// The coefficients to estimate (the rest are held fixed).
     pub estimate: Vec<String>,
     /// Filter passes, each restarting from the last estimate (hydroid: 3, paper: 1).

@@ -14,8 +14,13 @@
 //! P = (I - K H) P (I - K H)^T + K R K^T (Simon 2006, eq. 5.19), then P is symmetrised; its variances are
 //! checked at every update and its positive definiteness (Cholesky) every few updates and at
 //! the end of each run.
+//!
+//! The same type runs the two other forms of the filter ([`HybridEkf::kind`]): the
+//! discrete-time EKF with explicit Euler ([`crate::estimation::discrete_ekf`]) and the
+//! continuous-time Kalman-Bucy filter ([`crate::estimation::kalman_bucy`]); they share the
+//! work space, the checks and the measurement update here.
 
-use super::System;
+use super::{FilterKind, System};
 use crate::linalg::{dot, dot3, matmul, symmetrize};
 use crate::ode::{self, Rk4};
 use std::fmt;
@@ -44,8 +49,10 @@ impl fmt::Display for Divergence {
 /// per sample.
 #[derive(Debug, Clone)]
 pub struct HybridEkf {
-    n: usize,
-    nd: usize,
+    pub(super) n: usize,
+    pub(super) nd: usize,
+    /// Which form of the filter runs (default [`FilterKind::Hybrid`]).
+    pub kind: FilterKind,
     /// State estimate.
     pub x: Vec<f64>,
     /// Covariance, n x n row-major, symmetric.
@@ -62,19 +69,21 @@ pub struct HybridEkf {
     /// Measurements (indices into y) exempt from the gate: beyond it they are used, and
     /// only reported in [`HybridEkf::beyond_gate`].
     pub ungated: Vec<bool>,
-    beyond: Vec<GateEvent>,
+    pub(super) beyond: Vec<GateEvent>,
     // work space
-    f: Vec<f64>,
-    fp: Vec<f64>,
+    pub(super) f: Vec<f64>,
+    pub(super) fp: Vec<f64>,
     rk4: Rk4,
     chol: Vec<f64>,
-    phi: Vec<f64>,
-    phi_step: Vec<f64>,
+    pub(super) phi: Vec<f64>,
+    pub(super) phi_step: Vec<f64>,
     a_full: Vec<f64>,
     tmp: Vec<f64>,
     tmp2: Vec<f64>,
-    upd: UpdateWork,
+    pub(super) upd: UpdateWork,
     updates_since_check: usize,
+    /// The Kalman-Bucy filter's held measurement and work space (empty for the others).
+    pub(super) kb: crate::estimation::kalman_bucy::Work,
 }
 
 /// Updates between full positive-definiteness checks of P (a Cholesky factorisation; every
@@ -96,6 +105,7 @@ impl HybridEkf {
         HybridEkf {
             n,
             nd,
+            kind: FilterKind::Hybrid,
             x: x0,
             p: p0,
             q,
@@ -114,6 +124,7 @@ impl HybridEkf {
             tmp2: z(n * n),
             upd: UpdateWork::default(),
             updates_since_check: 0,
+            kb: Default::default(),
         }
     }
 
@@ -140,8 +151,9 @@ impl HybridEkf {
         }
     }
 
-    /// Propagates state and covariance from `t0` to `t1`. When `phi` is given it receives the
-    /// state transition matrix of the interval (for the smoother).
+    /// Propagates state and covariance from `t0` to `t1` by the filter's form
+    /// ([`HybridEkf::kind`]). When `phi` is given it receives the state transition matrix of
+    /// the interval (for the smoother; the continuous filter has none and fails).
     pub fn predict<S: System>(
         &mut self,
         sys: &mut S,
@@ -149,33 +161,66 @@ impl HybridEkf {
         t1: f64,
         phi: Option<&mut [f64]>,
     ) -> Result<(), Divergence> {
-        let n = self.n;
-        let steps = ode::steps_for(t1 - t0, self.max_step).ok_or_else(|| Divergence {
+        match self.kind {
+            FilterKind::Hybrid => self.propagate(sys, t0, t1, phi, |f, sys, t, h| {
+                // state: classical RK4 of the dynamic states (the parameters have zero
+                // derivative); F = df/dx at the step's start, for the covariance below
+                let jac = &mut f.f;
+                f.rk4.step(t, h, &mut f.x, |t, x, dx, at_start| {
+                    if at_start {
+                        sys.jacobian(t, x, dx, jac);
+                    } else {
+                        sys.derivative(t, x, dx);
+                    }
+                });
+                // covariance: P <- Phi P Phi^T + Q_d with Phi the RK4 propagator (module docs)
+                f.propagator(h);
+                f.covariance_step(h);
+                Ok(())
+            }),
+            FilterKind::Discrete => self.propagate(sys, t0, t1, phi, Self::euler_step),
+            FilterKind::Continuous if phi.is_some() => Err(Divergence {
+                time: t0,
+                reason: "the continuous (Kalman-Bucy) filter has no transition matrix between \
+                         samples: the RTS smoother cannot run on it"
+                    .into(),
+            }),
+            FilterKind::Continuous => self.predict_kalman_bucy(sys, (t0, t1)),
+        }
+    }
+
+    /// The steps of no more than [`HybridEkf::max_step`] from `t0` to `t1`, or the error
+    /// naming an interval that would need too many.
+    pub(super) fn steps(&self, t0: f64, t1: f64) -> Result<usize, Divergence> {
+        ode::steps_for(t1 - t0, self.max_step).ok_or_else(|| Divergence {
             time: t0,
             reason: format!(
-                "the interval from t = {t0} s to {t1} s would need more than {} RK4 steps of \
+                "the interval from t = {t0} s to {t1} s would need more than {} steps of \
                  {} s",
                 ode::MAX_STEPS_PER_INTERVAL,
                 self.max_step
             ),
-        })?;
+        })
+    }
+
+    /// The prediction in equal sub-steps of at most `max_step`: `step(self, sys, t, h)`
+    /// advances x and P over one sub-step and leaves its transition matrix's top rows in
+    /// `phi_step`, which are accumulated into the interval's when `phi` is wanted; the state
+    /// is checked after each sub-step, the covariance and the system at the end.
+    pub(super) fn propagate<S: System>(
+        &mut self,
+        sys: &mut S,
+        t0: f64,
+        t1: f64,
+        phi: Option<&mut [f64]>,
+        mut step: impl FnMut(&mut Self, &mut S, f64, f64) -> Result<(), Divergence>,
+    ) -> Result<(), Divergence> {
+        let steps = self.steps(t0, t1)?;
         if phi.is_some() {
-            identity(&mut self.phi, n);
+            identity(&mut self.phi, self.n);
         }
         for (t, h) in ode::substeps(t0, t1, steps) {
-            // state: classical RK4 of the dynamic states (the parameters have zero
-            // derivative); F = df/dx at the step's start, for the covariance below
-            let jac = &mut self.f;
-            self.rk4.step(t, h, &mut self.x, |t, x, dx, at_start| {
-                if at_start {
-                    sys.jacobian(t, x, dx, jac);
-                } else {
-                    sys.derivative(t, x, dx);
-                }
-            });
-            // covariance: P <- Phi P Phi^T + Q_d with Phi the RK4 propagator (module docs)
-            self.propagator(h);
-            self.covariance_step(h);
+            step(self, sys, t, h)?;
             if phi.is_some() {
                 self.accumulate_transition();
             }
@@ -186,10 +231,20 @@ impl HybridEkf {
                 });
             }
         }
-        symmetrize(&mut self.p, n);
         if let Some(phi_out) = phi {
             phi_out.copy_from_slice(&self.phi);
         }
+        self.finish_prediction(sys, t1)
+    }
+
+    /// The end of every prediction: P symmetrised and checked finite, the state checked by
+    /// the system.
+    pub(super) fn finish_prediction<S: System>(
+        &mut self,
+        sys: &mut S,
+        t1: f64,
+    ) -> Result<(), Divergence> {
+        symmetrize(&mut self.p, self.n);
         if self.p.iter().any(|v| !v.is_finite()) {
             return Err(Divergence {
                 time: t1,
@@ -249,11 +304,12 @@ impl HybridEkf {
         // M = Phi_top P (nd x n)
         let m = &mut self.fp;
         matmul(top, &self.p, nd, n, n, m);
-        congruence_blocks(&mut self.p, m, top, &self.q, nd, h);
+        congruence_blocks(&mut self.p, m, top, nd, n);
+        trapezoidal_noise(&mut self.p, top, &self.q, nd, h);
     }
 
     /// Accumulates the full transition matrix of the sample interval: Phi <- Phi_step Phi.
-    fn accumulate_transition(&mut self) {
+    pub(super) fn accumulate_transition(&mut self) {
         let (n, nd) = (self.n, self.nd);
         let full = &mut self.a_full;
         full.fill(0.0);
@@ -266,18 +322,15 @@ impl HybridEkf {
     }
 }
 
-/// The rest of P <- Phi P Phi^T + Q_d once M = Phi_top P is known (Phi = [[top], [0 I]]):
-/// new P_xx = M Phi_top^T (symmetric: upper triangle, mirrored), new P_xz = M[:, nd..], P_zz
-/// unchanged; then Q_d = h (Phi Q Phi^T + Q) / 2 with Q diagonal, where
-/// (Phi Q Phi^T)_ij = sum_k top_ik q_k top_jk for i, j < nd, top_ij q_j for i < nd <= j, and
-/// q_i on the diagonal below.
-fn congruence_blocks(p: &mut [f64], m: &[f64], top: &[f64], q: &[f64], nd: usize, h: f64) {
-    crate::linalg::dispatch!(congruence_blocks_impl(p, m, top, q, nd, h))
+/// P <- Phi P Phi^T once M = Phi_top P is known (Phi = [[top], [0 I]]): new
+/// P_xx = M Phi_top^T (symmetric: upper triangle, mirrored), new P_xz = M[:, nd..], P_zz
+/// unchanged.
+pub(super) fn congruence_blocks(p: &mut [f64], m: &[f64], top: &[f64], nd: usize, n: usize) {
+    crate::linalg::dispatch!(congruence_blocks_impl(p, m, top, nd, n))
 }
 
 #[inline(always)]
-fn congruence_blocks_impl(p: &mut [f64], m: &[f64], top: &[f64], q: &[f64], nd: usize, h: f64) {
-    let n = q.len();
+fn congruence_blocks_impl(p: &mut [f64], m: &[f64], top: &[f64], nd: usize, n: usize) {
     for i in 0..nd {
         let mi = &m[i * n..(i + 1) * n];
         for j in i..nd {
@@ -290,6 +343,18 @@ fn congruence_blocks_impl(p: &mut [f64], m: &[f64], top: &[f64], q: &[f64], nd: 
             p[j * n + i] = mi[j];
         }
     }
+}
+
+/// P += Q_d = h (Phi Q Phi^T + Q) / 2 with Q diagonal, where (Phi Q Phi^T)_ij =
+/// sum_k top_ik q_k top_jk for i, j < nd, top_ij q_j for i < nd <= j, and q_i on the
+/// diagonal below.
+fn trapezoidal_noise(p: &mut [f64], top: &[f64], q: &[f64], nd: usize, h: f64) {
+    crate::linalg::dispatch!(trapezoidal_noise_impl(p, top, q, nd, h))
+}
+
+#[inline(always)]
+fn trapezoidal_noise_impl(p: &mut [f64], top: &[f64], q: &[f64], nd: usize, h: f64) {
+    let n = q.len();
     if q.iter().all(|&v| v == 0.0) {
         return;
     }
@@ -315,7 +380,7 @@ fn congruence_blocks_impl(p: &mut [f64], m: &[f64], top: &[f64], q: &[f64], nd: 
     }
 }
 
-fn identity(a: &mut [f64], n: usize) {
+pub(super) fn identity(a: &mut [f64], n: usize) {
     a.fill(0.0);
     for i in 0..n {
         a[i * n + i] = 1.0;
@@ -333,7 +398,7 @@ pub(super) fn transpose(a: &[f64], r: usize, c: usize, out: &mut [f64]) {
 mod update;
 
 pub use update::GateEvent;
-use update::UpdateWork;
+pub(super) use update::{note_beyond, UpdateWork};
 
 #[cfg(test)]
 mod tests {

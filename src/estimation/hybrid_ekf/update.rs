@@ -16,6 +16,10 @@ impl HybridEkf {
         y: &[f64],
         r: &[f64],
     ) -> Result<f64, Divergence> {
+        if self.kind == crate::estimation::FilterKind::Continuous {
+            // the Kalman-Bucy filter uses y over the next interval (kalman_bucy.rs)
+            return self.hold_measurement(sys, (t, y, r));
+        }
         let n = self.n;
         let m = y.len();
         debug_assert_eq!(m, sys.m());
@@ -176,7 +180,7 @@ impl HybridEkf {
     }
 
     /// Symmetrises P and checks state, covariance and the system after an update.
-    fn finish_update<S: System>(
+    pub(in crate::estimation) fn finish_update<S: System>(
         &mut self,
         sys: &mut S,
         t: f64,
@@ -241,7 +245,12 @@ pub struct GateEvent {
 }
 
 /// Records measurement `k` beyond the gate; true when it is to be rejected.
-fn note_beyond(events: &mut Vec<GateEvent>, ungated: &[bool], k: usize, sigmas: f64) -> bool {
+pub(in crate::estimation) fn note_beyond(
+    events: &mut Vec<GateEvent>,
+    ungated: &[bool],
+    k: usize,
+    sigmas: f64,
+) -> bool {
     let rejected = !ungated.get(k).copied().unwrap_or(false);
     events.push(GateEvent {
         measurement: k,
@@ -253,27 +262,27 @@ fn note_beyond(events: &mut Vec<GateEvent>, ungated: &[bool], k: usize, sigmas: 
 
 /// Work space of the measurement update, sized for the current number of measurements.
 #[derive(Debug, Clone, Default)]
-pub(super) struct UpdateWork {
-    m: usize,
-    yhat: Vec<f64>,
-    nu: Vec<f64>,
-    s_diag: Vec<f64>,
-    h: Vec<f64>,
+pub(in crate::estimation) struct UpdateWork {
+    pub(in crate::estimation) m: usize,
+    pub(in crate::estimation) yhat: Vec<f64>,
+    pub(in crate::estimation) nu: Vec<f64>,
+    pub(in crate::estimation) s_diag: Vec<f64>,
+    pub(in crate::estimation) h: Vec<f64>,
     ht: Vec<f64>,
     hp: Vec<f64>,
-    pht: Vec<f64>,
-    s: Vec<f64>,
-    ls: Vec<f64>,
+    pub(in crate::estimation) pht: Vec<f64>,
+    pub(in crate::estimation) s: Vec<f64>,
+    pub(in crate::estimation) ls: Vec<f64>,
     sinv: Vec<f64>,
     k: Vec<f64>,
     kt: Vec<f64>,
     wm: Vec<f64>,
-    sel: Vec<usize>,
+    pub(in crate::estimation) sel: Vec<usize>,
 }
 
 impl UpdateWork {
     /// H P, P H^T, H^T and S = H P H^T + R (with its diagonal) from H and P.
-    fn innovation_covariance(&mut self, p: &[f64], r: &[f64], n: usize) {
+    pub(in crate::estimation) fn innovation_covariance(&mut self, p: &[f64], r: &[f64], n: usize) {
         let m = self.m;
         matmul(&self.h, p, m, n, n, &mut self.hp);
         transpose(&self.hp, m, n, &mut self.pht);
@@ -285,7 +294,7 @@ impl UpdateWork {
         }
     }
 
-    fn resize(&mut self, n: usize, m: usize) {
+    pub(in crate::estimation) fn resize(&mut self, n: usize, m: usize) {
         if self.m == m && self.h.len() == m * n {
             return;
         }

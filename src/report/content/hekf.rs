@@ -12,10 +12,11 @@ pub fn write<'a>(d: &mut Document<'a>, h: &HekfResult, figs: &Figures<'a>) {
     d.heading(2, "Hybrid extended Kalman filter");
     let s = &h.settings;
     d.text(format!(
-        "Model {}, tuning preset {}: {} pass{}, {} RK4 sub-step{} per sample, smoother {}{}. \
+        "Model {}, {} filter, tuning preset {}: {} pass{}, {} RK4 sub-step{} per sample, smoother {}{}. \
          The estimated coefficients are appended to the state (paper eq. 22); every other \
          coefficient is held at the value below.",
         h.model,
+        s.filter,
         h.preset,
         s.passes,
         if s.passes == 1 { "" } else { "es" },

@@ -11,7 +11,7 @@ use super::history::{History, HistoryBuilder};
 use super::system::ModelSystem;
 use crate::estimation::hybrid_ekf::GateEvent;
 use crate::estimation::rts::{self, SmoothError, Trace};
-use crate::estimation::{Divergence, HybridEkf};
+use crate::estimation::{Divergence, FilterKind, HybridEkf};
 use crate::models::Model;
 use crate::progress::{Progress, Silent};
 use crate::sim::InputSeries;
@@ -108,6 +108,8 @@ pub struct Setup {
     /// Prior of passes after the first: at most this many times the previous pass's sigma
     /// (None: the configured prior every pass).
     pub repeat_prior_factor: Option<f64>,
+    /// The form of the filter (`hekf.filter`); the continuous form runs without smoother.
+    pub filter: FilterKind,
 }
 
 /// Estimates after one pass.
@@ -325,7 +327,8 @@ fn passes<M: Model>(
         let keep = Keep {
             samples: keep_traces && last_pass,
             history: keep_traces,
-            smooth: setup.smoother && last_pass,
+            // the continuous (Kalman-Bucy) filter has no transition matrix to smooth with
+            smooth: setup.smoother && last_pass && setup.filter != FilterKind::Continuous,
         };
         counter.pass = pass + 1;
         counter.done = 0;
@@ -346,6 +349,7 @@ fn passes<M: Model>(
                 &run.measured,
             );
             let f = start_filter(&mut filter, run, &prior, setup.max_step);
+            f.kind = setup.filter;
             f.gate = if pass >= setup.gate_from_pass {
                 setup.gate
             } else {
@@ -731,6 +735,7 @@ mod tests {
             gate: 0.0,
             gate_from_pass: 1,
             repeat_prior_factor: Some(100.0),
+            filter: Default::default(),
         }
     }
 

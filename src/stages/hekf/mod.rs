@@ -13,7 +13,7 @@ pub mod system;
 pub mod tuning;
 
 pub use crate::models::ModelName;
-pub use config::{Checks, HekfConfig, Outliers, Preset, Prior, DEFAULT_GATE};
+pub use config::{Checks, FilterKind, HekfConfig, Outliers, Preset, Prior, DEFAULT_GATE};
 pub use history::History;
 mod plausibility;
 pub use result::{HekfResult, PassSummary, RunSummary, RunTraces};

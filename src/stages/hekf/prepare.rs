@@ -2,7 +2,7 @@
 //! and which are held fixed (and from where), priors, noise, initial states, inputs.
 
 use super::config::HekfConfig;
-use super::config::Outliers;
+use super::config::{FilterKind, Outliers};
 use super::identify::{RunData, Setup};
 use super::result::RunSummary;
 use super::tuning::{NoiseChoice, Resolved};
@@ -651,9 +651,12 @@ pub fn setup<M: Model>(
         passes: tuning.passes,
         substeps,
         max_step: dt / substeps as f64,
-        smoother: tuning.smoother,
+        // the RTS smoother needs a transition per interval, which the continuous
+        // (Kalman-Bucy) filter does not have (src/estimation/kalman_bucy.rs)
+        smoother: tuning.smoother && cfg.filter != FilterKind::Continuous,
         gate: tuning.gate,
         gate_from_pass: 1,
         repeat_prior_factor: tuning.repeat_prior_factor,
+        filter: cfg.filter,
     })
 }

@@ -108,6 +108,8 @@ pub struct HekfResult {
 /// Numerical settings used.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Settings {
+    /// The form of the filter that ran (`hekf.filter`: hybrid, discrete or continuous).
+    pub filter: crate::estimation::FilterKind,
     /// Filter passes.
     pub passes: usize,
     /// RK4 sub-steps per sample.
@@ -139,6 +141,29 @@ pub struct Upstream {
     pub directions: Vec<Direction>,
     /// Directions whose repeated identification failed.
     pub failed: Vec<String>,
+}
+
+/// The tuning choices in words, and what the filter's form changes.
+fn tuning_notes(plan: &Plan, setup: &Setup) -> Vec<String> {
+    use crate::estimation::FilterKind;
+    let mut notes = plan.notes.clone();
+    match setup.filter {
+        FilterKind::Hybrid => {}
+        FilterKind::Discrete => notes.push(
+            "filter: discrete-time EKF, one explicit Euler step x + h f(x) per sub-step, \
+             Phi = I + h F, Q_d = Q h (Simon 2006, section 13.1; the Nomoto wave-filter \
+             paper, eq. 20-25)"
+                .into(),
+        ),
+        FilterKind::Continuous => notes.push(
+            "filter: continuous-time (Kalman-Bucy) EKF, each sample held over the next \
+             interval with R_c = R dt (Simon 2006, section 13.3); no smoother (the RTS \
+             smoother needs a transition matrix per interval, which this filter has not): \
+             the states shown are the filtered ones"
+                .into(),
+        ),
+    }
+    notes
 }
 
 /// Assembles the result from the identification.
@@ -269,8 +294,9 @@ pub fn build<M: Model>(
         },
         passes: id_passes,
         fixed: plan.fixed.clone(),
-        tuning: plan.notes.clone(),
+        tuning: tuning_notes(plan, setup),
         settings: Settings {
+            filter: setup.filter,
             passes: setup.passes,
             substeps: setup.substeps,
             smoother: setup.smoother,
