@@ -89,6 +89,7 @@ fn bench(c: &mut Criterion) {
         gate: 0.0,
         gate_from_pass: 1,
         repeat_prior_factor: Some(100.0),
+        filter: Default::default(),
     };
     let mut g = c.benchmark_group("npsauv");
     g.sample_size(10);
