@@ -3,9 +3,11 @@
 //! discretised by explicit Euler as the Nomoto wave-filter paper writes it (Dinh, Hoang &
 //! Pham 2016, eq. 20-25):
 //!
-//!     x_k+1 = x_k + Delta f(x_k, u_k)                 (paper eq. 20-24)
-//!     Phi_k = I + Delta F_k,   F_k = df/dx (x_k)       (Simon 2006, section 13.1)
-//!     P_k+1 = Phi_k P_k Phi_k^T + Q_d,   Q_d = Q Delta
+//! ```text
+//! x_k+1 = x_k + Delta f(x_k, u_k)                 (paper eq. 20-24)
+//! Phi_k = I + Delta F_k,   F_k = df/dx (x_k)       (Simon 2006, section 13.1)
+//! P_k+1 = Phi_k P_k Phi_k^T + Q_d,   Q_d = Q Delta
+//! ```
 //!
 //! then the Joseph-form update shared with the hybrid filter
 //! ([`HybridEkf::update`](crate::estimation::HybridEkf::update)).

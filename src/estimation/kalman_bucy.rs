@@ -2,8 +2,10 @@
 //! form of Simon 2006, "Optimal State Estimation", section 13.3, as the
 //! NPS AUV paper uses it (Mousavian, Koofigar & Ekramian 2015):
 //!
-//!     xhat_dot = f(xhat, u) + K (y - h(xhat)),   K = P H^T R_c^-1
-//!     P_dot    = F P + P F^T - P H^T R_c^-1 H P + Q
+//! ```text
+//! xhat_dot = f(xhat, u) + K (y - h(xhat)),   K = P H^T R_c^-1
+//! P_dot    = F P + P F^T - P H^T R_c^-1 H P + Q
+//! ```
 //!
 //! with F = df/dx and H = dh/dx at xhat (automatic differentiation, as for the other forms).
 //!
@@ -17,7 +19,9 @@
 //! Measurement noise: the configured (or estimated) noise is a per-sample variance R_d. A
 //! sample held over an interval of length dt stands for a white noise of spectral density
 //!
-//!     R_c = R_d dt
+//! ```text
+//! R_c = R_d dt
+//! ```
 //!
 //! (a white noise of density R_c averaged over dt has variance R_c / dt), so that each
 //! sample carries the information 1 / R_d of one discrete measurement, whatever the

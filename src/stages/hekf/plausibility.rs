@@ -73,7 +73,10 @@ fn duplicates(rec: &Record) -> Vec<Finding> {
             .inspect(|&j| seen[j] = true)
             .map(|j| chans[j].0)
             .collect();
-        if group.len() > 1 {
+        // control surfaces commanded together (the helix of Mousavian et al. 2015 steps
+        // rudder and stern planes to the same angle) are a manoeuvre, not a mapping mistake
+        let commanded = group.iter().all(|q| is_control(**q)) && piecewise_constant(chans[i].1);
+        if group.len() > 1 && !commanded {
             let names = group.iter().map(|q| q.key()).collect::<Vec<_>>().join(", ");
             out.push(Finding::new(
                 rec,
@@ -90,6 +93,24 @@ fn duplicates(rec: &Record) -> Vec<Finding> {
         }
     }
     out
+}
+
+/// Control inputs a manoeuvre may command to identical values.
+fn is_control(q: Quantity) -> bool {
+    matches!(
+        q,
+        Quantity::Rudder
+            | Quantity::SternPlanes
+            | Quantity::BowPlanes
+            | Quantity::Rpm
+            | Quantity::Thrust
+    )
+}
+
+/// A series that changes in at most one sample in ten (steps, not a measured signal).
+fn piecewise_constant(v: &[f64]) -> bool {
+    let changes = v.windows(2).filter(|w| w[1] != w[0]).count();
+    changes * 10 <= v.len()
 }
 
 /// Samples per window of the integral checks: increments over a few samples average the
