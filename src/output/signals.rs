@@ -44,7 +44,15 @@ pub fn clean_up_on_signals() -> crate::Result<()> {
                             // after this point
                             let active = lock();
                             for p in active.iter() {
-                                remove(p);
+                                // the main thread goes on meanwhile and may add a file
+                                // between the listing and the removal of a folder: try again
+                                for _ in 0..20 {
+                                    remove(p);
+                                    if std::fs::symlink_metadata(p).is_err() {
+                                        break;
+                                    }
+                                    std::thread::sleep(std::time::Duration::from_millis(5));
+                                }
                             }
                             std::process::exit(128 + sig);
                         }

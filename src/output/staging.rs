@@ -85,7 +85,17 @@ impl Staging {
         check_replaceable(&target, replace)?;
         let pid = std::process::id();
         let root = staging_path(parent, &name, pid);
-        std::fs::create_dir(&root).map_err(|e| {
+        // created and registered under the registry's lock: a signal between the two would
+        // otherwise leave the folder behind (the handler takes the same lock)
+        let created = {
+            let mut active = signals::lock();
+            let made = std::fs::create_dir(&root);
+            if made.is_ok() {
+                active.push(root.clone());
+            }
+            made
+        };
+        created.map_err(|e| {
             if e.kind() == std::io::ErrorKind::AlreadyExists {
                 Error::Usage(format!(
                     "{}: a staging folder of this name already exists and is in use or not \
@@ -100,7 +110,6 @@ impl Staging {
                 ))
             }
         })?;
-        signals::register(&root);
         let lock = match lock_staging(&root, &name, pid) {
             Ok(l) => l,
             Err(e) => {
