@@ -81,6 +81,32 @@ pub const PLANAR_STATES: &[StateDef] = &[
     },
 ];
 
+macro_rules! state {
+    ($n:literal, $q:ident) => {
+        StateDef {
+            name: $n,
+            quantity: Quantity::$q,
+        }
+    };
+}
+
+/// The states of a body moving in six degrees of freedom, in the order the 6-DOF models use:
+/// body-frame u, v, w, p, q, r, then earth-frame x, y, z and the zyx Euler angles.
+pub const SIX_DOF_STATES: &[StateDef] = &[
+    state!("u", U),
+    state!("v", V),
+    state!("w", W),
+    state!("p", P),
+    state!("q", Q),
+    state!("r", R),
+    state!("x", X),
+    state!("y", Y),
+    state!("z", Z),
+    state!("phi", Roll),
+    state!("theta", Pitch),
+    state!("psi", Yaw),
+];
+
 /// One output of a model's measurement function (a sensor reading).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct OutputDef {

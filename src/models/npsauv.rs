@@ -178,29 +178,6 @@ pub struct NpsAuv {
     relations: CompiledRelations,
 }
 
-macro_rules! state {
-    ($n:literal, $q:ident) => {
-        StateDef {
-            name: $n,
-            quantity: Quantity::$q,
-        }
-    };
-}
-
-const STATES: &[StateDef] = &[
-    state!("u", U),
-    state!("v", V),
-    state!("w", W),
-    state!("p", P),
-    state!("q", Q),
-    state!("r", R),
-    state!("x", X),
-    state!("y", Y),
-    state!("z", Z),
-    state!("phi", Roll),
-    state!("theta", Pitch),
-    state!("psi", Yaw),
-];
 
 impl NpsAuv {
     /// Reads and checks the particulars of `v`, naming every problem.
@@ -445,26 +422,8 @@ impl Model for NpsAuv {
                 None
             }
         };
-        for (key, value) in [
-            ("mass", v.mass),
-            ("length", v.length),
-            ("izz", v.izz),
-            ("ixx", v.ixx.unwrap_or(1.0)),
-            ("iyy", v.iyy.unwrap_or(1.0)),
-        ] {
-            if !(value.is_finite() && value > 0.0) {
-                problems.push(VehicleProblem {
-                    key: format!("vehicle.{key}"),
-                    message: format!("the npsauv model needs a positive {key}, got {value}"),
-                });
-            }
-        }
-        if !(v.rho.is_finite() && v.rho > 0.0) {
-            problems.push(VehicleProblem {
-                key: "fluid.rho".into(),
-                message: format!("the npsauv model needs a positive density, got {}", v.rho),
-            });
-        }
+        // mass, length, inertias and density are checked positive where the configuration
+        // is validated (config::VehicleConfig::validate, FluidConfig::validate)
         let (Some(ixx), Some(iyy), Some(p), true) = (v.ixx, v.iyy, particulars, problems.is_empty())
         else {
             return Err(problems);
@@ -489,7 +448,7 @@ impl Model for NpsAuv {
     }
 
     fn states(&self) -> &'static [StateDef] {
-        STATES
+        super::SIX_DOF_STATES
     }
 
     fn relations(&self) -> &CompiledRelations {

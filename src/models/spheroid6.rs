@@ -35,29 +35,6 @@ pub struct Spheroid6 {
     relations: CompiledRelations,
 }
 
-macro_rules! state {
-    ($n:literal, $q:ident) => {
-        StateDef {
-            name: $n,
-            quantity: Quantity::$q,
-        }
-    };
-}
-
-const STATES: &[StateDef] = &[
-    state!("u", U),
-    state!("v", V),
-    state!("w", W),
-    state!("p", P),
-    state!("q", Q),
-    state!("r", R),
-    state!("x", X),
-    state!("y", Y),
-    state!("z", Z),
-    state!("phi", Roll),
-    state!("theta", Pitch),
-    state!("psi", Yaw),
-];
 
 crate::coefficient_table! {
     /// Coefficient vector layout; derived ones are filled by the relations.
@@ -165,7 +142,7 @@ impl Model for Spheroid6 {
     }
 
     fn states(&self) -> &'static [StateDef] {
-        STATES
+        super::SIX_DOF_STATES
     }
 
     fn relations(&self) -> &CompiledRelations {
