@@ -4,6 +4,8 @@
 //!
 //! `cargo bench --bench hekf`; numbers are recorded in docs/performance.md.
 
+mod common;
+
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use hydroid::estimation::System;
 use hydroid::models::spheroid3::BOUNDED_TRUTH;
@@ -59,33 +61,8 @@ fn bench(c: &mut Criterion) {
     let m = Spheroid3::paper_vehicle();
     let truth = m.coefficient_vector(BOUNDED_TRUTH);
     let run = run_data(&m, &truth);
-    let est: Vec<usize> = ESTIMATED
-        .iter()
-        .map(|n| m.coefficient_index(n).unwrap())
-        .collect();
-    let scale: Vec<f64> = ESTIMATED.iter().map(|n| m.typical_magnitude(n)).collect();
-    let mut base = truth.clone();
-    for &i in &est {
-        base[i] = 0.0;
-    }
-    let mut q = vec![1e-10; 6];
-    q.extend([0.0; 6]);
-    let setup = Setup {
-        base: base.clone(),
-        est: est.clone(),
-        scale: scale.clone(),
-        initial: vec![0.0; 6],
-        prior_sigma: scale.clone(),
-        q,
-        passes: 1,
-        substeps: 1,
-        max_step: 0.01,
-        smoother: false,
-        gate: 0.0,
-        gate_from_pass: 1,
-        repeat_prior_factor: Some(100.0),
-        filter: Default::default(),
-    };
+    let setup = common::one_pass(&m, &truth, &ESTIMATED, 0.01);
+    let (base, est, scale) = (setup.base.clone(), setup.est.clone(), setup.scale.clone());
     let mut g = c.benchmark_group("hekf");
     g.throughput(Throughput::Elements(run.times.len() as u64));
     g.bench_function("filter pass, 2000 samples, 12 states", |b| {

@@ -6,12 +6,14 @@
 //!
 //! `cargo bench --bench npsauv`; numbers are recorded in docs/performance.md.
 
+mod common;
+
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use hydroid::models::npsauv::{PAPER_17, PUBLISHED};
 use hydroid::models::{Model, NpsAuv};
 use hydroid::progress::Silent;
 use hydroid::sim::{simulate, InputSeries};
-use hydroid::stages::hekf::identify::{identify, RunData, Setup};
+use hydroid::stages::hekf::identify::{identify, RunData};
 use rand::{rngs::StdRng, SeedableRng};
 use rand_distr::{Distribution, Normal};
 use std::hint::black_box;
@@ -64,33 +66,7 @@ fn bench(c: &mut Criterion) {
         p0,
         lines: Vec::new(),
     };
-    let est: Vec<usize> = PAPER_17
-        .iter()
-        .map(|n| m.coefficient_index(n).expect("an npsauv coefficient"))
-        .collect();
-    let scale: Vec<f64> = PAPER_17.iter().map(|n| m.typical_magnitude(n)).collect();
-    let mut base = truth.clone();
-    for &i in &est {
-        base[i] = 0.0;
-    }
-    let mut q = vec![1e-10; nd];
-    q.extend(vec![0.0; est.len()]);
-    let setup = Setup {
-        base,
-        initial: vec![0.0; est.len()],
-        est,
-        prior_sigma: scale.clone(),
-        scale,
-        q,
-        passes: 1,
-        substeps: 1,
-        max_step: DT,
-        smoother: false,
-        gate: 0.0,
-        gate_from_pass: 1,
-        repeat_prior_factor: Some(100.0),
-        filter: Default::default(),
-    };
+    let setup = common::one_pass(&m, &truth, PAPER_17, DT);
     let mut g = c.benchmark_group("npsauv");
     g.sample_size(10);
     g.throughput(Throughput::Elements(SAMPLES as u64));

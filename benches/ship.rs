@@ -4,12 +4,14 @@
 //!
 //! `cargo bench --bench ship`; numbers are recorded in docs/performance.md.
 
+mod common;
+
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use hydroid::models::mmg3::{KVLCC2, KVLCC2_RPS, KVLCC2_SPEED};
 use hydroid::models::{Mmg3, Model};
 use hydroid::progress::Silent;
 use hydroid::sim::{simulate, InputSeries};
-use hydroid::stages::hekf::identify::{identify, RunData, Setup};
+use hydroid::stages::hekf::identify::{identify, RunData};
 use rand::{rngs::StdRng, SeedableRng};
 use rand_distr::{Distribution, Normal};
 use std::hint::black_box;
@@ -59,33 +61,7 @@ fn bench(c: &mut Criterion) {
         p0,
         lines: Vec::new(),
     };
-    let est: Vec<usize> = ESTIMATED
-        .iter()
-        .map(|n| m.coefficient_index(n).expect("an mmg3 coefficient"))
-        .collect();
-    let scale: Vec<f64> = ESTIMATED.iter().map(|n| m.typical_magnitude(n)).collect();
-    let mut base = truth.clone();
-    for &i in &est {
-        base[i] = 0.0;
-    }
-    let mut q = vec![1e-10; 6];
-    q.extend([0.0; 12]);
-    let setup = Setup {
-        base,
-        est,
-        initial: vec![0.0; 12],
-        prior_sigma: scale.clone(),
-        scale,
-        q,
-        passes: 1,
-        substeps: 1,
-        max_step: DT,
-        smoother: false,
-        gate: 0.0,
-        gate_from_pass: 1,
-        repeat_prior_factor: Some(100.0),
-        filter: Default::default(),
-    };
+    let setup = common::one_pass(&m, &truth, &ESTIMATED, DT);
     let mut g = c.benchmark_group("ship");
     g.sample_size(10);
     g.throughput(Throughput::Elements(SAMPLES as u64));
