@@ -177,6 +177,7 @@ fn config(preset: Preset, model: ModelName) -> HekfConfig {
         decimate: None,
         memory_limit: None,
         prior: BTreeMap::new(),
+        state_variance: None,
         noise: BTreeMap::new(),
         process_noise: BTreeMap::new(),
         gate: None,

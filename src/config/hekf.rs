@@ -121,6 +121,10 @@ pub struct HekfConfig {
     /// Per-coefficient initial value and prior sigma.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub prior: BTreeMap<String, Prior>,
+    /// Initial variance of every model state, SI^2 (a paper's `P0 = c I` for the states);
+    /// default: a measured state's measurement noise variance, 1 for an unmeasured one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub state_variance: Option<f64>,
     /// Measurement noise standard deviation per measured quantity (`"0.05 deg"`, or a number
     /// in SI); quantities not listed get an estimate from the data.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
@@ -198,6 +202,10 @@ impl HekfConfig {
             if let Some(v) = prior.initial {
                 p.coefficient_sized(&format!("{key}.initial"), v);
             }
+        }
+        if let Some(v) = self.state_variance {
+            p.positive("hekf.state_variance", v, "SI^2");
+            p.coefficient_sized("hekf.state_variance", v);
         }
         if let Some(n) = self.passes {
             p.count_within(

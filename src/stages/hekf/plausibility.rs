@@ -117,21 +117,25 @@ fn piecewise_constant(v: &[f64]) -> bool {
 /// measurement noise out of the comparison.
 const WINDOW: usize = 5;
 
-/// Non-overlapping windows (first, last sample) of [`WINDOW`] regular intervals (each within
-/// 1 % of the median interval).
-fn windows(times: &[f64]) -> Vec<(usize, usize)> {
+/// Fewest windows a check fits its gain over (longer windows are tried while at least this
+/// many fit in the run).
+const MIN_WINDOWS: usize = 40;
+
+/// Non-overlapping windows (first, last sample) of `len` regular intervals (each within 1 %
+/// of the median interval).
+fn windows(times: &[f64], len: usize) -> Vec<(usize, usize)> {
     let Some(dt) = crate::sampling::median_interval(times) else {
         return Vec::new();
     };
     let regular = |k: usize| (times[k + 1] - times[k] - dt).abs() < 0.01 * dt;
     let mut out = Vec::new();
     let mut k = 0;
-    while k + WINDOW < times.len() {
-        match (k..k + WINDOW).find(|&j| !regular(j)) {
+    while k + len < times.len() {
+        match (k..k + len).find(|&j| !regular(j)) {
             Some(j) => k = j + 1,
             None => {
-                out.push((k, k + WINDOW));
-                k += WINDOW;
+                out.push((k, k + len));
+                k += len;
             }
         }
     }
@@ -258,17 +262,36 @@ fn heading_rate(rec: &Record) -> Option<Finding> {
         }
     };
     type Pairs = Vec<(f64, f64)>;
-    let (measured, predicted): (Pairs, Pairs) = windows(times)
-        .into_iter()
-        .map(|w| {
-            let (m, p) = increment(times, w, psi, euler);
-            ((m, 0.0), (p, 0.0))
-        })
-        .unzip();
-    let ((g, _), rel) = complex_gain(&measured, &predicted)?;
-    if (g - 1.0).abs() < GAIN_TOLERANCE && rel < GOOD_FIT {
-        return None;
+    let fit = |len: usize| {
+        let (measured, predicted): (Pairs, Pairs) = windows(times, len)
+            .into_iter()
+            .map(|w| {
+                let (m, p) = increment(times, w, psi, euler);
+                ((m, 0.0), (p, 0.0))
+            })
+            .unzip();
+        complex_gain(&measured, &predicted)
+    };
+    // A slow turn changes the heading less in a few samples than the heading's noise: the
+    // windows grow (doubling) until the relation holds or too few windows are left, and
+    // the longest (least noisy) fit is reported.
+    let mut len = WINDOW;
+    let mut last = fit(len)?;
+    loop {
+        let ((g, _), rel) = last;
+        if (g - 1.0).abs() < GAIN_TOLERANCE && rel < GOOD_FIT {
+            return None;
+        }
+        len *= 2;
+        if windows(times, len).len() < MIN_WINDOWS {
+            break;
+        }
+        match fit(len) {
+            Some(f) => last = f,
+            None => break,
+        }
     }
+    let ((g, _), rel) = last;
     let fits = rel < GOOD_FIT;
     let seen = format!(
         "the heading changes {} times as fast as the yaw rate r says (median relative \
@@ -310,7 +333,7 @@ fn track(rec: &Record) -> Option<Finding> {
     let (x, y) = (rec.channel(Quantity::X)?, rec.channel(Quantity::Y)?);
     let psi = rec.channel(Quantity::Yaw)?;
     let (u, v) = (rec.channel(Quantity::U)?, rec.channel(Quantity::V)?);
-    let wins = windows(times);
+    let wins = windows(times, WINDOW);
     let measured: Vec<(f64, f64)> = wins
         .iter()
         .map(|&(a, b)| (x[b] - x[a], y[b] - y[a]))
@@ -403,4 +426,65 @@ fn track(rec: &Record) -> Option<Finding> {
 
 fn sig(v: f64) -> String {
     crate::numfmt::num(v)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::formats::Format;
+    use rand::SeedableRng;
+    use rand_distr::{Distribution, Normal};
+    use std::collections::BTreeMap;
+
+    /// A slow steady turn (the NPS AUV helix: 1 deg/s) sampled at 100 Hz with a heading
+    /// noise of 0.05 deg and a yaw-rate noise of 0.1 deg/s; `rate_scale` mislabels the rate.
+    fn slow_turn(rate_scale: f64) -> Record {
+        let mut rng = rand::rngs::StdRng::seed_from_u64(7);
+        let psi_noise = Normal::new(0.0, 0.05f64.to_radians()).unwrap();
+        let r_noise = Normal::new(0.0, 0.1f64.to_radians()).unwrap();
+        let k = 6000;
+        let rate = -1.0f64.to_radians();
+        let mut channels = BTreeMap::new();
+        let t: Vec<f64> = (0..k).map(|i| i as f64 * 0.01).collect();
+        let psi = t
+            .iter()
+            .map(|t| rate * t + psi_noise.sample(&mut rng))
+            .collect();
+        let r = t
+            .iter()
+            .map(|_| rate_scale * (rate + r_noise.sample(&mut rng)))
+            .collect();
+        channels.insert(Quantity::Time, t);
+        channels.insert(Quantity::Yaw, psi);
+        channels.insert(Quantity::R, r);
+        Record {
+            name: "slow turn".into(),
+            source: "turn.csv".into(),
+            format: Format::Delimited,
+            channels,
+            constants: BTreeMap::new(),
+            units: BTreeMap::new(),
+            lines: (2..k + 2).collect(),
+            meta: Vec::new(),
+            warnings: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn a_slow_noisy_turn_is_not_taken_for_a_heading_mistake() {
+        // over 5 samples the heading moves 0.05 deg, its noise as much: the windows must grow
+        assert_eq!(heading_rate(&slow_turn(1.0)), None);
+    }
+
+    #[test]
+    fn a_rate_in_degrees_read_as_radians_is_still_named_in_a_slow_turn() {
+        // a rate in deg/s read as rad/s: 57 times too large
+        let f = heading_rate(&slow_turn(180.0 / std::f64::consts::PI)).expect("a finding");
+        assert!(f.blocking, "{f:?}");
+        assert!(
+            f.warning.meaning.contains("deg/s read as rad/s"),
+            "{:?}",
+            f.warning
+        );
+    }
 }

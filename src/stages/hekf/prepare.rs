@@ -365,7 +365,7 @@ fn initial_state<M: Model>(
     let mut x0 = vec![0.0; nx];
     let mut p0 = vec![0.0; nx * nx];
     for i in 0..nx {
-        p0[i * nx + i] = 1.0;
+        p0[i * nx + i] = tuning.p0_states.unwrap_or(1.0);
     }
     for (a, q) in measured_q.iter().enumerate() {
         // a state measured directly starts at its first sample that is not an outlier
@@ -376,7 +376,7 @@ fn initial_state<M: Model>(
             .map(|k| y[k * m + a])
             .find(|v| v.is_finite())
             .unwrap_or(0.0);
-        p0[i * nx + i] = tuning.p0_measured.unwrap_or(r[a]);
+        p0[i * nx + i] = tuning.p0_states.or(tuning.p0_measured).unwrap_or(r[a]);
     }
     (x0, p0)
 }

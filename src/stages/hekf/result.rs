@@ -122,6 +122,9 @@ pub struct Settings {
     pub decimate: usize,
     /// Process noise of states and coefficients (spectral density).
     pub process_noise: Vec<f64>,
+    /// The initial variance of every state when configured (`hekf.state_variance`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub state_variance: Option<f64>,
 }
 
 fn is_one(n: &usize) -> bool {
@@ -144,9 +147,15 @@ pub struct Upstream {
 }
 
 /// The tuning choices in words, and what the filter's form changes.
-fn tuning_notes(plan: &Plan, setup: &Setup) -> Vec<String> {
+fn tuning_notes(plan: &Plan, setup: &Setup, cfg: &HekfConfig) -> Vec<String> {
     use crate::estimation::FilterKind;
     let mut notes = plan.notes.clone();
+    if let Some(v) = cfg.state_variance {
+        notes.push(format!(
+            "every state starts with variance {} SI^2 (hekf.state_variance), measured or not",
+            crate::numfmt::num(v)
+        ));
+    }
     match setup.filter {
         FilterKind::Hybrid => {}
         FilterKind::Discrete => notes.push(
@@ -294,13 +303,14 @@ pub fn build<M: Model>(
         },
         passes: id_passes,
         fixed: plan.fixed.clone(),
-        tuning: tuning_notes(plan, setup),
+        tuning: tuning_notes(plan, setup, cfg),
         settings: Settings {
             filter: setup.filter,
             passes: setup.passes,
             substeps: setup.substeps,
             smoother: setup.smoother,
             decimate: cfg.decimate.unwrap_or(1).max(1),
+            state_variance: cfg.state_variance,
             process_noise: setup.q.clone(),
         },
         runs: summaries,

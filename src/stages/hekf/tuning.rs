@@ -18,6 +18,9 @@ pub struct Resolved {
     pub fixed_r: Option<f64>,
     /// Initial variance of measured states: None = the measurement noise variance.
     pub p0_measured: Option<f64>,
+    /// Initial variance of every state, measured or not (`hekf.state_variance`): overrides
+    /// `p0_measured` and the unit variance of unmeasured states.
+    pub p0_states: Option<f64>,
     /// Prior sigma of coefficients: None = the coefficient's typical magnitude.
     pub prior_sigma: Option<f64>,
     /// Process noise of the states (spectral density, SI^2/s).
@@ -46,6 +49,7 @@ impl Resolved {
                 smoother: true,
                 fixed_r: None,
                 p0_measured: None,
+                p0_states: None,
                 prior_sigma: None,
                 q_states: 0.0,
                 state_jitter: Some(1e-6),
@@ -61,6 +65,7 @@ impl Resolved {
                 smoother: true,
                 fixed_r: Some(1e-6),
                 p0_measured: Some(1e-12),
+                p0_states: None,
                 prior_sigma: Some(1.0),
                 q_states: 1e-4,
                 state_jitter: None,
@@ -81,6 +86,9 @@ impl Resolved {
         }
         if let Some(g) = c.gate {
             r.gate = g;
+        }
+        if let Some(v) = c.state_variance {
+            r.p0_states = Some(v);
         }
         r
     }
@@ -118,6 +126,7 @@ mod tests {
             smoother: true,
             fixed_r: None,
             p0_measured: None,
+            p0_states: None,
             prior_sigma: None,
             q_states: 0.0,
             state_jitter: None,
