@@ -45,6 +45,23 @@ fn the_bundled_helix_identifies_the_papers_17_within_two_sigma() {
             inside += 1;
         }
     }
+    // the comparison holds the paper's Table 3 and the published truth side by side, in
+    // results.json and in coefficients.csv
+    let row = common::named(&r["comparison"], "Nr");
+    assert_eq!(row["reference"], -0.0152, "{row}");
+    assert_eq!(
+        row["other_references"][0]["name"], "published truth",
+        "{row}"
+    );
+    assert_eq!(row["other_references"][0]["value"], -0.016, "{row}");
+    let csv = std::fs::read_to_string(dir.path().join("out/coefficients.csv")).unwrap();
+    assert!(
+        csv.lines()
+            .next()
+            .unwrap()
+            .contains("reference: published truth,error_vs_reference_pct: published truth"),
+        "{csv}"
+    );
     // the target: the truth inside 2 sigma for at least 15 of the 17
     assert!(
         inside >= 15,

@@ -12,6 +12,7 @@ mod overrides;
 mod paths;
 pub mod polar;
 mod problems;
+mod reference;
 pub(crate) mod si;
 pub mod surge;
 pub(crate) mod words;
@@ -21,6 +22,7 @@ pub(crate) use input::quantity_key;
 pub use input::{ColumnSpec, Constant, FormatSetting, InputSpec, Step, VelocityFrame};
 pub use load::{load, load_lenient, load_str, read, LoadedConfig};
 pub use problems::Problems;
+pub use reference::{ReferenceConfig, References};
 
 use hekf::HekfConfig;
 use polar::PolarConfig;
@@ -46,9 +48,9 @@ pub struct Config {
     /// Coefficients known beforehand (SI), used where no stage provides them.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub coefficients: BTreeMap<String, f64>,
-    /// Published values to compare with (e.g. the source paper's tables).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub reference: Option<ReferenceConfig>,
+    /// Published values to compare with (e.g. the source paper's tables): one set or several.
+    #[serde(default, skip_serializing_if = "References::is_empty")]
+    pub reference: References,
     /// Static polar stage.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub polar: Option<PolarConfig>,
@@ -181,16 +183,6 @@ fn default_out_dir() -> PathBuf {
 
 pub(crate) fn yes() -> bool {
     true
-}
-
-/// Published coefficient values to compare with.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ReferenceConfig {
-    /// Citation shown in reports.
-    pub name: String,
-    /// Coefficient values, SI.
-    pub values: BTreeMap<String, f64>,
 }
 
 /// Plausible ranges: values outside them are almost surely a unit or typing mistake (a
@@ -369,9 +361,14 @@ impl Config {
             p.known_coefficient(&key, name);
             p.coefficient_sized(&key, *val);
         }
-        if let Some(r) = &self.reference {
+        let several = self.reference.0.len() > 1;
+        for (i, r) in self.reference.iter().enumerate() {
             for (name, val) in &r.values {
-                let key = format!("reference.values.{name}");
+                let key = if several {
+                    format!("reference[{i}].values.{name}")
+                } else {
+                    format!("reference.values.{name}")
+                };
                 p.known_coefficient(&key, name);
                 p.coefficient_sized(&key, *val);
             }

@@ -94,7 +94,7 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutp
             )]),
         }
     }
-    let comparison = compare(&known, &analytic, cfg.reference.as_ref());
+    let comparison = compare(&known, &analytic, &cfg.reference);
     let result = RunResult::new(
         loaded,
         inputs

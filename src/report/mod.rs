@@ -102,7 +102,8 @@ pub fn effective_config(loaded: &LoadedConfig) -> String {
 pub fn coefficients_csv(r: &RunResult) -> Result<Vec<u8>> {
     let mut w = csv::Writer::from_writer(Vec::new());
     let err = |e: csv::Error| Error::Usage(format!("cannot write coefficients.csv: {e}"));
-    w.write_record([
+    // a further reference set adds its value and error columns, named after it
+    let mut header: Vec<String> = [
         "name",
         "value",
         "sigma",
@@ -112,9 +113,15 @@ pub fn coefficients_csv(r: &RunResult) -> Result<Vec<u8>> {
         "error_vs_analytic_pct",
         "reference",
         "error_vs_reference_pct",
-        "note",
-    ])
-    .map_err(err)?;
+    ]
+    .map(String::from)
+    .to_vec();
+    for o in &r.other_references {
+        header.push(format!("reference: {}", o.name));
+        header.push(format!("error_vs_reference_pct: {}", o.name));
+    }
+    header.push("note".into());
+    w.write_record(&header).map_err(err)?;
     let opt = |v: Option<f64>| v.map(|x| x.to_string()).unwrap_or_default();
     for row in &r.comparison {
         let note = r
@@ -123,7 +130,7 @@ pub fn coefficients_csv(r: &RunResult) -> Result<Vec<u8>> {
             .find(|c| c.name == row.name)
             .and_then(|c| c.note.clone())
             .unwrap_or_default();
-        w.write_record([
+        let mut record = vec![
             row.name.clone(),
             row.value.to_string(),
             opt(row.sigma),
@@ -133,9 +140,13 @@ pub fn coefficients_csv(r: &RunResult) -> Result<Vec<u8>> {
             opt(row.error_vs_analytic_pct),
             opt(row.reference),
             opt(row.error_vs_reference_pct),
-            note,
-        ])
-        .map_err(err)?;
+        ];
+        for o in &row.other_references {
+            record.push(opt(o.value));
+            record.push(opt(o.error_pct));
+        }
+        record.push(note);
+        w.write_record(&record).map_err(err)?;
     }
     w.into_inner()
         .map_err(|e| Error::Usage(format!("cannot write coefficients.csv: {e}")))

@@ -72,8 +72,8 @@ fn value(row: &ComparisonRow) -> String {
     }
 }
 
-fn cells(row: &ComparisonRow) -> [String; 8] {
-    [
+fn cells(row: &ComparisonRow) -> Vec<String> {
+    let mut c = vec![
         row.name.clone(),
         value(row),
         row.unit.clone(),
@@ -82,25 +82,46 @@ fn cells(row: &ComparisonRow) -> [String; 8] {
         pct(row.error_vs_analytic_pct),
         row.reference.map_or_else(|| "-".into(), num),
         pct(row.error_vs_reference_pct),
-    ]
+    ];
+    for o in &row.other_references {
+        c.push(o.value.map_or_else(|| "-".into(), num));
+        c.push(pct(o.error_pct));
+    }
+    c
 }
 
-const HEADER: [&str; 8] = [
-    "coefficient",
-    "hydroid",
-    "unit",
-    "source",
-    "Fossen",
-    "vs Fossen",
-    "reference",
-    "vs reference",
-];
+/// The terminal table's header: short names, each further reference set by its name.
+fn text_header(r: &RunResult) -> Vec<String> {
+    let mut h: Vec<String> = [
+        "coefficient",
+        "hydroid",
+        "unit",
+        "source",
+        "Fossen",
+        "vs Fossen",
+    ]
+    .map(String::from)
+    .to_vec();
+    // with several sets each column carries its set's name
+    let first = match (&r.reference, r.other_references.is_empty()) {
+        (Some(x), false) => x.name.as_str(),
+        _ => "reference",
+    };
+    h.push(first.to_string());
+    h.push(format!("vs {first}"));
+    for o in &r.other_references {
+        h.push(o.name.clone());
+        h.push(format!("vs {}", o.name));
+    }
+    h
+}
 
 /// Writes the comparison table as aligned text, flags below it.
 pub fn write_text(out: &mut impl Write, r: &RunResult) -> io::Result<()> {
     let ordered = ordered(r);
-    let rows: Vec<[String; 8]> = ordered.iter().map(|row| cells(row)).collect();
-    let mut width = HEADER.map(|h| h.chars().count());
+    let header = text_header(r);
+    let rows: Vec<Vec<String>> = ordered.iter().map(|row| cells(row)).collect();
+    let mut width: Vec<usize> = header.iter().map(|h| h.chars().count()).collect();
     for row in &rows {
         for (w, c) in width.iter_mut().zip(row) {
             *w = (*w).max(c.chars().count());
@@ -109,14 +130,14 @@ pub fn write_text(out: &mut impl Write, r: &RunResult) -> io::Result<()> {
     let line = |cells: &[String]| {
         cells
             .iter()
-            .zip(width)
-            .map(|(c, w)| format!("{c:<w$}"))
+            .zip(&width)
+            .map(|(c, &w)| format!("{c:<w$}"))
             .collect::<Vec<_>>()
             .join("  ")
             .trim_end()
             .to_string()
     };
-    writeln!(out, "{}", line(&HEADER.map(String::from)))?;
+    writeln!(out, "{}", line(&header))?;
     for row in &rows {
         writeln!(out, "{}", line(row))?;
     }
@@ -134,7 +155,7 @@ pub fn comparison_header(r: &RunResult) -> Vec<String> {
         .reference
         .as_ref()
         .map_or("reference", |x| x.name.as_str());
-    [
+    let mut h: Vec<String> = [
         "coefficient",
         "hydroid ± σ",
         "unit",
@@ -143,10 +164,15 @@ pub fn comparison_header(r: &RunResult) -> Vec<String> {
         "vs Fossen",
         ref_name,
         &format!("vs {ref_name}"),
-        "flags",
     ]
     .map(String::from)
-    .to_vec()
+    .to_vec();
+    for o in &r.other_references {
+        h.push(o.name.clone());
+        h.push(format!("vs {}", o.name));
+    }
+    h.push("flags".into());
+    h
 }
 
 /// The rows of the comparison table (as in [`comparison_header`]), in [`ordered`] order.
@@ -154,7 +180,7 @@ pub fn comparison_rows(r: &RunResult) -> Vec<Vec<String>> {
     ordered(r)
         .into_iter()
         .map(|row| {
-            let mut c = cells(row).to_vec();
+            let mut c = cells(row);
             c.push(row.flags.join("; "));
             c
         })
@@ -182,6 +208,7 @@ mod tests {
             error_vs_analytic_pct: None,
             reference: None,
             error_vs_reference_pct: None,
+            other_references: Vec::new(),
             flags: Vec::new(),
             budget: Default::default(),
         };

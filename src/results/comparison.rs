@@ -2,7 +2,7 @@
 //! (paper) value, with the flags of a large sigma or a strong correlation.
 
 use crate::coefficients::{Coefficient, CoefficientSet};
-use crate::config::ReferenceConfig;
+use crate::config::References;
 use serde::Serialize;
 use std::collections::BTreeMap;
 
@@ -33,6 +33,9 @@ pub struct ComparisonRow {
     pub reference: Option<f64>,
     /// (value - reference) / |reference|, percent.
     pub error_vs_reference_pct: Option<f64>,
+    /// The further reference sets (`[[reference]]` after the first), in order.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub other_references: Vec<OtherReference>,
     /// Warnings: large sigma, strong correlation.
     pub flags: Vec<String>,
     /// The sigma by the stage its uncertainty comes from (they add in quadrature): `polar`,
@@ -40,17 +43,46 @@ pub struct ComparisonRow {
     pub budget: BTreeMap<String, f64>,
 }
 
+/// A coefficient's value in a further reference set.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct OtherReference {
+    /// The set's name (citation).
+    pub name: String,
+    /// Its value, when the set has one.
+    pub value: Option<f64>,
+    /// (value - reference) / |reference|, percent.
+    pub error_pct: Option<f64>,
+}
+
+/// (v - r) / |r| in percent; none when r is 0.
+fn pct(v: f64, r: f64) -> Option<f64> {
+    (r != 0.0).then(|| 100.0 * (v - r) / r.abs())
+}
+
 /// Builds the comparison of every coefficient with the analytic and reference values.
 pub fn compare(
     set: &CoefficientSet,
     analytic: &[Coefficient],
-    reference: Option<&ReferenceConfig>,
+    references: &References,
 ) -> Vec<ComparisonRow> {
-    let pct = |v: f64, r: f64| (r != 0.0).then(|| 100.0 * (v - r) / r.abs());
     set.iter()
         .map(|c| {
             let a = analytic.iter().find(|x| x.name == c.name).map(|x| x.value);
-            let r = reference.and_then(|r| r.values.get(&c.name).copied());
+            let r = references
+                .primary()
+                .and_then(|r| r.values.get(&c.name).copied());
+            let other_references = references
+                .others()
+                .iter()
+                .map(|o| {
+                    let value = o.values.get(&c.name).copied();
+                    OtherReference {
+                        name: o.name.clone(),
+                        value,
+                        error_pct: value.and_then(|r| pct(c.value, r)),
+                    }
+                })
+                .collect();
             let mut flags = Vec::new();
             if let Some(s) = c.sigma {
                 flags.extend(uncertain(c.value, s));
@@ -77,6 +109,7 @@ pub fn compare(
                 error_vs_analytic_pct: a.and_then(|a| pct(c.value, a)),
                 reference: r,
                 error_vs_reference_pct: r.and_then(|r| pct(c.value, r)),
+                other_references,
                 flags,
                 budget: set.budget(&c.name),
             }

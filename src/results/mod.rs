@@ -48,8 +48,11 @@ pub struct RunResult {
     pub correlation: Option<Correlation>,
     /// Fossen's analytic values (Lamb's k-factors), when the geometry gives them.
     pub analytic: Vec<Coefficient>,
-    /// Published values named by the configuration.
+    /// Published values named by the configuration (the first set).
     pub reference: Option<ReferenceConfig>,
+    /// Further sets to compare with (`[[reference]]` after the first).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub other_references: Vec<ReferenceConfig>,
     /// Coefficient-by-coefficient comparison.
     pub comparison: Vec<ComparisonRow>,
     /// Each stage's detailed result.
@@ -139,7 +142,8 @@ impl RunResult {
             correlation: set.correlation.clone(),
             coefficients: set.iter().cloned().collect(),
             analytic,
-            reference: c.reference.clone(),
+            reference: c.reference.primary().cloned(),
+            other_references: c.reference.others().to_vec(),
             comparison,
             stages,
             resimulation,

@@ -10,7 +10,13 @@ use crate::results::RunResult;
 
 pub fn write<'a>(d: &mut Document<'a>, r: &RunResult, figs: &Figures<'a>) {
     d.heading(2, "Coefficients");
-    let ref_name = r.reference.as_ref().map(|x| x.name.clone());
+    let ref_name = r.reference.as_ref().map(|x| {
+        std::iter::once(x)
+            .chain(&r.other_references)
+            .map(|x| x.name.as_str())
+            .collect::<Vec<_>>()
+            .join("; ")
+    });
     d.para([text(format!(
         "Every coefficient of the final set: hydroid's value ± one standard deviation (σ \
          includes the uncertainty carried from earlier stages), where it came from (polar, \

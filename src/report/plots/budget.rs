@@ -208,6 +208,7 @@ mod tests {
             error_vs_analytic_pct: None,
             reference: None,
             error_vs_reference_pct: None,
+            other_references: Vec::new(),
             flags: vec![],
             budget: budget.iter().map(|(s, v)| (s.to_string(), *v)).collect(),
         }
