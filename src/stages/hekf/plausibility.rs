@@ -276,9 +276,9 @@ fn heading_rate(rec: &Record) -> Option<Finding> {
     // windows grow (doubling) until the relation holds or too few windows are left, and
     // the longest (least noisy) fit is reported.
     let mut len = WINDOW;
-    let mut last = fit(len)?;
+    let mut last = (fit(len)?, len);
     loop {
-        let ((g, _), rel) = last;
+        let (((g, _), rel), _) = last;
         if (g - 1.0).abs() < GAIN_TOLERANCE && rel < GOOD_FIT {
             return None;
         }
@@ -287,11 +287,22 @@ fn heading_rate(rec: &Record) -> Option<Finding> {
             break;
         }
         match fit(len) {
-            Some(f) => last = f,
+            Some(f) => last = (f, len),
             None => break,
         }
     }
-    let ((g, _), rel) = last;
+    let (((g, _), rel), len) = last;
+    // A heading that moves no more than its noise over the longest windows (a vertical
+    // manoeuvre) says nothing about the yaw rate: no finding. An increment of two noisy
+    // samples has sigma sqrt(2) s; 4 s is beyond it for nine windows in ten.
+    let noise = crate::signal::noise_sigma(psi).unwrap_or(0.0);
+    let mut moves: Vec<f64> = windows(times, len)
+        .into_iter()
+        .map(|(a, b)| (psi[b] - psi[a]).abs())
+        .collect();
+    if median(&mut moves).is_none_or(|m| m < 4.0 * noise) {
+        return None;
+    }
     let fits = rel < GOOD_FIT;
     let seen = format!(
         "the heading changes {} times as fast as the yaw rate r says (median relative \
@@ -474,6 +485,20 @@ mod tests {
     fn a_slow_noisy_turn_is_not_taken_for_a_heading_mistake() {
         // over 5 samples the heading moves 0.05 deg, its noise as much: the windows must grow
         assert_eq!(heading_rate(&slow_turn(1.0)), None);
+    }
+
+    #[test]
+    fn a_heading_that_does_not_move_beyond_its_noise_is_not_judged() {
+        // a vertical zig-zag: the heading holds, r is noise
+        let mut still = slow_turn(1.0);
+        let n = still.channels[&Quantity::Yaw].len();
+        let psi: Vec<f64> = (0..n).map(|k| 1e-3 * ((k * 7919) % 13) as f64).collect();
+        still.channels.insert(Quantity::Yaw, psi);
+        let r: Vec<f64> = (0..n)
+            .map(|k| 2e-3 * ((k * 104729) % 11) as f64 - 0.01)
+            .collect();
+        still.channels.insert(Quantity::R, r);
+        assert_eq!(heading_rate(&still), None);
     }
 
     #[test]
