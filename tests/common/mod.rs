@@ -112,11 +112,16 @@ pub const ANALYTIC_PAPER_SPHEROID: [&str; 6] = [
 /// The entry named `name` of a JSON array (the coefficients of results.json, the columns of
 /// `hydroid inspect --json` ...); a test failure naming it when there is none.
 pub fn named<'a>(list: &'a serde_json::Value, name: &str) -> &'a serde_json::Value {
+    named_by(list, "name", name)
+}
+
+/// The entry of a JSON array whose `key` is `name`; a test failure naming it when there is none.
+pub fn named_by<'a>(list: &'a serde_json::Value, key: &str, name: &str) -> &'a serde_json::Value {
     list.as_array()
         .unwrap_or_else(|| panic!("a list, looking for {name}: {list}"))
         .iter()
-        .find(|e| e["name"] == name)
-        .unwrap_or_else(|| panic!("{name} in the list"))
+        .find(|e| e[key] == name)
+        .unwrap_or_else(|| panic!("{name} in the list {list}"))
 }
 
 /// Copies the bundled example (the files of configs/, configs/simulate/ and cfd_exports/)

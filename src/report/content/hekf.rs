@@ -53,6 +53,7 @@ pub fn write<'a>(d: &mut Document<'a>, h: &HekfResult, figs: &Figures<'a>) {
     figs.put(d, "hekf_convergence");
     correlation(d, h);
     figs.put(d, "hekf_correlation");
+    identifiability(d, h);
     noise(d, h);
     nis(d, h);
     figs.put_prefixed(d, "nis_fit_");
@@ -121,6 +122,48 @@ fn correlation(d: &mut Document, h: &HekfResult) {
             pairs.join(", ")
         ));
     }
+}
+
+fn identifiability(d: &mut Document, h: &HekfResult) {
+    d.heading(3, "Identifiability");
+    if h.identifiability.is_empty() {
+        d.text(
+            "Every estimate is determined by these runs: no σ above 10 % of its value, and no \
+             correlation above 0.9 with a σ above 2 %.",
+        );
+        return;
+    }
+    d.text(
+        "The estimates these runs leave undetermined (σ above 10 % of the value, or a \
+         correlation above 0.9 with a σ above 2 %), the quantities each term acts through \
+         (those whose removal removes the term's effect on the motion, found by automatic \
+         differentiation along the filtered states), how much of them the runs hold, and a \
+         manoeuvre that would determine it. Several runs identified jointly share the \
+         coefficients: add such a run to [[hekf.runs]].",
+    );
+    let mut t = Table::new([
+        "coefficient",
+        "finding",
+        "acts through",
+        "in these runs",
+        "why",
+        "would be determined by",
+    ])
+    .col(1, Col::Text)
+    .col(3, Col::Text)
+    .col(4, Col::Text)
+    .col(5, Col::Text);
+    for a in &h.identifiability {
+        t.row([
+            a.coefficient.clone(),
+            a.finding.clone(),
+            a.acts_through.join(", "),
+            a.in_these_runs.clone(),
+            a.why.clone(),
+            a.separate_by.clone(),
+        ]);
+    }
+    d.table(t);
 }
 
 fn noise(d: &mut Document, h: &HekfResult) {

@@ -4,6 +4,7 @@
 use crate::config::hekf as config;
 mod consistency;
 pub mod history;
+pub mod identifiability;
 pub mod identify;
 pub mod memory;
 mod prepare;
@@ -225,6 +226,10 @@ impl ModelVisitor for Identify<'_> {
                 failed,
             },
         );
+        result.identifiability = advise(model, &plan, &runs, &result);
+        result
+            .warnings
+            .extend(identifiability_warning(&result.identifiability));
         for ((run, data), (rej, exc)) in result.runs.iter_mut().zip(&runs).zip(&gated) {
             run.warnings
                 .extend(consistency::gate_warning(model, data, rej));
@@ -237,6 +242,69 @@ impl ModelVisitor for Identify<'_> {
         }
         Ok(result)
     }
+}
+
+/// The identifiability advice for the estimates of `result` ([`identifiability::advise`]).
+fn advise<M: Model>(
+    model: &M,
+    plan: &prepare::Plan,
+    runs: &[identify::RunData],
+    result: &HekfResult,
+) -> Vec<identifiability::Advice> {
+    let mut c = plan.base.clone();
+    let mut sigmas = Vec::new();
+    for (name, &i) in plan.est_names.iter().zip(&plan.est) {
+        let est = result.coefficients.iter().find(|k| &k.name == name);
+        c[i] = est.map_or(0.0, |k| k.value);
+        sigmas.push(est.and_then(|k| k.sigma).unwrap_or(f64::INFINITY));
+    }
+    model.relations().apply(&mut c);
+    identifiability::advise(
+        model,
+        runs,
+        &result.traces,
+        &identifiability::Estimates {
+            c: &c,
+            est: &plan.est,
+            names: &plan.est_names,
+            sigmas: &sigmas,
+            correlation: &result.correlation.matrix,
+        },
+    )
+}
+
+/// One warning listing the coefficients the runs leave undetermined, with what would
+/// determine each.
+fn identifiability_warning(advice: &[identifiability::Advice]) -> Option<Warning> {
+    if advice.is_empty() {
+        return None;
+    }
+    let names: Vec<String> = advice
+        .iter()
+        .map(|a| format!("{} ({})", a.coefficient, a.finding))
+        .collect();
+    // the coefficients grouped by the manoeuvre that would determine them, in first-seen order
+    let mut ways: Vec<(&str, Vec<&str>)> = Vec::new();
+    for a in advice {
+        match ways.iter_mut().find(|(w, _)| *w == a.separate_by) {
+            Some((_, names)) => names.push(&a.coefficient),
+            None => ways.push((&a.separate_by, vec![&a.coefficient])),
+        }
+    }
+    let ways: Vec<String> = ways
+        .iter()
+        .map(|(w, names)| format!("{w} for {}", names.join(", ")))
+        .collect();
+    Some(Warning::new(
+        STAGE,
+        format!("not determined by these runs: {}", names.join(", ")),
+        format!(
+            "their values rest on little information; a run that would determine them, \
+             identified jointly with these ([[hekf.runs]] entries share the coefficients): {}. \
+             The report's Identifiability table says why for each",
+            ways.join("; ")
+        ),
+    ))
 }
 
 /// Keeps every `n`-th sample of a run for the filter (`hekf.decimate`); its summary then

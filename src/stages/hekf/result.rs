@@ -96,6 +96,10 @@ pub struct HekfResult {
     pub sigma_filter: Vec<f64>,
     /// Things to know.
     pub warnings: Vec<Warning>,
+    /// The estimates the runs leave uncertain or correlated, with the quantities their terms
+    /// act through and a manoeuvre that would determine them.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub identifiability: Vec<super::identifiability::Advice>,
     /// Traces for plots.
     #[serde(skip)]
     pub traces: Vec<RunTraces>,
@@ -316,6 +320,7 @@ pub fn build<M: Model>(
         runs: summaries,
         sigma_filter: last.sigmas.clone(),
         warnings,
+        identifiability: Vec::new(),
         traces,
         directions,
     }
