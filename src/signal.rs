@@ -29,6 +29,40 @@ pub fn noise_sigma(y: &[f64]) -> Option<f64> {
     Some(1.4826 * *median / 70f64.sqrt())
 }
 
+/// Samples of the start of a run that [`start_value`] fits (at most).
+pub const START_SAMPLES: usize = 50;
+
+/// The value of a noisy signal at its first sample: the quadratic that fits its first samples
+/// best (least squares in time, Savitzky & Golay 1964 at the end point), evaluated there;
+/// the noise of one sample shrinks by about 3 / sqrt(n) for n samples. The fit spans 1 % of
+/// the run, 5 to [`START_SAMPLES`] samples, short enough that a smooth motion is a quadratic
+/// over it. A signal without noise (noise estimate below a part in 10^6 of its size: the
+/// rounding of an export) or too short keeps its first sample; so does one whose first
+/// samples hold a gross outlier.
+pub fn start_value(t: &[f64], y: &[f64]) -> f64 {
+    let n = (y.len() / 100).clamp(5, START_SAMPLES).min(y.len());
+    let (t, y) = (&t[..n.min(t.len())], &y[..n]);
+    let peak = y.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let noisy = noise_sigma(y).is_some_and(|s| s > 1e-6 * peak);
+    if t.len() < 5 || !noisy || !outliers(y).is_empty() {
+        return y[0];
+    }
+    // normal equations of y = a + b tau + c tau^2 with tau = t - t0 scaled to [0, 1]
+    let span = (t[n - 1] - t[0]).max(f64::MIN_POSITIVE);
+    let mut m = nalgebra::Matrix3::<f64>::zeros();
+    let mut r = nalgebra::Vector3::<f64>::zeros();
+    for (ti, yi) in t.iter().zip(y) {
+        let tau = (ti - t[0]) / span;
+        let phi = nalgebra::Vector3::new(1.0, tau, tau * tau);
+        m += phi * phi.transpose();
+        r += phi * *yi;
+    }
+    match m.cholesky() {
+        Some(ch) => ch.solve(&r)[0],
+        None => y[0],
+    }
+}
+
 /// The smallest measurement standard deviation hydroid uses for a signal: a part in 10^8 of
 /// its largest magnitude (and 1e-12 absolute), so that noise-free synthetic data do not make
 /// the innovation covariance singular.
@@ -193,6 +227,32 @@ pub fn spectral_peak(t: &[f64], x: &[f64], window: f64, lo: f64, hi: f64) -> Opt
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_start_value_averages_the_noise_of_the_first_sample_out() {
+        use rand::SeedableRng;
+        use rand_distr::{Distribution, Normal};
+        // a surge speed falling smoothly from 0.63 m/s, sampled at 100 Hz with 0.01 m/s noise
+        let t: Vec<f64> = (0..6000).map(|k| k as f64 * 0.01).collect();
+        let clean: Vec<f64> = t.iter().map(|t| 0.63 - 0.002 * t * t).collect();
+        let noise = Normal::new(0.0, 0.01).unwrap();
+        let mut worst_first: f64 = 0.0;
+        let mut worst_fit: f64 = 0.0;
+        for seed in 0..50 {
+            let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
+            let y: Vec<f64> = clean.iter().map(|c| c + noise.sample(&mut rng)).collect();
+            worst_first = worst_first.max((y[0] - 0.63).abs());
+            worst_fit = worst_fit.max((start_value(&t, &y) - 0.63).abs());
+        }
+        // 50 samples: the end point of a quadratic fit has sigma 3 / sqrt(50) of one sample's
+        assert!(
+            worst_fit < 0.6 * worst_first,
+            "{worst_fit} vs {worst_first}"
+        );
+        assert!(worst_fit < 0.015, "{worst_fit}");
+        // noise-free data keep their first sample exactly
+        assert_eq!(start_value(&t, &clean), clean[0]);
+    }
 
     #[test]
     fn the_spectral_peak_finds_a_wave_under_a_slow_swing() {

@@ -108,6 +108,11 @@ fn the_helix_alone_names_the_roll_terms_and_the_zigzag_that_determines_them() {
     let err = common::text(&o.stderr);
     assert!(err.contains("not determined by these runs"), "{err}");
     let r = common::json(&dir.path().join("out/results.json"));
+    // the new fields (two reference sets, the advice) are in the documented layout
+    let schema = common::json(&common::root().join("docs/results.schema.json"));
+    let validator = jsonschema::draft202012::new(&schema).unwrap();
+    let errors: Vec<String> = validator.iter_errors(&r).map(|e| e.to_string()).collect();
+    assert!(errors.is_empty(), "{errors:?}");
     let advice = r["stages"]["hekf"]["identifiability"].clone();
     for name in ["Yp", "Np"] {
         let a = common::named_by(&advice, "coefficient", name);

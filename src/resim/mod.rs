@@ -1,4 +1,6 @@
-//! Re-simulation: the identified model run open loop from a CFD run's initial state with its
+//! Re-simulation: the identified model run open loop from a CFD run's initial state (each
+//! measured state's value at the first sample, its noise averaged out by
+//! [`signal::start_value`]) with its
 //! inputs, compared with the CFD trajectory (RMS errors of u, v, r and heading, and the final
 //! position error as a share of the distance travelled); for a ship's turning circle or
 //! zig-zag, also the model steered through the same manoeuvre and measured as the run is
@@ -19,6 +21,11 @@ use std::collections::BTreeMap;
 
 /// An RMS error above this share of the signal's peak-to-peak range is a poor re-simulation.
 pub const POOR_RMS_SHARE: f64 = 0.1;
+
+/// A signal whose range is below this many of its noise sigmas does not move beyond its
+/// noise (a range within about +-4 sigma is the noise's own); its re-simulation error is
+/// poor only above this many sigmas.
+pub const NOISE_RANGE: f64 = 10.0;
 
 /// A final position error above this percentage of the distance travelled is poor.
 pub const POOR_POSITION_PCT: f64 = 10.0;
@@ -107,11 +114,13 @@ impl ModelVisitor for Resim<'_> {
         let mut x0 = vec![0.0; states.len()];
         for (i, s) in states.iter().enumerate() {
             if let Some(v) = rec.channel(s.quantity) {
-                // a gross outlier in the first sample is replaced by its neighbours' median
+                // a gross outlier in the first sample is replaced by its neighbours' median;
+                // the measurement noise of the first sample is averaged out over the first
+                // samples, so that a slow mode does not carry it through the whole run
                 x0[i] = if signal::outliers(v).first().is_some_and(|o| o.index == 0) {
                     signal::cleaned(v, &signal::outliers(v))[0]
                 } else {
-                    v[0]
+                    signal::start_value(&times, v)
                 };
             }
         }
@@ -208,7 +217,8 @@ impl ModelVisitor for Resim<'_> {
 }
 
 /// Warnings about one re-simulation: stopped early, or errors large against the motion
-/// (RMS above [`POOR_RMS_SHARE`] of a signal's range, or a final position error above
+/// (RMS beyond the measurement noise above [`POOR_RMS_SHARE`] of a signal's range, or a
+/// final position error above
 /// [`POOR_POSITION_PCT`] % of the distance travelled).
 pub fn warnings(m: &ResimMetrics, rec: &Record) -> Vec<Warning> {
     let what = if m.used_for_fit {
@@ -240,10 +250,31 @@ pub fn warnings(m: &ResimMetrics, rec: &Record) -> Vec<Warning> {
                 (a.min(*x), b.max(*x))
             });
         let range = hi - lo;
-        if range > 0.0 && *rms > POOR_RMS_SHARE * range {
+        // the measurement noise is in the RMS error but is not the model's: only the excess
+        // over it counts (errors add in quadrature), which matters for a quantity that moves
+        // little more than its noise
+        let noise = signal::noise_sigma(&v).unwrap_or(0.0);
+        let excess = (rms * rms - noise * noise).max(0.0).sqrt();
+        // a quantity that hardly moves beyond its noise (the heading in a vertical zig-zag)
+        // has a range made of noise, and the open-loop model drifts from the noise of its
+        // first sample: its error is poor only beyond ten noise sigmas
+        let limit = if range < NOISE_RANGE * noise {
+            NOISE_RANGE * noise
+        } else {
+            POOR_RMS_SHARE * range
+        };
+        if range > 0.0 && excess > limit {
             poor.push(format!(
-                "{q} (RMS error {:.0} % of its range)",
-                100.0 * rms / range
+                "{q} (RMS error {:.0} % of its range{})",
+                100.0 * rms / range,
+                if noise > 0.1 * rms {
+                    format!(
+                        ", {:.0} % beyond its measurement noise",
+                        100.0 * excess / range
+                    )
+                } else {
+                    String::new()
+                }
             ));
         }
     }
