@@ -140,8 +140,20 @@ fn turning_circles_identify_the_hull_and_the_model_sails_the_zigzag_as_the_truth
             }
         }
     }
+    // the only warning: the cubic hull terms trade off against each other in turning
+    // circles (each loose, together exact: the model sails the zig-zag as the truth)
+    let warnings = r["warnings"].as_array().unwrap();
     assert!(
-        r["warnings"].as_array().unwrap().is_empty(),
+        warnings.iter().all(|w| {
+            let m = w["message"].as_str().unwrap();
+            m.starts_with("not determined by these runs: ")
+                && m.split("), ").all(|part| {
+                    part.contains("vvv_p")
+                        || part.contains("vvr_p")
+                        || part.contains("vrr_p")
+                        || part.contains("rrr_p")
+                })
+        }),
         "{}",
         r["warnings"]
     );

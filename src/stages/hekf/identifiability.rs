@@ -132,6 +132,9 @@ pub fn advise<M: Model>(
     flagged
         .into_iter()
         .map(|(j, finding)| {
+            if let Some(rate) = acceleration_term(&e.names[j]) {
+                return added_mass(&e.names[j], rate, finding);
+            }
             let qs: Vec<Quantity> = drivers[j]
                 .iter()
                 .map(|&ci| quantity(model, candidates[ci]))
@@ -181,11 +184,42 @@ pub fn advise<M: Model>(
                 why,
                 separate_by: qs
                     .first()
-                    .map_or(GENERAL, |q| manoeuvre_for(*q))
+                    .map_or(GENERAL, |q| manoeuvre_for(*q, &model.input_quantities()))
                     .to_string(),
             }
         })
         .collect()
+}
+
+/// The rate whose derivative an added-mass (acceleration) coefficient multiplies, from its
+/// SNAME name: `Nrd` and `Nrdot` (N_rdot) act through r_dot.
+fn acceleration_term(name: &str) -> Option<char> {
+    let rest = name
+        .strip_suffix("dot")
+        .or_else(|| name.strip_suffix('d'))?;
+    let mut c = rest.chars();
+    let (force, rate) = (c.next()?, c.next()?);
+    ("XYZKMN".contains(force) && "uvwpqr".contains(rate) && c.next().is_none()).then_some(rate)
+}
+
+/// The advice for an added-mass coefficient: free-running motion fixes it only relative to
+/// the rest of its equation (Ljung 1999, section 13.2; docs/hekf.md).
+fn added_mass(name: &str, rate: char, finding: String) -> Advice {
+    Advice {
+        coefficient: name.to_string(),
+        finding,
+        acts_through: vec![format!("{rate}_dot")],
+        in_these_runs: format!("an added-mass term: it multiplies the acceleration {rate}_dot"),
+        why: "free-running motion determines an added mass only relative to the inertia and \
+              the other terms of its equation: scaling them together leaves the motion \
+              unchanged, and forces of a free-running run do not help (Newton ties them to \
+              the motion)"
+            .to_string(),
+        separate_by: "a captive run with acceleration (PMM pure sway or pure yaw), an \
+                      acceleration run, or a known value (a static polar fixes the scale of \
+                      the equation)"
+            .to_string(),
+    }
 }
 
 /// Why estimate `j` is flagged, if it is.
@@ -300,20 +334,58 @@ fn magnitude(q: Quantity, v: f64) -> String {
 /// The advice when no single quantity drives the term.
 const GENERAL: &str = "a run that excites this term more";
 
-/// The manoeuvre that moves a quantity.
-fn manoeuvre_for(q: Quantity) -> &'static str {
+/// The manoeuvre that moves a quantity, with the control surfaces the model has (`inputs`).
+fn manoeuvre_for(q: Quantity, inputs: &[Quantity]) -> &'static str {
+    let has = |c: Quantity| inputs.contains(&c);
     match q {
-        Quantity::V | Quantity::R | Quantity::Rudder => {
+        Quantity::V | Quantity::R | Quantity::Rudder if has(Quantity::Rudder) => {
             "a horizontal zig-zag on the rudder (sway and yaw rate varying out of step)"
         }
-        Quantity::W | Quantity::Q | Quantity::SternPlanes | Quantity::BowPlanes => {
+        Quantity::V | Quantity::R => {
+            "a run in which sway velocity and yaw rate vary more and out of step (without a \
+             rudder: another initial drift angle and yaw rate)"
+        }
+        Quantity::W | Quantity::Q | Quantity::SternPlanes | Quantity::BowPlanes
+            if has(Quantity::SternPlanes) || has(Quantity::BowPlanes) =>
+        {
             "a vertical zig-zag on the stern (or bow) planes (heave and pitch rate varying out \
              of step)"
         }
-        Quantity::P => {
+        Quantity::W | Quantity::Q => {
+            "a run in which heave velocity and pitch rate vary more and out of step"
+        }
+        Quantity::P if has(Quantity::Rudder) => {
             "a run with more roll rate: a harder or faster horizontal zig-zag (the body rolls in \
              and out of each turn)"
         }
+        Quantity::P => "a run with more roll rate",
         _ => "a change of speed (an rpm or thrust step, an acceleration run)",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn added_mass_names_are_read_from_the_sname_convention() {
+        assert_eq!(acceleration_term("Nrd"), Some('r'));
+        assert_eq!(acceleration_term("Yvd"), Some('v'));
+        assert_eq!(acceleration_term("Mqdot"), Some('q'));
+        assert_eq!(acceleration_term("Xudot"), Some('u'));
+        for other in ["Nr", "Ndr", "Yvvd", "Kd", "Xuu", "Nuvd", "Md", "inv_T"] {
+            assert_eq!(acceleration_term(other), None, "{other}");
+        }
+    }
+
+    #[test]
+    fn the_manoeuvre_uses_the_controls_the_vehicle_has() {
+        let auv = [Quantity::Rudder, Quantity::SternPlanes, Quantity::Rpm];
+        assert!(manoeuvre_for(Quantity::R, &auv).contains("zig-zag on the rudder"));
+        assert!(manoeuvre_for(Quantity::Q, &auv).contains("stern"));
+        let spheroid = [Quantity::Thrust];
+        assert!(!manoeuvre_for(Quantity::R, &spheroid).contains("rudder zig"));
+        assert!(manoeuvre_for(Quantity::V, &spheroid).contains("initial drift"));
+        assert!(!manoeuvre_for(Quantity::P, &spheroid).contains("zig-zag"));
     }
 }

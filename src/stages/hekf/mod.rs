@@ -299,9 +299,9 @@ fn identifiability_warning(advice: &[identifiability::Advice]) -> Option<Warning
         STAGE,
         format!("not determined by these runs: {}", names.join(", ")),
         format!(
-            "their values rest on little information; a run that would determine them, \
-             identified jointly with these ([[hekf.runs]] entries share the coefficients): {}. \
-             The report's Identifiability table says why for each",
+            "their values rest on little information. What would determine them: {}. Runs \
+             given together in [[hekf.runs]] are identified jointly (they share the \
+             coefficients). The report's Identifiability table says why for each",
             ways.join("; ")
         ),
     ))
