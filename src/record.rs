@@ -45,6 +45,23 @@ pub struct Needs<'a> {
 }
 
 impl Record {
+    /// A record of sampled channels made in memory (a test, a synthetic run): delimited
+    /// format, no constants or units, file lines 2, 3 ... as under a one-line header.
+    pub fn from_channels(name: &str, source: &str, channels: BTreeMap<Quantity, Vec<f64>>) -> Self {
+        let rows = channels.values().map(Vec::len).max().unwrap_or(0);
+        Record {
+            name: name.into(),
+            source: source.into(),
+            format: Format::Delimited,
+            channels,
+            constants: BTreeMap::new(),
+            units: BTreeMap::new(),
+            lines: (2..rows + 2).collect(),
+            meta: Vec::new(),
+            warnings: Vec::new(),
+        }
+    }
+
     /// Number of rows.
     pub fn rows(&self) -> usize {
         self.lines.len()

@@ -381,7 +381,6 @@ impl Plot for States<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::formats::Format;
     use std::collections::BTreeMap;
 
     #[test]
@@ -394,17 +393,7 @@ mod tests {
         channels.insert(Quantity::Time, ch(&|i| i as f64 * 0.01));
         channels.insert(Quantity::X, ch(&|i| 4.0 * a(i).sin()));
         channels.insert(Quantity::Y, ch(&|i| 4.0 * (1.0 - a(i).cos())));
-        let record = Record {
-            name: "circles".into(),
-            source: "circles.csv".into(),
-            format: Format::Delimited,
-            channels,
-            constants: BTreeMap::new(),
-            units: BTreeMap::new(),
-            lines: (2..k + 2).collect(),
-            meta: Vec::new(),
-            warnings: Vec::new(),
-        };
+        let record = Record::from_channels("circles", "circles.csv", channels);
         let sim = ResimTrace {
             times: record.time().unwrap().to_vec(),
             states: (0..k)

@@ -266,20 +266,14 @@ enum Zero {
 
 /// The velocities, rates and control inputs of the model.
 fn candidates<M: Model>(model: &M) -> Vec<Zero> {
-    const MOTION: [Quantity; 6] = [
-        Quantity::U,
-        Quantity::V,
-        Quantity::W,
-        Quantity::P,
-        Quantity::Q,
-        Quantity::R,
-    ];
+    // u, v, w, p, q, r: the body velocities and rates
+    let motion = &Quantity::MOTION[..6];
     const CONTROLS: [Quantity; 3] = [Quantity::Rudder, Quantity::SternPlanes, Quantity::BowPlanes];
     let states = model
         .states()
         .iter()
         .enumerate()
-        .filter(|(_, s)| MOTION.contains(&s.quantity))
+        .filter(|(_, s)| motion.contains(&s.quantity))
         .map(|(i, _)| Zero::State(i));
     let inputs = model
         .input_quantities()

@@ -442,7 +442,6 @@ fn sig(v: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::formats::Format;
     use rand::SeedableRng;
     use rand_distr::{Distribution, Normal};
     use std::collections::BTreeMap;
@@ -468,17 +467,7 @@ mod tests {
         channels.insert(Quantity::Time, t);
         channels.insert(Quantity::Yaw, psi);
         channels.insert(Quantity::R, r);
-        Record {
-            name: "slow turn".into(),
-            source: "turn.csv".into(),
-            format: Format::Delimited,
-            channels,
-            constants: BTreeMap::new(),
-            units: BTreeMap::new(),
-            lines: (2..k + 2).collect(),
-            meta: Vec::new(),
-            warnings: Vec::new(),
-        }
+        Record::from_channels("slow turn", "turn.csv", channels)
     }
 
     #[test]
