@@ -23,6 +23,8 @@ pub enum Source {
     Polar,
     /// Surge acceleration run (paper eq. 21).
     Surge,
+    /// Steady captive runs (static drift, drift with rudder, circular motion).
+    Captive,
     /// Hybrid EKF on motion histories (paper eq. 9-19).
     Hekf,
     /// A symmetry relation (paper eq. 4).
@@ -38,6 +40,7 @@ impl fmt::Display for Source {
         let s = match self {
             Source::Polar => "polar",
             Source::Surge => "surge",
+            Source::Captive => "captive",
             Source::Hekf => "hekf",
             Source::Symmetry => "symmetry",
             Source::Analytic => "analytic",

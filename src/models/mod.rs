@@ -221,6 +221,19 @@ pub trait Model: Send + Sync + Sized {
     /// The dynamics x_dot = f(x, u, c), with `c` already completed by the relations.
     fn derivatives<T: Scalar>(&self, x: &[T], u: &[f64], c: &[T], dx: &mut [T]);
 
+    /// The force and moment components a captive run measures on this model, in the order
+    /// [`Model::steady_forces`] writes them (`fx`, `fy`, `mz` for a ship in the horizontal
+    /// plane); empty (the default) when the model gives no forces for a prescribed motion.
+    fn force_quantities(&self) -> &'static [Quantity] {
+        &[]
+    }
+
+    /// The hydrodynamic forces (SI, body axes: hull, rudder and propeller) on the vehicle
+    /// held in the steady motion of state `x` with inputs `u`, no acceleration: what a
+    /// captive run (static drift, drift with rudder, circular motion) measures (ITTC
+    /// 7.5-02-06-02). Called only when [`Model::force_quantities`] is not empty.
+    fn steady_forces<T: Scalar>(&self, _x: &[T], _u: &[f64], _c: &[T], _out: &mut [T]) {}
+
     /// A physical sanity check of state and coefficients (e.g. m - Yvd > 0); the message
     /// says what went wrong.
     fn check(&self, x: &[f64], c: &[f64]) -> Result<(), String>;

@@ -25,9 +25,10 @@ fn pct(v: Option<f64>) -> String {
 
 /// The groups of the table, in pipeline order: each stage, then the values that did not come
 /// from a stage (Fossen's formulas, the configuration), then those derived by symmetry.
-const GROUPS: [&[Source]; 5] = [
+const GROUPS: [&[Source]; 6] = [
     &[Source::Polar],
     &[Source::Surge],
+    &[Source::Captive],
     &[Source::Hekf],
     &[Source::Analytic, Source::Config],
     &[Source::Symmetry],

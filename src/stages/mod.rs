@@ -2,6 +2,7 @@
 //!
 //! polar (paper eq. 5-6) -> surge (paper eq. 21) -> hekf (paper eq. 9-19, 22).
 
+pub mod captive;
 pub mod hekf;
 pub mod polar;
 pub mod spread;

@@ -1,0 +1,70 @@
+//! `[captive]` configuration: steady captive runs (static drift, drift with rudder, circular
+//! motion) whose measured forces give a model's coefficients.
+
+use super::{yes, Config, InputSpec, Problems};
+use crate::models::ModelName;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// `[captive]` configuration (docs/stages.md, "Captive runs").
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CaptiveConfig {
+    /// Run this stage.
+    #[serde(default = "yes")]
+    pub enabled: bool,
+    /// The vehicle model whose steady forces are fitted (it must give forces for a
+    /// prescribed motion: `hydroid coefficients MODEL` says so).
+    pub model: ModelName,
+    /// The coefficients to fit (the rest are held at their known values).
+    pub estimate: Vec<String>,
+    /// Starting values of the fit, SI (default 0): a nonlinear model may need one near the
+    /// answer.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub start: BTreeMap<String, f64>,
+    /// Tables of steady conditions, one row each: the held motion (`u`, `v`, `r`), the
+    /// inputs (`rudder`, `rpm`; columns or constants) and the measured forces (`fx`, `fy`,
+    /// `mz`, SI about the model's origin).
+    pub runs: Vec<InputSpec>,
+}
+
+impl CaptiveConfig {
+    /// Adds every problem with this section to `p`.
+    pub fn validate(&self, _config: &Config, p: &mut Problems) {
+        if self.estimate.is_empty() {
+            p.add("captive.estimate", "lists no coefficient to fit");
+        }
+        for (i, name) in self.estimate.iter().enumerate() {
+            p.known_coefficient(&format!("captive.estimate[{i}]"), name);
+        }
+        p.no_duplicates("captive.estimate", self.estimate.iter().map(String::as_str));
+        for (name, v) in &self.start {
+            let key = format!("captive.start.{name}");
+            if !self.estimate.contains(name) {
+                p.add(
+                    &key,
+                    format!("'{name}' has a start value but is not in captive.estimate"),
+                );
+            }
+            p.coefficient_sized(&key, *v);
+        }
+        if self.runs.is_empty() {
+            p.add("captive.runs", "no table of captive conditions");
+        }
+        let inputs = self.inputs();
+        for (key, r) in &inputs {
+            r.validate(key, p);
+            p.existing_file(&format!("{key}.file"), &r.file);
+        }
+        p.no_duplicate_files(&inputs);
+    }
+
+    /// The input files this section names.
+    pub fn inputs(&self) -> Vec<(String, &InputSpec)> {
+        self.runs
+            .iter()
+            .enumerate()
+            .map(|(i, r)| (format!("captive.runs[{i}]"), r))
+            .collect()
+    }
+}

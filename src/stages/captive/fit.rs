@@ -1,0 +1,157 @@
+//! The fit of a model's coefficients to the forces of steady captive runs: weighted
+//! nonlinear least squares by Gauss-Newton (Nocedal & Wright 2006, section 10.3) with the
+//! Jacobian by automatic differentiation, each force component weighted by its own noise
+//! (estimated from its residuals, iterated once: feasible generalised least squares), and the
+//! covariance sigma^2 (J' W J)^-1 at the solution.
+
+use crate::ad;
+use crate::lsq::scaled_least_squares;
+use crate::models::Model;
+use nalgebra::{DMatrix, DVector};
+
+/// One steady captive condition: the prescribed motion, the inputs and the measured forces.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Condition {
+    /// The model's state (velocities of the held motion; positions unused).
+    pub x: Vec<f64>,
+    /// The model's inputs (rudder, propeller ...).
+    pub u: Vec<f64>,
+    /// Measured force components, in the order of [`Model::force_quantities`].
+    pub f: Vec<f64>,
+    /// The run it belongs to and its file line, for messages.
+    pub place: String,
+}
+
+/// The fitted coefficients.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Fit {
+    /// Values of the estimated coefficients, SI.
+    pub values: Vec<f64>,
+    /// Their covariance.
+    pub covariance: Vec<Vec<f64>>,
+    /// The noise of each force component (RMS residual with the degrees of freedom).
+    pub noise: Vec<f64>,
+    /// Gauss-Newton iterations taken.
+    pub iterations: usize,
+}
+
+/// Most Gauss-Newton iterations.
+const MAX_ITERATIONS: usize = 50;
+
+/// Fits the coefficients at `est` of `base` (the full coefficient vector, fixed values set)
+/// to the conditions; the model's relations are applied at every evaluation.
+pub fn fit<M: Model>(
+    model: &M,
+    base: &[f64],
+    est: &[usize],
+    start: &[f64],
+    conditions: &[Condition],
+) -> Result<Fit, String> {
+    let nf = model.force_quantities().len();
+    let p = est.len();
+    let n = conditions.len() * nf;
+    if n <= p {
+        return Err(format!(
+            "{} conditions give {n} force values for {p} coefficients: more are needed",
+            conditions.len()
+        ));
+    }
+    // first weights: each component by its measured RMS, so that N and Y count alike
+    let mut scale: Vec<f64> = (0..nf)
+        .map(|i| {
+            let s = conditions.iter().map(|c| c.f[i] * c.f[i]).sum::<f64>();
+            (s / conditions.len() as f64).sqrt().max(f64::MIN_POSITIVE)
+        })
+        .collect();
+    let mut theta = start.to_vec();
+    let mut iterations = 0;
+    for round in 0..2 {
+        let mut converged = false;
+        while iterations < MAX_ITERATIONS {
+            iterations += 1;
+            let (r, j) = residuals(model, base, est, &theta, conditions, &scale);
+            let step = scaled_least_squares(&j, &r, n - p).ok_or_else(|| {
+                "the conditions do not separate the estimated coefficients (their force \
+                 columns are dependent): add conditions that move them differently"
+                    .to_string()
+            })?;
+            let mut largest: f64 = 0.0;
+            for (t, d) in theta.iter_mut().zip(&step.theta) {
+                largest = largest.max(d.abs() / t.abs().max(1e-12));
+                *t += d;
+            }
+            if largest < 1e-10 {
+                converged = true;
+                break;
+            }
+        }
+        if !converged {
+            return Err(format!(
+                "the fit did not converge in {MAX_ITERATIONS} Gauss-Newton iterations"
+            ));
+        }
+        // reweight by each component's residual noise, then solve again
+        let (r, _) = residuals(model, base, est, &theta, conditions, &scale);
+        let dof = (n - p) as f64 / nf as f64;
+        for (i, s) in scale.iter_mut().enumerate() {
+            let rss: f64 = (0..conditions.len())
+                .map(|k| (r[k * nf + i] * *s).powi(2))
+                .sum();
+            *s = (rss / dof.max(1.0)).sqrt().max(1e-12 * *s);
+        }
+        if round == 1 {
+            break;
+        }
+    }
+    let (r, j) = residuals(model, base, est, &theta, conditions, &scale);
+    let last = scaled_least_squares(&j, &r, n - p)
+        .ok_or_else(|| "the covariance of the fit is singular".to_string())?;
+    Ok(Fit {
+        values: theta,
+        covariance: last.covariance,
+        noise: scale,
+        iterations,
+    })
+}
+
+/// Weighted residuals (measured - model) / scale and their Jacobian with respect to the
+/// estimated coefficients, row per condition and component.
+fn residuals<M: Model>(
+    model: &M,
+    base: &[f64],
+    est: &[usize],
+    theta: &[f64],
+    conditions: &[Condition],
+    scale: &[f64],
+) -> (DVector<f64>, DMatrix<f64>) {
+    let nf = scale.len();
+    let p = est.len();
+    let mut r = DVector::zeros(conditions.len() * nf);
+    let mut j = DMatrix::zeros(conditions.len() * nf, p);
+    let mut value = vec![0.0; nf];
+    let mut jac = vec![0.0; nf * p];
+    for (k, c) in conditions.iter().enumerate() {
+        ad::jacobian(
+            theta,
+            nf,
+            |b, out| {
+                let xd: Vec<ad::Dual> = c.x.iter().map(|v| ad::constant(*v)).collect();
+                let mut cd: Vec<ad::Dual> = base.iter().map(|v| ad::constant(*v)).collect();
+                for (q, &i) in est.iter().enumerate() {
+                    cd[i] = b[q];
+                }
+                model.relations().apply(&mut cd);
+                model.steady_forces(&xd, &c.u, &cd, out);
+            },
+            &mut value,
+            &mut jac,
+        );
+        for i in 0..nf {
+            r[k * nf + i] = (c.f[i] - value[i]) / scale[i];
+            for q in 0..p {
+                j[(k * nf + i, q)] = jac[i * p + q] / scale[i];
+            }
+        }
+    }
+    (r, j)
+}

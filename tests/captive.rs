@@ -1,0 +1,148 @@
+//! Captive runs (issue: "Captive CFD runs and one joint estimate"): the MMG hull derivatives of
+//! the KVLCC2 model fitted to simulated steady forces of static drift, drift with rudder and
+//! circular-motion conditions, against the truth they were simulated with.
+
+use hydroid::models::mmg3::{KVLCC2, KVLCC2_RPS};
+use hydroid::models::{with_model, Model, ModelName, ModelVisitor};
+use hydroid::stages::captive::fit::{fit, Condition};
+use rand::SeedableRng;
+use rand_distr::{Distribution, Normal};
+
+/// The hull derivatives of Y&Y 2015 (Table 4) that captive runs give.
+const HULL: [&str; 12] = [
+    "Yv_p", "Yr_p", "Yvvv_p", "Yvvr_p", "Yvrr_p", "Yrrr_p", "Nv_p", "Nr_p", "Nvvv_p", "Nvvr_p",
+    "Nvrr_p", "Nrrr_p",
+];
+
+/// The ITTC captive programme at the model's service speed: static drift -20..20 deg, rudder
+/// -35..35 deg straight ahead, drift 10 deg with rudder, and circular motion at r' 0.2 to 0.6
+/// with drift -12..12 deg; forces with 1 % noise of their typical size.
+fn programme<M: Model>(model: &M, c: &[f64], seed: u64) -> Vec<Condition> {
+    let (l, speed) = (7.0, 1.179);
+    let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
+    let mut points = Vec::new();
+    for b in (-20..=20).step_by(4) {
+        points.push((f64::from(b), 0.0, 0.0));
+    }
+    for d in (-35..=35).step_by(10) {
+        points.push((0.0, 0.0, f64::from(d)));
+    }
+    for d in [-20.0, 20.0] {
+        points.push((10.0, 0.0, d));
+    }
+    for rp in [0.2, 0.4, 0.6] {
+        for b in (-12..=12).step_by(6) {
+            points.push((f64::from(b), rp, 0.0));
+        }
+    }
+    let mut truth = vec![0.0; 3];
+    let conditions: Vec<(Vec<f64>, Vec<f64>, Vec<f64>)> = points
+        .iter()
+        .map(|&(beta, rp, delta): &(f64, f64, f64)| {
+            let beta = beta.to_radians();
+            let x = vec![
+                speed * beta.cos(),
+                -speed * beta.sin(),
+                rp * speed / l,
+                0.0,
+                0.0,
+                0.0,
+            ];
+            let u = vec![delta.to_radians(), KVLCC2_RPS];
+            model.steady_forces(&x, &u, c, &mut truth);
+            (x, u, truth.clone())
+        })
+        .collect();
+    // noise: 1 % of each component's RMS over the programme
+    let rms: Vec<f64> = (0..3)
+        .map(|i| {
+            (conditions.iter().map(|c| c.2[i] * c.2[i]).sum::<f64>() / conditions.len() as f64)
+                .sqrt()
+        })
+        .collect();
+    conditions
+        .into_iter()
+        .enumerate()
+        .map(|(k, (x, u, f))| {
+            let f = f
+                .iter()
+                .zip(&rms)
+                .map(|(v, s)| v + Normal::new(0.0, 0.01 * s).unwrap().sample(&mut rng))
+                .collect();
+            Condition {
+                x,
+                u,
+                f,
+                place: format!("condition {k}"),
+            }
+        })
+        .collect()
+}
+
+struct Twin {
+    seed: u64,
+}
+
+impl ModelVisitor for Twin {
+    type Output = Vec<(String, f64, f64, f64)>;
+    fn visit<M: Model>(self, model: &M) -> Self::Output {
+        let c = model.coefficient_vector(KVLCC2);
+        let est: Vec<usize> = HULL
+            .iter()
+            .map(|n| model.coefficient_index(n).unwrap())
+            .collect();
+        let conditions = programme(model, &c, self.seed);
+        let mut base = c.clone();
+        for &i in &est {
+            base[i] = 0.0;
+        }
+        let f = fit(model, &base, &est, &vec![0.0; est.len()], &conditions).unwrap();
+        HULL.iter()
+            .enumerate()
+            .map(|(i, n)| {
+                (
+                    n.to_string(),
+                    f.values[i],
+                    f.covariance[i][i].sqrt(),
+                    c[est[i]],
+                )
+            })
+            .collect()
+    }
+}
+
+#[test]
+fn static_drift_rudder_and_circular_motion_give_the_mmg_hull_derivatives() {
+    let vehicle = hydroid::models::mmg3::kvlcc2_model_vehicle();
+    let mut inside = 0;
+    let mut total = 0;
+    for seed in 0..10 {
+        let rows = with_model(ModelName::Mmg3, &vehicle, Twin { seed }).unwrap();
+        for (name, v, s, truth) in rows {
+            let z = (v - truth) / s;
+            assert!(
+                z.abs() < 4.0,
+                "seed {seed}: {name} {v} ± {s}, truth {truth}"
+            );
+            total += 1;
+            if z.abs() <= 2.0 {
+                inside += 1;
+            }
+            if seed == 0 {
+                println!("{name}: {v:.4} ± {s:.4} (truth {truth})");
+                // the linear derivatives to a few per cent
+                if ["Yv_p", "Yr_p", "Nv_p", "Nr_p"].contains(&name.as_str()) {
+                    assert!(
+                        (v - truth).abs() < 0.05 * truth.abs(),
+                        "{name} {v} vs {truth}"
+                    );
+                }
+            }
+        }
+    }
+    // 2 sigma holds 95 % of the time: 90 % or more of 120 pairs
+    assert!(
+        inside * 10 >= total * 9,
+        "{inside} of {total} within 2 sigma"
+    );
+}
