@@ -58,6 +58,9 @@ pub struct Config {
     /// Surge acceleration stage.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub surge: Option<SurgeConfig>,
+    /// Captive runs stage (steady forces of a held motion).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub captive: Option<captive::CaptiveConfig>,
     /// Hybrid EKF stage.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub hekf: Option<HekfConfig>,
@@ -380,6 +383,9 @@ impl Config {
         if let Some(s) = &self.surge {
             s.validate(self, p);
         }
+        if let Some(s) = &self.captive {
+            s.validate(self, p);
+        }
         if let Some(s) = &self.hekf {
             s.validate(self, p);
         }
@@ -393,22 +399,25 @@ impl Config {
                 );
             }
         }
-        if !self.vehicle.particulars.is_empty() && !self.hekf.as_ref().is_some_and(|h| h.enabled) {
-            // only a model reads them: without the HEKF stage they would be ignored
+        let model_stage = self.hekf.as_ref().is_some_and(|h| h.enabled)
+            || self.captive.as_ref().is_some_and(|c| c.enabled);
+        if !self.vehicle.particulars.is_empty() && !model_stage {
+            // only a model reads them: without a model's stage they would be ignored
             p.add(
                 "vehicle.particulars",
                 "only a model reads [vehicle.particulars], and no stage here uses one (no \
-                 [hekf] stage): remove them or add the stage",
+                 [hekf] or [captive] stage): remove them or add the stage",
             );
         }
-        let stage_unusable = ["polar", "surge", "hekf"]
+        let stage_unusable = ["polar", "surge", "captive", "hekf"]
             .iter()
             .any(|s| p.is_poisoned(s) || p.is_poisoned(&format!("{s}.enabled")));
         if self.enabled_stages().is_empty() && !stage_unusable {
             p.add_unplaced(
                 None,
-                "nothing to run: enable at least one of polar, surge, hekf (a [polar], \
-                 [surge] or [hekf] section with enabled = true, the default)",
+                "nothing to run: enable at least one of polar, surge, captive, hekf (a \
+                 [polar], [surge], [captive] or [hekf] section with enabled = true, the \
+                 default)",
             );
         }
     }
@@ -421,6 +430,9 @@ impl Config {
         }
         if self.surge.as_ref().is_some_and(|c| c.enabled) {
             s.push("surge");
+        }
+        if self.captive.as_ref().is_some_and(|c| c.enabled) {
+            s.push("captive");
         }
         if self.hekf.as_ref().is_some_and(|c| c.enabled) {
             s.push("hekf");
@@ -435,6 +447,9 @@ impl Config {
             v.extend(s.inputs());
         }
         if let Some(s) = &self.surge {
+            v.extend(s.inputs());
+        }
+        if let Some(s) = &self.captive {
             v.extend(s.inputs());
         }
         if let Some(s) = &self.hekf {

@@ -6,7 +6,7 @@ use crate::config::{Config, InputSpec, LoadedConfig};
 use crate::error::Result;
 use crate::record::{self, Needs};
 use crate::results::LoadedInput;
-use crate::stages::{hekf, polar, surge};
+use crate::stages::{captive, hekf, polar, surge};
 use sha2::{Digest, Sha256};
 use std::path::Path;
 
@@ -19,6 +19,8 @@ pub struct InputsByStage<T> {
     pub polar: Vec<T>,
     /// The straight-line acceleration runs of the surge stage (`surge.runs`).
     pub surge: Vec<T>,
+    /// The tables of steady captive conditions (`captive.runs`).
+    pub captive: Vec<T>,
     /// The manoeuvres the HEKF fits (`hekf.runs`).
     pub hekf_fit: Vec<T>,
     /// The manoeuvres kept to validate the identified model (`hekf.validation`).
@@ -30,6 +32,7 @@ impl<T> Default for InputsByStage<T> {
         InputsByStage {
             polar: Vec::new(),
             surge: Vec::new(),
+            captive: Vec::new(),
             hekf_fit: Vec::new(),
             hekf_validation: Vec::new(),
         }
@@ -37,12 +40,13 @@ impl<T> Default for InputsByStage<T> {
 }
 
 impl<T> InputsByStage<T> {
-    /// Every file in the order of the configuration: polar, surge, HEKF fit runs, HEKF
-    /// validation runs.
+    /// Every file in the order of the configuration: polar, surge, captive, HEKF fit runs,
+    /// HEKF validation runs.
     pub fn iter(&self) -> impl Iterator<Item = &T> {
         self.polar
             .iter()
             .chain(&self.surge)
+            .chain(&self.captive)
             .chain(&self.hekf_fit)
             .chain(&self.hekf_validation)
     }
@@ -63,6 +67,7 @@ impl<T> InputsByStage<T> {
         Ok(InputsByStage {
             polar: each(self.polar)?,
             surge: each(self.surge)?,
+            captive: each(self.captive)?,
             hekf_fit: each(self.hekf_fit)?,
             hekf_validation: each(self.hekf_validation)?,
         })
@@ -76,6 +81,7 @@ impl<T> InputsByStage<Option<T>> {
         InputsByStage {
             polar: keep(self.polar),
             surge: keep(self.surge),
+            captive: keep(self.captive),
             hekf_fit: keep(self.hekf_fit),
             hekf_validation: keep(self.hekf_validation),
         }
@@ -101,6 +107,9 @@ pub fn stage_inputs(cfg: &Config) -> InputsByStage<PlannedInput<'_>> {
     }
     if let Some(c) = cfg.surge.as_ref().filter(|c| c.enabled) {
         v.surge = planned(c.inputs(), surge::needs(c));
+    }
+    if let Some(c) = cfg.captive.as_ref().filter(|c| c.enabled) {
+        v.captive = planned(c.inputs(), captive::needs(c));
     }
     if let Some(c) = cfg.hekf.as_ref().filter(|c| c.enabled) {
         // a fit run is one of the specs of `hekf.runs`; the others are `hekf.validation`

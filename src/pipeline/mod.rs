@@ -60,6 +60,15 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutp
     if let Some(sc) = cfg.surge.as_ref().filter(|c| c.enabled) {
         stages.surge = Some(surge_step(sc, cfg, &inputs.surge, &mut known, &mut log)?);
     }
+    if let Some(cc) = cfg.captive.as_ref().filter(|c| c.enabled) {
+        stages.captive = Some(captive_step(
+            cc,
+            cfg,
+            &inputs.captive,
+            &mut known,
+            &mut log,
+        )?);
+    }
     let mut resim = Resimulation::default();
     let mut model_name = None;
     if let Some(hc) = cfg.hekf.as_ref().filter(|c| c.enabled) {
@@ -212,6 +221,27 @@ fn surge_step(
         "surge: Xud from {} {}",
         recs.len(),
         runs_word(recs.len())
+    ));
+    log.say(r.warnings.iter().cloned());
+    Ok(r)
+}
+
+fn captive_step(
+    cc: &crate::stages::captive::CaptiveConfig,
+    cfg: &Config,
+    inputs: &[LoadedInput],
+    known: &mut CoefficientSet,
+    log: &mut Log,
+) -> Result<crate::stages::captive::CaptiveResult> {
+    let recs = records(inputs);
+    let r = crate::stages::captive::run(cc, &cfg.vehicle, &cfg.fluid, known, &recs)?;
+    r.merge_into(known);
+    let conditions: usize = r.runs.iter().map(|x| x.conditions).sum();
+    log.stage(&format!(
+        "captive: {} coefficients from {conditions} steady conditions in {} {}",
+        r.coefficients.len(),
+        recs.len(),
+        if recs.len() == 1 { "table" } else { "tables" }
     ));
     log.say(r.warnings.iter().cloned());
     Ok(r)

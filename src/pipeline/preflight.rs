@@ -7,7 +7,7 @@ use crate::config::{Config, LoadedConfig};
 use crate::error::ConfigProblem;
 use crate::record::Record;
 use crate::results::LoadedInput;
-use crate::stages::{hekf, polar, surge};
+use crate::stages::{captive, hekf, polar, surge};
 
 /// Coefficient names that the configuration, the analytic formulas and the enabled stages
 /// will provide (so that a stage's needs can be checked before anything runs).
@@ -21,6 +21,9 @@ pub fn available_coefficients(cfg: &Config) -> Vec<String> {
     }
     if let Some(sc) = cfg.surge.as_ref().filter(|c| c.enabled) {
         names.extend(surge::provides(sc).iter().map(|n| n.to_string()));
+    }
+    if let Some(cc) = cfg.captive.as_ref().filter(|c| c.enabled) {
+        names.extend(captive::provides(cc));
     }
     names.sort();
     names.dedup();

@@ -78,6 +78,9 @@ pub struct StageResults {
     pub polar: Option<PolarResult>,
     /// Surge stage.
     pub surge: Option<SurgeResult>,
+    /// Captive runs stage.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub captive: Option<crate::stages::captive::CaptiveResult>,
     /// Hybrid EKF stage.
     pub hekf: Option<HekfResult>,
 }

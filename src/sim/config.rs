@@ -97,6 +97,22 @@ pub enum Manoeuvre {
         /// Cubic terms added to C_L and C_M (per rad^3), to mimic nonlinear polars.
         cubic: BTreeMap<Quantity, f64>,
     },
+    /// Steady captive conditions (static drift, drift with rudder, circular motion): the
+    /// model held at every combination of speed, drift angle, non-dimensional yaw rate
+    /// r' = r L / U and rudder angle, one row each with the forces of
+    /// [`crate::models::Model::steady_forces`].
+    Captive {
+        /// Speeds U, m/s.
+        speeds: Vec<f64>,
+        /// Drift angles beta = atan(-v / u), degrees.
+        drift_deg: Vec<f64>,
+        /// Non-dimensional yaw rates r' = r L / U.
+        yaw_rate_prime: Vec<f64>,
+        /// Rudder angles, degrees (when the model has a rudder).
+        rudder_deg: Vec<f64>,
+        /// The other inputs, constant (`rpm`).
+        inputs: BTreeMap<Quantity, Constant>,
+    },
 }
 
 /// An input change (the same as a run configuration's `steps`).
@@ -216,6 +232,7 @@ struct SimFile {
 enum Kind {
     TimeHistory,
     PolarSweep,
+    Captive,
 }
 
 #[derive(Deserialize)]
@@ -244,6 +261,12 @@ struct ManoeuvreFile {
     moment_reference_length: Option<f64>,
     #[serde(default)]
     cubic: Option<BTreeMap<Quantity, f64>>,
+    #[serde(default)]
+    drift_deg: Option<Vec<f64>>,
+    #[serde(default)]
+    yaw_rate_prime: Option<Vec<f64>>,
+    #[serde(default)]
+    rudder_deg: Option<Vec<f64>>,
     #[serde(default)]
     steering: Option<super::steering::SteeringFile>,
     #[serde(default)]
@@ -310,6 +333,17 @@ impl SimFile {
                     Quantity::Cm,
                 ],
             },
+            Kind::Captive => Produces {
+                all: states
+                    .iter()
+                    .copied()
+                    .filter(|q| Quantity::MOTION[..6].contains(q))
+                    .chain(inputs.iter().copied())
+                    .chain(forces_of(self.model, &self.vehicle, &self.fluid))
+                    .collect(),
+                states,
+                inputs,
+            },
         };
         let manoeuvre = self.manoeuvre.check(self.model, &produces, p);
         check_noise(&self.noise, &produces, p);
@@ -366,6 +400,7 @@ impl ManoeuvreFile {
         let kind = match self.kind {
             Kind::TimeHistory => "time_history",
             Kind::PolarSweep => "polar_sweep",
+            Kind::Captive => "captive",
         };
         let unused = |p: &mut Problems, key: &str, given: bool| {
             if given {
@@ -383,6 +418,9 @@ impl ManoeuvreFile {
         };
         match self.kind {
             Kind::TimeHistory => {
+                unused(p, "drift_deg", self.drift_deg.is_some());
+                unused(p, "yaw_rate_prime", self.yaw_rate_prime.is_some());
+                unused(p, "rudder_deg", self.rudder_deg.is_some());
                 unused(p, "alpha_deg", self.alpha_deg.is_some());
                 unused(p, "speeds", self.speeds.is_some());
                 unused(
@@ -557,6 +595,9 @@ impl ManoeuvreFile {
                     ("rates", self.rates.is_some()),
                     ("steering", self.steering.is_some()),
                     ("process_noise", self.process_noise.is_some()),
+                    ("drift_deg", self.drift_deg.is_some()),
+                    ("yaw_rate_prime", self.yaw_rate_prime.is_some()),
+                    ("rudder_deg", self.rudder_deg.is_some()),
                 ] {
                     unused(p, key, given);
                 }
@@ -628,8 +669,129 @@ impl ManoeuvreFile {
                     cubic,
                 })
             }
+            Kind::Captive => self.captive(produces, p),
         }
     }
+
+    /// The keys of a captive programme: speeds, drift angles, yaw rates r' and rudder
+    /// angles (every combination is a condition), and the constant inputs.
+    fn captive(self, produces: &Produces, p: &mut Problems) -> Option<Manoeuvre> {
+        for (key, given) in [
+            ("duration", self.duration.is_some()),
+            ("dt", self.dt.is_some()),
+            ("substeps", self.substeps.is_some()),
+            ("initial", self.initial.is_some()),
+            ("steps", self.steps.is_some()),
+            ("rates", self.rates.is_some()),
+            ("steering", self.steering.is_some()),
+            ("process_noise", self.process_noise.is_some()),
+            ("alpha_deg", self.alpha_deg.is_some()),
+            (
+                "moment_reference_length",
+                self.moment_reference_length.is_some(),
+            ),
+            ("cubic", self.cubic.is_some()),
+        ] {
+            if given {
+                p.add(
+                    &format!("manoeuvre.{key}"),
+                    "is not used by a captive manoeuvre",
+                );
+            }
+        }
+        if produces
+            .all
+            .iter()
+            .all(|q| !matches!(q, Quantity::Fx | Quantity::Fy | Quantity::Mz))
+        {
+            p.add(
+                "model",
+                "this model gives no forces for a prescribed motion, so it has no captive runs",
+            );
+            return None;
+        }
+        let Some(speeds) = self.speeds else {
+            p.add(
+                "manoeuvre.speeds",
+                "a captive manoeuvre needs `speeds` (m/s)",
+            );
+            return None;
+        };
+        let drift_deg = self.drift_deg.unwrap_or_else(|| vec![0.0]);
+        let yaw_rate_prime = self.yaw_rate_prime.unwrap_or_else(|| vec![0.0]);
+        let rudder_deg = self.rudder_deg.unwrap_or_else(|| vec![0.0]);
+        let mut ok = true;
+        for (i, u) in speeds.iter().enumerate() {
+            if !(u.is_finite() && *u > 0.0) {
+                p.positive(&format!("manoeuvre.speeds[{i}]"), *u, "m/s");
+                ok = false;
+            }
+        }
+        for (key, list, limit) in [
+            ("drift_deg", &drift_deg, 90.0),
+            ("rudder_deg", &rudder_deg, 90.0),
+            ("yaw_rate_prime", &yaw_rate_prime, 2.0),
+        ] {
+            if list.is_empty() {
+                p.add(&format!("manoeuvre.{key}"), "is empty");
+                ok = false;
+            }
+            for (i, v) in list.iter().enumerate() {
+                if !(v.is_finite() && v.abs() <= limit) {
+                    p.add(
+                        &format!("manoeuvre.{key}[{i}]"),
+                        format!("must be within +-{limit}, got {v}"),
+                    );
+                    ok = false;
+                }
+            }
+        }
+        if !rudder_deg.iter().all(|d| *d == 0.0) && !produces.inputs.contains(&Quantity::Rudder) {
+            p.add("manoeuvre.rudder_deg", "the model has no rudder");
+            ok = false;
+        }
+        let inputs = self.inputs.unwrap_or_default();
+        for q in &produces.inputs {
+            if *q != Quantity::Rudder && !inputs.contains_key(q) {
+                p.add(
+                    "manoeuvre.inputs",
+                    format!("the model needs {q}: give it, e.g. `inputs = {{ {q} = ... }}`"),
+                );
+                ok = false;
+            }
+        }
+        let rows =
+            (speeds.len() * drift_deg.len() * yaw_rate_prime.len() * rudder_deg.len()) as u64;
+        if rows > limits::MAX_ROWS {
+            p.add(
+                "manoeuvre.drift_deg",
+                format!(
+                    "{rows} conditions is more than the {} rows an export may have",
+                    limits::MAX_ROWS
+                ),
+            );
+            ok = false;
+        }
+        ok.then_some(Manoeuvre::Captive {
+            speeds,
+            drift_deg,
+            yaw_rate_prime,
+            rudder_deg,
+            inputs,
+        })
+    }
+}
+
+/// The force components a model gives for a prescribed motion (none for most models).
+fn forces_of(model: ModelName, vehicle: &VehicleConfig, fluid: &FluidConfig) -> Vec<Quantity> {
+    struct Forces;
+    impl ModelVisitor for Forces {
+        type Output = Vec<Quantity>;
+        fn visit<M: Model>(self, model: &M) -> Vec<Quantity> {
+            model.force_quantities().to_vec()
+        }
+    }
+    with_model(model, &vehicle.for_model(fluid), Forces).unwrap_or_default()
 }
 
 /// Checks duration, dt and sub-steps against [`limits`]; true when a simulation of them is

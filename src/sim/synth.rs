@@ -44,6 +44,12 @@ pub fn synthesize(cfg: &SimConfig) -> Result<Columns> {
             *moment_reference_length,
             cubic,
         )?,
+        Manoeuvre::Captive { .. } => with_model(
+            cfg.model,
+            &cfg.vehicle.for_model(&cfg.fluid),
+            Captive { cfg, set: &set },
+        )
+        .map_err(Error::vehicle)??,
     };
     let mut rng = StdRng::seed_from_u64(cfg.noise.seed);
     for (q, sigma) in &cfg.noise.sigma {
@@ -338,4 +344,80 @@ fn polar_sweep(
         }
     }
     Ok(cols)
+}
+
+struct Captive<'a> {
+    cfg: &'a SimConfig,
+    set: &'a CoefficientSet,
+}
+
+impl ModelVisitor for Captive<'_> {
+    type Output = Result<Columns>;
+
+    /// Every condition of the programme: the state of the held motion (u = U cos beta,
+    /// v = -U sin beta, r = r' U / L; Y&Y 2015 eq. 5 and 7), the inputs, and the model's
+    /// steady forces.
+    fn visit<M: Model>(self, model: &M) -> Result<Columns> {
+        let Manoeuvre::Captive {
+            speeds,
+            drift_deg,
+            yaw_rate_prime,
+            rudder_deg,
+            inputs,
+        } = &self.cfg.manoeuvre
+        else {
+            unreachable!("called for a captive manoeuvre")
+        };
+        let c = complete_coefficients(model, self.set).map_err(|m| {
+            Error::Usage(format!(
+                "a captive programme needs {} in [coefficients]",
+                m.join(", ")
+            ))
+        })?;
+        let length = self.cfg.vehicle.length;
+        let forces = model.force_quantities();
+        let mut f = vec![0.0; forces.len()];
+        let mut cols = Columns::new();
+        for &speed in speeds {
+            for &beta in drift_deg {
+                for &rp in yaw_rate_prime {
+                    for &delta in rudder_deg {
+                        let beta = beta.to_radians();
+                        let mut x = vec![0.0; model.nx()];
+                        let motion = [
+                            (Quantity::U, speed * beta.cos()),
+                            (Quantity::V, -speed * beta.sin()),
+                            (Quantity::R, rp * speed / length),
+                        ];
+                        for (q, v) in motion {
+                            if let Some(i) = model.state_index(q) {
+                                x[i] = v;
+                                cols.entry(q).or_default().push(v);
+                            }
+                        }
+                        let u: Vec<f64> = model
+                            .input_quantities()
+                            .iter()
+                            .map(|q| match q {
+                                Quantity::Rudder => delta.to_radians(),
+                                // in hydroid's internal unit, as a record holds it (rev/s
+                                // for rpm)
+                                q => inputs
+                                    .get(q)
+                                    .map_or(0.0, |k| k.si / q.internal_unit().factor),
+                            })
+                            .collect();
+                        for (q, v) in model.input_quantities().iter().zip(&u) {
+                            cols.entry(*q).or_default().push(*v);
+                        }
+                        model.steady_forces(&x, &u, &c, &mut f);
+                        for (q, v) in forces.iter().zip(&f) {
+                            cols.entry(*q).or_default().push(*v);
+                        }
+                    }
+                }
+            }
+        }
+        Ok(cols)
+    }
 }

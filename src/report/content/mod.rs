@@ -1,6 +1,7 @@
 //! What the reports say: the [`Document`] built from a run's result and its figures, one
 //! module per part (overview, coefficients, each stage, re-simulation, closing notes).
 
+mod captive;
 mod closing;
 mod coefficients;
 mod fmt;
@@ -76,6 +77,9 @@ pub fn document<'a>(r: &'a RunResult, figures: Option<&'a [Figure]>) -> Document
     }
     if let Some(s) = &r.stages.surge {
         surge::write(&mut d, s, &figs);
+    }
+    if let Some(c) = &r.stages.captive {
+        captive::write(&mut d, c);
     }
     if let Some(h) = &r.stages.hekf {
         hekf::write(&mut d, h, &figs);
