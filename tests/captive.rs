@@ -2,6 +2,8 @@
 //! the KVLCC2 model fitted to simulated steady forces of static drift, drift with rudder and
 //! circular-motion conditions, against the truth they were simulated with.
 
+mod common;
+
 use hydroid::models::mmg3::{KVLCC2, KVLCC2_RPS};
 use hydroid::models::{with_model, Model, ModelName, ModelVisitor};
 use hydroid::stages::captive::fit::{fit, Condition};
@@ -145,4 +147,62 @@ fn static_drift_rudder_and_circular_motion_give_the_mmg_hull_derivatives() {
         inside * 10 >= total * 9,
         "{inside} of {total} within 2 sigma"
     );
+}
+
+/// The bundled ship captive example (configs/ship_captive.toml on the simulated KVLCC2
+/// programme, cfd_exports/kvlcc2_captive.csv): every hull derivative within 2 sigma of the
+/// truth, the noise the fit finds close to the simulated one, results.json in its layout.
+#[test]
+fn the_bundled_ship_captive_programme_gives_the_hull_derivatives() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let config = common::root().join("configs/ship_captive.toml");
+    let o = common::hydroid(&[
+        "run",
+        config.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
+    let r = common::json(&out.join("results.json"));
+    for name in HULL {
+        let c = common::named(&r["coefficients"], name);
+        assert_eq!(c["source"], "captive", "{c}");
+        let (v, s) = (c["value"].as_f64().unwrap(), c["sigma"].as_f64().unwrap());
+        let truth = KVLCC2.iter().find(|(n, _)| *n == name).unwrap().1;
+        assert!(
+            (v - truth).abs() <= 2.0 * s,
+            "{name}: {v} ± {s}, truth {truth}"
+        );
+    }
+    let noise = r["stages"]["captive"]["noise"].as_array().unwrap();
+    for (n, simulated) in noise.iter().zip([0.2, 2.0, 5.0]) {
+        let n = n.as_f64().unwrap();
+        assert!((n / simulated - 1.0).abs() < 0.25, "{n} vs {simulated}");
+    }
+    let schema = common::json(&common::root().join("docs/results.schema.json"));
+    let validator = jsonschema::draft202012::new(&schema).unwrap();
+    let errors: Vec<String> = validator.iter_errors(&r).map(|e| e.to_string()).collect();
+    assert!(errors.is_empty(), "{errors:?}");
+}
+
+/// A force column of the wrong dimension is named with its file, column and the unit expected.
+#[test]
+fn a_force_column_of_the_wrong_dimension_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = common::root().join("configs/ship_captive.toml");
+    let o = common::hydroid(&[
+        "run",
+        config.to_str().unwrap(),
+        "--out",
+        dir.path().join("out").to_str().unwrap(),
+        "--set",
+        "captive.runs[0].columns.mz=\"Fy\"",
+    ]);
+    assert!(!o.status.success());
+    let e = common::text(&o.stderr);
+    for part in ["kvlcc2_captive.csv", "column 7 'Fy'", "does not fit mz"] {
+        assert!(e.contains(part), "missing {part}: {e}");
+    }
+    assert!(!dir.path().join("out").exists());
 }

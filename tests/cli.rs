@@ -423,6 +423,7 @@ fn bundled_exports_are_what_their_simulate_configs_make() {
         ("npsauv_helix", "npsauv_helix.dat"),
         ("npsauv_zigzag_vertical", "npsauv_zigzag_vertical.csv"),
         ("npsauv_zigzag_horizontal", "npsauv_zigzag_horizontal.csv"),
+        ("kvlcc2_captive", "kvlcc2_captive.csv"),
     ] {
         let out = dir.path().join(export);
         let o = hydroid(&[

@@ -358,3 +358,26 @@ fn residual_summaries<M: Model>(
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::models::spheroid3::Spheroid3;
+
+    #[test]
+    fn a_model_without_forces_for_a_prescribed_motion_is_refused() {
+        let model = Spheroid3::build(&Spheroid3::example_vehicle()).unwrap();
+        let cfg: CaptiveConfig =
+            toml::from_str("model = \"spheroid3\"\nestimate = [\"Nvv\"]\nruns = []").unwrap();
+        let known = CoefficientSet::new();
+        let e = Fit {
+            cfg: &cfg,
+            known: &known,
+            runs: &[],
+        }
+        .visit(&model)
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("gives no forces for a prescribed motion"), "{e}");
+    }
+}
