@@ -1,7 +1,7 @@
 //! hydroid: CFD exports of marine vehicles to manoeuvring models.
 //!
 //! The pipeline (see docs/architecture.md): configuration -> readers -> [`table::Table`] ->
-//! [`record::Record`] -> stages (polar, surge, hekf) -> [`coefficients::CoefficientSet`] ->
+//! [`record::Record`] -> stages (polar, surge, captive, hekf) -> [`coefficients::CoefficientSet`] ->
 //! reports. The command-line program `hydroid` is a thin shell over this library.
 //!
 //! What a Rust user calls, re-exported here:
