@@ -90,6 +90,18 @@ pub enum Quantity {
     QuatY,
     /// Third vector part eps_3 of the attitude quaternion.
     QuatZ,
+    /// Drift angle of a held motion, beta = atan(-v / u) (Yasukawa & Yoshimura 2015, eq. 5),
+    /// rad: a captive condition's motion with `speed`.
+    Drift,
+    /// Non-dimensional yaw rate r' = r L / U of a held motion (L of the captive stage's
+    /// `prime` system), -.
+    RPrime,
+    /// Non-dimensional surge force X' = X / (0.5 rho A U^2) (A of the `prime` system), -.
+    XPrime,
+    /// Non-dimensional sway force Y' = Y / (0.5 rho A U^2), -.
+    YPrime,
+    /// Non-dimensional yaw moment N' = N / (0.5 rho A L U^2), -.
+    NPrime,
 }
 
 const ANGLE: Dim = [0, 0, 0, 1];
@@ -102,7 +114,7 @@ const NONE: Dim = [0, 0, 0, 0];
 
 impl Quantity {
     /// Every quantity, in the order the documentation lists them.
-    pub const ALL: [Quantity; 37] = [
+    pub const ALL: [Quantity; 42] = [
         Quantity::Time,
         Quantity::X,
         Quantity::Y,
@@ -140,6 +152,11 @@ impl Quantity {
         Quantity::QuatX,
         Quantity::QuatY,
         Quantity::QuatZ,
+        Quantity::Drift,
+        Quantity::RPrime,
+        Quantity::XPrime,
+        Quantity::YPrime,
+        Quantity::NPrime,
     ];
 
     /// The attitude quaternion's parts, scalar first.
@@ -207,6 +224,11 @@ impl Quantity {
             Quantity::QuatX => "quat_x",
             Quantity::QuatY => "quat_y",
             Quantity::QuatZ => "quat_z",
+            Quantity::Drift => "drift",
+            Quantity::RPrime => "r_prime",
+            Quantity::XPrime => "x_prime",
+            Quantity::YPrime => "y_prime",
+            Quantity::NPrime => "n_prime",
         }
     }
 
@@ -222,9 +244,11 @@ impl Quantity {
             Quantity::X | Quantity::Y | Quantity::Z => LENGTH,
             Quantity::Roll | Quantity::Pitch | Quantity::Yaw | Quantity::WaveYaw => ANGLE,
             Quantity::WaveYawIntegral => [0, 0, 1, 1],
-            Quantity::Alpha | Quantity::Rudder | Quantity::SternPlanes | Quantity::BowPlanes => {
-                ANGLE
-            }
+            Quantity::Alpha
+            | Quantity::Drift
+            | Quantity::Rudder
+            | Quantity::SternPlanes
+            | Quantity::BowPlanes => ANGLE,
             Quantity::U | Quantity::V | Quantity::W | Quantity::Speed => SPEED,
             Quantity::P | Quantity::Q | Quantity::R | Quantity::Rpm => RATE,
             Quantity::UDot => [0, 1, -2, 0],
@@ -232,6 +256,7 @@ impl Quantity {
             Quantity::Mx | Quantity::My | Quantity::Mz => MOMENT,
             Quantity::Cd | Quantity::Cl | Quantity::Cm | Quantity::Cs => NONE,
             Quantity::QuatW | Quantity::QuatX | Quantity::QuatY | Quantity::QuatZ => NONE,
+            Quantity::RPrime | Quantity::XPrime | Quantity::YPrime | Quantity::NPrime => NONE,
         }
     }
 

@@ -206,3 +206,71 @@ fn a_force_column_of_the_wrong_dimension_is_named() {
     }
     assert!(!dir.path().join("out").exists());
 }
+
+/// A table of steady model-test results in the prime system (run number, beta, delta, r',
+/// U, n, X', Y', N' after a preamble; tests/fixtures/captive), with the normalisation stated
+/// in the configuration, gives the same hull derivatives; without the normalisation the run
+/// stops and says what is missing.
+#[test]
+fn a_prime_system_table_of_model_tests_gives_the_same_derivatives() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let config = common::root().join("tests/fixtures/captive/prime_table.toml");
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "run",
+            config.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        common::hydroid(&args)
+    };
+    let o = run(&[]);
+    assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
+    let r = common::json(&out.join("results.json"));
+    for name in HULL {
+        let c = common::named(&r["coefficients"], name);
+        let (v, s) = (c["value"].as_f64().unwrap(), c["sigma"].as_f64().unwrap());
+        let truth = KVLCC2.iter().find(|(n, _)| *n == name).unwrap().1;
+        assert!(
+            (v - truth).abs() <= 2.0 * s,
+            "{name}: {v} ± {s}, truth {truth}"
+        );
+    }
+    assert_eq!(r["stages"]["captive"]["runs"][0]["conditions"], 84);
+    // an area 10 % too large makes every force 10 % larger: the hull derivatives take it
+    // (a little more, as the rudder and propeller terms are held)
+    let o = run(&["--set", "captive.prime.area=\"3.542 m^2\""]);
+    assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
+    let r = common::json(&out.join("results.json"));
+    let yv = common::named(&r["coefficients"], "Yv_p")["value"]
+        .as_f64()
+        .unwrap();
+    let ratio = yv / -0.3148;
+    assert!(ratio > 1.09 && ratio < 1.13, "{yv}");
+    // a configuration that drops the normalisation is refused with what to add
+    let text = std::fs::read_to_string(&config)
+        .unwrap()
+        .lines()
+        .filter(|l| !l.starts_with("prime = "))
+        .collect::<Vec<_>>()
+        .join("\n");
+    let bare = dir.path().join("bare.toml");
+    std::fs::write(&bare, text).unwrap();
+    std::fs::copy(
+        common::root().join("tests/fixtures/captive/kvlcc2_prime_table.csv"),
+        dir.path().join("kvlcc2_prime_table.csv"),
+    )
+    .unwrap();
+    let o = common::hydroid(&[
+        "run",
+        bare.to_str().unwrap(),
+        "--out",
+        dir.path().join("bare_out").to_str().unwrap(),
+    ]);
+    assert!(!o.status.success());
+    let e = common::text(&o.stderr);
+    assert!(e.contains("captive.prime"), "{e}");
+    assert!(!dir.path().join("bare_out").exists());
+}

@@ -1,7 +1,7 @@
 //! `[captive]` configuration: steady captive runs (static drift, drift with rudder, circular
 //! motion) whose measured forces give a model's coefficients.
 
-use super::{yes, Config, InputSpec, Problems};
+use super::{si, yes, Config, InputSpec, Problems};
 use crate::models::ModelName;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -22,10 +22,30 @@ pub struct CaptiveConfig {
     /// answer.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub start: BTreeMap<String, f64>,
-    /// Tables of steady conditions, one row each: the held motion (`u`, `v`, `r`), the
-    /// inputs (`rudder`, `rpm`; columns or constants) and the measured forces (`fx`, `fy`,
-    /// `mz`, SI about the model's origin).
+    /// The prime system of tables given non-dimensional (`drift`, `speed`, `r_prime`,
+    /// `x_prime`, `y_prime`, `n_prime` columns): X' = X / (0.5 rho A U^2),
+    /// N' = N / (0.5 rho A L U^2), r' = r L / U.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub prime: Option<PrimeSystem>,
+    /// Tables of steady conditions, one row each: the held motion (`u`, `v`, `r`, or
+    /// `speed`, `drift` and `r_prime`), the inputs (`rudder`, `rpm`; columns or constants)
+    /// and the measured forces (`fx`, `fy`, `mz` in SI about the model's origin, or
+    /// `x_prime`, `y_prime`, `n_prime`).
     pub runs: Vec<InputSpec>,
+}
+
+/// The normalisation of non-dimensional captive results.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PrimeSystem {
+    /// L, m: of the yaw rate r' = r L / U and the moment N' = N / (0.5 rho A L U^2)
+    /// (L_pp for the MMG method).
+    #[serde(deserialize_with = "si::value::<_, si::Length>")]
+    pub length: f64,
+    /// A, m^2: of the forces X' = X / (0.5 rho A U^2) (L_pp d for the MMG method, L^2 for
+    /// the Abkowitz prime system).
+    #[serde(deserialize_with = "si::value::<_, si::Area>")]
+    pub area: f64,
 }
 
 impl CaptiveConfig {
@@ -47,6 +67,10 @@ impl CaptiveConfig {
                 );
             }
             p.coefficient_sized(&key, *v);
+        }
+        if let Some(ps) = &self.prime {
+            p.positive("captive.prime.length", ps.length, "m");
+            p.positive("captive.prime.area", ps.area, "m^2");
         }
         if self.runs.is_empty() {
             p.add("captive.runs", "no table of captive conditions");

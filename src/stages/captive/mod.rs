@@ -35,6 +35,12 @@ pub fn needs(_cfg: &CaptiveConfig) -> Needs<'static> {
                 Quantity::Mx,
                 Quantity::My,
                 Quantity::Mz,
+                Quantity::Speed,
+                Quantity::Drift,
+                Quantity::RPrime,
+                Quantity::XPrime,
+                Quantity::YPrime,
+                Quantity::NPrime,
             ])
             .chain(crate::models::registry::all_inputs())
             .copied()
@@ -107,7 +113,12 @@ pub fn run(
     with_model(
         cfg.model,
         &vehicle.for_model(fluid),
-        Fit { cfg, known, runs },
+        Fit {
+            cfg,
+            known,
+            runs,
+            rho: fluid.rho,
+        },
     )
     .map_err(Error::vehicle)?
 }
@@ -116,6 +127,23 @@ struct Fit<'a> {
     cfg: &'a CaptiveConfig,
     known: &'a CoefficientSet,
     runs: &'a [Record],
+    rho: f64,
+}
+
+/// What turns a table's columns into SI: the prime system and the water density.
+struct Frame {
+    prime: Option<crate::config::captive::PrimeSystem>,
+    rho: f64,
+}
+
+/// The non-dimensional column of each dimensional force (and whether it is a moment).
+fn prime_of(force: Quantity) -> Option<(Quantity, bool)> {
+    match force {
+        Quantity::Fx => Some((Quantity::XPrime, false)),
+        Quantity::Fy => Some((Quantity::YPrime, false)),
+        Quantity::Mz => Some((Quantity::NPrime, true)),
+        _ => None,
+    }
 }
 
 impl ModelVisitor for Fit<'_> {
@@ -137,8 +165,12 @@ impl ModelVisitor for Fit<'_> {
         let (base, est) = coefficient_vector(model, cfg, self.known)?;
         let mut conditions = Vec::new();
         let mut sizes = Vec::new();
+        let frame = Frame {
+            prime: cfg.prime,
+            rho: self.rho,
+        };
         for rec in self.runs {
-            let c = conditions_of(model, rec)?;
+            let c = conditions_of(model, rec, &frame)?;
             sizes.push((rec.name.clone(), c.len()));
             conditions.extend(c);
         }
@@ -253,21 +285,40 @@ fn coefficient_vector<M: Model>(
     Ok((base, est))
 }
 
-/// The steady conditions of one table: a row each, the model's velocities from the columns
-/// (0 when a velocity is neither a column nor a constant: a static drift has no r), its
-/// inputs from columns or constants, and every force component it measures.
-fn conditions_of<M: Model>(model: &M, rec: &Record) -> Result<Vec<Condition>> {
+/// The steady conditions of one table: a row each. The motion is the columns `u`, `v`, `r`
+/// (0 when a velocity is neither a column nor a constant: a static drift has no r), or, in
+/// a table of non-dimensional results, `speed` U with `drift` beta (u = U cos beta,
+/// v = -U sin beta; Y&Y 2015 eq. 5) and `r_prime` (r = r' U / L); the inputs come from
+/// columns or constants; each force is its column in SI, or its prime column times
+/// 0.5 rho A U^2 (and L for a moment).
+fn conditions_of<M: Model>(model: &M, rec: &Record, frame: &Frame) -> Result<Vec<Condition>> {
     let fail = |m: String| Error::numerical(STAGE, format!("run '{}': {m}", rec.name));
-    let rows = rec.rows();
     let value = |q: Quantity, k: usize| {
         rec.channel(q)
             .map(|v| v[k])
             .or_else(|| rec.constants.get(&q).copied())
     };
+    let uses_prime = [
+        Quantity::RPrime,
+        Quantity::XPrime,
+        Quantity::YPrime,
+        Quantity::NPrime,
+    ]
+    .iter()
+    .any(|q| rec.has(*q));
+    if uses_prime && frame.prime.is_none() {
+        return Err(fail(
+            "the table has non-dimensional columns (r_prime, x_prime, y_prime or n_prime): \
+             give their normalisation, captive.prime = { length = ..., area = ... }"
+                .into(),
+        ));
+    }
     for q in model.force_quantities() {
-        if !rec.has(*q) {
+        let prime = prime_of(*q).map(|(p, _)| p);
+        if !rec.has(*q) && !prime.is_some_and(|p| rec.has(p)) {
             return Err(fail(format!(
-                "no {q} column: the {} model's captive forces are {}",
+                "no {q}{} column: the {} model's captive forces are {}",
+                prime.map(|p| format!(" (or {p})")).unwrap_or_default(),
                 model.name(),
                 model
                     .force_quantities()
@@ -286,16 +337,41 @@ fn conditions_of<M: Model>(model: &M, rec: &Record) -> Result<Vec<Condition>> {
             )));
         }
     }
-    if !rec.has(Quantity::U) {
-        return Err(fail("no u: the speed of the held motion is needed".into()));
+    let by_drift = rec.has(Quantity::Drift);
+    if by_drift && !rec.has(Quantity::Speed) {
+        return Err(fail(
+            "a drift column needs the speed U (`speed`) too".into(),
+        ));
+    }
+    if !by_drift && !rec.has(Quantity::U) {
+        return Err(fail(
+            "no motion: give u (and v, r) or speed and drift (and r_prime)".into(),
+        ));
     }
     let mut out = Vec::new();
-    for k in 0..rows {
+    for k in 0..rec.rows() {
+        let line = rec.lines.get(k).copied().unwrap_or(k + 1);
+        let speed = value(Quantity::Speed, k);
+        let motion = |q: Quantity| -> Option<f64> {
+            match (q, by_drift) {
+                (Quantity::U, true) => Some(speed? * value(Quantity::Drift, k)?.cos()),
+                (Quantity::V, true) => Some(-speed? * value(Quantity::Drift, k)?.sin()),
+                (Quantity::R, _) if !rec.has(Quantity::R) && rec.has(Quantity::RPrime) => {
+                    Some(value(Quantity::RPrime, k)? * speed? / frame.prime?.length)
+                }
+                _ => value(q, k),
+            }
+        };
+        if rec.has(Quantity::RPrime) && speed.is_none() {
+            return Err(fail(format!(
+                "line {line}: r_prime needs the speed U (`speed`)"
+            )));
+        }
         let x: Vec<f64> = model
             .states()
             .iter()
             .map(|s| match s.quantity {
-                q if Quantity::MOTION[..6].contains(&q) => value(q, k).unwrap_or(0.0),
+                q if Quantity::MOTION[..6].contains(&q) => motion(q).unwrap_or(0.0),
                 _ => 0.0,
             })
             .collect();
@@ -307,11 +383,23 @@ fn conditions_of<M: Model>(model: &M, rec: &Record) -> Result<Vec<Condition>> {
         let f: Vec<f64> = model
             .force_quantities()
             .iter()
-            .map(|q| value(*q, k).unwrap_or(f64::NAN))
+            .map(|q| match (value(*q, k), prime_of(*q)) {
+                (Some(v), _) => v,
+                (None, Some((p, moment))) => match (value(p, k), speed, frame.prime) {
+                    (Some(v), Some(speed), Some(ps)) => {
+                        let q = 0.5 * frame.rho * ps.area * speed * speed;
+                        v * if moment { q * ps.length } else { q }
+                    }
+                    _ => f64::NAN,
+                },
+                (None, None) => f64::NAN,
+            })
             .collect();
-        let line = rec.lines.get(k).copied().unwrap_or(k + 1);
         if x.iter().chain(&u).chain(&f).any(|v| !v.is_finite()) {
-            return Err(fail(format!("line {line}: a value is not a number")));
+            return Err(fail(format!(
+                "line {line}: a value is missing or not a number (a prime force needs the \
+                 speed U in `speed`)"
+            )));
         }
         out.push(Condition {
             x,
@@ -374,6 +462,7 @@ mod tests {
             cfg: &cfg,
             known: &known,
             runs: &[],
+            rho: 1000.0,
         }
         .visit(&model)
         .unwrap_err()
