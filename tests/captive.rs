@@ -274,3 +274,58 @@ fn a_prime_system_table_of_model_tests_gives_the_same_derivatives() {
     assert!(e.contains("captive.prime"), "{e}");
     assert!(!dir.path().join("bare_out").exists());
 }
+
+/// One joint estimate (`hekf.mode = "joint"`, configs/ship_joint.toml): the captive
+/// programme's hull derivatives, with
+/// their covariance, as the prior of the HEKF on the KVLCC2 turning circles. Every derivative
+/// stays within 2 sigma of the truth, and no sigma is larger than the turning circles alone
+/// give (consider mode) or than the captive runs alone give.
+#[test]
+fn captive_runs_and_turning_circles_identified_jointly() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = common::root().join("configs/ship_joint.toml");
+    let mut sigmas = Vec::new();
+    for mode in ["consider", "joint"] {
+        let out = dir.path().join(mode);
+        let o = common::hydroid(&[
+            "run",
+            config.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--set",
+            &format!("hekf.mode=\"{mode}\""),
+        ]);
+        assert_eq!(
+            o.status.code(),
+            Some(0),
+            "{mode}: {}",
+            common::text(&o.stderr)
+        );
+        sigmas.push(common::json(&out.join("results.json")));
+    }
+    let (consider, joint) = (&sigmas[0], &sigmas[1]);
+    assert_eq!(joint["stages"]["hekf"]["settings"]["mode"], "joint");
+    let captive_alone = &joint["stages"]["captive"]["coefficients"];
+    for name in HULL {
+        let get = |r: &serde_json::Value| {
+            let c = common::named(r, name);
+            (c["value"].as_f64().unwrap(), c["sigma"].as_f64().unwrap())
+        };
+        let (v, s) = get(&joint["coefficients"]);
+        let truth = KVLCC2.iter().find(|(n, _)| *n == name).unwrap().1;
+        assert!(
+            (v - truth).abs() <= 2.0 * s,
+            "{name}: {v} ± {s}, truth {truth}"
+        );
+        let (_, s_consider) = get(&consider["coefficients"]);
+        let (_, s_captive) = get(captive_alone);
+        assert!(
+            s <= s_consider * 1.0001,
+            "{name}: joint {s}, consider {s_consider}"
+        );
+        assert!(
+            s <= s_captive * 1.0001,
+            "{name}: joint {s}, captive alone {s_captive}"
+        );
+    }
+}

@@ -171,6 +171,7 @@ fn config(preset: Preset, model: ModelName) -> HekfConfig {
         model,
         preset,
         estimate: ESTIMATED.iter().map(|s| s.to_string()).collect(),
+        mode: Default::default(),
         passes: None,
         substeps: None,
         smoother: Some(false),

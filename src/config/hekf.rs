@@ -30,6 +30,27 @@ pub enum Preset {
     Paper,
 }
 
+/// How the HEKF uses the coefficients earlier stages (polar, surge, captive) estimated that
+/// it estimates too.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Mode {
+    /// The HEKF estimates them from its own prior (their stage values are not used), and
+    /// the stages' uncertainty of the coefficients it holds fixed is carried into its sigmas
+    /// (the consider analysis).
+    #[default]
+    Consider,
+    /// An earlier stage's estimate and covariance is the prior of each such coefficient: one
+    /// estimate from all the data.
+    Joint,
+}
+
+impl Mode {
+    fn is_default(&self) -> bool {
+        *self == Mode::default()
+    }
+}
+
 /// The innovation gate when `hekf.gate` is not given, in standard deviations: far beyond
 /// any Gaussian innovation (p ~ 1e-15) even when the innovations are twice as large as the
 /// noise model says, yet far below a spike cell.
@@ -101,6 +122,10 @@ pub struct HekfConfig {
     pub filter: FilterKind,
     /// The coefficients to estimate (the rest are held fixed).
     pub estimate: Vec<String>,
+    /// `consider` (default) or `joint`: whether an earlier stage's estimate of a coefficient
+    /// the HEKF estimates too is its prior (docs/hekf.md, "Joint estimate").
+    #[serde(default, skip_serializing_if = "Mode::is_default")]
+    pub mode: Mode,
     /// Filter passes, each restarting from the last estimate (hydroid: 3, paper: 1).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub passes: Option<usize>,

@@ -88,6 +88,12 @@ pub struct Setup {
     pub initial: Vec<f64>,
     /// Prior standard deviation of each estimated coefficient (SI).
     pub prior_sigma: Vec<f64>,
+    /// Prior correlations of the estimated coefficients (nb x nb, row-major); empty when
+    /// they are uncorrelated (every prior but an earlier stage's in `hekf.mode = "joint"`).
+    pub prior_correlation: Vec<f64>,
+    /// Coefficients whose prior is an earlier stage's estimate (`hekf.mode = "joint"`): each
+    /// pass starts them from that prior again, so that its information counts once.
+    pub held_prior: Vec<bool>,
     /// Process noise spectral density of the states (nx) and coefficients (nb, SI^2 / s).
     pub q: Vec<f64>,
     /// Filter passes.
@@ -382,29 +388,51 @@ fn passes<M: Model>(
 struct ScaledPrior {
     nx: usize,
     z: Vec<f64>,
+    /// Prior covariance of the scaled coefficients, nb x nb.
     pzz: Vec<f64>,
     q: Vec<f64>,
+    /// The first pass's start and covariance, for the coefficients whose prior is held.
+    z0: Vec<f64>,
+    pzz0: Vec<f64>,
 }
 
 impl ScaledPrior {
     fn new(setup: &Setup, nx: usize) -> Self {
-        let z = setup
+        let nb = setup.scale.len();
+        let z: Vec<f64> = setup
             .initial
             .iter()
             .zip(&setup.scale)
             .map(|(v, s)| v / s)
             .collect();
-        let pzz = setup
+        let sd: Vec<f64> = setup
             .prior_sigma
             .iter()
             .zip(&setup.scale)
-            .map(|(p, s)| (p / s).powi(2))
+            .map(|(p, s)| p / s)
             .collect();
+        let mut pzz = vec![0.0; nb * nb];
+        for a in 0..nb {
+            for b in 0..nb {
+                let rho = match setup.prior_correlation.get(a * nb + b) {
+                    Some(r) => *r,
+                    None => f64::from(u8::from(a == b)),
+                };
+                pzz[a * nb + b] = rho * sd[a] * sd[b];
+            }
+        }
         let mut q = setup.q.clone();
         for (j, s) in setup.scale.iter().enumerate() {
             q[nx + j] /= s * s;
         }
-        ScaledPrior { nx, z, pzz, q }
+        ScaledPrior {
+            nx,
+            z0: z.clone(),
+            pzz0: pzz.clone(),
+            z,
+            pzz,
+            q,
+        }
     }
 }
 
@@ -463,8 +491,10 @@ fn start_filter<'a>(
                 p[i * n + j] = run.p0[i * nx + j];
             }
         }
-        for j in 0..nb {
-            p[(nx + j) * n + nx + j] = prior.pzz[j];
+        for a in 0..nb {
+            for b in 0..nb {
+                p[(nx + a) * n + nx + b] = prior.pzz[a * nb + b];
+            }
         }
         *filter = Some(HybridEkf::new(n, nx, x, p, prior.q.clone(), max_step));
     }
@@ -618,12 +648,25 @@ fn pass_summary(
             covariance[a * nb + b] = f.p[(nx + a) * n + nx + b] * setup.scale[a] * setup.scale[b];
         }
     }
+    let held = |j: usize| setup.held_prior.get(j).copied().unwrap_or(false);
     if let Some(f) = setup.repeat_prior_factor {
         // The next pass starts from this estimate with a prior no wider than f times this
         // pass's sigma: (1/f^2 of the data's information, nothing for f = 100) but enough
         // to keep its first samples from throwing the estimate far from here.
-        for j in 0..nb {
-            prior.pzz[j] = prior.pzz[j].min((f * sigmas[j] / setup.scale[j]).powi(2));
+        for j in (0..nb).filter(|&j| !held(j)) {
+            let d = prior.pzz[j * nb + j].min((f * sigmas[j] / setup.scale[j]).powi(2));
+            for k in 0..nb {
+                prior.pzz[j * nb + k] = 0.0;
+                prior.pzz[k * nb + j] = 0.0;
+            }
+            prior.pzz[j * nb + j] = d;
+        }
+    }
+    // an earlier stage's prior counts once: every pass starts from it again
+    for j in (0..nb).filter(|&j| held(j)) {
+        prior.z[j] = prior.z0[j];
+        for k in (0..nb).filter(|&k| held(k)) {
+            prior.pzz[j * nb + k] = prior.pzz0[j * nb + k];
         }
     }
     PassEstimate { values, sigmas }
@@ -726,6 +769,8 @@ mod tests {
             est,
             initial: vec![0.0; 6],
             prior_sigma: scale.clone(),
+            prior_correlation: Vec::new(),
+            held_prior: Vec::new(),
             scale,
             q,
             passes,

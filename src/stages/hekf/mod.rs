@@ -14,7 +14,7 @@ pub mod system;
 pub mod tuning;
 
 pub use crate::models::ModelName;
-pub use config::{Checks, FilterKind, HekfConfig, Outliers, Preset, Prior, DEFAULT_GATE};
+pub use config::{Checks, FilterKind, HekfConfig, Mode, Outliers, Preset, Prior, DEFAULT_GATE};
 pub use history::History;
 mod plausibility;
 pub use result::{HekfResult, PassSummary, RunSummary, RunTraces};

@@ -34,6 +34,10 @@ pub struct Plan {
     pub prior_sigma: Vec<f64>,
     /// Internal scales (SI).
     pub scale: Vec<f64>,
+    /// Prior correlations (nb x nb; empty: uncorrelated).
+    pub prior_correlation: Vec<f64>,
+    /// Coefficients whose prior is an earlier stage's estimate (`hekf.mode = "joint"`).
+    pub held_prior: Vec<bool>,
     /// The tuning choices made, in words, for the report and the terminal.
     pub notes: Vec<String>,
 }
@@ -63,9 +67,26 @@ pub fn plan<M: Model>(
     let mut initial = Vec::new();
     let mut prior_sigma = Vec::new();
     let mut scale = Vec::new();
+    let mut held_prior = Vec::new();
     for (&i, n) in est.iter().zip(&cfg.estimate) {
         let typical = model.typical_magnitude(names[i]);
         let p = cfg.prior.get(n);
+        // joint: an earlier stage's estimate (value and sigma) is the prior, unless the
+        // configuration gives one
+        if let Some((v, s, stage)) = stage_prior(cfg, known, n).filter(|_| p.is_none()) {
+            let unit = crate::models::registry::coefficient(n).map_or("", |c| c.unit);
+            notes.push(format!(
+                "{n}: prior {} ± {} {unit} from the {stage} stage (hekf.mode = \"joint\")",
+                sig(v),
+                sig(s)
+            ));
+            initial.push(v);
+            prior_sigma.push(s);
+            scale.push(typical.max(f64::MIN_POSITIVE));
+            held_prior.push(true);
+            continue;
+        }
+        held_prior.push(false);
         // the configured start, else what the model reads from the runs, else zero
         let (init, from_data) = match p.and_then(|p| p.initial) {
             Some(v) => (v, false),
@@ -98,6 +119,7 @@ pub fn plan<M: Model>(
         prior_sigma.push(sigma);
         scale.push(typical.max(f64::MIN_POSITIVE));
     }
+    let prior_correlation = stage_correlation(known, &cfg.estimate, &held_prior, &prior_sigma);
     Ok(Plan {
         est_names: cfg.estimate.clone(),
         est,
@@ -106,8 +128,56 @@ pub fn plan<M: Model>(
         initial,
         prior_sigma,
         scale,
+        prior_correlation,
+        held_prior,
         notes,
     })
+}
+
+/// In `hekf.mode = "joint"`, an earlier stage's estimate of `name`: value, sigma and stage.
+fn stage_prior(cfg: &HekfConfig, known: &CoefficientSet, name: &str) -> Option<(f64, f64, String)> {
+    use crate::coefficients::Source;
+    if cfg.mode != super::Mode::Joint {
+        return None;
+    }
+    let c = known.get(name)?;
+    let from_stage = matches!(c.source, Source::Polar | Source::Surge | Source::Captive);
+    let s = c.sigma.filter(|s| *s > 0.0 && s.is_finite())?;
+    from_stage.then(|| (c.value, s, c.source.to_string()))
+}
+
+/// The correlations of the held priors, from the earlier stages' uncertainty directions
+/// (each a one-sigma change of the coefficients: their covariance is the sum of the outer
+/// products); empty when no two held priors are correlated.
+fn stage_correlation(
+    known: &CoefficientSet,
+    names: &[String],
+    held: &[bool],
+    sigma: &[f64],
+) -> Vec<f64> {
+    let nb = names.len();
+    let mut corr = vec![0.0; nb * nb];
+    let mut any = false;
+    for a in 0..nb {
+        corr[a * nb + a] = 1.0;
+        for b in (0..nb).filter(|&b| b != a && held[a] && held[b]) {
+            let cov: f64 = known
+                .directions
+                .iter()
+                .filter_map(|d| Some(d.deltas.get(&names[a])? * d.deltas.get(&names[b])?))
+                .sum();
+            let r = (cov / (sigma[a] * sigma[b])).clamp(-1.0, 1.0);
+            if r != 0.0 {
+                any = true;
+            }
+            corr[a * nb + b] = r;
+        }
+    }
+    if any {
+        corr
+    } else {
+        Vec::new()
+    }
 }
 
 /// The indices of the estimated coefficients, or every problem with the names: an estimated
@@ -647,6 +717,8 @@ pub fn setup<M: Model>(
         scale: plan.scale.clone(),
         initial: plan.initial.clone(),
         prior_sigma: plan.prior_sigma.clone(),
+        prior_correlation: plan.prior_correlation.clone(),
+        held_prior: plan.held_prior.clone(),
         q,
         passes: tuning.passes,
         substeps,

@@ -129,6 +129,14 @@ pub struct Settings {
     /// The initial variance of every state when configured (`hekf.state_variance`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub state_variance: Option<f64>,
+    /// `joint` when earlier stages' estimates were the prior of the coefficients the HEKF
+    /// estimates too (`hekf.mode`); absent for `consider`.
+    #[serde(skip_serializing_if = "is_consider")]
+    pub mode: super::Mode,
+}
+
+fn is_consider(m: &super::Mode) -> bool {
+    *m == super::Mode::Consider
 }
 
 fn is_one(n: &usize) -> bool {
@@ -315,6 +323,7 @@ pub fn build<M: Model>(
             smoother: setup.smoother,
             decimate: cfg.decimate.unwrap_or(1).max(1),
             state_variance: cfg.state_variance,
+            mode: cfg.mode,
             process_noise: setup.q.clone(),
         },
         runs: summaries,
