@@ -86,6 +86,8 @@ fn main() {
         scale: scale.clone(),
         initial: vec![0.0; 6],
         prior_sigma: scale.clone(),
+        prior_correlation: Vec::new(),
+        held_prior: Vec::new(),
         q,
         passes,
         substeps,
