@@ -63,6 +63,37 @@ pub fn start_value(t: &[f64], y: &[f64]) -> f64 {
     }
 }
 
+/// The mean of a stationary but correlated series (a force history of a steady CFD run)
+/// and its standard error sigma / sqrt(N_eff), with the effective number of independent
+/// samples N_eff = N / (1 + 2 sum_k rho_k), the autocorrelations rho_k summed up to the first
+/// that is not positive (the initial positive sequence; Geyer 1992, "Practical Markov chain
+/// Monte Carlo", Stat. Sci. 7(4)). None for fewer than 2 samples.
+pub fn mean_and_standard_error(y: &[f64]) -> Option<(f64, f64)> {
+    let n = y.len();
+    if n < 2 {
+        return None;
+    }
+    let mean = y.iter().sum::<f64>() / n as f64;
+    let c0 = y.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n as f64;
+    if c0 <= 0.0 {
+        return Some((mean, 0.0));
+    }
+    let mut tau = 1.0;
+    for k in 1..n / 2 {
+        let ck = (0..n - k)
+            .map(|i| (y[i] - mean) * (y[i + k] - mean))
+            .sum::<f64>()
+            / n as f64;
+        let rho = ck / c0;
+        if rho <= 0.0 {
+            break;
+        }
+        tau += 2.0 * rho;
+    }
+    let n_eff = (n as f64 / tau).max(1.0);
+    Some((mean, (c0 * n as f64 / (n as f64 - 1.0) / n_eff).sqrt()))
+}
+
 /// The smallest measurement standard deviation hydroid uses for a signal: a part in 10^8 of
 /// its largest magnitude (and 1e-12 absolute), so that noise-free synthetic data do not make
 /// the innovation covariance singular.
@@ -227,6 +258,27 @@ pub fn spectral_peak(t: &[f64], x: &[f64], window: f64, lo: f64, hi: f64) -> Opt
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_standard_error_of_a_correlated_mean_counts_its_independent_samples() {
+        use rand::SeedableRng;
+        use rand_distr::{Distribution, Normal};
+        // AR(1) with phi = 0.9: tau = (1 + phi) / (1 - phi) = 19, over 40,000 samples
+        let mut rng = rand::rngs::StdRng::seed_from_u64(3);
+        let e = Normal::new(0.0, 1.0).unwrap();
+        let mut y = vec![0.0f64; 40_000];
+        for k in 1..y.len() {
+            y[k] = 0.9 * y[k - 1] + e.sample(&mut rng);
+        }
+        let (_, se) = mean_and_standard_error(&y).unwrap();
+        // the stationary sigma is 1 / sqrt(1 - 0.81) = 2.294; SE = 2.294 sqrt(19 / 40000)
+        let expected = 2.294 * (19.0f64 / 40_000.0).sqrt();
+        assert!((se / expected - 1.0).abs() < 0.2, "{se} vs {expected}");
+        // white noise: the plain sigma / sqrt(N)
+        let w: Vec<f64> = (0..10_000).map(|_| e.sample(&mut rng)).collect();
+        let (_, se) = mean_and_standard_error(&w).unwrap();
+        assert!((se / 0.01 - 1.0).abs() < 0.1, "{se}");
+    }
 
     #[test]
     fn the_start_value_averages_the_noise_of_the_first_sample_out() {

@@ -27,6 +27,16 @@ pub struct CaptiveConfig {
     /// N' = N / (0.5 rho A L U^2), r' = r L / U.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub prime: Option<PrimeSystem>,
+    /// Runs given as force histories of one held motion each (a CFD solver's force output):
+    /// every run is averaged from this time on, s, into one condition whose force
+    /// uncertainty is the standard error of the averaged part. Default: each row is a
+    /// condition.
+    #[serde(
+        default,
+        deserialize_with = "si::option::<_, si::Time>",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub average_after: Option<f64>,
     /// Tables of steady conditions, one row each: the held motion (`u`, `v`, `r`, or
     /// `speed`, `drift` and `r_prime`), the inputs (`rudder`, `rpm`; columns or constants)
     /// and the measured forces (`fx`, `fy`, `mz` in SI about the model's origin, or
@@ -67,6 +77,14 @@ impl CaptiveConfig {
                 );
             }
             p.coefficient_sized(&key, *v);
+        }
+        if let Some(t) = self.average_after {
+            if !(t.is_finite() && t >= 0.0) {
+                p.add(
+                    "captive.average_after",
+                    format!("must be a time from 0 s, got {t}"),
+                );
+            }
         }
         if let Some(ps) = &self.prime {
             p.positive("captive.prime.length", ps.length, "m");

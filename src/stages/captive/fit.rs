@@ -1,7 +1,8 @@
 //! The fit of a model's coefficients to the forces of steady captive runs: weighted
 //! nonlinear least squares by Gauss-Newton (Nocedal & Wright 2006, section 10.3) with the
-//! Jacobian by automatic differentiation, each force component weighted by its own noise
-//! (estimated from its residuals, iterated once: feasible generalised least squares), and the
+//! Jacobian by automatic differentiation, each force weighted by its condition's standard
+//! error when known (an averaged force history), else by its component's noise (estimated
+//! from the residuals, iterated once: feasible generalised least squares), and the
 //! covariance sigma^2 (J' W J)^-1 at the solution.
 
 use crate::ad;
@@ -18,6 +19,9 @@ pub struct Condition {
     pub u: Vec<f64>,
     /// Measured force components, in the order of [`Model::force_quantities`].
     pub f: Vec<f64>,
+    /// Their standard errors when the condition knows them (the mean of a force history);
+    /// None: the fit finds each component's noise from its residuals.
+    pub sigma: Option<Vec<f64>>,
     /// The run it belongs to and its file line, for messages.
     pub place: String,
 }
@@ -90,14 +94,19 @@ pub fn fit<M: Model>(
                 "the fit did not converge in {MAX_ITERATIONS} Gauss-Newton iterations"
             ));
         }
-        // reweight by each component's residual noise, then solve again
+        // reweight by each component's residual noise (over the conditions without their
+        // own standard errors), then solve again
         let (r, _) = residuals(model, base, est, &theta, conditions, &scale);
-        let dof = (n - p) as f64 / nf as f64;
+        let own: Vec<usize> = (0..conditions.len())
+            .filter(|&k| conditions[k].sigma.is_none())
+            .collect();
+        let dof = (own.len() as f64 - p as f64 / nf as f64).max(1.0);
         for (i, s) in scale.iter_mut().enumerate() {
-            let rss: f64 = (0..conditions.len())
-                .map(|k| (r[k * nf + i] * *s).powi(2))
-                .sum();
-            *s = (rss / dof.max(1.0)).sqrt().max(1e-12 * *s);
+            if own.is_empty() {
+                break;
+            }
+            let rss: f64 = own.iter().map(|&k| (r[k * nf + i] * *s).powi(2)).sum();
+            *s = (rss / dof).sqrt().max(1e-12 * *s);
         }
         if round == 1 {
             break;
@@ -147,9 +156,13 @@ fn residuals<M: Model>(
             &mut jac,
         );
         for i in 0..nf {
-            r[k * nf + i] = (c.f[i] - value[i]) / scale[i];
+            let w = c
+                .sigma
+                .as_ref()
+                .map_or(scale[i], |s| s[i].max(1e-12 * scale[i]));
+            r[k * nf + i] = (c.f[i] - value[i]) / w;
             for q in 0..p {
-                j[(k * nf + i, q)] = jac[i * p + q] / scale[i];
+                j[(k * nf + i, q)] = jac[i * p + q] / w;
             }
         }
     }

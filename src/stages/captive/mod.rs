@@ -26,8 +26,8 @@ const STAGE: &str = "captive";
 pub fn needs(_cfg: &CaptiveConfig) -> Needs<'static> {
     static OPTIONAL: std::sync::OnceLock<Vec<Quantity>> = std::sync::OnceLock::new();
     let optional = OPTIONAL.get_or_init(|| {
-        Quantity::MOTION
-            .iter()
+        std::iter::once(&Quantity::Time)
+            .chain(&Quantity::MOTION)
             .chain(&[
                 Quantity::Fx,
                 Quantity::Fy,
@@ -169,8 +169,14 @@ impl ModelVisitor for Fit<'_> {
             prime: cfg.prime,
             rho: self.rho,
         };
+        let mut warnings = Vec::new();
         for rec in self.runs {
-            let c = conditions_of(model, rec, &frame)?;
+            let mut c = conditions_of(model, rec, &frame)?;
+            if let Some(after) = cfg.average_after {
+                let (one, w) = averaged(rec, c, after, forces)?;
+                warnings.extend(w);
+                c = vec![one];
+            }
             sizes.push((rec.name.clone(), c.len()));
             conditions.extend(c);
         }
@@ -227,7 +233,7 @@ impl ModelVisitor for Fit<'_> {
             noise: f.noise.clone(),
             iterations: f.iterations,
             runs,
-            warnings: Vec::new(),
+            warnings,
             covariance: f.covariance,
         })
     }
@@ -405,10 +411,99 @@ fn conditions_of<M: Model>(model: &M, rec: &Record, frame: &Frame) -> Result<Vec
             x,
             u,
             f,
+            sigma: None,
             place: format!("{} line {line}", rec.name),
         });
     }
     Ok(out)
+}
+
+/// Fewest samples a force history is averaged over.
+const MIN_AVERAGED: usize = 10;
+
+/// A run given as the force history of one held motion: its rows from `after` (s) on
+/// averaged into one condition, each force's uncertainty the standard error of its mean
+/// ([`crate::signal::mean_and_standard_error`]); a warning when a force still drifts there
+/// (the means of the two halves differ by more than three combined standard errors).
+fn averaged(
+    rec: &Record,
+    rows: Vec<Condition>,
+    after: f64,
+    forces: &[Quantity],
+) -> Result<(Condition, Option<Warning>)> {
+    let fail = |m: String| Error::numerical(STAGE, format!("run '{}': {m}", rec.name));
+    let times = rec
+        .time()
+        .ok_or_else(|| fail("a force history needs a time column to be averaged".into()))?;
+    let kept: Vec<&Condition> = rows
+        .iter()
+        .zip(times)
+        .filter(|(_, t)| **t >= after)
+        .map(|(c, _)| c)
+        .collect();
+    if kept.len() < MIN_AVERAGED {
+        return Err(fail(format!(
+            "{} samples from t = {} s on (captive.average_after): at least {MIN_AVERAGED} are \
+             needed to average; the run ends at t = {} s",
+            kept.len(),
+            crate::numfmt::num(after),
+            crate::numfmt::num(times.last().copied().unwrap_or(0.0))
+        )));
+    }
+    let mean = |v: Vec<f64>| v.iter().sum::<f64>() / v.len() as f64;
+    let x = (0..kept[0].x.len())
+        .map(|i| mean(kept.iter().map(|c| c.x[i]).collect()))
+        .collect();
+    let u = (0..kept[0].u.len())
+        .map(|i| mean(kept.iter().map(|c| c.u[i]).collect()))
+        .collect();
+    let mut f = Vec::new();
+    let mut sigma = Vec::new();
+    let mut drifting = Vec::new();
+    for i in 0..kept[0].f.len() {
+        let series: Vec<f64> = kept.iter().map(|c| c.f[i]).collect();
+        let (m, se) = crate::signal::mean_and_standard_error(&series).unwrap_or((series[0], 0.0));
+        let half = series.len() / 2;
+        if let (Some((m1, s1)), Some((m2, s2))) = (
+            crate::signal::mean_and_standard_error(&series[..half]),
+            crate::signal::mean_and_standard_error(&series[half..]),
+        ) {
+            if (m1 - m2).abs() > 3.0 * s1.hypot(s2) {
+                drifting.push(format!(
+                    "{} ({} then {})",
+                    forces.get(i).map_or("a force", |q| q.key()),
+                    crate::numfmt::num(m1),
+                    crate::numfmt::num(m2)
+                ));
+            }
+        }
+        f.push(m);
+        sigma.push(se);
+    }
+    let warning = (!drifting.is_empty()).then(|| {
+        Warning::new(
+            STAGE,
+            format!(
+                "the forces still drift in the averaged part from t = {} s: {} (mean of the \
+                 first half, then of the second)",
+                crate::numfmt::num(after),
+                drifting.join(", ")
+            ),
+            "the run may not have reached its steady state: its average and standard error \
+             are biased; average from a later time (captive.average_after) or run longer",
+        )
+        .for_run(&rec.name)
+    });
+    Ok((
+        Condition {
+            x,
+            u,
+            f,
+            sigma: Some(sigma),
+            place: format!("{} from t = {} s", rec.name, crate::numfmt::num(after)),
+        },
+        warning,
+    ))
 }
 
 /// The RMS residual of each force component per table.
