@@ -16,6 +16,47 @@ const HULL: [&str; 12] = [
     "Nvrr_p", "Nrrr_p",
 ];
 
+/// `hydroid run CONFIG --out OUT` with `--set` overrides, which must succeed: results.json
+/// and what was said on the console.
+fn run_ok(
+    config: &std::path::Path,
+    out: &std::path::Path,
+    set: &[&str],
+) -> (serde_json::Value, String) {
+    let mut args = vec![
+        "run".to_string(),
+        config.to_str().unwrap().to_string(),
+        "--out".into(),
+        out.to_str().unwrap().to_string(),
+    ];
+    for s in set {
+        args.extend(["--set".to_string(), s.to_string()]);
+    }
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let o = common::hydroid(&args);
+    assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
+    (
+        common::json(&out.join("results.json")),
+        common::text(&o.stderr),
+    )
+}
+
+/// Each hull derivative of `r` against the truth: (name, value, sigma, truth).
+fn against_truth(r: &serde_json::Value) -> Vec<(&'static str, f64, f64, f64)> {
+    HULL.iter()
+        .map(|name| {
+            let c = common::named(&r["coefficients"], name);
+            let truth = KVLCC2.iter().find(|(n, _)| n == name).unwrap().1;
+            (
+                *name,
+                c["value"].as_f64().unwrap(),
+                c["sigma"].as_f64().unwrap(),
+                truth,
+            )
+        })
+        .collect()
+}
+
 /// The ITTC captive programme at the model's service speed: static drift -20..20 deg, rudder
 /// -35..35 deg straight ahead, drift 10 deg with rudder, and circular motion at r' 0.2 to 0.6
 /// with drift -12..12 deg; forces with 1 % noise of their typical size.
@@ -156,21 +197,12 @@ fn static_drift_rudder_and_circular_motion_give_the_mmg_hull_derivatives() {
 #[test]
 fn the_bundled_ship_captive_programme_gives_the_hull_derivatives() {
     let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("out");
     let config = common::root().join("configs/ship_captive.toml");
-    let o = common::hydroid(&[
-        "run",
-        config.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
-    let r = common::json(&out.join("results.json"));
+    let (r, _) = run_ok(&config, &dir.path().join("out"), &[]);
     for name in HULL {
-        let c = common::named(&r["coefficients"], name);
-        assert_eq!(c["source"], "captive", "{c}");
-        let (v, s) = (c["value"].as_f64().unwrap(), c["sigma"].as_f64().unwrap());
-        let truth = KVLCC2.iter().find(|(n, _)| *n == name).unwrap().1;
+        assert_eq!(common::named(&r["coefficients"], name)["source"], "captive");
+    }
+    for (name, v, s, truth) in against_truth(&r) {
         assert!(
             (v - truth).abs() <= 2.0 * s,
             "{name}: {v} ± {s}, truth {truth}"
@@ -217,23 +249,8 @@ fn a_prime_system_table_of_model_tests_gives_the_same_derivatives() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
     let config = common::root().join("tests/fixtures/captive/prime_table.toml");
-    let run = |extra: &[&str]| {
-        let mut args = vec![
-            "run",
-            config.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ];
-        args.extend_from_slice(extra);
-        common::hydroid(&args)
-    };
-    let o = run(&[]);
-    assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
-    let r = common::json(&out.join("results.json"));
-    for name in HULL {
-        let c = common::named(&r["coefficients"], name);
-        let (v, s) = (c["value"].as_f64().unwrap(), c["sigma"].as_f64().unwrap());
-        let truth = KVLCC2.iter().find(|(n, _)| *n == name).unwrap().1;
+    let (r, _) = run_ok(&config, &out, &[]);
+    for (name, v, s, truth) in against_truth(&r) {
         assert!(
             (v - truth).abs() <= 2.0 * s,
             "{name}: {v} ± {s}, truth {truth}"
@@ -242,9 +259,7 @@ fn a_prime_system_table_of_model_tests_gives_the_same_derivatives() {
     assert_eq!(r["stages"]["captive"]["runs"][0]["conditions"], 84);
     // an area 10 % too large makes every force 10 % larger: the hull derivatives take it
     // (a little more, as the rudder and propeller terms are held)
-    let o = run(&["--set", "captive.prime.area=\"3.542 m^2\""]);
-    assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
-    let r = common::json(&out.join("results.json"));
+    let (r, _) = run_ok(&config, &out, &["captive.prime.area=\"3.542 m^2\""]);
     let yv = common::named(&r["coefficients"], "Yv_p")["value"]
         .as_f64()
         .unwrap();
@@ -285,25 +300,13 @@ fn a_prime_system_table_of_model_tests_gives_the_same_derivatives() {
 fn captive_runs_and_turning_circles_identified_jointly() {
     let dir = tempfile::tempdir().unwrap();
     let config = common::root().join("configs/ship_joint.toml");
-    let mut sigmas = Vec::new();
-    for mode in ["consider", "joint"] {
-        let out = dir.path().join(mode);
-        let o = common::hydroid(&[
-            "run",
-            config.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-            "--set",
-            &format!("hekf.mode=\"{mode}\""),
-        ]);
-        assert_eq!(
-            o.status.code(),
-            Some(0),
-            "{mode}: {}",
-            common::text(&o.stderr)
-        );
-        sigmas.push(common::json(&out.join("results.json")));
-    }
+    let sigmas: Vec<serde_json::Value> = ["consider", "joint"]
+        .iter()
+        .map(|mode| {
+            let set = format!("hekf.mode=\"{mode}\"");
+            run_ok(&config, &dir.path().join(mode), &[&set]).0
+        })
+        .collect();
     let (consider, joint) = (&sigmas[0], &sigmas[1]);
     assert_eq!(joint["stages"]["hekf"]["settings"]["mode"], "joint");
     let captive_alone = &joint["stages"]["captive"]["coefficients"];
@@ -389,18 +392,7 @@ fn force_histories_averaged_after_their_transient_give_the_hull_derivatives() {
             + &runs;
         let config = dir.path().join("histories.toml");
         std::fs::write(&config, text).unwrap();
-        let out = dir.path().join(format!("out_{after}"));
-        let o = common::hydroid(&[
-            "run",
-            config.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ]);
-        assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
-        (
-            common::json(&out.join("results.json")),
-            common::text(&o.stderr),
-        )
+        run_ok(&config, &dir.path().join(format!("out_{after}")), &[])
     };
     let (r, _) = write("8 s");
     assert_eq!(
@@ -409,10 +401,7 @@ fn force_histories_averaged_after_their_transient_give_the_hull_derivatives() {
     );
     assert_eq!(r["stages"]["captive"]["runs"][0]["conditions"], 1);
     let mut inside = 0;
-    for name in HULL {
-        let c = common::named(&r["coefficients"], name);
-        let (v, s) = (c["value"].as_f64().unwrap(), c["sigma"].as_f64().unwrap());
-        let truth = KVLCC2.iter().find(|(n, _)| *n == name).unwrap().1;
+    for (name, v, s, truth) in against_truth(&r) {
         assert!(
             (v - truth).abs() <= 3.0 * s,
             "{name}: {v} ± {s}, truth {truth}"

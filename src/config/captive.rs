@@ -93,12 +93,7 @@ impl CaptiveConfig {
         if self.runs.is_empty() {
             p.add("captive.runs", "no table of captive conditions");
         }
-        let inputs = self.inputs();
-        for (key, r) in &inputs {
-            r.validate(key, p);
-            p.existing_file(&format!("{key}.file"), &r.file);
-        }
-        p.no_duplicate_files(&inputs);
+        p.inputs(&self.inputs());
     }
 
     /// The input files this section names.

@@ -285,12 +285,7 @@ impl HekfConfig {
         if self.runs.is_empty() {
             p.add("hekf.runs", "no run to identify from");
         }
-        let inputs = self.inputs();
-        for (key, r) in &inputs {
-            r.validate(key, p);
-            p.existing_file(&format!("{key}.file"), &r.file);
-        }
-        p.no_duplicate_files(&inputs);
+        p.inputs(&self.inputs());
     }
 
     /// The input files this section names.

@@ -282,12 +282,7 @@ impl PolarConfig {
         if self.runs.is_empty() {
             p.add("polar.runs", "no run to fit");
         }
-        let inputs = self.inputs();
-        for (key, r) in &inputs {
-            r.validate(key, p);
-            p.existing_file(&format!("{key}.file"), &r.file);
-        }
-        p.no_duplicate_files(&inputs);
+        p.inputs(&self.inputs());
         if let Some(a) = self.alpha_max_deg {
             if !(a.is_finite() && a > 0.0 && a <= 90.0) {
                 p.add(

@@ -225,6 +225,16 @@ impl Problems {
         }
     }
 
+    /// Checks a stage's input files (key path, input): each entry's keys, that its file
+    /// exists, and that no file is named twice.
+    pub fn inputs(&mut self, inputs: &[(String, &crate::config::InputSpec)]) {
+        for (key, r) in inputs {
+            r.validate(key, self);
+            self.existing_file(&format!("{key}.file"), &r.file);
+        }
+        self.no_duplicate_files(inputs);
+    }
+
     /// Reports an input file named twice among `inputs` (key path, input): the same export
     /// would count twice, or identify and validate at once.
     pub fn no_duplicate_files(&mut self, inputs: &[(String, &crate::config::InputSpec)]) {

@@ -86,12 +86,7 @@ impl SurgeConfig {
         if self.runs.is_empty() {
             p.add("surge.runs", "no run to fit");
         }
-        let inputs = self.inputs();
-        for (key, r) in &inputs {
-            r.validate(key, p);
-            p.existing_file(&format!("{key}.file"), &r.file);
-        }
-        p.no_duplicate_files(&inputs);
+        p.inputs(&self.inputs());
         if let Some(t) = self.t_start {
             p.finite("surge.t_start", t);
         }

@@ -652,16 +652,7 @@ impl ManoeuvreFile {
                     p.finite(&key, *v);
                 }
                 let rows = alpha_deg.len() as u64 * speeds.len() as u64;
-                if rows > limits::MAX_ROWS {
-                    p.add(
-                        "manoeuvre.alpha_deg",
-                        format!(
-                            "{rows} angles times speeds is more than the {} rows an export may have",
-                            limits::MAX_ROWS
-                        ),
-                    );
-                    ok = false;
-                }
+                ok &= rows_within_limit(p, "manoeuvre.alpha_deg", rows, "angles times speeds");
                 ok.then_some(Manoeuvre::PolarSweep {
                     alpha_deg,
                     speeds,
@@ -762,16 +753,7 @@ impl ManoeuvreFile {
         }
         let rows =
             (speeds.len() * drift_deg.len() * yaw_rate_prime.len() * rudder_deg.len()) as u64;
-        if rows > limits::MAX_ROWS {
-            p.add(
-                "manoeuvre.drift_deg",
-                format!(
-                    "{rows} conditions is more than the {} rows an export may have",
-                    limits::MAX_ROWS
-                ),
-            );
-            ok = false;
-        }
+        ok &= rows_within_limit(p, "manoeuvre.drift_deg", rows, "conditions");
         ok.then_some(Manoeuvre::Captive {
             speeds,
             drift_deg,
@@ -780,6 +762,21 @@ impl ManoeuvreFile {
             inputs,
         })
     }
+}
+
+/// True when `rows` (of `what`) fit in an export; else a problem at `key`.
+fn rows_within_limit(p: &mut Problems, key: &str, rows: u64, what: &str) -> bool {
+    if rows > limits::MAX_ROWS {
+        p.add(
+            key,
+            format!(
+                "{rows} {what} is more than the {} rows an export may have",
+                limits::MAX_ROWS
+            ),
+        );
+        return false;
+    }
+    true
 }
 
 /// The force components a model gives for a prescribed motion (none for most models).

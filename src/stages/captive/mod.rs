@@ -26,15 +26,14 @@ const STAGE: &str = "captive";
 pub fn needs(_cfg: &CaptiveConfig) -> Needs<'static> {
     static OPTIONAL: std::sync::OnceLock<Vec<Quantity>> = std::sync::OnceLock::new();
     let optional = OPTIONAL.get_or_init(|| {
+        // time, the motion, every force and moment, the prime-system columns and the inputs
+        let forces = Quantity::ALL
+            .iter()
+            .filter(|q| matches!(q.si_symbol(), "N" | "N m"));
         std::iter::once(&Quantity::Time)
             .chain(&Quantity::MOTION)
+            .chain(forces)
             .chain(&[
-                Quantity::Fx,
-                Quantity::Fy,
-                Quantity::Fz,
-                Quantity::Mx,
-                Quantity::My,
-                Quantity::Mz,
                 Quantity::Speed,
                 Quantity::Drift,
                 Quantity::RPrime,
