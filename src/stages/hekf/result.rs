@@ -235,12 +235,23 @@ pub fn build<M: Model>(
         .enumerate()
         .map(|(j, n)| {
             let sigma = total[j * nb + j].max(0.0).sqrt();
+            let num = crate::numfmt::num;
+            // joint: the filter's sigma holds the earlier stage's prior as well as the data
+            let from = if plan.held_prior.get(j).copied().unwrap_or(false) {
+                format!(
+                    "joint with the earlier stage's {} ± {} as prior: sigma {} from it and the data",
+                    num(plan.initial[j]),
+                    num(plan.prior_sigma[j]),
+                    num(last.sigmas[j])
+                )
+            } else {
+                format!("sigma {} from the data alone", num(last.sigmas[j]))
+            };
             Coefficient::new(n, last.values[j], Some(sigma), Source::Hekf).with_note(format!(
-                "{} model, {} pass{}; sigma {} from the data alone",
+                "{} model, {} pass{}; {from}",
                 model.name(),
                 setup.passes,
                 if setup.passes == 1 { "" } else { "es" },
-                crate::numfmt::num(last.sigmas[j])
             ))
         })
         .collect();
