@@ -101,6 +101,9 @@ pub struct ModelEntry {
     /// Optional vehicle data the model cannot do without (`ixx`), besides mass, length,
     /// inertia and reference area.
     pub vehicle_needs: Vec<String>,
+    /// The forces a captive run measures on it (`[captive]`); empty when the model gives no
+    /// forces for a prescribed motion.
+    pub captive_forces: Vec<&'static str>,
 }
 
 /// The model `name` names (`spheroid3`), or a message listing the models.
@@ -154,6 +157,7 @@ pub fn model(name: ModelName) -> ModelEntry {
                     .collect(),
                 estimated: m.example().estimated,
                 vehicle_needs: Vec::new(),
+                captive_forces: m.force_quantities().iter().map(|q| q.key()).collect(),
             }
         }
     }
@@ -324,7 +328,7 @@ pub fn model_text(m: &ModelEntry) -> String {
     let derived: Vec<&str> = m.coefficients.iter().filter_map(|c| c.derived_by).collect();
     format!(
         "{}: {}\nstates: {}\ninputs: {}\ncoefficients that can be estimated or given: {}\n\
-         derived inside the model: {}\n",
+         derived inside the model: {}\ncaptive runs ([captive]): {}\n",
         m.name,
         m.description,
         vars(&m.states),
@@ -334,6 +338,11 @@ pub fn model_text(m: &ModelEntry) -> String {
             "none".to_string()
         } else {
             derived.join("; ")
+        },
+        if m.captive_forces.is_empty() {
+            "no: the model gives no forces for a prescribed motion".to_string()
+        } else {
+            format!("forces {}", m.captive_forces.join(", "))
         }
     )
 }
