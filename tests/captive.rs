@@ -420,3 +420,42 @@ fn force_histories_averaged_after_their_transient_give_the_hull_derivatives() {
         .iter()
         .any(|w| w["stage"] == "captive"));
 }
+
+/// A harmonic (PMM pure sway) force history given to the averaging is refused with what is
+/// wrong, not averaged into a wrong steady force.
+#[test]
+fn an_oscillating_run_is_not_averaged_as_a_steady_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut file = String::from("time,v,Fx,Fy,Mz\n");
+    for step in 0..400 {
+        let t = f64::from(step) * 0.05;
+        let w = std::f64::consts::TAU / 5.0;
+        let v = 0.1 * (w * t).sin();
+        let fy = -300.0 * v - 40.0 * 0.1 * w * (w * t).cos();
+        file.push_str(&format!("{t:.2},{v:.6},-5,{fy:.6},{:.6}\n", -900.0 * v));
+    }
+    std::fs::write(dir.path().join("pmm.csv"), file).unwrap();
+    let ship = std::fs::read_to_string(common::root().join("configs/ship_captive.toml")).unwrap();
+    let head = &ship[..ship.find("[[captive.runs]]").unwrap()];
+    let text = head.replace("[captive]\n", "[captive]\naverage_after = \"5 s\"\n")
+        + "\n[[captive.runs]]\nname = \"pure sway\"\nfile = \"pmm.csv\"\n\
+           constants = { u = 1.179, r = 0, rudder = 0, rpm = \"710.8 rpm\" }\n\
+           [captive.runs.columns]\ntime = { column = \"time\", unit = \"s\" }\n\
+           v = { column = \"v\", unit = \"m/s\" }\nfx = { column = \"Fx\", unit = \"N\" }\n\
+           fy = { column = \"Fy\", unit = \"N\" }\nmz = { column = \"Mz\", unit = \"N m\" }\n";
+    let config = dir.path().join("pmm.toml");
+    std::fs::write(&config, text).unwrap();
+    let out = dir.path().join("out");
+    let o = common::hydroid(&[
+        "run",
+        config.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!o.status.success());
+    let e = common::text(&o.stderr);
+    for part in ["run 'pure sway'", "not steady", "v varies", "PMM"] {
+        assert!(e.contains(part), "missing {part}: {e}");
+    }
+    assert!(!out.exists());
+}

@@ -117,6 +117,7 @@ pub fn run(
             known,
             runs,
             rho: fluid.rho,
+            length: vehicle.length,
         },
     )
     .map_err(Error::vehicle)?
@@ -127,6 +128,8 @@ struct Fit<'a> {
     known: &'a CoefficientSet,
     runs: &'a [Record],
     rho: f64,
+    /// The vehicle's length, m (the scale of a rate's steadiness).
+    length: f64,
 }
 
 /// What turns a table's columns into SI: the prime system and the water density.
@@ -172,7 +175,12 @@ impl ModelVisitor for Fit<'_> {
         for rec in self.runs {
             let mut c = conditions_of(model, rec, &frame)?;
             if let Some(after) = cfg.average_after {
-                let (one, w) = averaged(rec, c, after, forces)?;
+                let held = Held {
+                    forces,
+                    velocities: velocity_kinds(model),
+                    length: self.length,
+                };
+                let (one, w) = averaged(rec, c, after, &held)?;
                 warnings.extend(w);
                 c = vec![one];
             }
@@ -424,12 +432,42 @@ const MIN_AVERAGED: usize = 10;
 /// averaged into one condition, each force's uncertainty the standard error of its mean
 /// ([`crate::signal::mean_and_standard_error`]); a warning when a force still drifts there
 /// (the means of the two halves differ by more than three combined standard errors).
+/// What [`averaged`] knows of the model: its force components, which states are linear
+/// velocities (`Some(false)`) or rates (`Some(true)`), and the vehicle's length.
+struct Held<'a> {
+    forces: &'a [Quantity],
+    velocities: Vec<(&'static str, Option<bool>)>,
+    length: f64,
+}
+
+/// For each state of the model, its name and Some(false) for a linear velocity, Some(true)
+/// for an angular rate, None for a position or angle.
+fn velocity_kinds<M: Model>(model: &M) -> Vec<(&'static str, Option<bool>)> {
+    model
+        .states()
+        .iter()
+        .map(|s| {
+            let kind = match s.quantity {
+                Quantity::U | Quantity::V | Quantity::W => Some(false),
+                Quantity::P | Quantity::Q | Quantity::R => Some(true),
+                _ => None,
+            };
+            (s.name, kind)
+        })
+        .collect()
+}
+
+/// Largest share of the speed (of U / L for a rate) by which a held motion may vary over the
+/// averaged part of a force history.
+const STEADY_MOTION: f64 = 0.02;
+
 fn averaged(
     rec: &Record,
     rows: Vec<Condition>,
     after: f64,
-    forces: &[Quantity],
+    held: &Held,
 ) -> Result<(Condition, Option<Warning>)> {
+    let forces = held.forces;
     let fail = |m: String| Error::numerical(STAGE, format!("run '{}': {m}", rec.name));
     let times = rec
         .time()
@@ -450,9 +488,38 @@ fn averaged(
         )));
     }
     let mean = |v: Vec<f64>| v.iter().sum::<f64>() / v.len() as f64;
-    let x = (0..kept[0].x.len())
+    let x: Vec<f64> = (0..kept[0].x.len())
         .map(|i| mean(kept.iter().map(|c| c.x[i]).collect()))
         .collect();
+    // the held motion must be steady: a harmonic (PMM) run averaged would lose its forces
+    let speed = x
+        .iter()
+        .zip(&held.velocities)
+        .filter(|(_, (_, k))| *k == Some(false))
+        .map(|(v, _)| v * v)
+        .sum::<f64>()
+        .sqrt();
+    for (i, (name, kind)) in held.velocities.iter().enumerate() {
+        let Some(rate) = kind else { continue };
+        let scale = if *rate { speed / held.length } else { speed };
+        let (lo, hi) = kept
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), c| {
+                (a.min(c.x[i]), b.max(c.x[i]))
+            });
+        if hi - lo > 2.0 * STEADY_MOTION * scale {
+            return Err(fail(format!(
+                "the held motion is not steady from t = {} s on: {name} varies from {} to {} \
+                 (more than {} % of {}); an oscillating (PMM) run cannot be averaged, and \
+                 harmonic captive runs are not supported yet",
+                crate::numfmt::num(after),
+                crate::numfmt::num(lo),
+                crate::numfmt::num(hi),
+                100.0 * STEADY_MOTION,
+                if *rate { "U / L" } else { "the speed" }
+            )));
+        }
+    }
     let u = (0..kept[0].u.len())
         .map(|i| mean(kept.iter().map(|c| c.u[i]).collect()))
         .collect();
@@ -557,6 +624,7 @@ mod tests {
             known: &known,
             runs: &[],
             rho: 1000.0,
+            length: 1.2,
         }
         .visit(&model)
         .unwrap_err()
