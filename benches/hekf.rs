@@ -10,9 +10,8 @@ use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use hydroid::estimation::System;
 use hydroid::models::spheroid3::BOUNDED_TRUTH;
 use hydroid::models::{Model, Spheroid3};
-use hydroid::progress::Silent;
 use hydroid::sim::{simulate, InputSeries};
-use hydroid::stages::hekf::identify::{identify, RunData, Setup};
+use hydroid::stages::hekf::identify::{RunData, Setup};
 use hydroid::stages::hekf::system::ModelSystem;
 use rand::{rngs::StdRng, SeedableRng};
 use rand_distr::{Distribution, Normal};
@@ -65,32 +64,24 @@ fn bench(c: &mut Criterion) {
     let (base, est, scale) = (setup.base.clone(), setup.est.clone(), setup.scale.clone());
     let mut g = c.benchmark_group("hekf");
     g.throughput(Throughput::Elements(run.times.len() as u64));
-    g.bench_function("filter pass, 2000 samples, 12 states", |b| {
-        b.iter(|| {
-            identify(
-                black_box(&m),
-                &setup,
-                std::slice::from_ref(&run),
-                &mut Silent,
-            )
-            .unwrap()
-        })
-    });
+    common::pass(
+        &mut g,
+        "filter pass, 2000 samples, 12 states",
+        &m,
+        &setup,
+        &run,
+    );
     let smoothed = Setup {
         smoother: true,
         ..setup.clone()
     };
-    g.bench_function("filter pass and smoother, 2000 samples, 12 states", |b| {
-        b.iter(|| {
-            identify(
-                black_box(&m),
-                &smoothed,
-                std::slice::from_ref(&run),
-                &mut Silent,
-            )
-            .unwrap()
-        })
-    });
+    common::pass(
+        &mut g,
+        "filter pass and smoother, 2000 samples, 12 states",
+        &m,
+        &smoothed,
+        &run,
+    );
     g.finish();
     let inputs = InputSeries::constant(&[22.0]);
     let measured: Vec<usize> = (0..6).collect();

@@ -11,12 +11,10 @@ mod common;
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use hydroid::models::npsauv::{PAPER_17, PUBLISHED};
 use hydroid::models::{Model, NpsAuv};
-use hydroid::progress::Silent;
 use hydroid::sim::{simulate, InputSeries};
-use hydroid::stages::hekf::identify::{identify, RunData};
+use hydroid::stages::hekf::identify::RunData;
 use rand::{rngs::StdRng, SeedableRng};
 use rand_distr::{Distribution, Normal};
-use std::hint::black_box;
 
 const SAMPLES: usize = 10_000;
 const DT: f64 = 0.01;
@@ -70,19 +68,12 @@ fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("npsauv");
     g.sample_size(10);
     g.throughput(Throughput::Elements(SAMPLES as u64));
-    g.bench_function(
+    common::pass(
+        &mut g,
         "npsauv filter pass, 10000 samples, 17 estimated (29 states)",
-        |b| {
-            b.iter(|| {
-                identify(
-                    black_box(&m),
-                    &setup,
-                    std::slice::from_ref(&run),
-                    &mut Silent,
-                )
-                .unwrap()
-            })
-        },
+        &m,
+        &setup,
+        &run,
     );
     g.finish();
 }

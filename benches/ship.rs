@@ -9,12 +9,10 @@ mod common;
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use hydroid::models::mmg3::{KVLCC2, KVLCC2_RPS, KVLCC2_SPEED};
 use hydroid::models::{Mmg3, Model};
-use hydroid::progress::Silent;
 use hydroid::sim::{simulate, InputSeries};
-use hydroid::stages::hekf::identify::{identify, RunData};
+use hydroid::stages::hekf::identify::RunData;
 use rand::{rngs::StdRng, SeedableRng};
 use rand_distr::{Distribution, Normal};
-use std::hint::black_box;
 
 const ESTIMATED: [&str; 12] = [
     "Yv_p", "Yr_p", "Yvvv_p", "Yvvr_p", "Yvrr_p", "Yrrr_p", "Nv_p", "Nr_p", "Nvvv_p", "Nvvr_p",
@@ -65,19 +63,12 @@ fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("ship");
     g.sample_size(10);
     g.throughput(Throughput::Elements(SAMPLES as u64));
-    g.bench_function(
+    common::pass(
+        &mut g,
         "mmg3 filter pass, 10000 samples, 12 estimated (18 states)",
-        |b| {
-            b.iter(|| {
-                identify(
-                    black_box(&m),
-                    &setup,
-                    std::slice::from_ref(&run),
-                    &mut Silent,
-                )
-                .unwrap()
-            })
-        },
+        &m,
+        &setup,
+        &run,
     );
     g.finish();
 }

@@ -1,8 +1,12 @@
 //! What the filter benchmarks share: the setup of one pass that estimates a model's
-//! coefficients from zero, every other coefficient at its true value.
+//! coefficients from zero, every other coefficient at its true value, and its measurement.
 
+use criterion::measurement::WallTime;
+use criterion::BenchmarkGroup;
 use hydroid::models::Model;
-use hydroid::stages::hekf::identify::Setup;
+use hydroid::progress::Silent;
+use hydroid::stages::hekf::identify::{identify, RunData, Setup};
+use std::hint::black_box;
 
 /// One filter pass estimating `estimated` from zero (prior sigma: the typical magnitude),
 /// the rest of `truth` known, a small process noise on the motion states, no smoother, no
@@ -37,4 +41,17 @@ pub fn one_pass<M: Model>(m: &M, truth: &[f64], estimated: &[&str], max_step: f6
         repeat_prior_factor: Some(100.0),
         filter: Default::default(),
     }
+}
+
+/// Measures `identify` of `m` with `setup` over the one run `run` as `label` in group `g`.
+pub fn pass<M: Model>(
+    g: &mut BenchmarkGroup<WallTime>,
+    label: &str,
+    m: &M,
+    setup: &Setup,
+    run: &RunData,
+) {
+    g.bench_function(label, |b| {
+        b.iter(|| identify(black_box(m), setup, std::slice::from_ref(run), &mut Silent).unwrap())
+    });
 }
