@@ -29,6 +29,24 @@ impl CoefDef {
         }
     }
 
+    /// A coefficient of a fixed typical size `size` in its unit, made non-dimensional on
+    /// `reference` (`0.5 rho L^5`) when it has one.
+    pub const fn fixed(
+        name: &'static str,
+        unit: &'static str,
+        meaning: &'static str,
+        size: f64,
+        reference: Option<&'static str>,
+    ) -> Self {
+        CoefDef {
+            name,
+            unit,
+            meaning,
+            size: Size::Fixed(size),
+            reference,
+        }
+    }
+
     /// A dimensional added-mass coefficient whose size is the vehicle's added mass `of`.
     pub const fn added(
         name: &'static str,

@@ -12,7 +12,7 @@
 //! Equation numbers are Yasukawa & Yoshimura (2015); "Y&Y" below.
 
 use super::{
-    positive_inertia, CoefDef, Example, InputDef, InputRule, Model, Scales, Size, StateDef,
+    positive_inertia, CoefDef, Example, InputDef, InputRule, Model, Scales, StateDef,
     Vehicle, VehicleProblem,
 };
 use crate::ad::Scalar;
@@ -32,24 +32,12 @@ const fn nd(
     size: f64,
     reference: &'static str,
 ) -> CoefDef {
-    CoefDef {
-        name,
-        unit: "-",
-        meaning,
-        size: Size::Fixed(size),
-        reference: Some(reference),
-    }
+    CoefDef::fixed(name, "-", meaning, size, Some(reference))
 }
 
 /// A pure-number factor (no reference quantity) of typical size `size`.
 const fn factor(name: &'static str, meaning: &'static str, size: f64) -> CoefDef {
-    CoefDef {
-        name,
-        unit: "-",
-        meaning,
-        size: Size::Fixed(size),
-        reference: None,
-    }
+    CoefDef::fixed(name, "-", meaning, size, None)
 }
 
 crate::coefficient_table! {

@@ -28,13 +28,7 @@ use crate::coefficients::{CompiledRelations, Relation};
 use crate::quantity::Quantity;
 
 const fn c(name: &'static str, unit: &'static str, meaning: &'static str, size: f64) -> CoefDef {
-    CoefDef {
-        name,
-        unit,
-        meaning,
-        size: Size::Fixed(size),
-        reference: None,
-    }
+    CoefDef::fixed(name, unit, meaning, size, None)
 }
 
 crate::coefficient_table! {

@@ -16,7 +16,7 @@
 //! paper's Table 3 in each unit gives.
 
 use super::{
-    CoefDef, Example, InputDef, InputRule, Model, Size, StateDef, Vehicle, VehicleProblem,
+    CoefDef, Example, InputDef, InputRule, Model, StateDef, Vehicle, VehicleProblem,
 };
 use crate::ad::Scalar;
 use crate::coefficients::{CompiledRelations, Relation};
@@ -25,13 +25,7 @@ use crate::quantity::Quantity;
 /// A parameter of the paper's model with its unit and typical size (in units of the speed
 /// scale U and length L of the vehicle, see [`ShipLinear::typical_magnitude`]).
 const fn p(name: &'static str, unit: &'static str, meaning: &'static str) -> CoefDef {
-    CoefDef {
-        name,
-        unit,
-        meaning,
-        size: Size::Fixed(1.0),
-        reference: None,
-    }
+    CoefDef::fixed(name, unit, meaning, 1.0, None)
 }
 
 crate::coefficient_table! {

@@ -2,7 +2,7 @@
 //! names and order of ../shared/data/npsauv_coefficients.csv, with the renames the model's
 //! documentation gives) and the published values.
 
-use super::{CoefDef, Size};
+use super::CoefDef;
 
 /// Reference of the force coefficients of terms in (speed)^2: 0.5 rho L^2.
 const R2: &str = "0.5 rho L^2";
@@ -16,13 +16,7 @@ const R5: &str = "0.5 rho L^5";
 /// A non-dimensional Healey & Lienard coefficient; `size` is its published value (its
 /// typical magnitude), 1e-2 where the published value is 0.
 const fn hl(name: &'static str, meaning: &'static str, size: f64, reference: &'static str) -> CoefDef {
-    CoefDef {
-        name,
-        unit: "-",
-        meaning,
-        size: Size::Fixed(size),
-        reference: Some(reference),
-    }
+    CoefDef::fixed(name, "-", meaning, size, Some(reference))
 }
 
 crate::coefficient_table! {
