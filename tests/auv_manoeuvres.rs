@@ -218,17 +218,29 @@ fn reverses_at_the_change(cols: &Columns, z: &ZigZag, watched: Quantity, change:
     }
 }
 
-/// The vertical 10/10 zig-zag (configs/simulate/npsauv_zigzag_vertical.toml, 1500 rpm): the
-/// stern planes reverse at +-10 deg of pitch change, within one sample, and the pitch
-/// oscillates with plausible overshoots and period; the horizontal plane stays still.
-#[test]
-fn the_vertical_zigzag_oscillates_in_pitch() {
-    let cols = clean_run(&bundled_text("npsauv_zigzag_vertical"));
-    let ten = 10f64.to_radians();
-    let z = zigzag(&cols, Quantity::SternPlanes, Quantity::Pitch, 5.0, ten);
+/// One bundled zig-zag export: `surface` reverses at +-`change_deg` of `watched` within one
+/// sample from 5 s on; every overshoot but the last (which the end of the run may cut) and
+/// the period lie in the given ranges (deg, s); the other plane's angle `other` stays below
+/// `other_max_deg`.
+struct ZigZagCase {
+    export: &'static str,
+    surface: Quantity,
+    watched: Quantity,
+    change_deg: f64,
+    overshoots: std::ops::Range<f64>,
+    period: std::ops::Range<f64>,
+    other: Quantity,
+    other_max_deg: f64,
+}
+
+fn check_zigzag(case: ZigZagCase) {
+    let cols = clean_run(&bundled_text(case.export));
+    let change = case.change_deg.to_radians();
+    let z = zigzag(&cols, case.surface, case.watched, 5.0, change);
     let t = &cols[&Quantity::Time];
     println!(
-        "vertical 10/10: reversals at {:?} s, overshoots {:?} deg, period {:.2} s",
+        "{}: reversals at {:?} s, overshoots {:?} deg, period {:.2} s",
+        case.export,
         z.reversals.iter().map(|k| t[*k]).collect::<Vec<_>>(),
         z.overshoots
             .iter()
@@ -236,50 +248,57 @@ fn the_vertical_zigzag_oscillates_in_pitch() {
             .collect::<Vec<_>>(),
         z.period
     );
-    reverses_at_the_change(&cols, &z, Quantity::Pitch, ten);
-    // overshoots: positive (the pitch goes on after the reversal) and a fraction of the
-    // reversing change for a vehicle this stable in pitch (BG = 0.061 m); measured 1.9 to
-    // 2.2 deg, period 24.0 s (the last reversal's overshoot may be cut by the end of the run)
+    reverses_at_the_change(&cols, &z, case.watched, change);
     for o in &z.overshoots[..z.overshoots.len() - 1] {
-        assert!((0.5..5.0).contains(o), "{o} deg");
+        assert!(case.overshoots.contains(o), "{o} deg");
     }
-    assert!((10.0..40.0).contains(&z.period), "{} s", z.period);
-    // the horizontal plane is hardly touched (only through the products of inertia)
-    let yaw = cols[&Quantity::Yaw]
-        .iter()
-        .fold(0.0f64, |m, x| m.max(x.abs()));
-    assert!(yaw < 1f64.to_radians(), "{}", yaw.to_degrees());
+    assert!(case.period.contains(&z.period), "{} s", z.period);
+    let other = cols[&case.other].iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    assert!(
+        other < case.other_max_deg.to_radians(),
+        "{}",
+        other.to_degrees()
+    );
+}
+
+/// The vertical 10/10 zig-zag (configs/simulate/npsauv_zigzag_vertical.toml, 1500 rpm): the
+/// stern planes reverse at +-10 deg of pitch change, within one sample, and the pitch
+/// oscillates with plausible overshoots and period; the horizontal plane stays still.
+#[test]
+fn the_vertical_zigzag_oscillates_in_pitch() {
+    check_zigzag(ZigZagCase {
+        export: "npsauv_zigzag_vertical",
+        surface: Quantity::SternPlanes,
+        watched: Quantity::Pitch,
+        change_deg: 10.0,
+        // positive (the pitch goes on after the reversal) and a fraction of the reversing
+        // change for a vehicle this stable in pitch (BG = 0.061 m); measured 1.9 to 2.2 deg,
+        // period 24.0 s
+        overshoots: 0.5..5.0,
+        period: 10.0..40.0,
+        // the horizontal plane is hardly touched (only through the products of inertia)
+        other: Quantity::Yaw,
+        other_max_deg: 1.0,
+    });
 }
 
 /// The horizontal 20/20 zig-zag (configs/simulate/npsauv_zigzag_horizontal.toml): the rudder
 /// reverses at +-20 deg of heading change within one sample; overshoots and period plausible.
 #[test]
 fn the_horizontal_zigzag_oscillates_in_heading() {
-    let cols = clean_run(&bundled_text("npsauv_zigzag_horizontal"));
-    let twenty = 20f64.to_radians();
-    let z = zigzag(&cols, Quantity::Rudder, Quantity::Yaw, 5.0, twenty);
-    let t = &cols[&Quantity::Time];
-    println!(
-        "horizontal 20/20: reversals at {:?} s, overshoots {:?} deg, period {:.2} s",
-        z.reversals.iter().map(|k| t[*k]).collect::<Vec<_>>(),
-        z.overshoots
-            .iter()
-            .map(|o| (o * 100.0).round() / 100.0)
-            .collect::<Vec<_>>(),
-        z.period
-    );
-    reverses_at_the_change(&cols, &z, Quantity::Yaw, twenty);
-    // measured 13.5 to 14.9 deg, period 32.9 s: a large overshoot, as for a slender body
-    // with a small rudder at 1.9 m/s
-    for o in &z.overshoots[..z.overshoots.len() - 1] {
-        assert!((5.0..20.0).contains(o), "{o} deg");
-    }
-    assert!((20.0..60.0).contains(&z.period), "{} s", z.period);
-    // the vertical plane is only touched through the heel and the products of inertia
-    let pitch = cols[&Quantity::Pitch]
-        .iter()
-        .fold(0.0f64, |m, x| m.max(x.abs()));
-    assert!(pitch < 5f64.to_radians(), "{}", pitch.to_degrees());
+    check_zigzag(ZigZagCase {
+        export: "npsauv_zigzag_horizontal",
+        surface: Quantity::Rudder,
+        watched: Quantity::Yaw,
+        change_deg: 20.0,
+        // measured 13.5 to 14.9 deg, period 32.9 s: a large overshoot, as for a slender body
+        // with a small rudder at 1.9 m/s
+        overshoots: 5.0..20.0,
+        period: 20.0..60.0,
+        // the vertical plane is only touched through the heel and the products of inertia
+        other: Quantity::Pitch,
+        other_max_deg: 5.0,
+    });
 }
 
 /// The helm on the stern planes needs the model to have them: a model without stern planes
