@@ -270,7 +270,6 @@ fn the_vehicle_file_holds_the_published_set() {
 fn the_papers_helix_identifies_its_17_coefficients() {
     use hydroid::coefficients::{Coefficient, CoefficientSet, Source};
     use hydroid::config::{FluidConfig, VehicleConfig};
-    use hydroid::formats::Format;
     use hydroid::models::npsauv::PAPER_17;
     use hydroid::quantity::Quantity;
     use hydroid::record::Record;
@@ -316,18 +315,11 @@ fn the_papers_helix_identifies_its_17_coefficients() {
     }
     channels.insert(Quantity::Time, times);
     let record = Record {
-        name: "helix".into(),
-        source: "synthetic".into(),
-        format: Format::Delimited,
         units: channels
             .keys()
             .map(|q| (*q, q.si_symbol().to_string()))
             .collect(),
-        channels,
-        constants: BTreeMap::new(),
-        lines: (1..=n).collect(),
-        meta: Vec::new(),
-        warnings: Vec::new(),
+        ..Record::from_channels("helix", "synthetic", channels)
     };
     let v = nps_auv_vehicle();
     let vehicle = VehicleConfig {

@@ -5,7 +5,6 @@
 
 use hydroid::coefficients::CoefficientSet;
 use hydroid::config::{FluidConfig, VehicleConfig};
-use hydroid::formats::Format;
 use hydroid::models::ship_linear::{ShipLinear, EXAMPLE};
 use hydroid::models::Model;
 use hydroid::quantity::Quantity;
@@ -113,18 +112,15 @@ fn turn(m: &ShipLinear, truth: &[f64], t: &Turn) -> Record {
     channels.insert(Quantity::Rudder, rudder);
     channels.insert(Quantity::Rpm, rate);
     Record {
-        name: format!("{:+} deg turn", t.rudder_deg),
-        source: "synthetic".into(),
-        format: Format::Delimited,
         units: channels
             .keys()
             .map(|q| (*q, q.si_symbol().to_string()))
             .collect(),
-        channels,
-        constants: BTreeMap::new(),
-        lines: (1..=n).collect(),
-        meta: Vec::new(),
-        warnings: Vec::new(),
+        ..Record::from_channels(
+            &format!("{:+} deg turn", t.rudder_deg),
+            "synthetic",
+            channels,
+        )
     }
 }
 
