@@ -110,11 +110,15 @@ fn text_header(r: &RunResult) -> Vec<String> {
     };
     h.push(first.to_string());
     h.push(format!("vs {first}"));
-    for o in &r.other_references {
-        h.push(o.name.clone());
-        h.push(format!("vs {}", o.name));
-    }
+    h.extend(further_reference_columns(r));
     h
+}
+
+/// The header cells of the further reference sets: each set's name and its error column.
+fn further_reference_columns(r: &RunResult) -> impl Iterator<Item = String> + '_ {
+    r.other_references
+        .iter()
+        .flat_map(|o| [o.name.clone(), format!("vs {}", o.name)])
 }
 
 /// Writes the comparison table as aligned text, flags below it.
@@ -168,10 +172,7 @@ pub fn comparison_header(r: &RunResult) -> Vec<String> {
     ]
     .map(String::from)
     .to_vec();
-    for o in &r.other_references {
-        h.push(o.name.clone());
-        h.push(format!("vs {}", o.name));
-    }
+    h.extend(further_reference_columns(r));
     h.push("flags".into());
     h
 }

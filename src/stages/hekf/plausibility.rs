@@ -262,10 +262,10 @@ fn heading_rate(rec: &Record) -> Option<Finding> {
         }
     };
     type Pairs = Vec<(f64, f64)>;
-    let fit = |len: usize| {
-        let (measured, predicted): (Pairs, Pairs) = windows(times, len)
-            .into_iter()
-            .map(|w| {
+    let fit = |wins: &[(usize, usize)]| {
+        let (measured, predicted): (Pairs, Pairs) = wins
+            .iter()
+            .map(|&w| {
                 let (m, p) = increment(times, w, psi, euler);
                 ((m, 0.0), (p, 0.0))
             })
@@ -276,30 +276,29 @@ fn heading_rate(rec: &Record) -> Option<Finding> {
     // windows grow (doubling) until the relation holds or too few windows are left, and
     // the longest (least noisy) fit is reported.
     let mut len = WINDOW;
-    let mut last = (fit(len)?, len);
+    let mut wins = windows(times, len);
+    let mut last = fit(&wins)?;
     loop {
-        let (((g, _), rel), _) = last;
+        let ((g, _), rel) = last;
         if (g - 1.0).abs() < GAIN_TOLERANCE && rel < GOOD_FIT {
             return None;
         }
         len *= 2;
-        if windows(times, len).len() < MIN_WINDOWS {
+        let longer = windows(times, len);
+        if longer.len() < MIN_WINDOWS {
             break;
         }
-        match fit(len) {
-            Some(f) => last = (f, len),
+        match fit(&longer) {
+            Some(f) => (last, wins) = (f, longer),
             None => break,
         }
     }
-    let (((g, _), rel), len) = last;
+    let ((g, _), rel) = last;
     // A heading that moves no more than its noise over the longest windows (a vertical
     // manoeuvre) says nothing about the yaw rate: no finding. An increment of two noisy
     // samples has sigma sqrt(2) s; 4 s is beyond it for nine windows in ten.
     let noise = crate::signal::noise_sigma(psi).unwrap_or(0.0);
-    let mut moves: Vec<f64> = windows(times, len)
-        .into_iter()
-        .map(|(a, b)| (psi[b] - psi[a]).abs())
-        .collect();
+    let mut moves: Vec<f64> = wins.iter().map(|&(a, b)| (psi[b] - psi[a]).abs()).collect();
     if median(&mut moves).is_none_or(|m| m < 4.0 * noise) {
         return None;
     }
