@@ -14,6 +14,29 @@ pub struct Correlation {
 }
 
 impl Correlation {
+    /// The correlations of `names` from their covariance `cov(a, b)`: cov_ab / (sigma_a
+    /// sigma_b), within [-1, 1]; 1 on the diagonal and 0 off it for a coefficient without
+    /// variance.
+    pub fn from_covariance(names: Vec<String>, cov: impl Fn(usize, usize) -> f64) -> Self {
+        let n = names.len();
+        let sigma: Vec<f64> = (0..n).map(|a| cov(a, a).max(0.0).sqrt()).collect();
+        let matrix = (0..n)
+            .map(|a| {
+                (0..n)
+                    .map(|b| {
+                        let d = sigma[a] * sigma[b];
+                        if d > 0.0 {
+                            (cov(a, b) / d).clamp(-1.0, 1.0)
+                        } else {
+                            f64::from(u8::from(a == b))
+                        }
+                    })
+                    .collect()
+            })
+            .collect();
+        Correlation { names, matrix }
+    }
+
     /// Correlation between two named coefficients, if both are in the matrix.
     pub fn get(&self, a: &str, b: &str) -> Option<f64> {
         let i = self.names.iter().position(|n| n == a)?;

@@ -212,31 +212,14 @@ impl ModelVisitor for Fit<'_> {
                 c
             })
             .collect();
-        let matrix = (0..p)
-            .map(|a| {
-                (0..p)
-                    .map(|b| {
-                        let d = sigma(a) * sigma(b);
-                        if d > 0.0 {
-                            (f.covariance[a][b] / d).clamp(-1.0, 1.0)
-                        } else if a == b {
-                            1.0
-                        } else {
-                            0.0
-                        }
-                    })
-                    .collect()
-            })
-            .collect();
         let runs = residual_summaries(model, &base, &est, &f.values, &conditions, &sizes);
         Ok(CaptiveResult {
             model: model.name().to_string(),
             forces: forces.iter().map(|q| q.key().to_string()).collect(),
             coefficients,
-            correlation: Correlation {
-                names: cfg.estimate.clone(),
-                matrix,
-            },
+            correlation: Correlation::from_covariance(cfg.estimate.clone(), |a, b| {
+                f.covariance[a][b]
+            }),
             noise: f.noise.clone(),
             iterations: f.iterations,
             runs,

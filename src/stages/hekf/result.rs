@@ -273,19 +273,8 @@ pub fn build<M: Model>(
             "the sigmas leave that uncertainty out and are too small",
         ));
     }
-    let mut matrix = vec![vec![0.0; nb]; nb];
-    for a in 0..nb {
-        for b in 0..nb {
-            let d = (id.covariance[a * nb + a] * id.covariance[b * nb + b]).sqrt();
-            matrix[a][b] = if d > 0.0 {
-                (id.covariance[a * nb + b] / d).clamp(-1.0, 1.0)
-            } else if a == b {
-                1.0
-            } else {
-                0.0
-            };
-        }
-    }
+    let correlation =
+        Correlation::from_covariance(plan.est_names.clone(), |a, b| id.covariance[a * nb + b]);
     let mut passes = id.traces;
     let last_traces = passes.pop().unwrap_or_default();
     let mut traces = Vec::new();
@@ -320,10 +309,7 @@ pub fn build<M: Model>(
         preset: cfg.preset.to_string(),
         estimated: plan.est_names.clone(),
         coefficients,
-        correlation: Correlation {
-            names: plan.est_names.clone(),
-            matrix,
-        },
+        correlation,
         passes: id_passes,
         fixed: plan.fixed.clone(),
         tuning: tuning_notes(plan, setup, cfg),
