@@ -23,17 +23,7 @@ fn run_ok(
     out: &std::path::Path,
     set: &[&str],
 ) -> (serde_json::Value, String) {
-    let mut args = vec![
-        "run".to_string(),
-        config.to_str().unwrap().to_string(),
-        "--out".into(),
-        out.to_str().unwrap().to_string(),
-    ];
-    for s in set {
-        args.extend(["--set".to_string(), s.to_string()]);
-    }
-    let args: Vec<&str> = args.iter().map(String::as_str).collect();
-    let o = common::hydroid(&args);
+    let o = common::run_config(config, out, set);
     assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
     (
         common::json(&out.join("results.json")),
@@ -224,14 +214,11 @@ fn the_bundled_ship_captive_programme_gives_the_hull_derivatives() {
 fn a_force_column_of_the_wrong_dimension_is_named() {
     let dir = tempfile::tempdir().unwrap();
     let config = common::root().join("configs/ship_captive.toml");
-    let o = common::hydroid(&[
-        "run",
-        config.to_str().unwrap(),
-        "--out",
-        dir.path().join("out").to_str().unwrap(),
-        "--set",
-        "captive.runs[0].columns.mz=\"Fy\"",
-    ]);
+    let o = common::run_config(
+        &config,
+        &dir.path().join("out"),
+        &["captive.runs[0].columns.mz=\"Fy\""],
+    );
     assert!(!o.status.success());
     let e = common::text(&o.stderr);
     for part in ["kvlcc2_captive.csv", "column 7 'Fy'", "does not fit mz"] {
@@ -279,12 +266,7 @@ fn a_prime_system_table_of_model_tests_gives_the_same_derivatives() {
         dir.path().join("kvlcc2_prime_table.csv"),
     )
     .unwrap();
-    let o = common::hydroid(&[
-        "run",
-        bare.to_str().unwrap(),
-        "--out",
-        dir.path().join("bare_out").to_str().unwrap(),
-    ]);
+    let o = common::run_config(&bare, &dir.path().join("bare_out"), &[]);
     assert!(!o.status.success());
     let e = common::text(&o.stderr);
     assert!(e.contains("captive.prime"), "{e}");
@@ -446,12 +428,7 @@ fn an_oscillating_run_is_not_averaged_as_a_steady_one() {
     let config = dir.path().join("pmm.toml");
     std::fs::write(&config, text).unwrap();
     let out = dir.path().join("out");
-    let o = common::hydroid(&[
-        "run",
-        config.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = common::run_config(&config, &out, &[]);
     assert!(!o.status.success());
     let e = common::text(&o.stderr);
     for part in ["run 'pure sway'", "not steady", "v varies", "PMM"] {

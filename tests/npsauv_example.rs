@@ -8,20 +8,10 @@ mod common;
 use hydroid::models::npsauv::{PAPER_17, PUBLISHED};
 use std::path::Path;
 
-/// `hydroid run CONFIG --out DIR/out` with `--set` overrides.
+/// `hydroid run CONFIG --out DIR/out` with `--set` overrides, CONFIG relative to the
+/// repository.
 fn run(config: &str, dir: &Path, set: &[&str]) -> std::process::Output {
-    let out = dir.join("out");
-    let config = common::root().join(config);
-    let mut args = vec![
-        "run",
-        config.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ];
-    for s in set {
-        args.extend(["--set", s]);
-    }
-    common::hydroid(&args)
+    common::run_config(&common::root().join(config), &dir.join("out"), set)
 }
 
 #[test]
@@ -226,12 +216,7 @@ fn noise_free_helix_recovers_the_truth_to_a_tenth_of_a_percent() {
     let id_path = dir.path().join("id.toml");
     std::fs::write(&id_path, id).unwrap();
     let out = dir.path().join("out");
-    let o = common::hydroid(&[
-        "run",
-        id_path.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = common::run_config(&id_path, &out, &[]);
     assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
     let r = common::json(&out.join("results.json"));
     for name in PAPER_17 {

@@ -117,8 +117,9 @@ impl ModelVisitor for Resim<'_> {
                 // a gross outlier in the first sample is replaced by its neighbours' median;
                 // the measurement noise of the first sample is averaged out over the first
                 // samples, so that a slow mode does not carry it through the whole run
-                x0[i] = if signal::outliers(v).first().is_some_and(|o| o.index == 0) {
-                    signal::cleaned(v, &signal::outliers(v))[0]
+                let spikes = signal::outliers(v);
+                x0[i] = if spikes.first().is_some_and(|o| o.index == 0) {
+                    signal::cleaned(v, &spikes)[0]
                 } else {
                     signal::start_value(&times, v)
                 };

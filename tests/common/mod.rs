@@ -88,6 +88,20 @@ pub fn hydroid(args: &[&str]) -> Output {
     hydroid_in(&root(), args)
 }
 
+/// `hydroid run CONFIG --out OUT` with each of `set` as a `--set` override.
+pub fn run_config(config: &Path, out: &Path, set: &[&str]) -> Output {
+    let mut args = vec![
+        "run",
+        config.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    for s in set {
+        args.extend(["--set", s]);
+    }
+    hydroid(&args)
+}
+
 /// Bytes a command printed, as text.
 pub fn text(b: &[u8]) -> String {
     String::from_utf8_lossy(b).into_owned()
