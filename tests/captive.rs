@@ -82,7 +82,7 @@ fn programme<M: Model>(model: &M, c: &[f64], seed: u64) -> Vec<Condition> {
                 0.0,
             ];
             let u = vec![delta.to_radians(), KVLCC2_RPS];
-            model.steady_forces(&x, &u, c, &mut truth);
+            model.captive_forces(&x, &[0.0; 6], &u, c, &mut truth);
             (x, u, truth.clone())
         })
         .collect();

@@ -51,6 +51,8 @@ kinds! {
     Angle = [0, 0, 0, 1];
     /// rad/s.
     Rate = [0, 0, -1, 1];
+    /// Hz (cycles per second).
+    Frequency = [0, 0, -1, 0];
 }
 
 /// A number in SI or a string with a unit of dimension `K`, as SI.

@@ -433,17 +433,17 @@ impl Model for Mmg3 {
         &[Quantity::Fx, Quantity::Fy, Quantity::Mz]
     }
 
-    fn steady_forces<T: Scalar>(&self, x: &[T], u: &[f64], c: &[T], out: &mut [T]) {
+    fn captive_forces<T: Scalar>(&self, x: &[T], x_dot: &[T], u: &[f64], c: &[T], out: &mut [T]) {
         // X_H + X_R + X_P, Y_H + Y_R, N_H + N_R about midship (Y&Y eq. 7-26), plus the
-        // added-mass forces of the steady turn that Y&Y eq. 4 keeps on its left side: the
-        // fluid force on the held hull is X + m_y v_m r, Y - m_x u r, N (u_dot = v_dot =
-        // r_dot = 0)
+        // added-mass forces that Y&Y eq. 4 keeps on its left side: the fluid force on the
+        // hull moved along the path is X - m_x u_dot + m_y v_m r, Y - m_y v_m_dot - m_x u r,
+        // N - J_z r_dot
         let (uu, v, r) = (x[0], x[1], x[2]);
         let f = self.forces(uu, v, r, u[0], u[1], c);
-        let (mx, my, _) = self.added(c);
-        out[0] = f.x + my * v * r;
-        out[1] = f.y - mx * uu * r;
-        out[2] = f.n;
+        let (mx, my, jz) = self.added(c);
+        out[0] = f.x + my * v * r - mx * x_dot[0];
+        out[1] = f.y - mx * uu * r - my * x_dot[1];
+        out[2] = f.n - jz * x_dot[2];
     }
 
     fn check(&self, x: &[f64], c: &[f64]) -> Result<(), String> {

@@ -222,17 +222,28 @@ pub trait Model: Send + Sync + Sized {
     fn derivatives<T: Scalar>(&self, x: &[T], u: &[f64], c: &[T], dx: &mut [T]);
 
     /// The force and moment components a captive run measures on this model, in the order
-    /// [`Model::steady_forces`] writes them (`fx`, `fy`, `mz` for a ship in the horizontal
+    /// [`Model::captive_forces`] writes them (`fx`, `fy`, `mz` for a body in the horizontal
     /// plane); empty (the default) when the model gives no forces for a prescribed motion.
     fn force_quantities(&self) -> &'static [Quantity] {
         &[]
     }
 
-    /// The hydrodynamic forces (SI, body axes: hull, rudder and propeller) on the vehicle
-    /// held in the steady motion of state `x` with inputs `u`, no acceleration: what a
-    /// captive run (static drift, drift with rudder, circular motion) measures (ITTC
-    /// 7.5-02-06-02). Called only when [`Model::force_quantities`] is not empty.
-    fn steady_forces<T: Scalar>(&self, _x: &[T], _u: &[f64], _c: &[T], _out: &mut [T]) {}
+    /// The hydrodynamic forces (SI, body axes: hull, and rudder and propeller where the
+    /// model has them) on the vehicle moved along a prescribed path with state `x`, its
+    /// rate `x_dot` (the accelerations; zero in a steady run) and inputs `u`: what a
+    /// captive run measures (ITTC 7.5-02-06-02: static drift, drift with rudder, circular
+    /// motion; 7.5-02-06-04 practice: harmonic PMM pure sway and pure yaw, whose
+    /// accelerations bring in the added masses). The rigid-body inertia of the body is not
+    /// part of it. Called only when [`Model::force_quantities`] is not empty.
+    fn captive_forces<T: Scalar>(
+        &self,
+        _x: &[T],
+        _x_dot: &[T],
+        _u: &[f64],
+        _c: &[T],
+        _out: &mut [T],
+    ) {
+    }
 
     /// A physical sanity check of state and coefficients (e.g. m - Yvd > 0); the message
     /// says what went wrong.

@@ -158,21 +158,11 @@ impl Model for Spheroid3 {
     fn derivatives<T: Scalar>(&self, x: &[T], u: &[f64], c: &[T], dx: &mut [T]) {
         let (uu, v, r, psi) = (x[0], x[1], x[2], x[5]);
         let m = self.mass;
-        let thrust = u[0];
-        // paper eq. 3: external forces
-        let fx = v * r * m
-            + c[XUU] * uu * uu.abs()
-            + c[XUV] * uu * v
-            + c[XVV] * v * v
-            + c[XVR] * v * r
-            + c[XRR] * r * r
-            + thrust;
-        let fy = -(uu * r * m)
-            + c[YVV] * v * v.abs()
-            + c[YRR] * r * r.abs()
-            + c[YUR] * uu * r
-            + c[YUV] * uu * v;
-        let fn_ = c[NVV] * v * v.abs() + c[NRR] * r * r.abs() + c[NUR] * uu * r + c[NUV] * uu * v;
+        // paper eq. 3: external forces, the rigid-body Coriolis terms m v r and -m u r moved
+        // to the right-hand side
+        let [hx, hy, hn] = hydrodynamic(x, u, c);
+        let fx = v * r * m + hx;
+        let fy = -(uu * r * m) + hy;
         // paper eq. 2: mass matrix [[m - Yvd, -Yrd], [-Nvd, Izz - Nrd]] for (v_dot, r_dot)
         let m11 = -c[YVD] + m;
         let m12 = -c[YRD];
@@ -180,13 +170,27 @@ impl Model for Spheroid3 {
         let m22 = -c[NRD] + self.izz;
         let inv_det = (m11 * m22 - m12 * m21).recip();
         dx[0] = fx / (-c[XUD] + m);
-        dx[1] = (fy * m22 - fn_ * m12) * inv_det;
-        dx[2] = (fn_ * m11 - fy * m21) * inv_det;
+        dx[1] = (fy * m22 - hn * m12) * inv_det;
+        dx[2] = (hn * m11 - fy * m21) * inv_det;
         // kinematics (paper eq. 2, last line)
         let (s, co) = psi.sin_cos();
         dx[3] = uu * co - v * s;
         dx[4] = uu * s + v * co;
         dx[5] = r;
+    }
+
+    fn force_quantities(&self) -> &'static [Quantity] {
+        &[Quantity::Fx, Quantity::Fy, Quantity::Mz]
+    }
+
+    fn captive_forces<T: Scalar>(&self, x: &[T], x_dot: &[T], u: &[f64], c: &[T], out: &mut [T]) {
+        // paper eq. 2 with the rigid-body terms taken out: the fluid (and thrust) force on
+        // the body moved along the path is the added-mass inertia Xud u_dot, Yvd v_dot +
+        // Yrd r_dot, Nvd v_dot + Nrd r_dot plus the terms of eq. 3
+        let [hx, hy, hn] = hydrodynamic(x, u, c);
+        out[0] = hx + c[XUD] * x_dot[0];
+        out[1] = hy + c[YVD] * x_dot[1] + c[YRD] * x_dot[2];
+        out[2] = hn + c[NVD] * x_dot[1] + c[NRD] * x_dot[2];
     }
 
     fn check(&self, x: &[f64], c: &[f64]) -> Result<(), String> {
@@ -200,6 +204,21 @@ impl Model for Spheroid3 {
         }
         Ok(())
     }
+}
+
+/// The forces of paper eq. 3 without the rigid-body Coriolis terms: damping, lift, the
+/// added-mass Coriolis terms (Xvr, Xrr, Yur, Nur, Nuva through Nuv; eq. 4) and the thrust.
+fn hydrodynamic<T: Scalar>(x: &[T], u: &[f64], c: &[T]) -> [T; 3] {
+    let (uu, v, r) = (x[0], x[1], x[2]);
+    let fx = c[XUU] * uu * uu.abs()
+        + c[XUV] * uu * v
+        + c[XVV] * v * v
+        + c[XVR] * v * r
+        + c[XRR] * r * r
+        + u[0];
+    let fy = c[YVV] * v * v.abs() + c[YRR] * r * r.abs() + c[YUR] * uu * r + c[YUV] * uu * v;
+    let fn_ = c[NVV] * v * v.abs() + c[NRR] * r * r.abs() + c[NUR] * uu * r + c[NUV] * uu * v;
+    [fx, fy, fn_]
 }
 
 #[cfg(test)]

@@ -100,7 +100,7 @@ pub enum Manoeuvre {
     /// Steady captive conditions (static drift, drift with rudder, circular motion): the
     /// model held at every combination of speed, drift angle, non-dimensional yaw rate
     /// r' = r L / U and rudder angle, one row each with the forces of
-    /// [`crate::models::Model::steady_forces`].
+    /// [`crate::models::Model::captive_forces`] (no acceleration).
     Captive {
         /// Speeds U, m/s.
         speeds: Vec<f64>,
@@ -113,6 +113,9 @@ pub enum Manoeuvre {
         /// The other inputs, constant (`rpm`).
         inputs: BTreeMap<Quantity, Constant>,
     },
+    /// A harmonic captive run (PMM pure sway, pure yaw): the force history of the model
+    /// moved with oscillating velocities.
+    Pmm(super::pmm::Pmm),
 }
 
 /// An input change (the same as a run configuration's `steps`).
@@ -233,6 +236,7 @@ enum Kind {
     TimeHistory,
     PolarSweep,
     Captive,
+    Pmm,
 }
 
 #[derive(Deserialize)]
@@ -271,6 +275,12 @@ struct ManoeuvreFile {
     steering: Option<super::steering::SteeringFile>,
     #[serde(default)]
     process_noise: Option<BTreeMap<Quantity, f64>>,
+    #[serde(default, deserialize_with = "si::option::<_, si::Speed>")]
+    speed: Option<f64>,
+    #[serde(default, deserialize_with = "si::option::<_, si::Frequency>")]
+    frequency: Option<f64>,
+    #[serde(default)]
+    amplitude: Option<BTreeMap<Quantity, Constant>>,
 }
 
 /// The quantities a manoeuvre produces, and which of them the model integrates or takes as
@@ -332,6 +342,20 @@ impl SimFile {
                     Quantity::Cl,
                     Quantity::Cm,
                 ],
+            },
+            Kind::Pmm => Produces {
+                all: std::iter::once(Quantity::Time)
+                    .chain(
+                        states
+                            .iter()
+                            .copied()
+                            .filter(|q| Quantity::MOTION[..6].contains(q)),
+                    )
+                    .chain(inputs.iter().copied())
+                    .chain(forces_of(self.model, &self.vehicle, &self.fluid))
+                    .collect(),
+                states,
+                inputs,
             },
             Kind::Captive => Produces {
                 all: states
@@ -401,6 +425,7 @@ impl ManoeuvreFile {
             Kind::TimeHistory => "time_history",
             Kind::PolarSweep => "polar_sweep",
             Kind::Captive => "captive",
+            Kind::Pmm => "pmm",
         };
         let unused = |p: &mut Problems, key: &str, given: bool| {
             if given {
@@ -429,6 +454,9 @@ impl ManoeuvreFile {
                     self.moment_reference_length.is_some(),
                 );
                 unused(p, "cubic", self.cubic.is_some());
+                unused(p, "speed", self.speed.is_some());
+                unused(p, "frequency", self.frequency.is_some());
+                unused(p, "amplitude", self.amplitude.is_some());
                 let (Some(duration), Some(dt)) = (self.duration, self.dt) else {
                     if self.duration.is_none() {
                         required(p, "duration", "s");
@@ -598,6 +626,9 @@ impl ManoeuvreFile {
                     ("drift_deg", self.drift_deg.is_some()),
                     ("yaw_rate_prime", self.yaw_rate_prime.is_some()),
                     ("rudder_deg", self.rudder_deg.is_some()),
+                    ("speed", self.speed.is_some()),
+                    ("frequency", self.frequency.is_some()),
+                    ("amplitude", self.amplitude.is_some()),
                 ] {
                     unused(p, key, given);
                 }
@@ -661,6 +692,46 @@ impl ManoeuvreFile {
                 })
             }
             Kind::Captive => self.captive(produces, p),
+            Kind::Pmm => {
+                for (key, given) in [
+                    ("substeps", self.substeps.is_some()),
+                    ("initial", self.initial.is_some()),
+                    ("steps", self.steps.is_some()),
+                    ("rates", self.rates.is_some()),
+                    ("steering", self.steering.is_some()),
+                    ("process_noise", self.process_noise.is_some()),
+                    ("alpha_deg", self.alpha_deg.is_some()),
+                    ("speeds", self.speeds.is_some()),
+                    ("drift_deg", self.drift_deg.is_some()),
+                    ("yaw_rate_prime", self.yaw_rate_prime.is_some()),
+                    ("rudder_deg", self.rudder_deg.is_some()),
+                    (
+                        "moment_reference_length",
+                        self.moment_reference_length.is_some(),
+                    ),
+                    ("cubic", self.cubic.is_some()),
+                ] {
+                    unused(p, key, given);
+                }
+                let has_forces = produces
+                    .all
+                    .iter()
+                    .any(|q| matches!(q, Quantity::Fx | Quantity::Fy | Quantity::Mz));
+                super::pmm::check(
+                    super::pmm::PmmKeys {
+                        speed: self.speed,
+                        amplitude: self.amplitude,
+                        frequency: self.frequency,
+                        duration: self.duration,
+                        dt: self.dt,
+                        inputs: self.inputs,
+                    },
+                    &produces.states,
+                    &produces.inputs,
+                    has_forces,
+                    p,
+                )
+            }
         }
     }
 
@@ -682,6 +753,9 @@ impl ManoeuvreFile {
                 self.moment_reference_length.is_some(),
             ),
             ("cubic", self.cubic.is_some()),
+            ("speed", self.speed.is_some()),
+            ("frequency", self.frequency.is_some()),
+            ("amplitude", self.amplitude.is_some()),
         ] {
             if given {
                 p.add(

@@ -5,6 +5,7 @@ pub mod config;
 pub mod export;
 pub mod inputs;
 pub mod integrate;
+pub mod pmm;
 pub mod steering;
 pub mod sweep;
 pub mod synth;

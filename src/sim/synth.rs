@@ -44,6 +44,12 @@ pub fn synthesize(cfg: &SimConfig) -> Result<Columns> {
             *moment_reference_length,
             cubic,
         )?,
+        Manoeuvre::Pmm(_) => with_model(
+            cfg.model,
+            &cfg.vehicle.for_model(&cfg.fluid),
+            super::pmm::History { cfg, set: &set },
+        )
+        .map_err(Error::vehicle)??,
         Manoeuvre::Captive { .. } => with_model(
             cfg.model,
             &cfg.vehicle.for_model(&cfg.fluid),
@@ -410,7 +416,7 @@ impl ModelVisitor for Captive<'_> {
                         for (q, v) in model.input_quantities().iter().zip(&u) {
                             cols.entry(*q).or_default().push(*v);
                         }
-                        model.steady_forces(&x, &u, &c, &mut f);
+                        model.captive_forces(&x, &vec![0.0; x.len()], &u, &c, &mut f);
                         for (q, v) in forces.iter().zip(&f) {
                             cols.entry(*q).or_default().push(*v);
                         }

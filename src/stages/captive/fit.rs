@@ -5,7 +5,8 @@
 //! from the residuals, iterated once: feasible generalised least squares), and the
 //! covariance sigma^2 (J' W J)^-1 at the solution.
 
-use crate::ad;
+use super::harmonic::HarmonicMotion;
+use crate::ad::{self, Scalar};
 use crate::lsq::scaled_least_squares;
 use crate::models::Model;
 use nalgebra::{DMatrix, DVector};
@@ -24,6 +25,32 @@ pub struct Condition {
     pub sigma: Option<Vec<f64>>,
     /// The run it belongs to and its file line, for messages.
     pub place: String,
+    /// The motion of a harmonic (PMM) run: then `f` and `sigma` hold the Fourier parts of
+    /// the forces ([`super::harmonic`]) and `x` the mean state; None for a steady condition.
+    pub harmonic: Option<HarmonicMotion>,
+}
+
+impl Condition {
+    /// The model's values for this condition at coefficients `c`: the steady forces, or the
+    /// Fourier parts of the forces along the harmonic motion.
+    pub fn predict<M: Model, T: Scalar>(&self, model: &M, c: &[T], out: &mut [T]) {
+        match &self.harmonic {
+            Some(motion) => super::harmonic::model_harmonics(model, motion, &self.u, c, out),
+            None => {
+                let x: Vec<T> = self.x.iter().map(|v| T::from(*v)).collect();
+                let rest = vec![T::from(0.0); x.len()];
+                model.captive_forces(&x, &rest, &self.u, c, out);
+            }
+        }
+    }
+
+    /// The force component of each of its values.
+    pub fn component(&self, k: usize) -> usize {
+        match self.harmonic {
+            Some(_) => k / super::harmonic::PER_FORCE,
+            None => k,
+        }
+    }
 }
 
 /// The fitted coefficients.
@@ -53,7 +80,7 @@ pub fn fit<M: Model>(
 ) -> Result<Fit, String> {
     let nf = model.force_quantities().len();
     let p = est.len();
-    let n = conditions.len() * nf;
+    let n: usize = conditions.iter().map(|c| c.f.len()).sum();
     if n <= p {
         return Err(format!(
             "{} conditions give {n} force values for {p} coefficients: more are needed",
@@ -61,12 +88,17 @@ pub fn fit<M: Model>(
         ));
     }
     // first weights: each component by its measured RMS, so that N and Y count alike
-    let mut scale: Vec<f64> = (0..nf)
-        .map(|i| {
-            let s = conditions.iter().map(|c| c.f[i] * c.f[i]).sum::<f64>();
-            (s / conditions.len() as f64).sqrt().max(f64::MIN_POSITIVE)
-        })
-        .collect();
+    let mut scale = vec![0.0; nf];
+    let mut count = vec![0usize; nf];
+    for c in conditions {
+        for (k, v) in c.f.iter().enumerate() {
+            scale[c.component(k)] += v * v;
+            count[c.component(k)] += 1;
+        }
+    }
+    for (s, n) in scale.iter_mut().zip(&count) {
+        *s = (*s / (*n).max(1) as f64).sqrt().max(f64::MIN_POSITIVE);
+    }
     let mut theta = start.to_vec();
     let mut iterations = 0;
     for round in 0..2 {
@@ -97,15 +129,20 @@ pub fn fit<M: Model>(
         // reweight by each component's residual noise (over the conditions without their
         // own standard errors), then solve again
         let (r, _) = residuals(model, base, est, &theta, conditions, &scale);
-        let own: Vec<usize> = (0..conditions.len())
-            .filter(|&k| conditions[k].sigma.is_none())
-            .collect();
+        let mut offset = 0;
+        let mut own = Vec::new();
+        for c in conditions {
+            if c.sigma.is_none() {
+                own.push(offset);
+            }
+            offset += c.f.len();
+        }
         let dof = (own.len() as f64 - p as f64 / nf as f64).max(1.0);
         for (i, s) in scale.iter_mut().enumerate() {
             if own.is_empty() {
                 break;
             }
-            let rss: f64 = own.iter().map(|&k| (r[k * nf + i] * *s).powi(2)).sum();
+            let rss: f64 = own.iter().map(|&k| (r[k + i] * *s).powi(2)).sum();
             *s = (rss / dof).sqrt().max(1e-12 * *s);
         }
         if round == 1 {
@@ -124,7 +161,7 @@ pub fn fit<M: Model>(
 }
 
 /// Weighted residuals (measured - model) / scale and their Jacobian with respect to the
-/// estimated coefficients, row per condition and component.
+/// estimated coefficients, row per condition and value.
 fn residuals<M: Model>(
     model: &M,
     base: &[f64],
@@ -133,38 +170,38 @@ fn residuals<M: Model>(
     conditions: &[Condition],
     scale: &[f64],
 ) -> (DVector<f64>, DMatrix<f64>) {
-    let nf = scale.len();
     let p = est.len();
-    let mut r = DVector::zeros(conditions.len() * nf);
-    let mut j = DMatrix::zeros(conditions.len() * nf, p);
-    let mut value = vec![0.0; nf];
-    let mut jac = vec![0.0; nf * p];
-    for (k, c) in conditions.iter().enumerate() {
+    let n: usize = conditions.iter().map(|c| c.f.len()).sum();
+    let mut r = DVector::zeros(n);
+    let mut j = DMatrix::zeros(n, p);
+    let mut row0 = 0;
+    for c in conditions {
+        let m = c.f.len();
+        let mut value = vec![0.0; m];
+        let mut jac = vec![0.0; m * p];
         ad::jacobian(
             theta,
-            nf,
+            m,
             |b, out| {
-                let xd: Vec<ad::Dual> = c.x.iter().map(|v| ad::constant(*v)).collect();
                 let mut cd: Vec<ad::Dual> = base.iter().map(|v| ad::constant(*v)).collect();
                 for (q, &i) in est.iter().enumerate() {
                     cd[i] = b[q];
                 }
                 model.relations().apply(&mut cd);
-                model.steady_forces(&xd, &c.u, &cd, out);
+                c.predict(model, &cd, out);
             },
             &mut value,
             &mut jac,
         );
-        for i in 0..nf {
-            let w = c
-                .sigma
-                .as_ref()
-                .map_or(scale[i], |s| s[i].max(1e-12 * scale[i]));
-            r[k * nf + i] = (c.f[i] - value[i]) / w;
+        for k in 0..m {
+            let s = scale[c.component(k)];
+            let w = c.sigma.as_ref().map_or(s, |sig| sig[k].max(1e-12 * s));
+            r[row0 + k] = (c.f[k] - value[k]) / w;
             for q in 0..p {
-                j[(k * nf + i, q)] = jac[i * p + q] / w;
+                j[(row0 + k, q)] = jac[k * p + q] / w;
             }
         }
+        row0 += m;
     }
     (r, j)
 }

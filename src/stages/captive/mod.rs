@@ -1,10 +1,12 @@
 //! Captive runs (ITTC 7.5-02-06-02 practice): the vehicle held in a steady motion (static
-//! drift, drift with rudder, circular motion) and the measured forces fitted with the model's
-//! own force function ([`Model::steady_forces`]), so that every model that gives forces for a
+//! drift, drift with rudder, circular motion) or moved in a harmonic one (PMM pure sway and
+//! pure yaw, [`harmonic`]), and the measured forces fitted with the model's
+//! own force function ([`Model::captive_forces`]), so that every model that gives forces for a
 //! prescribed motion has this stage. Unlike free-running motion, measured forces fix each
 //! equation's scale (docs/hekf.md, "Identifiability").
 
 pub mod fit;
+pub mod harmonic;
 
 pub use crate::config::captive::CaptiveConfig;
 
@@ -64,8 +66,12 @@ pub struct RunSummary {
     pub name: String,
     /// Steady conditions (rows).
     pub conditions: usize,
-    /// RMS of the residual of each force component (SI, in `forces` order).
+    /// RMS of the residual of each force component (SI, in `forces` order; of a harmonic
+    /// run, over a period of its Fourier-reduced force).
     pub residual_rms: Vec<f64>,
+    /// A harmonic run: the periods it was reduced over.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub periods: Option<harmonic::Periods>,
 }
 
 /// The stage's result.
@@ -174,17 +180,19 @@ impl ModelVisitor for Fit<'_> {
         let mut warnings = Vec::new();
         for rec in self.runs {
             let mut c = conditions_of(model, rec, &frame)?;
+            let mut periods = None;
             if let Some(after) = cfg.average_after {
                 let held = Held {
                     forces,
                     velocities: velocity_kinds(model),
                     length: self.length,
                 };
-                let (one, w) = averaged(rec, c, after, &held)?;
+                let (one, w, p) = history(rec, c, after, &held)?;
                 warnings.extend(w);
+                periods = p;
                 c = vec![one];
             }
-            sizes.push((rec.name.clone(), c.len()));
+            sizes.push((rec.name.clone(), c.len(), periods));
             conditions.extend(c);
         }
         let start: Vec<f64> = cfg
@@ -403,6 +411,7 @@ fn conditions_of<M: Model>(model: &M, rec: &Record, frame: &Frame) -> Result<Vec
             f,
             sigma: None,
             place: format!("{} line {line}", rec.name),
+            harmonic: None,
         });
     }
     Ok(out)
@@ -411,11 +420,7 @@ fn conditions_of<M: Model>(model: &M, rec: &Record, frame: &Frame) -> Result<Vec
 /// Fewest samples a force history is averaged over.
 const MIN_AVERAGED: usize = 10;
 
-/// A run given as the force history of one held motion: its rows from `after` (s) on
-/// averaged into one condition, each force's uncertainty the standard error of its mean
-/// ([`crate::signal::mean_and_standard_error`]); a warning when a force still drifts there
-/// (the means of the two halves differ by more than three combined standard errors).
-/// What [`averaged`] knows of the model: its force components, which states are linear
+/// What [`history`] knows of the model: its force components, which states are linear
 /// velocities (`Some(false)`) or rates (`Some(true)`), and the vehicle's length.
 struct Held<'a> {
     forces: &'a [Quantity],
@@ -444,22 +449,24 @@ fn velocity_kinds<M: Model>(model: &M) -> Vec<(&'static str, Option<bool>)> {
 /// averaged part of a force history.
 const STEADY_MOTION: f64 = 0.02;
 
-fn averaged(
+/// A force history from `after` (s) on: averaged into one condition when its held motion is
+/// steady, reduced to Fourier parts over whole periods when a velocity oscillates (a PMM
+/// run, [`harmonic::reduce`]).
+fn history(
     rec: &Record,
     rows: Vec<Condition>,
     after: f64,
     held: &Held,
-) -> Result<(Condition, Option<Warning>)> {
-    let forces = held.forces;
+) -> Result<(Condition, Option<Warning>, Option<harmonic::Periods>)> {
     let fail = |m: String| Error::numerical(STAGE, format!("run '{}': {m}", rec.name));
     let times = rec
         .time()
         .ok_or_else(|| fail("a force history needs a time column to be averaged".into()))?;
-    let kept: Vec<&Condition> = rows
+    let kept: Vec<(f64, &Condition)> = rows
         .iter()
         .zip(times)
         .filter(|(_, t)| **t >= after)
-        .map(|(c, _)| c)
+        .map(|(c, t)| (*t, c))
         .collect();
     if kept.len() < MIN_AVERAGED {
         return Err(fail(format!(
@@ -470,39 +477,68 @@ fn averaged(
             crate::numfmt::num(times.last().copied().unwrap_or(0.0))
         )));
     }
-    let mean = |v: Vec<f64>| v.iter().sum::<f64>() / v.len() as f64;
-    let x: Vec<f64> = (0..kept[0].x.len())
-        .map(|i| mean(kept.iter().map(|c| c.x[i]).collect()))
+    let oscillating = moving_states(&kept, held);
+    if oscillating.is_empty() {
+        let kept: Vec<&Condition> = kept.iter().map(|(_, c)| *c).collect();
+        let (c, w) = averaged(rec, &kept, after, held.forces);
+        return Ok((c, w, None));
+    }
+    let samples: Vec<harmonic::Sample> = kept
+        .iter()
+        .map(|(t, row)| harmonic::Sample { t: *t, row })
         .collect();
-    // the held motion must be steady: a harmonic (PMM) run averaged would lose its forces
-    let speed = x
+    let names: Vec<&str> = held.velocities.iter().map(|(n, _)| *n).collect();
+    let forces: Vec<&str> = held.forces.iter().map(|q| q.key()).collect();
+    let (c, periods, w) = harmonic::reduce(&rec.name, &samples, &oscillating, &names, &forces)
+        .map_err(|m| fail(format!("from t = {} s: {m}", crate::numfmt::num(after))))?;
+    Ok((c, w, Some(periods)))
+}
+
+/// The velocity states that vary by more than [`STEADY_MOTION`] of their scale over the
+/// samples (none: a steady run).
+fn moving_states(kept: &[(f64, &Condition)], held: &Held) -> Vec<usize> {
+    let n = kept.len() as f64;
+    let mean: Vec<f64> = (0..kept[0].1.x.len())
+        .map(|i| kept.iter().map(|(_, c)| c.x[i]).sum::<f64>() / n)
+        .collect();
+    let speed = mean
         .iter()
         .zip(&held.velocities)
         .filter(|(_, (_, k))| *k == Some(false))
         .map(|(v, _)| v * v)
         .sum::<f64>()
         .sqrt();
-    for (i, (name, kind)) in held.velocities.iter().enumerate() {
-        let Some(rate) = kind else { continue };
-        let scale = if *rate { speed / held.length } else { speed };
-        let (lo, hi) = kept
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), c| {
-                (a.min(c.x[i]), b.max(c.x[i]))
-            });
-        if hi - lo > 2.0 * STEADY_MOTION * scale {
-            return Err(fail(format!(
-                "the held motion is not steady from t = {} s on: {name} varies from {} to {} \
-                 (more than {} % of {}); an oscillating (PMM) run cannot be averaged, and \
-                 harmonic captive runs are not supported yet",
-                crate::numfmt::num(after),
-                crate::numfmt::num(lo),
-                crate::numfmt::num(hi),
-                100.0 * STEADY_MOTION,
-                if *rate { "U / L" } else { "the speed" }
-            )));
-        }
-    }
+    held.velocities
+        .iter()
+        .enumerate()
+        .filter(|(i, (_, kind))| {
+            let Some(rate) = kind else { return false };
+            let scale = if *rate { speed / held.length } else { speed };
+            let (lo, hi) = kept
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (_, c)| {
+                    (a.min(c.x[*i]), b.max(c.x[*i]))
+                });
+            hi - lo > 2.0 * STEADY_MOTION * scale
+        })
+        .map(|(i, _)| i)
+        .collect()
+}
+
+/// The rows of a steady force history averaged into one condition, each force's
+/// uncertainty the standard error of its mean ([`crate::signal::mean_and_standard_error`]);
+/// a warning when a force still drifts (the means of the two halves differ by more than
+/// three combined standard errors).
+fn averaged(
+    rec: &Record,
+    kept: &[&Condition],
+    after: f64,
+    forces: &[Quantity],
+) -> (Condition, Option<Warning>) {
+    let mean = |v: Vec<f64>| v.iter().sum::<f64>() / v.len() as f64;
+    let x: Vec<f64> = (0..kept[0].x.len())
+        .map(|i| mean(kept.iter().map(|c| c.x[i]).collect()))
+        .collect();
     let u = (0..kept[0].u.len())
         .map(|i| mean(kept.iter().map(|c| c.u[i]).collect()))
         .collect();
@@ -543,26 +579,28 @@ fn averaged(
         )
         .for_run(&rec.name)
     });
-    Ok((
+    (
         Condition {
             x,
             u,
             f,
             sigma: Some(sigma),
             place: format!("{} from t = {} s", rec.name, crate::numfmt::num(after)),
+            harmonic: None,
         },
         warning,
-    ))
+    )
 }
 
-/// The RMS residual of each force component per table.
+/// The RMS residual of each force component per table (of a harmonic run: over one period
+/// of the Fourier-reduced force, sqrt(a0^2 + sum (a_k^2 + b_k^2) / 2) of the residual parts).
 fn residual_summaries<M: Model>(
     model: &M,
     base: &[f64],
     est: &[usize],
     values: &[f64],
     conditions: &[Condition],
-    sizes: &[(String, usize)],
+    sizes: &[(String, usize, Option<harmonic::Periods>)],
 ) -> Vec<RunSummary> {
     let mut c = base.to_vec();
     for (&i, v) in est.iter().zip(values) {
@@ -572,19 +610,24 @@ fn residual_summaries<M: Model>(
     let nf = model.force_quantities().len();
     let mut out = Vec::new();
     let mut k0 = 0;
-    for (name, n) in sizes {
+    for (name, n, periods) in sizes {
         let mut ss = vec![0.0; nf];
-        let mut f = vec![0.0; nf];
         for cond in &conditions[k0..k0 + n] {
-            model.steady_forces(&cond.x, &cond.u, &c, &mut f);
-            for i in 0..nf {
-                ss[i] += (cond.f[i] - f[i]).powi(2);
+            let mut f = vec![0.0; cond.f.len()];
+            cond.predict(model, &c, &mut f);
+            for (k, (m, p)) in cond.f.iter().zip(&f).enumerate() {
+                let weight = match (&cond.harmonic, k % harmonic::PER_FORCE) {
+                    (Some(_), 0) | (None, _) => 1.0,
+                    (Some(_), _) => 0.5,
+                };
+                ss[cond.component(k)] += weight * (m - p).powi(2);
             }
         }
         out.push(RunSummary {
             name: name.clone(),
             conditions: *n,
             residual_rms: ss.iter().map(|s| (s / (*n).max(1) as f64).sqrt()).collect(),
+            periods: periods.clone(),
         });
         k0 += n;
     }
