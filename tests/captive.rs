@@ -108,6 +108,7 @@ fn programme<M: Model>(model: &M, c: &[f64], seed: u64) -> Vec<Condition> {
                 f,
                 sigma: None,
                 place: format!("condition {k}"),
+                harmonic: None,
             }
         })
         .collect()

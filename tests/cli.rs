@@ -424,6 +424,8 @@ fn bundled_exports_are_what_their_simulate_configs_make() {
         ("npsauv_zigzag_vertical", "npsauv_zigzag_vertical.csv"),
         ("npsauv_zigzag_horizontal", "npsauv_zigzag_horizontal.csv"),
         ("kvlcc2_captive", "kvlcc2_captive.csv"),
+        ("spheroid_pmm_sway", "spheroid_pmm_sway.forces.dat"),
+        ("spheroid_pmm_yaw", "spheroid_pmm_yaw.forces.dat"),
     ] {
         let out = dir.path().join(export);
         let o = hydroid(&[

@@ -37,6 +37,12 @@ pub struct CaptiveConfig {
         skip_serializing_if = "Option::is_none"
     )]
     pub average_after: Option<f64>,
+    /// The prescribed oscillation of harmonic runs whose files hold the forces only (an
+    /// OpenFOAM force.dat): by run name, each velocity as mean + amplitude
+    /// sin(2 pi f t + phase) with t the file's time (the mean is the run's constant, e.g.
+    /// `constants = { u = "2 m/s" }`, else 0).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub oscillations: BTreeMap<String, Oscillation>,
     /// Tables of steady conditions, one row each: the held motion (`u`, `v`, `r`, or
     /// `speed`, `drift` and `r_prime`), the inputs (`rudder`, `rpm`; columns or constants)
     /// and the measured forces (`fx`, `fy`, `mz` in SI about the model's origin, or
@@ -56,6 +62,21 @@ pub struct PrimeSystem {
     /// the Abkowitz prime system).
     #[serde(deserialize_with = "si::value::<_, si::Area>")]
     pub area: f64,
+}
+
+/// A prescribed harmonic motion (a PMM's): v = A sin(2 pi f t + phase).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Oscillation {
+    /// Amplitude of each oscillating velocity (`v = "0.25 m/s"`, `r = "15 deg/s"`).
+    pub amplitude: BTreeMap<crate::quantity::Quantity, super::Constant>,
+    /// Frequency, Hz.
+    #[serde(deserialize_with = "si::value::<_, si::Frequency>")]
+    pub frequency: f64,
+    /// Phase at t = 0 (default 0; a sway displacement y_a sin(2 pi f t) has a velocity of
+    /// phase 90 deg).
+    #[serde(default, deserialize_with = "si::value::<_, si::Angle>")]
+    pub phase: f64,
 }
 
 impl CaptiveConfig {
@@ -92,6 +113,38 @@ impl CaptiveConfig {
         }
         if self.runs.is_empty() {
             p.add("captive.runs", "no table of captive conditions");
+        }
+        let names: Vec<String> = self.runs.iter().map(InputSpec::display_name).collect();
+        for (run, o) in &self.oscillations {
+            let key = format!("captive.oscillations.\"{run}\"");
+            if !names.contains(run) {
+                p.add(
+                    &key,
+                    format!(
+                        "names no run of captive.runs (they are: {})",
+                        names.join(", ")
+                    ),
+                );
+            }
+            if self.average_after.is_none() {
+                p.add(
+                    &key,
+                    "a harmonic run is a force history: give captive.average_after (the end \
+                     of its start-up transient, s)",
+                );
+            }
+            p.positive(&format!("{key}.frequency"), o.frequency, "Hz");
+            if o.amplitude.is_empty() {
+                p.add(&format!("{key}.amplitude"), "names no oscillating velocity");
+            }
+            for (q, c) in &o.amplitude {
+                let k = format!("{key}.amplitude.{q}");
+                if !crate::quantity::Quantity::MOTION[..6].contains(q) {
+                    p.add(&k, "an oscillation moves a velocity: u, v, w, p, q or r");
+                } else if let Err(m) = c.expect_dim(q.dim()) {
+                    p.add(&k, m);
+                }
+            }
         }
         p.inputs(&self.inputs());
     }

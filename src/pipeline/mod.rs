@@ -236,12 +236,29 @@ fn captive_step(
     let recs = records(inputs);
     let r = crate::stages::captive::run(cc, &cfg.vehicle, &cfg.fluid, known, &recs)?;
     r.merge_into(known);
-    let conditions: usize = r.runs.iter().map(|x| x.conditions).sum();
+    let harmonic = r.runs.iter().filter(|x| x.periods.is_some()).count();
+    let conditions: usize = r
+        .runs
+        .iter()
+        .filter(|x| x.periods.is_none())
+        .map(|x| x.conditions)
+        .sum();
+    let mut parts = Vec::new();
+    if conditions > 0 {
+        parts.push(format!("{conditions} steady conditions"));
+    }
+    if harmonic > 0 {
+        parts.push(format!(
+            "{harmonic} harmonic {}",
+            if harmonic == 1 { "run" } else { "runs" }
+        ));
+    }
     log.stage(&format!(
-        "captive: {} coefficients from {conditions} steady conditions in {} {}",
+        "captive: {} coefficients from {} in {} {}",
         r.coefficients.len(),
+        parts.join(" and "),
         recs.len(),
-        if recs.len() == 1 { "table" } else { "tables" }
+        if recs.len() == 1 { "file" } else { "files" }
     ));
     log.say(r.warnings.iter().cloned());
     Ok(r)

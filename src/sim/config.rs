@@ -181,12 +181,13 @@ pub struct LoadedSim {
 }
 
 /// The layouts `simulate` writes.
-const LAYOUTS: [Format; 5] = [
+const LAYOUTS: [Format; 6] = [
     Format::Delimited,
     Format::Cfx,
     Format::StarCcm,
     Format::Fluent,
     Format::OpenFoamSixDof,
+    Format::OpenFoamForcesLegacy,
 ];
 
 /// Reads and checks a simulation configuration; every problem is listed.
@@ -1061,6 +1062,27 @@ fn check_export(e: &ExportConfig, produces: &Produces, p: &mut Problems) -> Opti
     };
     for (i, c) in e.columns.iter().enumerate() {
         let key = format!("export.columns[{i}]");
+        let written = matches!(
+            c.quantity,
+            Quantity::Time
+                | Quantity::Fx
+                | Quantity::Fy
+                | Quantity::Fz
+                | Quantity::Mx
+                | Quantity::My
+                | Quantity::Mz
+        );
+        if layout == Some(Format::OpenFoamForcesLegacy) && !written {
+            p.add(
+                &format!("{key}.quantity"),
+                format!(
+                    "the openfoam-forces layout holds the time, the force and the moment \
+                     only, not {}: give the prescribed motion in the fitting configuration \
+                     (captive.oscillations) or write another layout",
+                    c.quantity
+                ),
+            );
+        }
         // the attitude quaternion is written from the Euler angles of a run that has a heading
         let from_attitude =
             Quantity::QUATERNION.contains(&c.quantity) && produces.all.contains(&Quantity::Yaw);

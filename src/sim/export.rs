@@ -15,6 +15,9 @@ pub fn render(layout: Format, cfg: &ExportConfig, cols: &Columns, title: &str) -
     if layout == Format::OpenFoamSixDof {
         return sixdof(cfg, cols);
     }
+    if layout == Format::OpenFoamForcesLegacy {
+        return forces(cfg, cols);
+    }
     let prepared = prepare(cfg, cols)?;
     let rows = prepared.first().map_or(0, |c| c.1.len());
     let mut s = String::new();
@@ -156,6 +159,41 @@ fn cfx_unit(u: &str) -> String {
 /// `t (x y z) (x y z) (roll pitch yaw) (u v w) (p q r)` with earth-frame velocities, as the
 /// sixDoFRigidBodyState function object writes (docs/cfd-formats.md); angles and angular
 /// velocity in the unit its `Angle Units` line names.
+/// An OpenFOAM.org forces.dat (the `forces` function object of OpenFOAM.org 10: pressure
+/// and viscous parts of the force and the moment about the centre of rotation, in N and
+/// N m): the whole force written as the pressure part, the viscous part zero.
+fn forces(cfg: &ExportConfig, cols: &Columns) -> Result<String> {
+    let time = cols
+        .get(&Quantity::Time)
+        .ok_or_else(|| Error::Usage("a forces export needs time".into()))?;
+    let n = time.len();
+    let zero = vec![0.0; n];
+    let g = |q: Quantity| cols.get(&q).unwrap_or(&zero);
+    let num = |v: f64| fmt_num(v, cfg.digits);
+    let mut s = String::new();
+    writeln!(s, "# Forces").ok();
+    writeln!(s, "# CofR        : (0 0 0)").ok();
+    writeln!(
+        s,
+        "# Time        forces(pressure viscous)\tmoments(pressure viscous)"
+    )
+    .ok();
+    for k in 0..n {
+        let v = |a: Quantity, b: Quantity, c: Quantity| {
+            format!("({} {} {})", num(g(a)[k]), num(g(b)[k]), num(g(c)[k]))
+        };
+        writeln!(
+            s,
+            "{}\t({} (0 0 0)) ({} (0 0 0))",
+            num(time[k]),
+            v(Quantity::Fx, Quantity::Fy, Quantity::Fz),
+            v(Quantity::Mx, Quantity::My, Quantity::Mz)
+        )
+        .ok();
+    }
+    Ok(s)
+}
+
 fn sixdof(cfg: &ExportConfig, cols: &Columns) -> Result<String> {
     let get = |q: Quantity| cols.get(&q);
     let time =

@@ -3,7 +3,10 @@
 //! Jacobian by automatic differentiation, each force weighted by its condition's standard
 //! error when known (an averaged force history), else by its component's noise (estimated
 //! from the residuals, iterated once: feasible generalised least squares), and the
-//! covariance sigma^2 (J' W J)^-1 at the solution.
+//! covariance sigma^2 (J' W J)^-1 at the solution. When every value carries its own
+//! standard error (averaged or harmonic force histories), the covariance is (J' W J)^-1
+//! with each component's errors widened by its Birge ratio when the model misses it by
+//! more than they explain (Birge 1932).
 
 use super::harmonic::HarmonicMotion;
 use crate::ad::{self, Scalar};
@@ -64,6 +67,9 @@ pub struct Fit {
     pub noise: Vec<f64>,
     /// Gauss-Newton iterations taken.
     pub iterations: usize,
+    /// When every value has its own standard error: each component's Birge ratio
+    /// sqrt(chi2 / dof), at least 1, by which its errors were widened; else empty.
+    pub birge: Vec<f64>,
 }
 
 /// Most Gauss-Newton iterations.
@@ -149,7 +155,40 @@ pub fn fit<M: Model>(
             break;
         }
     }
-    let (r, j) = residuals(model, base, est, &theta, conditions, &scale);
+    let (mut r, mut j) = residuals(model, base, est, &theta, conditions, &scale);
+    if conditions.iter().all(|c| c.sigma.is_some()) {
+        // every value has its own standard error: the covariance is (J' W J)^-1, each
+        // component's errors widened by its own Birge ratio sqrt(chi2 / dof) when above 1
+        // (a component the model misses, e.g. through a biased fixed coefficient, then
+        // widens only what it determines)
+        let birge = component_birge(conditions, &r, nf, p, n);
+        let mut row = 0;
+        for c in conditions {
+            for k in 0..c.f.len() {
+                let f = birge[c.component(k)];
+                r[row] /= f;
+                for q in 0..p {
+                    j[(row, q)] /= f;
+                }
+                row += 1;
+            }
+        }
+        let last = scaled_least_squares(&j, &r, n - p)
+            .ok_or_else(|| "the covariance of the fit is singular".to_string())?;
+        let s2 = last.rss / (n - p) as f64;
+        let covariance = last
+            .covariance
+            .iter()
+            .map(|row| row.iter().map(|v| v / s2.max(f64::MIN_POSITIVE)).collect())
+            .collect();
+        return Ok(Fit {
+            values: theta,
+            covariance,
+            noise: scale,
+            iterations,
+            birge,
+        });
+    }
     let last = scaled_least_squares(&j, &r, n - p)
         .ok_or_else(|| "the covariance of the fit is singular".to_string())?;
     Ok(Fit {
@@ -157,7 +196,35 @@ pub fn fit<M: Model>(
         covariance: last.covariance,
         noise: scale,
         iterations,
+        birge: Vec::new(),
     })
+}
+
+/// Each force component's Birge ratio sqrt(chi2 / dof) over its weighted residuals, at
+/// least 1 (the degrees of freedom shared out by the component's share of the values).
+fn component_birge(
+    conditions: &[Condition],
+    r: &DVector<f64>,
+    nf: usize,
+    p: usize,
+    n: usize,
+) -> Vec<f64> {
+    let mut chi2 = vec![0.0; nf];
+    let mut count = vec![0usize; nf];
+    let mut row = 0;
+    for c in conditions {
+        for k in 0..c.f.len() {
+            chi2[c.component(k)] += r[row] * r[row];
+            count[c.component(k)] += 1;
+            row += 1;
+        }
+    }
+    (0..nf)
+        .map(|i| {
+            let dof = count[i] as f64 * (1.0 - p as f64 / n as f64);
+            (chi2[i] / dof.max(1.0)).sqrt().max(1.0)
+        })
+        .collect()
 }
 
 /// Weighted residuals (measured - model) / scale and their Jacobian with respect to the

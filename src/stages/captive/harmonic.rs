@@ -87,7 +87,7 @@ pub fn model_harmonics<M: Model, T: Scalar>(
             let row = &mut out[i * PER_FORCE..(i + 1) * PER_FORCE];
             for (k, w) in basis(phase).iter().enumerate() {
                 let scale = if k == 0 { 1.0 } else { 2.0 } / PHASES as f64;
-                row[k] = row[k] + *fi * (w * scale);
+                row[k] += *fi * (w * scale);
             }
         }
     }

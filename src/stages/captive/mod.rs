@@ -85,7 +85,8 @@ pub struct CaptiveResult {
     pub coefficients: Vec<Coefficient>,
     /// Their correlations.
     pub correlation: Correlation,
-    /// The noise of each force component the fit found (SI).
+    /// The noise of each force component the fit found from the rows of steady tables
+    /// (SI); empty when every condition has its own standard errors.
     pub noise: Vec<f64>,
     /// Gauss-Newton iterations.
     pub iterations: usize,
@@ -179,7 +180,8 @@ impl ModelVisitor for Fit<'_> {
         };
         let mut warnings = Vec::new();
         for rec in self.runs {
-            let mut c = conditions_of(model, rec, &frame)?;
+            let oscillation = cfg.oscillations.get(&rec.name);
+            let mut c = conditions_of(model, rec, &frame, oscillation)?;
             let mut periods = None;
             if let Some(after) = cfg.average_after {
                 let held = Held {
@@ -202,6 +204,26 @@ impl ModelVisitor for Fit<'_> {
             .collect();
         let f = fit::fit(model, &base, &est, &start, &conditions)
             .map_err(|m| Error::numerical(STAGE, m))?;
+        let misfit: Vec<String> = forces
+            .iter()
+            .zip(&f.birge)
+            .filter(|(_, b)| **b > BIRGE_WARNING)
+            .map(|(q, b)| format!("{} ({} times)", q.key(), crate::numfmt::num(*b)))
+            .collect();
+        if !misfit.is_empty() {
+            warnings.push(Warning::new(
+                STAGE,
+                format!(
+                    "the model misses the measured forces by more than their standard errors \
+                     explain: {}",
+                    misfit.join(", ")
+                ),
+                "a fixed coefficient is off (one from an earlier stage or [coefficients]), or \
+                 the model lacks a term the runs excite; the sigmas of what these components \
+                 determine are widened by these factors. Estimating the fixed coefficient \
+                 here, or in a joint HEKF, removes the bias",
+            ));
+        }
         let p = est.len();
         let sigma = |i: usize| f.covariance[i][i].max(0.0).sqrt();
         let coefficients: Vec<Coefficient> = (0..p)
@@ -228,7 +250,12 @@ impl ModelVisitor for Fit<'_> {
             correlation: Correlation::from_covariance(cfg.estimate.clone(), |a, b| {
                 f.covariance[a][b]
             }),
-            noise: f.noise.clone(),
+            // the noise found from the residuals: only rows without their own standard error
+            noise: if conditions.iter().any(|c| c.sigma.is_none()) {
+                f.noise.clone()
+            } else {
+                Vec::new()
+            },
             iterations: f.iterations,
             runs,
             warnings,
@@ -295,7 +322,15 @@ fn coefficient_vector<M: Model>(
 /// v = -U sin beta; Y&Y 2015 eq. 5) and `r_prime` (r = r' U / L); the inputs come from
 /// columns or constants; each force is its column in SI, or its prime column times
 /// 0.5 rho A U^2 (and L for a moment).
-fn conditions_of<M: Model>(model: &M, rec: &Record, frame: &Frame) -> Result<Vec<Condition>> {
+///
+/// A run with a prescribed `oscillation` (a force file of a PMM run) takes each oscillating
+/// velocity as its constant (or 0) plus A sin(2 pi f t + phase) at the row's time.
+fn conditions_of<M: Model>(
+    model: &M,
+    rec: &Record,
+    frame: &Frame,
+    oscillation: Option<&crate::config::captive::Oscillation>,
+) -> Result<Vec<Condition>> {
     let fail = |m: String| Error::numerical(STAGE, format!("run '{}': {m}", rec.name));
     let value = |q: Quantity, k: usize| {
         rec.channel(q)
@@ -341,13 +376,37 @@ fn conditions_of<M: Model>(model: &M, rec: &Record, frame: &Frame) -> Result<Vec
             )));
         }
     }
+    if let Some(o) = oscillation {
+        for q in o.amplitude.keys() {
+            if rec.channel(*q).is_some() {
+                return Err(fail(format!(
+                    "{q} is both a column and a prescribed oscillation \
+                     (captive.oscillations): give one"
+                )));
+            }
+        }
+        if rec.time().is_none() {
+            return Err(fail(
+                "a prescribed oscillation needs the time column of the force history".into(),
+            ));
+        }
+    }
+    let oscillating = |q: Quantity, k: usize| -> Option<f64> {
+        let o = oscillation?;
+        let a = o.amplitude.get(&q)?.si;
+        let t = rec.time()?[k];
+        let mean = rec.constants.get(&q).copied().unwrap_or(0.0);
+        Some(mean + a * (2.0 * std::f64::consts::PI * o.frequency * t + o.phase).sin())
+    };
     let by_drift = rec.has(Quantity::Drift);
     if by_drift && !rec.has(Quantity::Speed) {
         return Err(fail(
             "a drift column needs the speed U (`speed`) too".into(),
         ));
     }
-    if !by_drift && !rec.has(Quantity::U) {
+    let u_given =
+        rec.has(Quantity::U) || oscillation.is_some_and(|o| o.amplitude.contains_key(&Quantity::U));
+    if !by_drift && !u_given {
         return Err(fail(
             "no motion: give u (and v, r) or speed and drift (and r_prime)".into(),
         ));
@@ -357,6 +416,9 @@ fn conditions_of<M: Model>(model: &M, rec: &Record, frame: &Frame) -> Result<Vec
         let line = rec.lines.get(k).copied().unwrap_or(k + 1);
         let speed = value(Quantity::Speed, k);
         let motion = |q: Quantity| -> Option<f64> {
+            if let Some(v) = oscillating(q, k) {
+                return Some(v);
+            }
             match (q, by_drift) {
                 (Quantity::U, true) => Some(speed? * value(Quantity::Drift, k)?.cos()),
                 (Quantity::V, true) => Some(-speed? * value(Quantity::Drift, k)?.sin()),
@@ -416,6 +478,9 @@ fn conditions_of<M: Model>(model: &M, rec: &Record, frame: &Frame) -> Result<Vec
     }
     Ok(out)
 }
+
+/// Birge ratio of a force component above which the misfit is reported.
+const BIRGE_WARNING: f64 = 2.0;
 
 /// Fewest samples a force history is averaged over.
 const MIN_AVERAGED: usize = 10;
