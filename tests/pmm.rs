@@ -100,18 +100,22 @@ fn spheroid_joint_example_meets_the_targets() {
 
 /// Writes a force history with the given v(t) (u = 2 m/s) and forces of the truth-free
 /// shape: enough for the reduction's checks, which come before any fit.
-fn history(path: &Path, duration: f64, v: impl Fn(f64) -> f64) {
+fn history(path: &Path, duration: f64, v: impl Fn(f64) -> f64, transient: impl Fn(f64) -> f64) {
+    use rand::SeedableRng;
+    use rand_distr::{Distribution, Normal};
+    let mut rng = rand::rngs::StdRng::seed_from_u64(7);
+    let noise = Normal::new(0.0, 0.05).unwrap();
     let mut s = String::from("time [s],u [m/s],v [m/s],r [rad/s],fx [N],fy [N],mz [N m]\n");
-    let mut t = 0.0;
-    while t <= duration + 1e-9 {
+    for k in 0..=(duration * 100.0).round() as usize {
+        let t = k as f64 / 100.0;
         let vv = v(t);
+        let mut n = || noise.sample(&mut rng);
         s.push_str(&format!(
             "{t},2,{vv},0,{},{},{}\n",
-            -5.3 + 0.1 * vv,
-            -15.0 * vv,
-            9.0 * vv
+            -5.3 + 0.1 * vv + n(),
+            -15.0 * vv + transient(t) + n(),
+            9.0 * vv + n()
         ));
-        t += 0.01;
     }
     std::fs::write(path, s).unwrap();
 }
@@ -162,7 +166,7 @@ columns = {{ time = "time [s]", u = "u [m/s]", v = "v [m/s]", r = "r [rad/s]", f
 fn refused(v: impl Fn(f64) -> f64, duration: f64) -> String {
     let dir = tempfile::tempdir().unwrap();
     let file = dir.path().join("sway.csv");
-    history(&file, duration, v);
+    history(&file, duration, v, |_| 0.0);
     let cfg = config(dir.path(), &file);
     let out = dir.path().join("out");
     let o = common::run_config(&cfg, &out, &[]);
@@ -190,4 +194,27 @@ fn a_motion_that_is_not_one_sine_is_refused() {
     );
     assert!(e.contains("the motion is not harmonic"), "{e}");
     assert!(e.contains("v has a first harmonic"), "{e}");
+}
+
+/// A start-up transient left in the periods used is said (the first and second half of the
+/// periods disagree); starting after it, it is not.
+#[test]
+fn a_transient_in_the_periods_used_is_said() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("sway.csv");
+    history(
+        &file,
+        16.0,
+        |t| 0.25 * (std::f64::consts::PI * t).sin(),
+        |t| 3.0 * (-t / 0.5).exp(),
+    );
+    let cfg = config(dir.path(), &file);
+    let (_, said) = run_ok(&cfg, &dir.path().join("early"), &[]);
+    assert!(said.contains("the force harmonics change"), "{said}");
+    assert!(said.contains("run 'sway'"), "{said}");
+    let (r, said) = run_ok(&cfg, &dir.path().join("late"), &["captive.average_after=8"]);
+    assert!(!said.contains("the force harmonics change"), "{said}");
+    let periods = &r["stages"]["captive"]["runs"][0]["periods"];
+    assert_eq!(periods["periods"], 4, "{periods}");
+    assert_eq!(periods["from"], 8.0, "{periods}");
 }

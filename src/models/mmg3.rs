@@ -582,6 +582,30 @@ mod tests {
         (m, c)
     }
 
+    /// Along the model's own motion the captive forces are what Newton gives the rigid body
+    /// (Y&Y eq. 4 with the added-mass terms on the force side): m (u_dot - v r - x_G r^2),
+    /// m (v_dot + u r + x_G r_dot), I_z r_dot + x_G m (v_dot + u r) about midship.
+    #[test]
+    fn captive_forces_balance_the_rigid_body_along_the_motion() {
+        let (m, c) = model();
+        let x = [1.1, -0.05, 0.05, 0.0, 0.0, 0.3];
+        let u = [20f64.to_radians(), KVLCC2_RPS];
+        let mut dx = [0.0; 6];
+        m.derivatives(&x, &u, &c, &mut dx);
+        let mut f = [0.0; 3];
+        m.captive_forces(&x, &dx, &u, &c, &mut f);
+        let s = &m.ship;
+        let (uu, v, r) = (x[0], x[1], x[2]);
+        let newton = [
+            s.mass * (dx[0] - v * r - s.x_g * r * r),
+            s.mass * (dx[1] + uu * r + s.x_g * dx[2]),
+            s.izz * dx[2] + s.x_g * s.mass * (dx[1] + uu * r),
+        ];
+        for (a, b) in f.iter().zip(newton) {
+            assert!((a - b).abs() < 1e-9 * (1.0 + b.abs()), "{f:?} vs {newton:?}");
+        }
+    }
+
     #[test]
     fn every_missing_particular_is_named() {
         let mut v = kvlcc2_model_vehicle();

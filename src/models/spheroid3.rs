@@ -244,6 +244,27 @@ mod tests {
         assert!(m.is_derived("Xvr") && !m.is_derived("Yvd"));
     }
 
+    /// Along the model's own motion the captive forces are what Newton gives the rigid body
+    /// (origin at the centre of gravity): m (u_dot - v r), m (v_dot + u r), Izz r_dot.
+    #[test]
+    fn captive_forces_balance_the_rigid_body_along_the_motion() {
+        let m = model();
+        let c = paper_coefficients(&m);
+        let x = [3.0, 1.0, -0.2, 1.0, 2.0, 0.4];
+        let mut dx = [0.0; 6];
+        m.derivatives(&x, &[22.0], &c, &mut dx);
+        let mut f = [0.0; 3];
+        m.captive_forces(&x, &dx, &[22.0], &c, &mut f);
+        let newton = [
+            m.mass * (dx[0] - x[1] * x[2]),
+            m.mass * (dx[1] + x[0] * x[2]),
+            m.izz * dx[2],
+        ];
+        for (a, b) in f.iter().zip(newton) {
+            assert!((a - b).abs() < 1e-9 * (1.0 + b.abs()), "{f:?} vs {newton:?}");
+        }
+    }
+
     #[test]
     fn straight_run_has_no_sway() {
         let m = model();

@@ -122,7 +122,10 @@ pub fn fit<M: Model>(
                 largest = largest.max(d.abs() / t.abs().max(1e-12));
                 *t += d;
             }
-            if largest < 1e-10 {
+            // converged: the step is negligible, or it cannot lower the residual further
+            // (the rounding floor of a fit to noise-free forces)
+            let rss = r.norm_squared();
+            if largest < 1e-10 || rss - step.rss <= 1e-12 * rss {
                 converged = true;
                 break;
             }

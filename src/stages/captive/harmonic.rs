@@ -236,13 +236,17 @@ pub fn reduce(
                 fourier(&phases[cut..], &y[cut..]),
             ) {
                 let (sa, sb) = (a.standard_errors(), b.standard_errors());
+                // beyond the noise, and beyond rounding (a noise-free history)
+                let floor = 1e-9 * rms(y.iter().copied());
                 for k in 0..3 {
-                    if (a.values[k] - b.values[k]).abs() > 4.0 * sa[k].hypot(sb[k]) {
+                    let d = (a.values[k] - b.values[k]).abs();
+                    if d > 4.0 * sa[k].hypot(sb[k]) && d > floor {
                         changing.push(format!(
-                            "{} ({} then {})",
+                            "{} ({}: {}, then {})",
                             forces.get(i).copied().unwrap_or("a force"),
                             part_name(k),
-                            format_args!("{} / {}", num(a.values[k]), num(b.values[k]))
+                            num(a.values[k]),
+                            num(b.values[k])
                         ));
                         break;
                     }
