@@ -45,6 +45,7 @@ pub mod autopilot;
 pub mod catalogue;
 pub mod coefficients;
 pub mod config;
+pub mod constrained_lsq;
 pub mod course_stability;
 pub mod error;
 pub mod estimation;

@@ -131,7 +131,7 @@ impl ModelVisitor for Twin {
         for &i in &est {
             base[i] = 0.0;
         }
-        let f = fit(model, &base, &est, &vec![0.0; est.len()], &conditions).unwrap();
+        let f = fit(model, &base, &est, &vec![0.0; est.len()], &[], &conditions).unwrap();
         HULL.iter()
             .enumerate()
             .map(|(i, n)| {

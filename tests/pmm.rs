@@ -218,3 +218,50 @@ fn a_transient_in_the_periods_used_is_said() {
     assert_eq!(periods["periods"], 4, "{periods}");
     assert_eq!(periods["from"], 8.0, "{periods}");
 }
+
+/// Sign constraints (clarabel steps): an inactive one changes nothing; one the data push
+/// against holds its coefficient at 0, says so, and leaves the others fitted.
+#[test]
+fn sign_constraints_hold_a_coefficient_at_its_bound() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = common::root().join("configs/spheroid_joint.toml");
+    let only_captive = ["hekf.enabled=false"];
+    let (free, _) = run_ok(&config, &dir.path().join("free"), &only_captive);
+    let (inactive, _) = run_ok(
+        &config,
+        &dir.path().join("inactive"),
+        &[
+            only_captive[0],
+            "captive.signs.Yvd=\"negative\"",
+            "captive.signs.Nrd=\"negative\"",
+        ],
+    );
+    let free_c = &free["stages"]["captive"]["coefficients"];
+    let yvd = value_sigma(free_c, "Yvd");
+    let yvd_inactive = value_sigma(&inactive["stages"]["captive"]["coefficients"], "Yvd");
+    assert!(
+        (yvd.0 - yvd_inactive.0).abs() < 1e-6 * yvd.0.abs(),
+        "{yvd:?} {yvd_inactive:?}"
+    );
+    assert!(
+        (yvd.1 - yvd_inactive.1).abs() < 1e-6 * yvd.1,
+        "{yvd:?} {yvd_inactive:?}"
+    );
+    // Yrd (truth 0) comes out negative here: asked to be positive, it is held at 0
+    let yrd_free = value_sigma(free_c, "Yrd").0;
+    assert!(yrd_free < 0.0, "{yrd_free}");
+    let (held, said) = run_ok(
+        &config,
+        &dir.path().join("held"),
+        &[only_captive[0], "captive.signs.Yrd=\"positive\""],
+    );
+    assert!(
+        said.contains("held at their sign bound 0 (captive.signs): Yrd"),
+        "{said}"
+    );
+    let c = common::named(&held["stages"]["captive"]["coefficients"], "Yrd");
+    assert_eq!(c["value"].as_f64().unwrap(), 0.0);
+    assert_eq!(c["sigma"].as_f64().unwrap(), 0.0);
+    let (v, s) = value_sigma(&held["stages"]["captive"]["coefficients"], "Nrd");
+    assert!((v + 1.4532).abs() < 3.0 * s, "Nrd {v} ± {s}");
+}

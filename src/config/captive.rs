@@ -22,6 +22,11 @@ pub struct CaptiveConfig {
     /// answer.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub start: BTreeMap<String, f64>,
+    /// Sign constraints of fitted coefficients (`Yvd = "negative"`: an added mass; `Nrr =
+    /// "negative"`: damping): each Gauss-Newton step is the constrained least-squares step
+    /// (clarabel), and one that ends on its bound is reported there, without variance.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub signs: BTreeMap<String, Sign>,
     /// The prime system of tables given non-dimensional (`drift`, `speed`, `r_prime`,
     /// `x_prime`, `y_prime`, `n_prime` columns): X' = X / (0.5 rho A U^2),
     /// N' = N / (0.5 rho A L U^2), r' = r L / U.
@@ -64,6 +69,16 @@ pub struct PrimeSystem {
     pub area: f64,
 }
 
+/// The sign a fitted coefficient must keep.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Sign {
+    /// >= 0.
+    Positive,
+    /// <= 0.
+    Negative,
+}
+
 /// A prescribed harmonic motion (a PMM's): v = A sin(2 pi f t + phase).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -98,6 +113,27 @@ impl CaptiveConfig {
                 );
             }
             p.coefficient_sized(&key, *v);
+        }
+        for name in self.signs.keys() {
+            if !self.estimate.contains(name) {
+                p.add(
+                    &format!("captive.signs.{name}"),
+                    format!("'{name}' has a sign but is not in captive.estimate"),
+                );
+            }
+        }
+        for (name, v) in &self.start {
+            let ok = match self.signs.get(name) {
+                Some(Sign::Positive) => *v >= 0.0,
+                Some(Sign::Negative) => *v <= 0.0,
+                None => true,
+            };
+            if !ok {
+                p.add(
+                    &format!("captive.start.{name}"),
+                    format!("{v} breaks its sign (captive.signs.{name})"),
+                );
+            }
         }
         if let Some(t) = self.average_after {
             if !(t.is_finite() && t >= 0.0) {

@@ -77,11 +77,17 @@ const MAX_ITERATIONS: usize = 50;
 
 /// Fits the coefficients at `est` of `base` (the full coefficient vector, fixed values set)
 /// to the conditions; the model's relations are applied at every evaluation.
+///
+/// `signs` (one per estimated coefficient, or empty) constrain each to be >= 0 (+1), <= 0
+/// (-1) or free (0): every Gauss-Newton step is then the constrained least-squares step
+/// (a quadratic programme, [`crate::constrained_lsq`]), and a coefficient that ends on its
+/// bound is held there, with no variance (the covariance is that of the others).
 pub fn fit<M: Model>(
     model: &M,
     base: &[f64],
     est: &[usize],
     start: &[f64],
+    signs: &[f64],
     conditions: &[Condition],
 ) -> Result<Fit, String> {
     let nf = model.force_quantities().len();
@@ -112,20 +118,16 @@ pub fn fit<M: Model>(
         while iterations < MAX_ITERATIONS {
             iterations += 1;
             let (r, j) = residuals(model, base, est, &theta, conditions, &scale);
-            let step = scaled_least_squares(&j, &r, n - p).ok_or_else(|| {
-                "the conditions do not separate the estimated coefficients (their force \
-                 columns are dependent): add conditions that move them differently"
-                    .to_string()
-            })?;
+            let (step, rss_after) = gauss_newton_step(&j, &r, &theta, signs, n - p)?;
             let mut largest: f64 = 0.0;
-            for (t, d) in theta.iter_mut().zip(&step.theta) {
+            for (t, d) in theta.iter_mut().zip(&step) {
                 largest = largest.max(d.abs() / t.abs().max(1e-12));
                 *t += d;
             }
             // converged: the step is negligible, or it cannot lower the residual further
             // (the rounding floor of a fit to noise-free forces)
             let rss = r.norm_squared();
-            if largest < 1e-10 || rss - step.rss <= 1e-12 * rss {
+            if largest < 1e-10 || rss - rss_after <= 1e-12 * rss {
                 converged = true;
                 break;
             }
@@ -158,49 +160,120 @@ pub fn fit<M: Model>(
             break;
         }
     }
-    let (mut r, mut j) = residuals(model, base, est, &theta, conditions, &scale);
+    // a coefficient that ended on its sign bound is held there: no variance
+    for (t, s) in theta.iter_mut().zip(signs) {
+        if *s != 0.0 && *t * s <= 0.0 {
+            *t = 0.0;
+        }
+    }
+    let free: Vec<usize> = (0..p)
+        .filter(|&q| signs.get(q).is_none_or(|s| *s == 0.0 || theta[q] != 0.0))
+        .collect();
+    let (mut r, j_all) = residuals(model, base, est, &theta, conditions, &scale);
+    let mut j = DMatrix::from_fn(j_all.nrows(), free.len(), |i, c| j_all[(i, free[c])]);
+    let pf = free.len();
+    let embed = |cov: Vec<Vec<f64>>, factor: f64| -> Vec<Vec<f64>> {
+        let mut full = vec![vec![0.0; p]; p];
+        for (a, &qa) in free.iter().enumerate() {
+            for (b, &qb) in free.iter().enumerate() {
+                full[qa][qb] = cov[a][b] * factor;
+            }
+        }
+        full
+    };
+    let singular = || "the covariance of the fit is singular".to_string();
+    if pf == 0 {
+        return Ok(Fit {
+            values: theta,
+            covariance: vec![vec![0.0; p]; p],
+            noise: scale,
+            iterations,
+            birge: Vec::new(),
+        });
+    }
     if conditions.iter().all(|c| c.sigma.is_some()) {
         // every value has its own standard error: the covariance is (J' W J)^-1, each
         // component's errors widened by its own Birge ratio sqrt(chi2 / dof) when above 1
         // (a component the model misses, e.g. through a biased fixed coefficient, then
         // widens only what it determines)
-        let birge = component_birge(conditions, &r, nf, p, n);
+        let birge = component_birge(conditions, &r, nf, pf, n);
         let mut row = 0;
         for c in conditions {
             for k in 0..c.f.len() {
                 let f = birge[c.component(k)];
                 r[row] /= f;
-                for q in 0..p {
+                for q in 0..pf {
                     j[(row, q)] /= f;
                 }
                 row += 1;
             }
         }
-        let last = scaled_least_squares(&j, &r, n - p)
-            .ok_or_else(|| "the covariance of the fit is singular".to_string())?;
-        let s2 = last.rss / (n - p) as f64;
-        let covariance = last
-            .covariance
-            .iter()
-            .map(|row| row.iter().map(|v| v / s2.max(f64::MIN_POSITIVE)).collect())
-            .collect();
+        let last = scaled_least_squares(&j, &r, n - pf).ok_or_else(singular)?;
+        let s2 = last.rss / (n - pf) as f64;
         return Ok(Fit {
             values: theta,
-            covariance,
+            covariance: embed(last.covariance, 1.0 / s2.max(f64::MIN_POSITIVE)),
             noise: scale,
             iterations,
             birge,
         });
     }
-    let last = scaled_least_squares(&j, &r, n - p)
-        .ok_or_else(|| "the covariance of the fit is singular".to_string())?;
+    let last = scaled_least_squares(&j, &r, n - pf).ok_or_else(singular)?;
     Ok(Fit {
         values: theta,
-        covariance: last.covariance,
+        covariance: embed(last.covariance, 1.0),
         noise: scale,
         iterations,
         birge: Vec::new(),
     })
+}
+
+/// One Gauss-Newton step for the weighted residuals `r` with Jacobian `j`: the least-squares
+/// step, or with sign constraints the constrained one (theta + step keeps each sign), and
+/// the residual sum of squares the linearised problem expects after it.
+fn gauss_newton_step(
+    j: &DMatrix<f64>,
+    r: &DVector<f64>,
+    theta: &[f64],
+    signs: &[f64],
+    dof: usize,
+) -> Result<(Vec<f64>, f64), String> {
+    let dependent = || {
+        "the conditions do not separate the estimated coefficients (their force columns are \
+         dependent): add conditions that move them differently"
+            .to_string()
+    };
+    if signs.iter().all(|s| *s == 0.0) {
+        let step = scaled_least_squares(j, r, dof).ok_or_else(dependent)?;
+        return Ok((step.theta, step.rss));
+    }
+    use crate::constrained_lsq::{solve, Constraint, FitError, Kind};
+    let p = theta.len();
+    let rows: Vec<Vec<f64>> = (0..j.nrows())
+        .map(|i| (0..p).map(|q| j[(i, q)]).collect())
+        .collect();
+    let y: Vec<f64> = r.iter().copied().collect();
+    // sign s of theta_q + step_q >= 0: -s step_q <= s theta_q
+    let constraints: Vec<Constraint> = signs
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| **s != 0.0)
+        .map(|(q, s)| {
+            let mut g = vec![0.0; p];
+            g[q] = -s;
+            Constraint {
+                g,
+                kind: Kind::Le,
+                h: s * theta[q],
+                label: format!("sign of coefficient {q}"),
+            }
+        })
+        .collect();
+    match solve(&rows, &y, &vec![1.0; y.len()], &constraints) {
+        Ok(sol) => Ok((sol.x, sol.rss)),
+        Err(FitError::Underdetermined { .. }) => Err(dependent()),
+        Err(e) => Err(format!("the constrained step failed: {e:?}")),
+    }
 }
 
 /// Each force component's Birge ratio sqrt(chi2 / dof) over its weighted residuals, at

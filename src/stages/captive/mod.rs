@@ -202,7 +202,16 @@ impl ModelVisitor for Fit<'_> {
             .iter()
             .map(|n| cfg.start.get(n).copied().unwrap_or(0.0))
             .collect();
-        let f = fit::fit(model, &base, &est, &start, &conditions)
+        let signs: Vec<f64> = cfg
+            .estimate
+            .iter()
+            .map(|n| match cfg.signs.get(n) {
+                Some(crate::config::captive::Sign::Positive) => 1.0,
+                Some(crate::config::captive::Sign::Negative) => -1.0,
+                None => 0.0,
+            })
+            .collect();
+        let f = fit::fit(model, &base, &est, &start, &signs, &conditions)
             .map_err(|m| Error::numerical(STAGE, m))?;
         let misfit: Vec<String> = forces
             .iter()
@@ -234,14 +243,37 @@ impl ModelVisitor for Fit<'_> {
                     Some(sigma(i)),
                     Source::Captive,
                 );
+                let bound = signs[i] != 0.0 && f.values[i] == 0.0;
                 c.note = Some(format!(
-                    "{} model fitted to the forces of {} captive conditions",
+                    "{} model fitted to the forces of {} captive conditions{}",
                     model.name(),
-                    conditions.len()
+                    conditions.len(),
+                    if bound {
+                        "; held at its sign bound 0 (captive.signs): the data want the other \
+                         sign"
+                    } else {
+                        ""
+                    }
                 ));
                 c
             })
             .collect();
+        let bounded: Vec<&str> = (0..p)
+            .filter(|&i| signs[i] != 0.0 && f.values[i] == 0.0)
+            .map(|i| cfg.estimate[i].as_str())
+            .collect();
+        if !bounded.is_empty() {
+            warnings.push(Warning::new(
+                STAGE,
+                format!(
+                    "held at their sign bound 0 (captive.signs): {}",
+                    bounded.join(", ")
+                ),
+                "the forces pull these coefficients across the sign you gave; they are held at \
+                 0 without variance and the others are fitted with them there. A coefficient \
+                 whose sign the runs cannot tell is better left free or given a known value",
+            ));
+        }
         let runs = residual_summaries(model, &base, &est, &f.values, &conditions, &sizes);
         Ok(CaptiveResult {
             model: model.name().to_string(),

@@ -12,7 +12,8 @@
 mod channel;
 use crate::config::polar as config;
 mod data;
-pub mod fit;
+/// The constrained least squares the polar fits use (shared with the captive stage).
+pub use crate::constrained_lsq as fit;
 mod mapping;
 mod plausibility;
 mod result;
