@@ -47,33 +47,31 @@ struct Outcome {
     flagged: Vec<bool>,
 }
 
-fn identify(example: &Path, mode: &str) -> Outcome {
-    let out = example.join(format!("out_{mode}"));
-    let o = common::run_config(
-        &example.join("configs/spheroid_joint.toml"),
-        &out,
-        &[&format!("hekf.mode=\"{mode}\"")],
-    );
+/// The twin identified in joint mode, with consider mode run beside it (`stages.hekf.modes`).
+fn identify(example: &Path) -> (Outcome, Outcome) {
+    let out = example.join("out");
+    let o = common::run_config(&example.join("configs/spheroid_joint.toml"), &out, &[]);
     assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
     let r = common::json(&out.join("results.json"));
-    let hekf = &r["stages"]["hekf"];
-    let flagged: Vec<&str> = hekf["identifiability"]
-        .as_array()
-        .map(|l| l.iter().filter_map(|e| e["coefficient"].as_str()).collect())
-        .unwrap_or_default();
-    let mut outcome = Outcome {
-        z: Vec::new(),
-        sigma: Vec::new(),
-        flagged: Vec::new(),
+    let rows = &r["stages"]["hekf"]["modes"]["rows"];
+    let mode = |key: &str| {
+        let mut outcome = Outcome {
+            z: Vec::new(),
+            sigma: Vec::new(),
+            flagged: Vec::new(),
+        };
+        for (name, truth) in TRUTH {
+            let row = common::named(rows, name);
+            let (v, s) = (row[key][0].as_f64().unwrap(), row[key][1].as_f64().unwrap());
+            outcome.z.push((v - truth) / s);
+            outcome.sigma.push(s);
+            outcome
+                .flagged
+                .push(key == "consider" && row["undetermined_by_runs"] == true);
+        }
+        outcome
     };
-    for (name, truth) in TRUTH {
-        let c = common::named(&hekf["coefficients"], name);
-        let (v, s) = (c["value"].as_f64().unwrap(), c["sigma"].as_f64().unwrap());
-        outcome.z.push((v - truth) / s);
-        outcome.sigma.push(s);
-        outcome.flagged.push(flagged.contains(&name));
-    }
-    outcome
+    (mode("joint"), mode("consider"))
 }
 
 /// Re-simulates the twin's exports in `example` with seed set `k` and identifies it in both
@@ -93,7 +91,7 @@ fn seed(example: &Path, originals: &[(String, String)], k: u64) -> (Outcome, Out
         let o = common::hydroid(&["simulate", path.to_str().unwrap(), "--force", "-q"]);
         assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
     }
-    (identify(example, "joint"), identify(example, "consider"))
+    identify(example)
 }
 
 #[test]

@@ -77,20 +77,35 @@ fn spheroid_joint_example_meets_the_targets() {
     let periods = &captive["runs"][0]["periods"];
     assert_eq!(periods["periods"], 5, "{periods}");
     assert!((periods["frequency"].as_f64().unwrap() - 0.5).abs() < 1e-6);
-    // consider mode: the same stages, the HEKF from its own priors
-    let (consider, _) = run_ok(
-        &config,
-        &dir.path().join("consider"),
-        &["hekf.mode=\"consider\""],
-    );
+    // consider mode, run beside it: no joint sigma above it; the yaw scale pinned by the
+    // captive stage alone
+    let rows = &hekf["modes"]["rows"];
     for (name, _) in TRUTH {
-        let (_, sj) = value_sigma(&hekf["coefficients"], name);
-        let (_, sc) = value_sigma(&consider["stages"]["hekf"]["coefficients"], name);
+        let row = common::named(rows, name);
+        let (sj, sc) = (
+            row["joint"][1].as_f64().unwrap(),
+            row["consider"][1].as_f64().unwrap(),
+        );
         assert!(
             sj <= sc * 1.0001,
             "{name}: joint sigma {sj} > consider sigma {sc}"
         );
     }
+    let nrd = common::named(rows, "Nrd");
+    assert_eq!(nrd["undetermined_by_runs"], true, "{nrd}");
+    assert!(
+        nrd["pinned_by"]
+            .as_str()
+            .unwrap()
+            .starts_with("captive stage: free-running data alone do not determine it"),
+        "{nrd}"
+    );
+    let schema = common::json(&common::root().join("docs/results.schema.json"));
+    let validator = jsonschema::draft202012::new(&schema).unwrap();
+    assert!(
+        validator.is_valid(&joint),
+        "results.json does not follow its schema"
+    );
     let report = std::fs::read_to_string(dir.path().join("joint/report.md")).unwrap();
     assert!(
         report.contains("| pure sway | v 0.2500 | 0.5000 | 5 |"),

@@ -293,7 +293,7 @@ fn hekf_step(
         runs: &fit,
         base_dir: &loaded.base_dir,
     };
-    let r = hekf::run(hc, &stage_inputs, log.progress)?;
+    let mut r = hekf::run(hc, &stage_inputs, log.progress)?;
     log.stage(&format!(
         "hekf: {} coefficients from {} {} ({} passes)",
         r.estimated.len(),
@@ -301,6 +301,24 @@ fn hekf_step(
         runs_word(fit.len()),
         r.settings.passes
     ));
+    if hc.mode == hekf::Mode::Joint {
+        // the same runs in consider mode, for the report's side-by-side
+        let consider_cfg = HekfConfig {
+            mode: hekf::Mode::Consider,
+            ..hc.clone()
+        };
+        match hekf::run(&consider_cfg, &stage_inputs, log.progress) {
+            Ok(consider) => {
+                r.modes = Some(hekf::modes::compare(&r, &consider, known));
+                log.stage("hekf: consider mode run beside it for the comparison of both modes");
+            }
+            Err(e) => log.say([Warning::new(
+                "hekf",
+                format!("consider mode, run for the comparison of both modes, failed: {e}"),
+                "the joint estimate stands; the report has no side-by-side of both modes",
+            )]),
+        }
+    }
     log.say(
         r.runs
             .iter()

@@ -54,6 +54,7 @@ pub fn write<'a>(d: &mut Document<'a>, h: &HekfResult, figs: &Figures<'a>) {
     correlation(d, h);
     figs.put(d, "hekf_correlation");
     identifiability(d, h);
+    modes(d, h);
     noise(d, h);
     nis(d, h);
     figs.put_prefixed(d, "nis_fit_");
@@ -161,6 +162,49 @@ fn identifiability(d: &mut Document, h: &HekfResult) {
             a.in_these_runs.clone(),
             a.why.clone(),
             a.separate_by.clone(),
+        ]);
+    }
+    d.table(t);
+}
+
+/// Joint mode beside consider mode, coefficient by coefficient.
+fn modes(d: &mut Document, h: &HekfResult) {
+    let Some(m) = &h.modes else { return };
+    d.heading(3, "Joint and consider estimates");
+    d.text(
+        "The same runs identified twice: in consider mode the HEKF starts from its own prior \
+         (what the free-running runs give on their own, the earlier stages' estimates of these \
+         coefficients not used), in joint mode the earlier stage's estimate and covariance \
+         are the prior (the result above). \"Pinned by\" says which data fix the \
+         coefficient: the stage whose σ is less than half the other's, or both.",
+    );
+    let mut t = Table::new([
+        "coefficient",
+        "earlier stage",
+        "stage value ± σ",
+        "consider (runs alone) ± σ",
+        "joint ± σ",
+        "pinned by",
+    ])
+    .col(1, Col::Text)
+    .col(5, Col::Text);
+    let pm = |(v, s): (f64, f64)| format!("{} ± {}", num(v), num(s));
+    for r in &m.rows {
+        t.row([
+            r.name.clone(),
+            r.stage.clone().unwrap_or_else(|| "-".into()),
+            r.stage_estimate.map_or_else(|| "-".into(), pm),
+            format!(
+                "{}{}",
+                pm(r.consider),
+                if r.undetermined_by_runs {
+                    " (not determined)"
+                } else {
+                    ""
+                }
+            ),
+            pm(r.joint),
+            r.pinned_by.clone(),
         ]);
     }
     d.table(t);

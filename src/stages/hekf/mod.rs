@@ -7,6 +7,7 @@ pub mod history;
 pub mod identifiability;
 pub mod identify;
 pub mod memory;
+pub mod modes;
 mod prepare;
 mod result;
 mod sensitivity;

@@ -100,6 +100,10 @@ pub struct HekfResult {
     /// act through and a manoeuvre that would determine them.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub identifiability: Vec<super::identifiability::Advice>,
+    /// In joint mode: each coefficient beside its consider-mode estimate and the earlier
+    /// stage's, and what pins it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub modes: Option<super::modes::ModeComparison>,
     /// Traces for plots.
     #[serde(skip)]
     pub traces: Vec<RunTraces>,
@@ -327,6 +331,7 @@ pub fn build<M: Model>(
         sigma_filter: last.sigmas.clone(),
         warnings,
         identifiability: Vec::new(),
+        modes: None,
         traces,
         directions,
     }
