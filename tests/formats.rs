@@ -535,7 +535,10 @@ fn the_synthetic_exports_of_hydroid_simulate_read_back() {
         assert!(
             matches!(
                 t.format,
-                Format::Cfx | Format::StarCcm | Format::OpenFoamSixDof
+                Format::Cfx
+                    | Format::StarCcm
+                    | Format::OpenFoamSixDof
+                    | Format::OpenFoamForcesLegacy
             ),
             "{}",
             p.display()

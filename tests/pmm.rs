@@ -65,6 +65,12 @@ fn spheroid_joint_example_meets_the_targets() {
     }
     let nis = &hekf["runs"][0]["nis"];
     assert_eq!(nis["consistent"], true, "{nis}");
+    // the surge run in the filter: v, r, y and the heading held at 0 by the run, measured at
+    // those values and not counted by the innovation test
+    let surge = &hekf["runs"][1];
+    assert_eq!(surge["nis"]["dof"], 1, "{surge}");
+    let v = common::named_by(&surge["noise"], "quantity", "v");
+    assert_eq!(v["source"], "held constant by the run (constants)", "{v}");
     // the captive runs alone: every coefficient within 3 sigma of the truth
     let captive = &joint["stages"]["captive"];
     for (name, truth) in TRUTH {

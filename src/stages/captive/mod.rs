@@ -734,13 +734,13 @@ fn residual_summaries<M: Model>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::models::spheroid3::Spheroid3;
+    use crate::models::surge1::Surge1;
 
     #[test]
     fn a_model_without_forces_for_a_prescribed_motion_is_refused() {
-        let model = Spheroid3::build(&Spheroid3::example_vehicle()).unwrap();
+        let model = Surge1::build(&Surge1::example_vehicle()).unwrap();
         let cfg: CaptiveConfig =
-            toml::from_str("model = \"spheroid3\"\nestimate = [\"Nvv\"]\nruns = []").unwrap();
+            toml::from_str("model = \"surge1\"\nestimate = [\"Xud\"]\nruns = []").unwrap();
         let known = CoefficientSet::new();
         let e = Fit {
             cfg: &cfg,

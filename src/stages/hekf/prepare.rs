@@ -340,10 +340,18 @@ fn measured_quantities<M: Model>(
             }
             list.clone()
         }
+        // the columns, then the states the run holds at a constant (v = r = 0 of a straight
+        // surge run): measured at that value at every sample
         None => outputs
             .iter()
             .copied()
             .filter(|q| rec.channel(*q).is_some())
+            .chain(
+                outputs
+                    .iter()
+                    .copied()
+                    .filter(|q| rec.channel(*q).is_none() && held_state(model, rec, *q)),
+            )
             .collect(),
     };
     if measured_q.is_empty() {
@@ -368,11 +376,28 @@ fn measurements(rec: &Record, measured_q: &[Quantity], samples: usize) -> Vec<f6
     let mut y = Vec::with_capacity(samples * measured_q.len());
     for k in 0..samples {
         for q in measured_q {
-            y.push(rec.channel(*q).expect("checked")[k]);
+            y.push(match rec.channel(*q) {
+                Some(c) => c[k],
+                None => rec.constants[q],
+            });
         }
     }
     y
 }
+
+/// Whether the run gives state `q` of the model as a constant (`constants = { v = 0 }`): a
+/// state held by the experiment, which the filter measures at that value.
+fn held_state<M: Model>(model: &M, rec: &Record, q: Quantity) -> bool {
+    model.outputs().is_empty() && model.state_index(q).is_some() && rec.constants.contains_key(&q)
+}
+
+/// Noise standard deviation of a held state's constant measurement, SI (0.1 mm/s, 1e-4
+/// rad/s, 0.1 mm): the experiment holds it far better than the dynamics move it.
+const HELD_SIGMA: f64 = 1e-4;
+
+/// The noise source of a held state: its measurement carries no information on the noise
+/// model, so the innovation test does not count it.
+pub(super) const HELD_SOURCE: &str = "held constant by the run (constants)";
 
 /// The measurement noise of each measured quantity (its choice and its variance), from the
 /// data without their gross outliers. The outliers are left out of the filter: they become
@@ -389,7 +414,17 @@ fn measurement_noise(
     let mut noise = Vec::new();
     let mut r = Vec::new();
     for (a, q) in measured_q.iter().enumerate() {
-        let raw = rec.channel(*q).expect("checked");
+        let Some(raw) = rec.channel(*q) else {
+            // a held state (a run's constant): configured noise, else HELD_SIGMA
+            let sigma = cfg.noise.get(q).map_or(HELD_SIGMA, |c| c.si);
+            r.push(sigma * sigma);
+            noise.push(NoiseChoice {
+                quantity: *q,
+                sigma,
+                source: HELD_SOURCE.to_string(),
+            });
+            continue;
+        };
         let spikes = match cfg.outliers {
             Outliers::Exclude => signal::outliers(raw),
             Outliers::Keep => Vec::new(),

@@ -287,7 +287,14 @@ pub fn build<M: Model>(
         .zip(summaries.iter_mut())
         .enumerate()
     {
-        let m = runs[r].measured.len();
+        // a held state's measurement (the run's constant) is predicted exactly: its
+        // innovation adds nothing to the test
+        let held = summary
+            .noise
+            .iter()
+            .filter(|n| n.source == super::prepare::HELD_SOURCE)
+            .count();
+        let m = runs[r].measured.len() - held;
         summary.nis = summarize(&tr.nis, m);
         summary.innovation_rms = tr
             .innovation_squares
