@@ -105,6 +105,11 @@ pub fn load_lenient(
         return (None, p.in_file_order());
     };
     config.validate(&mut p);
+    let mut config = config;
+    match config.yaw_moment() {
+        Ok(reading) => config.vehicle.yaw_moment = reading,
+        Err((key, message)) => p.add(&key, message),
+    }
     let base_dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
     let unusable = p.poisoned().to_vec();
     (

@@ -14,7 +14,7 @@ use super::{
     Vehicle, VehicleProblem,
 };
 use crate::ad::Scalar;
-use crate::coefficients::{CompiledRelations, Relation, AXISYMMETRY, SYMMETRY};
+use crate::coefficients::{CompiledRelations, Relation, YawMoment, AXISYMMETRY, SYMMETRY};
 use crate::quantity::Quantity;
 
 /// Standard gravity, m/s^2.
@@ -64,6 +64,10 @@ crate::coefficient_table! {
     NVV = sname::NVV,
     NRR = sname::NRR,
     NUVL = sname::NUVL,
+    // the total linear yaw moment and its Munk part: not in the dynamics (the Munk moment
+    // comes from C_A), tied to Nuvl by paper eq. 2 and 4 in either yaw-moment reading
+    NUVA = sname::NUVA,
+    NUV = sname::NUV,
     ZWW = sname::ZWW,
     ZQQ = sname::ZQQ,
     ZUW = sname::ZUW,
@@ -82,7 +86,10 @@ impl Spheroid6 {
             buoyancy,
             zg: bg,
             scales,
-            relations: CompiledRelations::compile(&[SYMMETRY, AXISYMMETRY], &super::names(COEFFICIENTS)),
+            relations: CompiledRelations::compile(
+                Self::COMPLETING_RELATIONS,
+                &super::names(COEFFICIENTS),
+            ),
         }
     }
 
@@ -139,6 +146,19 @@ impl Model for Spheroid6 {
             v.bg.unwrap_or(0.0),
             v.spheroid_scales(),
         ))
+    }
+
+    /// Total: Nuv free, Nuvl = Nuv - Nuva derived before Muwl = -Nuvl; lift-only: Nuv =
+    /// Nuva + Nuvl (paper eq. 2 and 4; axisymmetry).
+    fn with_yaw_moment(self, reading: YawMoment) -> Self {
+        Spheroid6 {
+            relations: CompiledRelations::compile_for(
+                Self::COMPLETING_RELATIONS,
+                &super::names(COEFFICIENTS),
+                reading,
+            ),
+            ..self
+        }
     }
 
     fn states(&self) -> &'static [StateDef] {
