@@ -77,6 +77,16 @@ impl YawMoment {
         }
     }
 
+    /// Why Nuv (given by `nuv`) and Nuvl (given by `nuvl`) cannot both be given, and what to
+    /// give instead.
+    pub fn both_given(nuv: &str, nuvl: &str) -> String {
+        format!(
+            "Nuv (from {nuv}) and Nuvl (from {nuvl}) are both given, but Nuv = Nuva + Nuvl with \
+             the Munk moment Nuva = -(Xud - Yvd) (paper eq. 2 and 4): give Nuv for the total yaw \
+             moment (a CFD polar) or Nuvl for its lift part only, not both"
+        )
+    }
+
     /// One sentence for reports: what C_M holds and how the other part follows.
     pub fn statement(self) -> &'static str {
         match self {

@@ -408,15 +408,7 @@ impl Config {
         }
         let from = |name: &str| given.iter().find(|(n, _)| *n == name).map(|(_, k)| k);
         if let (Some(nuv), Some(nuvl)) = (from("Nuv"), from("Nuvl")) {
-            return Err((
-                nuvl.clone(),
-                format!(
-                    "Nuv (from {nuv}) and Nuvl (from {nuvl}) are both given, but Nuv = Nuva + \
-                     Nuvl with the Munk moment Nuva = -(Xud - Yvd) (paper eq. 2 and 4): give \
-                     Nuv for the total yaw moment (a CFD polar) or Nuvl for its lift part only, \
-                     not both"
-                ),
-            ));
+            return Err((nuvl.clone(), YawMoment::both_given(nuv, nuvl)));
         }
         Ok(match polar {
             Some(p) => p.moment_part(),

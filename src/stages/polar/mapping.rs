@@ -8,11 +8,15 @@
 //! Yuvd = q c          Yuvl = q C_La       Nuvl = q L_ref C_Ma
 //! ```
 //!
+//! That last line is the paper's lift-only reading of C_M. A CFD static drift run measures the
+//! whole yaw moment, Munk moment included, so in the total reading (`polar.moment.part`, the
+//! default) the slope gives the total coefficient instead: Nuv = q L_ref C_Ma.
+//!
 //! The paper refers C_M to A_f alone (effective L_ref = 1 m). Every coefficient is a linear
 //! combination g'x of one channel's constants, so its variance is g' Cov g.
 
 use super::ChannelFit;
-use crate::coefficients::{directions_of, Coefficient, Direction, Source};
+use crate::coefficients::{directions_of, Coefficient, Direction, Source, YawMoment};
 
 /// One coefficient of eq. 5 as a linear combination of a channel's constants.
 struct Map {
@@ -84,14 +88,36 @@ const MAPS: &[Map] = &[
     },
 ];
 
-/// The coefficients this mapping gives (paper eq. 5).
-pub fn provides() -> Vec<&'static str> {
-    MAPS.iter().map(|m| m.name).collect()
+/// The moment map in the total reading: the same slope, the whole yaw moment.
+const TOTAL_MOMENT: Map = Map {
+    name: "Nuv",
+    channel: Channel::Moment,
+    terms: &[(1.0, "slope")],
+    moment: true,
+    relation: "total yaw-moment slope, Munk moment included: Nuv = q L_ref C_Ma",
+};
+
+/// The maps of eq. 5 in the reading `part` of C_M.
+fn maps(part: YawMoment) -> impl Iterator<Item = &'static Map> {
+    MAPS.iter().map(move |m| match (m.channel, part) {
+        (Channel::Moment, YawMoment::Total) => &TOTAL_MOMENT,
+        _ => m,
+    })
 }
 
-/// Each coefficient this mapping gives with its relation to the fitted constants.
+/// The coefficients this mapping gives (paper eq. 5) when C_M is the part `part` of the yaw
+/// moment.
+pub fn provides(part: YawMoment) -> Vec<&'static str> {
+    maps(part).map(|m| m.name).collect()
+}
+
+/// Each coefficient this mapping gives in either reading of C_M with its relation to the
+/// fitted constants (the lift-only moment map first).
 pub fn relations() -> Vec<(&'static str, &'static str)> {
-    MAPS.iter().map(|m| (m.name, m.relation)).collect()
+    MAPS.iter()
+        .chain(std::iter::once(&TOTAL_MOMENT))
+        .map(|m| (m.name, m.relation))
+        .collect()
 }
 
 /// The gradient g of a coefficient with respect to its channel's constants (in `fit.names`
@@ -124,15 +150,17 @@ fn channel_fit<'a>(
 }
 
 /// The coefficients of paper eq. 5 from the three channel fits; `q` = 0.5 rho A_ref, kg/m;
-/// `l_ref` = moment reference length, m.
+/// `l_ref` = moment reference length, m; `part`: what C_M holds (total: the slope gives Nuv,
+/// lift-only: Nuvl).
 pub fn coefficients(
     drag: &ChannelFit,
     lift: &ChannelFit,
     moment: &ChannelFit,
     q: f64,
     l_ref: f64,
+    part: YawMoment,
 ) -> Vec<Coefficient> {
-    MAPS.iter()
+    maps(part)
         .map(|m| {
             let fit = channel_fit(m, drag, lift, moment);
             let g = gradient(m, fit, q, l_ref);
@@ -160,13 +188,14 @@ pub fn coefficients(
 /// each channel's covariance of constants (the channels are fitted separately, so their
 /// errors are independent), each mapped through eq. 5 to every coefficient of that channel.
 /// Together they reproduce the coefficients' sigmas and their correlations (Xuu and Yuvd,
-/// both from c, move together).
+/// both from c, move together). The moment's directions move Nuv or Nuvl as `part` names it.
 pub fn directions(
     drag: &ChannelFit,
     lift: &ChannelFit,
     moment: &ChannelFit,
     q: f64,
     l_ref: f64,
+    part: YawMoment,
 ) -> Vec<Direction> {
     let mut out = Vec::new();
     for (label, fit) in [
@@ -178,9 +207,7 @@ pub fn directions(
         let names: Vec<&str> = fit.names.iter().map(String::as_str).collect();
         for d in directions_of(label, &names, cov) {
             let mut deltas = std::collections::BTreeMap::new();
-            for m in MAPS
-                .iter()
-                .filter(|m| std::ptr::eq(channel_fit(m, drag, lift, moment), fit))
+            for m in maps(part).filter(|m| std::ptr::eq(channel_fit(m, drag, lift, moment), fit))
             {
                 let g = gradient(m, fit, q, l_ref);
                 let delta: f64 = fit
