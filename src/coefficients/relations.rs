@@ -167,7 +167,7 @@ pub const SYMMETRY: &[Relation] = &[
         target: "Nuvl",
         terms: &[(1.0, "Nuv"), (-1.0, "Nuva")],
         reading: Some(YawMoment::Total),
-        cite: "paper eq. 2 and 4: Nuvl = Nuv - Nuva = Nuv + Xud - Yvd",
+        cite: "paper eq. 2 and 4, total yaw moment: Nuvl = Nuv - Nuva = Nuv + Xud - Yvd",
     },
 ];
 

@@ -230,3 +230,63 @@ pub fn directions(
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn fit(channel: &str, names: &[&str], values: &[f64], sd: f64) -> ChannelFit {
+        let n = names.len();
+        ChannelFit {
+            channel: channel.into(),
+            model: String::new(),
+            names: names.iter().map(|s| s.to_string()).collect(),
+            units: vec![String::new(); n],
+            values: values.to_vec(),
+            std_errors: vec![Some(sd); n],
+            covariance: Some(
+                (0..n)
+                    .map(|i| (0..n).map(|j| if i == j { sd * sd } else { 0.0 }).collect())
+                    .collect(),
+            ),
+            active_constraints: Vec::new(),
+            binding_inequalities: Vec::new(),
+            n_points: 10,
+            dof: 8,
+            rss: 0.0,
+            residual_std: None,
+            r_squared: None,
+            residuals: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn the_moment_slope_gives_nuv_when_total_and_nuvl_when_lift_only() {
+        let drag = fit("drag", &["a", "b", "c"], &[0.293, -0.0273, 0.0826], 1e-3);
+        let lift = fit("lift", &["intercept", "slope"], &[0.0, -1.013], 1e-2);
+        let moment = fit("moment", &["intercept", "slope"], &[0.0, -0.56], 0.02);
+        let (q, l_ref) = (16.1, 1.2);
+        for (part, name, other) in [
+            (YawMoment::Total, "Nuv", "Nuvl"),
+            (YawMoment::LiftOnly, "Nuvl", "Nuv"),
+        ] {
+            let cs = coefficients(&drag, &lift, &moment, q, l_ref, part);
+            let c = cs.iter().find(|c| c.name == name).expect(name);
+            assert!(cs.iter().all(|c| c.name != other), "{part}: {other} given too");
+            // q L_ref C_Ma, sigma q L_ref SE(C_Ma)
+            assert!((c.value - q * l_ref * -0.56).abs() < 1e-12, "{}", c.value);
+            assert!((c.sigma.unwrap() - q * l_ref * 0.02).abs() < 1e-12);
+            assert_eq!(provides(part).iter().filter(|n| **n == name).count(), 1);
+            let ds = directions(&drag, &lift, &moment, q, l_ref, part);
+            let moved: Vec<&str> = ds
+                .iter()
+                .filter(|d| d.source.starts_with("polar moment"))
+                .flat_map(|d| d.deltas.keys().map(String::as_str))
+                .collect();
+            assert!(!moved.is_empty() && moved.iter().all(|n| *n == name), "{moved:?}");
+        }
+        let total = coefficients(&drag, &lift, &moment, q, l_ref, YawMoment::Total);
+        let note = total.iter().find(|c| c.name == "Nuv").unwrap().note.clone();
+        assert!(note.unwrap().contains("Munk moment included"));
+    }
+}
