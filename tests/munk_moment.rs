@@ -32,11 +32,14 @@ fn simulate_total_polar(dir: &Path) {
 }
 
 /// The bundled run on the total polar with `polar.moment.part = part`: results.json and
-/// report.md.
+/// report.md (the console checked to name the reading).
 fn run(dir: &Path, part: &str) -> (serde_json::Value, String) {
     let cfg = std::fs::read_to_string(dir.join("configs/spheroid.toml"))
         .unwrap()
-        .replace("moment.part = \"lift-only\"", &format!("moment.part = \"{part}\""))
+        .replace(
+            "moment.part = \"lift-only\"",
+            &format!("moment.part = \"{part}\""),
+        )
         .replace("cfd_exports/polar_sweep.csv", "cfd_exports/polar_total.csv");
     let path = dir.join(format!("configs/{part}.toml"));
     std::fs::write(&path, cfg).unwrap();
@@ -53,6 +56,9 @@ fn run(dir: &Path, part: &str) -> (serde_json::Value, String) {
         ],
     );
     assert_eq!(o.status.code(), Some(0), "{part}: {}", text(&o.stderr));
+    // the console says the reading too
+    let said = format!("C_M read as the {part} yaw moment");
+    assert!(text(&o.stderr).contains(&said), "{}", text(&o.stderr));
     (
         json(&out.join("results.json")),
         std::fs::read_to_string(out.join("report.md")).unwrap(),
@@ -72,7 +78,9 @@ fn a_total_polar_read_as_total_keeps_its_moment_and_recovers_the_lift_part() {
     let (total, report) = run(dir.path(), "total");
     let polar = &total["stages"]["polar"];
     assert_eq!(polar["reference"]["moment"], "total");
-    let slope = named(&polar["coefficients"], "Nuv")["value"].as_f64().unwrap();
+    let slope = named(&polar["coefficients"], "Nuv")["value"]
+        .as_f64()
+        .unwrap();
     assert!(polar["coefficients"]
         .as_array()
         .unwrap()
@@ -115,7 +123,10 @@ fn a_total_polar_read_as_total_keeps_its_moment_and_recovers_the_lift_part() {
         "lift-only Nuv {double}, total Nuv {}",
         value(&total, "Nuv")
     );
-    assert!(report.contains("is the lift moment only; the Munk moment Nuva"), "{report}");
+    assert!(
+        report.contains("is the lift moment only; the Munk moment Nuva"),
+        "{report}"
+    );
     eprintln!(
         "polar Nuv {slope}; total: Nuvl {} Yvd {}; lift-only: Nuv {double} Nuvl {}",
         value(&total, "Nuvl"),

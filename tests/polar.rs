@@ -3,10 +3,10 @@
 mod common;
 
 use common::{fluid, four_figures, record, vehicle};
+use hydroid::coefficients::YawMoment;
 use hydroid::config::{Config, Problems};
 use hydroid::quantity::Quantity;
 use hydroid::record::Record;
-use hydroid::coefficients::YawMoment;
 use hydroid::stages::polar::{self, PolarConfig, PolarResult};
 use nalgebra::{DMatrix, DVector};
 use rand::SeedableRng;

@@ -27,7 +27,9 @@ impl Relation {
 /// What the linear yaw-moment coefficients of a run hold, and so which of N_uv and its lift
 /// part N_uvl is free and which follows from the Munk moment Nuva = -(Xud - Yvd) (paper
 /// eq. 2 and 4). One reading holds for every model built in a run of hydroid.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Serialize, serde::Deserialize)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Serialize, serde::Deserialize,
+)]
 #[serde(rename_all = "kebab-case")]
 pub enum YawMoment {
     /// N_uvl is the lift moment only, the Munk moment is added: Nuv = Nuva + Nuvl (the seed

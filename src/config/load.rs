@@ -145,7 +145,10 @@ mod tests {
         let read = |text: &str| {
             let (c, p) = load_lenient(Path::new("src/config/c.toml"), text, &[]);
             assert!(p.is_empty(), "{p:?}");
-            c.unwrap().config.vehicle.for_model(&FluidConfig { rho: 1025.0, mu: 1e-3 })
+            c.unwrap().config.vehicle.for_model(&FluidConfig {
+                rho: 1025.0,
+                mu: 1e-3,
+            })
         };
         let with = |c: &str| GOOD.replace("[hekf]", &format!("[coefficients]\n{c}\n[hekf]"));
         assert_eq!(read(GOOD).yaw_moment, YawMoment::LiftOnly);

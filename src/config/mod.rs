@@ -395,11 +395,17 @@ impl Config {
         for (stage, estimate) in [
             (
                 "captive",
-                self.captive.as_ref().filter(|c| c.enabled).map(|c| &c.estimate),
+                self.captive
+                    .as_ref()
+                    .filter(|c| c.enabled)
+                    .map(|c| &c.estimate),
             ),
             (
                 "hekf",
-                self.hekf.as_ref().filter(|h| h.enabled).map(|h| &h.estimate),
+                self.hekf
+                    .as_ref()
+                    .filter(|h| h.enabled)
+                    .map(|h| &h.estimate),
             ),
         ] {
             for n in estimate.into_iter().flatten() {
@@ -412,8 +418,9 @@ impl Config {
         }
         Ok(match polar {
             Some(p) => p.moment_part(),
-            None => YawMoment::of_names(given.iter().map(|(n, _)| *n))
-                .unwrap_or(YawMoment::LiftOnly),
+            None => {
+                YawMoment::of_names(given.iter().map(|(n, _)| *n)).unwrap_or(YawMoment::LiftOnly)
+            }
         })
     }
 

@@ -379,8 +379,7 @@ mod tests {
 
     #[test]
     fn the_moment_part_is_read_and_unknown_words_name_the_choices() {
-        let c: PolarConfig =
-            toml::from_str("runs = []\nmoment.part = \"lift-only\"\n").unwrap();
+        let c: PolarConfig = toml::from_str("runs = []\nmoment.part = \"lift-only\"\n").unwrap();
         assert_eq!(c.moment_part(), YawMoment::LiftOnly);
         let e = toml::from_str::<PolarConfig>("runs = []\n[moment]\npart = \"munk\"\n")
             .unwrap_err()

@@ -197,9 +197,11 @@ fn polar_step(
     let r = crate::stages::polar::run(pc, &cfg.vehicle, &cfg.fluid, &records(inputs))?;
     known.merge_stage(r.coefficients(), r.directions.clone());
     log.stage(&format!(
-        "polar: {} coefficients from {} steady points",
+        "polar: {} coefficients from {} steady points; C_M read as the {} yaw moment ({})",
         r.coefficients.len(),
-        r.pooled.n_points
+        r.pooled.n_points,
+        r.reference.moment,
+        pc.moment_part().polar_coefficient()
     ));
     log.say(r.warnings.iter().cloned());
     Ok(r)

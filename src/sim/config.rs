@@ -5,10 +5,10 @@
 //! checked against each key's dimension), then checked against limits that keep a
 //! simulation finite in time and memory: see [`limits`].
 
+use crate::coefficients::YawMoment;
 use crate::config::{
     quantity_key, read_collecting, si, Constant, FluidConfig, Problems, VehicleConfig,
 };
-use crate::coefficients::YawMoment;
 use crate::error::{Error, Result};
 use crate::formats::Format;
 use crate::models::{with_model, Model, ModelVisitor};

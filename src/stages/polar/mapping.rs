@@ -207,8 +207,7 @@ pub fn directions(
         let names: Vec<&str> = fit.names.iter().map(String::as_str).collect();
         for d in directions_of(label, &names, cov) {
             let mut deltas = std::collections::BTreeMap::new();
-            for m in maps(part).filter(|m| std::ptr::eq(channel_fit(m, drag, lift, moment), fit))
-            {
+            for m in maps(part).filter(|m| std::ptr::eq(channel_fit(m, drag, lift, moment), fit)) {
                 let g = gradient(m, fit, q, l_ref);
                 let delta: f64 = fit
                     .names
@@ -272,7 +271,10 @@ mod tests {
         ] {
             let cs = coefficients(&drag, &lift, &moment, q, l_ref, part);
             let c = cs.iter().find(|c| c.name == name).expect(name);
-            assert!(cs.iter().all(|c| c.name != other), "{part}: {other} given too");
+            assert!(
+                cs.iter().all(|c| c.name != other),
+                "{part}: {other} given too"
+            );
             // q L_ref C_Ma, sigma q L_ref SE(C_Ma)
             assert!((c.value - q * l_ref * -0.56).abs() < 1e-12, "{}", c.value);
             assert!((c.sigma.unwrap() - q * l_ref * 0.02).abs() < 1e-12);
@@ -283,7 +285,10 @@ mod tests {
                 .filter(|d| d.source.starts_with("polar moment"))
                 .flat_map(|d| d.deltas.keys().map(String::as_str))
                 .collect();
-            assert!(!moved.is_empty() && moved.iter().all(|n| *n == name), "{moved:?}");
+            assert!(
+                !moved.is_empty() && moved.iter().all(|n| *n == name),
+                "{moved:?}"
+            );
         }
         let total = coefficients(&drag, &lift, &moment, q, l_ref, YawMoment::Total);
         let note = total.iter().find(|c| c.name == "Nuv").unwrap().note.clone();
