@@ -298,7 +298,7 @@ fn with_sigmas<M: Model>(
 /// model has no rudder or no sway and yaw states.
 pub fn at_approach(
     name: crate::models::ModelName,
-    vehicle: &crate::models::Vehicle,
+    vehicle: &crate::models::RunVehicle,
     set: &CoefficientSet,
     rec: &crate::record::Record,
 ) -> Option<Result<SteeringIndices, NotSteerable>> {

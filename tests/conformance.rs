@@ -13,7 +13,7 @@
 //!    the hybrid EKF: each within 1 % of the truth.
 
 use hydroid::ad;
-use hydroid::coefficients::{Coefficient, CoefficientSet, Source};
+use hydroid::coefficients::{Coefficient, CoefficientSet, Source, YawMoment};
 use hydroid::config::{FluidConfig, InputSpec, VehicleConfig};
 use hydroid::models::{with_model, Model, ModelName, ModelVisitor, Vehicle};
 use hydroid::record;
@@ -220,6 +220,7 @@ fn vehicle_config(v: &Vehicle) -> (VehicleConfig, FluidConfig) {
             bg: v.bg,
             scale: None,
             particulars: v.particulars.clone(),
+            yaw_moment: Default::default(),
         },
         FluidConfig {
             rho: v.rho,
@@ -281,7 +282,7 @@ impl ModelVisitor for RoundTrip {
             }
         }
         for rel in M::COMPLETING_RELATIONS {
-            known.complete(rel);
+            known.complete(rel, YawMoment::LiftOnly);
         }
         let (vehicle, fluid) = vehicle_config(&self.vehicle);
         let result = hekf::run(

@@ -2,7 +2,7 @@
 //! synthetic runs from a known model, identification with hydroid's defaults and with the
 //! paper's preset, noise-free recovery, 6-DOF against 3-DOF, and divergence handling.
 
-use hydroid::coefficients::{Coefficient, CoefficientSet, Source, SYMMETRY};
+use hydroid::coefficients::{Coefficient, CoefficientSet, Source, YawMoment, SYMMETRY};
 use hydroid::config::{Constant, FluidConfig, VehicleConfig};
 use hydroid::formats::Format;
 use hydroid::quantity::Quantity;
@@ -35,6 +35,7 @@ fn vehicle() -> VehicleConfig {
         bg: Some(0.0),
         scale: None,
         particulars: Default::default(),
+        yaw_moment: Default::default(),
     }
 }
 
@@ -198,7 +199,7 @@ fn known() -> CoefficientSet {
             set.insert(Coefficient::new(n, *v, None, Source::Config));
         }
     }
-    set.complete(SYMMETRY);
+    set.complete(SYMMETRY, YawMoment::LiftOnly);
     set
 }
 

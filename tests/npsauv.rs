@@ -336,6 +336,7 @@ fn the_papers_helix_identifies_its_17_coefficients() {
         bg: v.bg,
         scale: None,
         particulars: v.particulars.clone(),
+        yaw_moment: Default::default(),
     };
     let fluid = FluidConfig {
         rho: v.rho,

@@ -3,6 +3,7 @@
 mod common;
 
 use common::{fluid, four_figures, record, vehicle};
+use hydroid::coefficients::YawMoment;
 use hydroid::config::{Config, Problems};
 use hydroid::quantity::Quantity;
 use hydroid::record::Record;
@@ -49,8 +50,12 @@ fn config(extra: &str) -> PolarConfig {
     toml::from_str(&format!("runs = []\n{extra}")).unwrap()
 }
 
+/// The stage in the paper's reading of C_M (the lift moment only, eq. 5: Nuvl = q L_ref C_Ma)
+/// unless the test's configuration says otherwise.
 fn run(cfg: &PolarConfig, records: &[Record]) -> PolarResult {
-    polar::run(cfg, &vehicle(), &fluid(), records).unwrap()
+    let mut cfg = cfg.clone();
+    cfg.moment.part.get_or_insert(YawMoment::LiftOnly);
+    polar::run(&cfg, &vehicle(), &fluid(), records).unwrap()
 }
 
 fn coef(r: &PolarResult, name: &str) -> (f64, Option<f64>) {

@@ -140,6 +140,7 @@ fn identify(runs: &[Record]) -> HekfResult {
         bg: None,
         scale: Some(52.67),
         particulars: v.particulars.clone(),
+        yaw_moment: Default::default(),
     };
     let fluid = FluidConfig {
         rho: 1000.0,

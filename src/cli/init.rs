@@ -129,6 +129,7 @@ fn template(polar: bool, surge: bool, hekf: bool, model: ModelName) -> String {
         s.push_str(
             "\n# Static polars: C_D, C_L, C_M over the drift angle (docs/stages.md, section 1).\n\
              [polar]\n\
+             moment.part = \"total\"            # C_M includes the Munk moment (CFD); \"lift-only\": the paper's reading\n\
              [[polar.runs]]\n\
              name = \"drift sweep\"\n\
              file = \"FILL-IN-polar-sweep.csv\"\n\

@@ -8,7 +8,7 @@
 mod relations;
 mod uncertainty;
 
-pub use relations::{CompiledRelations, Relation, AXISYMMETRY, SYMMETRY};
+pub use relations::{CompiledRelations, Relation, YawMoment, AXISYMMETRY, SYMMETRY};
 pub use uncertainty::{directions_of, Correlation, Direction};
 
 use serde::{Deserialize, Serialize};
@@ -150,10 +150,11 @@ impl CoefficientSet {
     /// kept and reported in the returned list of conflicts. Standard deviations are propagated
     /// linearly along the uncertainty directions when those account for the terms' sigmas
     /// (the derived coefficient joins each direction), else with the correlation matrix where
-    /// both terms are in it and as independent otherwise.
-    pub fn complete(&mut self, relations: &[Relation]) -> Vec<String> {
+    /// both terms are in it and as independent otherwise. Only the relations that hold in the
+    /// yaw-moment reading `reading` apply.
+    pub fn complete(&mut self, relations: &[Relation], reading: YawMoment) -> Vec<String> {
         let mut conflicts = Vec::new();
-        for rel in relations {
+        for rel in relations.iter().filter(|r| r.holds_in(reading)) {
             let Some(terms) = rel
                 .terms
                 .iter()
@@ -288,7 +289,7 @@ mod tests {
         set.insert(Coefficient::new("Yuvd", 1.33, None, Source::Polar));
         set.insert(Coefficient::new("Yuvl", -16.31, None, Source::Polar));
         set.insert(Coefficient::new("Nuvl", 13.43, None, Source::Polar));
-        let conflicts = set.complete(SYMMETRY);
+        let conflicts = set.complete(SYMMETRY, YawMoment::LiftOnly);
         assert!(conflicts.is_empty());
         assert_eq!(set.value("Xvr"), Some(23.626));
         assert_eq!(set.value("Yur"), Some(-1.164));
@@ -313,7 +314,7 @@ mod tests {
             names: vec!["Xud".into(), "Yvd".into()],
             matrix: vec![vec![1.0, 0.9], vec![0.9, 1.0]],
         });
-        set.complete(SYMMETRY);
+        set.complete(SYMMETRY, YawMoment::LiftOnly);
         // Nuva = -Xud + Yvd: var = 0.01 + 0.01 - 2*0.9*0.01
         let s = set.get("Nuva").unwrap().sigma.unwrap();
         assert!((s - (0.002f64).sqrt()).abs() < 1e-12);
@@ -342,7 +343,7 @@ mod tests {
             deltas: [("Yvd".to_string(), 0.5)].into_iter().collect(),
         });
         assert!(set.covered("Xud") && set.covered("Yvd"));
-        set.complete(SYMMETRY);
+        set.complete(SYMMETRY, YawMoment::LiftOnly);
         let s = set.get("Nuva").unwrap().sigma.unwrap();
         assert!((s - 0.5).abs() < 1e-12, "{s}");
         let b = set.budget("Nuva");
@@ -374,5 +375,34 @@ mod tests {
         assert_eq!(v[3], -19.0);
         assert_eq!(v[5], -6.0);
         assert_eq!(rel.targets().count(), 3);
+        // the total reading: Nuv free, its lift part follows (paper eq. 2 and 4)
+        let rel = CompiledRelations::compile_for(&[SYMMETRY], &names, YawMoment::Total);
+        let mut v = [-1.0, -20.0, 0.0, 0.0, 0.0, -6.0];
+        rel.apply(&mut v);
+        assert_eq!((v[3], v[4], v[5]), (-19.0, 13.0, -6.0));
+    }
+
+    #[test]
+    fn the_total_reading_derives_the_lift_part_with_its_sigma() {
+        let mut set = CoefficientSet::new();
+        set.insert(Coefficient::new("Xud", -1.164, Some(0.01), Source::Surge));
+        set.insert(Coefficient::new("Yvd", -23.626, Some(0.2), Source::Hekf));
+        set.insert(Coefficient::new("Nuv", -9.032, Some(0.1), Source::Polar));
+        assert!(set.complete(SYMMETRY, YawMoment::Total).is_empty());
+        // Nuvl = Nuv - Nuva = Nuv + Xud - Yvd
+        let nuvl = set.value("Nuvl").unwrap();
+        assert!((nuvl - (-9.032 - 1.164 + 23.626)).abs() < 1e-12, "{nuvl}");
+        assert_eq!(set.get("Nuv").unwrap().source, Source::Polar);
+        let s = set.get("Nuvl").unwrap().sigma.unwrap();
+        let want = (0.1f64.powi(2) + 0.01f64.powi(2) + 0.2f64.powi(2)).sqrt();
+        assert!((s - want).abs() < 1e-9, "{s} vs {want}");
+    }
+
+    #[test]
+    fn names_tell_the_reading() {
+        assert_eq!(YawMoment::of_names(["Nuv", "Xud"]), Some(YawMoment::Total));
+        assert_eq!(YawMoment::of_names(["Nuvl"]), Some(YawMoment::LiftOnly));
+        assert_eq!(YawMoment::of_names(["Xud"]), Some(YawMoment::LiftOnly));
+        assert_eq!(YawMoment::of_names(["Nuvl", "Nuv"]), None);
     }
 }

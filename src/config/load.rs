@@ -105,6 +105,11 @@ pub fn load_lenient(
         return (None, p.in_file_order());
     };
     config.validate(&mut p);
+    let mut config = config;
+    match config.yaw_moment() {
+        Ok(reading) => config.vehicle.yaw_moment = reading,
+        Err((key, message)) => p.add(&key, message),
+    }
     let base_dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
     let unusable = p.poisoned().to_vec();
     (
@@ -122,6 +127,8 @@ pub fn load_lenient(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::coefficients::YawMoment;
+    use crate::config::FluidConfig;
 
     const GOOD: &str = "[vehicle]\nmass = 50\nlength = 1.2\nizz = 3.7\nreference_area = 0.03\n\
         reference_length = 1\n[fluid]\nrho = 1025\nmu = 0.0009\n[hekf]\nestimate = [\"Yvd\"]\n\
@@ -131,6 +138,38 @@ mod tests {
         let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
         let (_, p) = load_lenient(Path::new("src/config/c.toml"), text, &o);
         p.iter().map(|x| x.to_string()).collect()
+    }
+
+    #[test]
+    fn the_yaw_moment_reading_is_resolved_once_and_nuv_with_nuvl_is_refused() {
+        let read = |text: &str| {
+            let (c, p) = load_lenient(Path::new("src/config/c.toml"), text, &[]);
+            assert!(p.is_empty(), "{p:?}");
+            c.unwrap().config.vehicle.for_model(&FluidConfig {
+                rho: 1025.0,
+                mu: 1e-3,
+            })
+        };
+        let with = |c: &str| GOOD.replace("[hekf]", &format!("[coefficients]\n{c}\n[hekf]"));
+        assert_eq!(read(GOOD).yaw_moment, YawMoment::LiftOnly);
+        assert_eq!(read(&with("Nuv = -9.0")).yaw_moment, YawMoment::Total);
+        assert_eq!(read(&with("Nuvl = 13.4")).yaw_moment, YawMoment::LiftOnly);
+        let all = problems(&with("Nuv = -9.0\nNuvl = 13.4"), &[]).join("\n");
+        assert!(
+            all.contains("coefficients.Nuvl")
+                && all.contains("Nuv (from coefficients.Nuv) and Nuvl (from coefficients.Nuvl)"),
+            "{all}"
+        );
+        // a polar with the default total reading gives Nuv: with a given Nuvl, both
+        let polar = GOOD.replace(
+            "[hekf]",
+            "[coefficients]\nNuvl = 13.4\n[polar]\n[[polar.runs]]\nfile = \"load.rs\"\n[hekf]",
+        );
+        let all = problems(&polar, &[]).join("\n");
+        assert!(
+            all.contains("Nuv (from polar.moment.part = \"total\")"),
+            "{all}"
+        );
     }
 
     #[test]

@@ -25,6 +25,8 @@ pub use load::{load, load_lenient, load_str, read, LoadedConfig};
 pub use problems::Problems;
 pub use reference::{ReferenceConfig, References};
 
+use crate::coefficients::YawMoment;
+use crate::models::RunVehicle;
 use hekf::HekfConfig;
 use polar::PolarConfig;
 use serde::{Deserialize, Serialize};
@@ -135,6 +137,11 @@ pub struct VehicleConfig {
     /// beam, draught, propeller and rudder data ...), read and checked by the model.
     #[serde(default, skip_serializing_if = "toml::Table::is_empty")]
     pub particulars: toml::Table,
+    /// The run's yaw-moment reading, not a key: resolved once when the configuration is
+    /// loaded (`polar.moment.part` when a polar stage runs, else the known coefficients:
+    /// [`Config::yaw_moment`]) and given to every model built for the vehicle.
+    #[serde(skip)]
+    pub yaw_moment: YawMoment,
 }
 
 fn default_vehicle_name() -> String {
@@ -218,8 +225,17 @@ pub mod plausible {
 const G: f64 = 9.80665;
 
 impl VehicleConfig {
-    /// The vehicle and the fluid as a model is built from them.
-    pub fn for_model(&self, fluid: &FluidConfig) -> crate::models::Vehicle {
+    /// The vehicle and the fluid as a model is built from them, with the run's yaw-moment
+    /// reading.
+    pub fn for_model(&self, fluid: &FluidConfig) -> RunVehicle {
+        RunVehicle {
+            vehicle: self.vehicle_data(fluid),
+            yaw_moment: self.yaw_moment,
+        }
+    }
+
+    /// The vehicle data alone (SI).
+    pub fn vehicle_data(&self, fluid: &FluidConfig) -> crate::models::Vehicle {
         crate::models::Vehicle {
             mass: self.mass,
             length: self.length,
@@ -356,6 +372,58 @@ impl FluidConfig {
 }
 
 impl Config {
+    /// The run's yaw-moment reading, the one source every model of the run is built in:
+    /// `polar.moment.part` when a polar stage runs, else what the known coefficients imply
+    /// (`[coefficients]` and the captive and HEKF estimates: Nuv without Nuvl is the total
+    /// moment, otherwise lift-only). Err((key, message)) when Nuv and Nuvl are both given,
+    /// which would over-determine Nuv = Nuva + Nuvl (paper eq. 2).
+    pub fn yaw_moment(&self) -> std::result::Result<YawMoment, (String, String)> {
+        let polar = self.polar.as_ref().filter(|p| p.enabled);
+        let mut given: Vec<(&str, String)> = Vec::new();
+        if let Some(p) = polar {
+            let part = p.moment_part();
+            given.push((
+                part.polar_coefficient(),
+                format!("polar.moment.part = \"{part}\""),
+            ));
+        }
+        given.extend(
+            self.coefficients
+                .keys()
+                .map(|n| (n.as_str(), format!("coefficients.{n}"))),
+        );
+        for (stage, estimate) in [
+            (
+                "captive",
+                self.captive
+                    .as_ref()
+                    .filter(|c| c.enabled)
+                    .map(|c| &c.estimate),
+            ),
+            (
+                "hekf",
+                self.hekf
+                    .as_ref()
+                    .filter(|h| h.enabled)
+                    .map(|h| &h.estimate),
+            ),
+        ] {
+            for n in estimate.into_iter().flatten() {
+                given.push((n.as_str(), format!("{stage}.estimate")));
+            }
+        }
+        let from = |name: &str| given.iter().find(|(n, _)| *n == name).map(|(_, k)| k);
+        if let (Some(nuv), Some(nuvl)) = (from("Nuv"), from("Nuvl")) {
+            return Err((nuvl.clone(), YawMoment::both_given(nuv, nuvl)));
+        }
+        Ok(match polar {
+            Some(p) => p.moment_part(),
+            None => {
+                YawMoment::of_names(given.iter().map(|(n, _)| *n)).unwrap_or(YawMoment::LiftOnly)
+            }
+        })
+    }
+
     /// Checks values and names (not input files) and adds every problem to `p`.
     pub fn validate(&self, p: &mut Problems) {
         self.vehicle.validate(p);

@@ -1,6 +1,7 @@
 //! `[polar]` configuration: inputs, fitting range, weights and the switchable constraints.
 
 use super::{yes, Config, InputSpec, Problems};
+use crate::coefficients::YawMoment;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -166,6 +167,12 @@ pub struct SlopeFit {
     /// Extra bounds on `intercept` (-), `slope` (1/rad) or `cubic` (1/rad^3).
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub bounds: BTreeMap<String, Bound>,
+    /// `[polar.moment]` only: which part of the yaw moment C_M is, `total` (Munk moment
+    /// included, what a CFD static drift run measures: the slope gives Nuv) or `lift-only`
+    /// (the seed paper's reading: the slope gives Nuvl). Default total
+    /// ([`PolarConfig::moment_part`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub part: Option<YawMoment>,
 }
 
 impl Default for SlopeFit {
@@ -175,6 +182,7 @@ impl Default for SlopeFit {
             cubic: false,
             slope: SlopeSign::Free,
             bounds: BTreeMap::new(),
+            part: None,
         }
     }
 }
@@ -304,6 +312,12 @@ impl PolarConfig {
             );
         }
         p.within("polar.speed_tolerance", self.speed_tolerance, 0.0, 0.5);
+        if self.lift.part.is_some() {
+            p.add(
+                "polar.lift.part",
+                "says which part of the yaw moment C_M is, so it belongs in [polar.moment]",
+            );
+        }
         check_bounds(
             p,
             "polar.drag",
@@ -333,6 +347,12 @@ impl PolarConfig {
         }
     }
 
+    /// Which part of the yaw moment the polar's C_M is (`polar.moment.part`, default total:
+    /// a CFD static drift run measures the whole moment, Munk moment included).
+    pub fn moment_part(&self) -> YawMoment {
+        self.moment.part.unwrap_or(YawMoment::Total)
+    }
+
     /// The input files this section names.
     pub fn inputs(&self) -> Vec<(String, &InputSpec)> {
         self.runs
@@ -354,6 +374,17 @@ mod tests {
         assert!(!c.drag.symmetric && c.lift.through_origin && !c.lift.cubic);
         assert_eq!(c.steady_fraction, 0.25);
         assert_eq!(c.data, PolarData::Coefficients);
+        assert_eq!(c.moment_part(), YawMoment::Total);
+    }
+
+    #[test]
+    fn the_moment_part_is_read_and_unknown_words_name_the_choices() {
+        let c: PolarConfig = toml::from_str("runs = []\nmoment.part = \"lift-only\"\n").unwrap();
+        assert_eq!(c.moment_part(), YawMoment::LiftOnly);
+        let e = toml::from_str::<PolarConfig>("runs = []\n[moment]\npart = \"munk\"\n")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("total") && e.contains("lift-only"), "{e}");
     }
 
     #[test]

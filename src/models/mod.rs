@@ -17,12 +17,12 @@ pub mod sname;
 pub mod vehicle;
 
 use crate::ad::Scalar;
-use crate::coefficients::{CompiledRelations, Relation};
+use crate::coefficients::{CompiledRelations, Relation, YawMoment};
 use crate::quantity::Quantity;
 
 pub use coefficient::{AddedMass, AddedMassTerm, CoefDef, Scales, Size};
 pub use registry::ModelVisitor;
-pub use vehicle::{Vehicle, VehicleProblem};
+pub use vehicle::{BuildFrom, RunVehicle, Vehicle, VehicleProblem};
 
 // Every model hydroid has: `Variant => module::Type`, one line per model (the module is the
 // model's file in this folder).
@@ -172,6 +172,14 @@ pub trait Model: Send + Sync + Sized {
 
     /// Builds the model for a vehicle, or says every problem of the vehicle data for it.
     fn build(vehicle: &Vehicle) -> Result<Self, Vec<VehicleProblem>>;
+
+    /// The model in the run's yaw-moment reading: which of N_uv and its lift part N_uvl is
+    /// free and which a relation derives (see [`YawMoment`]). [`with_model`] applies it to
+    /// every model it builds; a model without the split (the default) reads the same either
+    /// way and returns itself.
+    fn with_yaw_moment(self, _reading: YawMoment) -> Self {
+        self
+    }
 
     /// Short name used in configurations (`spheroid3`).
     fn name(&self) -> &'static str {

@@ -75,16 +75,19 @@ macro_rules! registry {
             }
         }
 
-        /// Builds the model `name` for `vehicle` and hands it to `visitor`, or says what
-        /// the vehicle data lacks for it.
-        pub fn with_model<V: $crate::models::ModelVisitor>(
+        /// Builds the model `name` for `vehicle` in its yaw-moment reading and hands it to
+        /// `visitor`, or says what the vehicle data lacks for it.
+        pub fn with_model<V: $crate::models::ModelVisitor, B: $crate::models::BuildFrom + ?Sized>(
             name: ModelName,
-            vehicle: &$crate::models::Vehicle,
+            vehicle: &B,
             visitor: V,
         ) -> Result<V::Output, Vec<$crate::models::VehicleProblem>> {
             use $crate::models::Model;
+            let reading = vehicle.yaw_moment();
             match name {
-                $(ModelName::$variant => Ok(visitor.visit(&$ty::build(vehicle)?))),+
+                $(ModelName::$variant => Ok(visitor.visit(
+                    &$ty::build(vehicle.vehicle())?.with_yaw_moment(reading),
+                ))),+
             }
         }
     };

@@ -8,7 +8,7 @@ use super::{
     Vehicle, VehicleProblem,
 };
 use crate::ad::Scalar;
-use crate::coefficients::{CompiledRelations, Relation, SYMMETRY};
+use crate::coefficients::{CompiledRelations, Relation, YawMoment, SYMMETRY};
 use crate::quantity::Quantity;
 
 /// The 3-DOF spheroid: surge, sway, yaw with nonlinear damping and added mass.
@@ -123,6 +123,19 @@ impl Model for Spheroid3 {
     fn build(v: &Vehicle) -> Result<Self, Vec<VehicleProblem>> {
         v.no_particulars(Self::NAME)?;
         Ok(Spheroid3::new(v.mass, v.izz, v.spheroid_scales()))
+    }
+
+    /// Total: Nuv free, Nuvl = Nuv - Nuva derived; lift-only: Nuv = Nuva + Nuvl (paper eq. 2
+    /// and 4).
+    fn with_yaw_moment(self, reading: YawMoment) -> Self {
+        Spheroid3 {
+            relations: CompiledRelations::compile_for(
+                Self::COMPLETING_RELATIONS,
+                &names(COEFFICIENTS),
+                reading,
+            ),
+            ..self
+        }
     }
 
     fn states(&self) -> &'static [StateDef] {

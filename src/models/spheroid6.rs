@@ -14,7 +14,7 @@ use super::{
     Vehicle, VehicleProblem,
 };
 use crate::ad::Scalar;
-use crate::coefficients::{CompiledRelations, Relation, AXISYMMETRY, SYMMETRY};
+use crate::coefficients::{CompiledRelations, Relation, YawMoment, AXISYMMETRY, SYMMETRY};
 use crate::quantity::Quantity;
 
 /// Standard gravity, m/s^2.
@@ -64,6 +64,10 @@ crate::coefficient_table! {
     NVV = sname::NVV,
     NRR = sname::NRR,
     NUVL = sname::NUVL,
+    // the total linear yaw moment and its Munk part: not in the dynamics (the Munk moment
+    // comes from C_A), tied to Nuvl by paper eq. 2 and 4 in either yaw-moment reading
+    NUVA = sname::NUVA,
+    NUV = sname::NUV,
     ZWW = sname::ZWW,
     ZQQ = sname::ZQQ,
     ZUW = sname::ZUW,
@@ -82,7 +86,10 @@ impl Spheroid6 {
             buoyancy,
             zg: bg,
             scales,
-            relations: CompiledRelations::compile(&[SYMMETRY, AXISYMMETRY], &super::names(COEFFICIENTS)),
+            relations: CompiledRelations::compile(
+                Self::COMPLETING_RELATIONS,
+                &super::names(COEFFICIENTS),
+            ),
         }
     }
 
@@ -139,6 +146,19 @@ impl Model for Spheroid6 {
             v.bg.unwrap_or(0.0),
             v.spheroid_scales(),
         ))
+    }
+
+    /// Total: Nuv free, Nuvl = Nuv - Nuva derived before Muwl = -Nuvl; lift-only: Nuv =
+    /// Nuva + Nuvl (paper eq. 2 and 4; axisymmetry).
+    fn with_yaw_moment(self, reading: YawMoment) -> Self {
+        Spheroid6 {
+            relations: CompiledRelations::compile_for(
+                Self::COMPLETING_RELATIONS,
+                &super::names(COEFFICIENTS),
+                reading,
+            ),
+            ..self
+        }
     }
 
     fn states(&self) -> &'static [StateDef] {
@@ -343,6 +363,77 @@ mod tests {
         assert!((dy[0] - dz[0]).abs() < 1e-12);
         assert!((dy[1] - dz[2]).abs() < 1e-12, "{} vs {}", dy[1], dz[2]);
         assert!((dy[5] + dz[4]).abs() < 1e-12, "{} vs {}", dy[5], dz[4]);
+    }
+
+    /// The lift-only truth as a total set: Nuvl replaced by Nuv = Nuva + Nuvl with
+    /// Nuva = -(Xud - Yvd) (paper eq. 2 and 4).
+    fn total(lift_only: &[(&'static str, f64)]) -> Vec<(&'static str, f64)> {
+        let get = |n: &str| lift_only.iter().find(|(k, _)| *k == n).unwrap().1;
+        let nuv = get("Nuvl") - (get("Xud") - get("Yvd"));
+        lift_only
+            .iter()
+            .map(|&(n, v)| if n == "Nuvl" { ("Nuv", nuv) } else { (n, v) })
+            .collect()
+    }
+
+    #[test]
+    fn the_total_reading_derives_nuvl_and_moves_nothing() {
+        let m6 = Spheroid6::new(50.0, [0.5, 3.7, 3.7], 50.0 * G, 0.0, scales());
+        let m3 = Spheroid3::new(50.0, 3.7, scales());
+        let (lift, tot) = (paper(), total(&paper()));
+        let (m6t, m3t) = (
+            m6.clone().with_yaw_moment(YawMoment::Total),
+            m3.clone().with_yaw_moment(YawMoment::Total),
+        );
+        assert!(m6t.is_derived("Nuvl") && !m6t.is_derived("Nuv") && m6.is_derived("Nuv"));
+        assert!(m3t.is_derived("Nuvl") && !m3t.is_derived("Nuv") && m3.is_derived("Nuv"));
+        let c6 = fill(&m6t, &tot);
+        assert!((c6[NUVL] - 13.43).abs() < 1e-12, "Nuvl = {}", c6[NUVL]);
+        assert!((c6[MUWL] + 13.43).abs() < 1e-12, "Muwl = {}", c6[MUWL]);
+        let c3 = fill(&m3t, &tot);
+        let nuvl3 = c3[m3t.coefficient_index("Nuvl").unwrap()];
+        assert!((nuvl3 - 13.43).abs() < 1e-12, "{nuvl3}");
+        let x6 = [2.5, 0.7, 0.3, 0.1, -0.2, -0.3, 1.0, 2.0, 0.5, 0.1, 0.05, 0.4];
+        let x3 = [2.5, 0.7, -0.3, 1.0, 2.0, 0.4];
+        let (mut a, mut b) = ([0.0; 12], [0.0; 12]);
+        m6.derivatives(&x6, &[22.0], &fill(&m6, &lift), &mut a);
+        m6t.derivatives(&x6, &[22.0], &c6, &mut b);
+        for (i, (a, b)) in a.iter().zip(&b).enumerate() {
+            assert!((a - b).abs() < 1e-12, "spheroid6 rate {i}: {a} vs {b}");
+        }
+        let (mut a, mut b) = ([0.0; 6], [0.0; 6]);
+        m3.derivatives(&x3, &[22.0], &fill(&m3, &lift), &mut a);
+        m3t.derivatives(&x3, &[22.0], &c3, &mut b);
+        for (i, (a, b)) in a.iter().zip(&b).enumerate() {
+            assert!((a - b).abs() < 1e-12, "spheroid3 rate {i}: {a} vs {b}");
+        }
+    }
+
+    #[test]
+    fn steady_drift_moment_is_nuvl_plus_the_munk_moment_in_both_models() {
+        // Yrd = Nvd = 0 (the bounded truth): the yaw moment is (Izz - Nrd) r_dot
+        let truth = crate::models::spheroid3::BOUNDED_TRUTH;
+        let m6 = Spheroid6::new(50.0, [0.5, 3.7, 3.7], 50.0 * G, 0.0, scales());
+        let m3 = Spheroid3::new(50.0, 3.7, scales());
+        let (c6, c3) = (fill(&m6, truth), fill(&m3, truth));
+        let (u, v) = (2.0, -0.3);
+        let (mut d6, mut d3) = ([0.0; 12], [0.0; 6]);
+        m6.derivatives(
+            &[u, v, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            &[0.0],
+            &c6,
+            &mut d6,
+        );
+        m3.derivatives(&[u, v, 0.0, 0.0, 0.0, 0.0], &[0.0], &c3, &mut d3);
+        let inertia = 3.7 - c6[NRD];
+        let (n6, n3) = (inertia * d6[5], inertia * d3[2]);
+        // spheroid3's N_uv u v (paper eq. 3) with Nuv = Nuvl + (Yvd - Xud) (paper eq. 2 and 4);
+        // spheroid6's lift part plus the added-mass Coriolis moment (Fossen 2011, eq. 6.43)
+        let nuv = 13.43 + (-23.626 - -1.164);
+        let want = nuv * u * v + 10.0 * v * v.abs();
+        assert!((n3 - want).abs() < 1e-9, "spheroid3: {n3} vs {want}");
+        assert!((n6 - want).abs() < 1e-9, "spheroid6: {n6} vs {want}");
+        assert!((c6[NUV] - nuv).abs() < 1e-12, "{}", c6[NUV]);
     }
 
     #[test]

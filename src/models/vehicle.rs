@@ -3,6 +3,7 @@
 //! needs and says what it misses.
 
 use super::coefficient::{AddedMass, Scales};
+use crate::coefficients::YawMoment;
 
 /// A vehicle and the water it moves in. All values SI.
 #[derive(Debug, Clone, PartialEq)]
@@ -29,6 +30,46 @@ pub struct Vehicle {
     pub rho: f64,
     /// The model's own data (`[vehicle.particulars]`), read by [`Vehicle::particulars`].
     pub particulars: toml::Table,
+}
+
+/// The vehicle as a run of hydroid models it: its data and the run's conventions, the one
+/// place a run's yaw-moment reading is held (`VehicleConfig::for_model` makes it), so that
+/// every model built in the run reads its coefficients the same way.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunVehicle {
+    /// The vehicle data.
+    pub vehicle: Vehicle,
+    /// What the linear yaw-moment coefficients hold (total or lift-only N_uv).
+    pub yaw_moment: YawMoment,
+}
+
+/// What a model is built from ([`with_model`](super::with_model)): the vehicle data and the
+/// yaw-moment reading of the run.
+pub trait BuildFrom {
+    /// The vehicle data.
+    fn vehicle(&self) -> &Vehicle;
+    /// The yaw-moment reading the model is built in.
+    fn yaw_moment(&self) -> YawMoment;
+}
+
+impl BuildFrom for RunVehicle {
+    fn vehicle(&self) -> &Vehicle {
+        &self.vehicle
+    }
+    fn yaw_moment(&self) -> YawMoment {
+        self.yaw_moment
+    }
+}
+
+/// A bare vehicle (examples, the catalogue, the conformance suite) is read as the seed paper
+/// reads it: lift-only.
+impl BuildFrom for Vehicle {
+    fn vehicle(&self) -> &Vehicle {
+        self
+    }
+    fn yaw_moment(&self) -> YawMoment {
+        YawMoment::LiftOnly
+    }
 }
 
 /// A problem of the vehicle data for a model: the `vehicle.*` key and what is wrong.

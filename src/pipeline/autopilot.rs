@@ -7,13 +7,13 @@ use crate::autopilot::{AutopilotResult, Gains, RudderLimits};
 use crate::coefficients::CoefficientSet;
 use crate::config::autopilot::AutopilotConfig;
 use crate::error::{Error, Result};
-use crate::models::{with_model, Model, ModelName, ModelVisitor, Vehicle};
+use crate::models::{with_model, Model, ModelName, ModelVisitor, RunVehicle};
 use crate::stages::hekf::HekfConfig;
 
 /// Runs the step for the identified model `name` with the coefficient set `set`.
 pub fn run(
     name: ModelName,
-    vehicle: &Vehicle,
+    vehicle: &RunVehicle,
     set: &CoefficientSet,
     hekf: &HekfConfig,
     cfg: &AutopilotConfig,

@@ -9,7 +9,7 @@ mod preflight;
 pub use inputs::{file_sha256, load_input, load_inputs, stage_inputs, InputsByStage, PlannedInput};
 pub use preflight::{available_coefficients, preflight};
 
-use crate::coefficients::{Coefficient, CoefficientSet, Source, SYMMETRY};
+use crate::coefficients::{Coefficient, CoefficientSet, Source, YawMoment, SYMMETRY};
 use crate::config::{Config, LoadedConfig};
 use crate::error::{Error, Result};
 use crate::progress::Progress;
@@ -79,7 +79,7 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutp
         stages.hekf = Some(r);
         resim = runs;
     }
-    complete_reported(&mut known, model_name, &mut log);
+    complete_reported(&mut known, model_name, cfg.vehicle.yaw_moment, &mut log);
     let mut autopilot_result = None;
     if let (Some(a), Some(hc), Some(name)) = (&cfg.autopilot, &cfg.hekf, model_name) {
         let vehicle = cfg.vehicle.for_model(&cfg.fluid);
@@ -197,9 +197,11 @@ fn polar_step(
     let r = crate::stages::polar::run(pc, &cfg.vehicle, &cfg.fluid, &records(inputs))?;
     known.merge_stage(r.coefficients(), r.directions.clone());
     log.stage(&format!(
-        "polar: {} coefficients from {} steady points",
+        "polar: {} coefficients from {} steady points; C_M read as the {} yaw moment ({})",
         r.coefficients.len(),
-        r.pooled.n_points
+        r.pooled.n_points,
+        r.reference.moment,
+        pc.moment_part().polar_coefficient()
     ));
     log.say(r.warnings.iter().cloned());
     Ok(r)
@@ -214,7 +216,7 @@ fn surge_step(
     log: &mut Log,
 ) -> Result<SurgeResult> {
     let recs = records(inputs);
-    known.complete(SYMMETRY);
+    known.complete(SYMMETRY, cfg.vehicle.yaw_moment);
     let r = crate::stages::surge::run(sc, &cfg.vehicle, known, &recs)?;
     r.merge_into(known);
     log.stage(&format!(
@@ -285,7 +287,7 @@ fn hekf_step(
     let cfg = &loaded.config;
     let fit = records(&inputs.hekf_fit);
     let validation = records(&inputs.hekf_validation);
-    let for_filter = fixed_for_filter(known, analytic);
+    let for_filter = fixed_for_filter(known, analytic, cfg.vehicle.yaw_moment);
     let stage_inputs = hekf::StageInputs {
         vehicle: &cfg.vehicle,
         fluid: &cfg.fluid,
@@ -328,7 +330,7 @@ fn hekf_step(
     let mut final_set = for_filter.clone();
     final_set.merge_stage(r.coefficients(), r.directions.clone());
     final_set.correlation = Some(r.correlation.clone());
-    complete_for(&mut final_set, hc.model);
+    complete_for(&mut final_set, hc.model, cfg.vehicle.yaw_moment);
     let vehicle = cfg.vehicle.for_model(&cfg.fluid);
     let mut resim = Resimulation::default();
     for (rec, used) in fit
@@ -358,26 +360,35 @@ fn hekf_step(
 }
 
 /// The coefficients the filter holds fixed: stages and configuration first, analytic values
-/// where nothing else gives one, completed by symmetry.
-fn fixed_for_filter(known: &CoefficientSet, analytic: &[Coefficient]) -> CoefficientSet {
+/// where nothing else gives one, completed by symmetry in the run's yaw-moment reading.
+fn fixed_for_filter(
+    known: &CoefficientSet,
+    analytic: &[Coefficient],
+    reading: YawMoment,
+) -> CoefficientSet {
     let mut for_filter = known.clone();
     for c in analytic {
         if !for_filter.contains(&c.name) {
             for_filter.insert(c.clone());
         }
     }
-    for_filter.complete(SYMMETRY);
+    for_filter.complete(SYMMETRY, reading);
     for_filter
 }
 
 /// The reported set: what the stages and the configuration gave, completed by symmetry (by
 /// the model's relations when the HEKF ran; otherwise with a warning for each coefficient
 /// the relations cannot complete).
-fn complete_reported(known: &mut CoefficientSet, model: Option<ModelName>, log: &mut Log) {
+fn complete_reported(
+    known: &mut CoefficientSet,
+    model: Option<ModelName>,
+    reading: YawMoment,
+    log: &mut Log,
+) {
     match model {
-        Some(m) => complete_for(known, m),
+        Some(m) => complete_for(known, m, reading),
         None => {
-            let incomplete = known.complete(SYMMETRY).into_iter().map(|w| {
+            let incomplete = known.complete(SYMMETRY, reading).into_iter().map(|w| {
                 Warning::new(
                     "coefficients",
                     w,
@@ -389,9 +400,10 @@ fn complete_reported(known: &mut CoefficientSet, model: Option<ModelName>, log: 
     }
 }
 
-/// Completes a set by the relations the model declares (symmetry, axisymmetry).
-fn complete_for(set: &mut CoefficientSet, model: ModelName) {
+/// Completes a set by the relations the model declares (symmetry, axisymmetry) that hold in
+/// the run's yaw-moment reading.
+fn complete_for(set: &mut CoefficientSet, model: ModelName, reading: YawMoment) {
     for relations in model.completing_relations() {
-        set.complete(relations);
+        set.complete(relations, reading);
     }
 }

@@ -16,8 +16,8 @@ pub fn available_coefficients(cfg: &Config) -> Vec<String> {
     if cfg.vehicle.diameter.is_some() {
         names.extend(["Xud", "Yvd", "Zwd", "Nrd", "Mqd", "Kpd", "Yrd", "Nvd"].map(String::from));
     }
-    if cfg.polar.as_ref().is_some_and(|c| c.enabled) {
-        names.extend(polar::provides().iter().map(|n| n.to_string()));
+    if let Some(pc) = cfg.polar.as_ref().filter(|c| c.enabled) {
+        names.extend(polar::provides(pc).iter().map(|n| n.to_string()));
     }
     if let Some(sc) = cfg.surge.as_ref().filter(|c| c.enabled) {
         names.extend(surge::provides(sc).iter().map(|n| n.to_string()));

@@ -10,7 +10,7 @@ pub mod manoeuvre;
 
 use crate::coefficients::CoefficientSet;
 use crate::error::{Error, Result};
-use crate::models::{with_model, Model, ModelName, ModelVisitor, Vehicle};
+use crate::models::{with_model, Model, ModelName, ModelVisitor, RunVehicle};
 use crate::quantity::Quantity;
 use crate::record::Record;
 use crate::signal;
@@ -67,7 +67,7 @@ pub struct ResimTrace {
 /// `scale` is the data's scale ratio (for the IMO criteria of a ship's manoeuvre).
 pub fn resimulate(
     model: ModelName,
-    vehicle: &Vehicle,
+    vehicle: &RunVehicle,
     set: &CoefficientSet,
     rec: &Record,
     used_for_fit: bool,
@@ -81,7 +81,7 @@ pub fn resimulate(
             rec,
             used_for_fit,
             scale: manoeuvre::Scale {
-                length: vehicle.length,
+                length: vehicle.vehicle.length,
                 lambda: scale,
             },
         },

@@ -5,6 +5,7 @@
 //! checked against each key's dimension), then checked against limits that keep a
 //! simulation finite in time and memory: see [`limits`].
 
+use crate::coefficients::YawMoment;
 use crate::config::{
     quantity_key, read_collecting, si, Constant, FluidConfig, Problems, VehicleConfig,
 };
@@ -96,6 +97,11 @@ pub enum Manoeuvre {
         moment_reference_length: f64,
         /// Cubic terms added to C_L and C_M (per rad^3), to mimic nonlinear polars.
         cubic: BTreeMap<Quantity, f64>,
+        /// Which part of the yaw moment the written C_M is: `lift-only` (the default, the
+        /// paper's reading: Nuvl) or `total` (Munk moment included: Nuv of the completed
+        /// truth, as a CFD static drift run measures it).
+        #[serde(skip_serializing_if = "is_lift_only")]
+        moment: YawMoment,
     },
     /// Steady captive conditions (static drift, drift with rudder, circular motion): the
     /// model held at every combination of speed, drift angle, non-dimensional yaw rate
@@ -116,6 +122,10 @@ pub enum Manoeuvre {
     /// A harmonic captive run (PMM pure sway, pure yaw): the force history of the model
     /// moved with oscillating velocities.
     Pmm(super::pmm::Pmm),
+}
+
+fn is_lift_only(m: &YawMoment) -> bool {
+    *m == YawMoment::LiftOnly
 }
 
 /// An input change (the same as a run configuration's `steps`).
@@ -267,6 +277,8 @@ struct ManoeuvreFile {
     #[serde(default)]
     cubic: Option<BTreeMap<Quantity, f64>>,
     #[serde(default)]
+    moment: Option<YawMoment>,
+    #[serde(default)]
     drift_deg: Option<Vec<f64>>,
     #[serde(default)]
     yaw_rate_prime: Option<Vec<f64>>,
@@ -403,11 +415,20 @@ impl SimFile {
                 (None, None)
             }
         };
+        // the truth's yaw-moment reading, as a run's known coefficients give it
+        let mut vehicle = self.vehicle;
+        match YawMoment::of_names(self.coefficients.keys().map(String::as_str)) {
+            Some(reading) => vehicle.yaw_moment = reading,
+            None => p.add(
+                "coefficients.Nuvl",
+                YawMoment::both_given("coefficients.Nuv", "coefficients.Nuvl"),
+            ),
+        }
         Some((
             SimConfig {
                 title: self.title,
                 model: self.model,
-                vehicle: self.vehicle,
+                vehicle,
                 fluid: self.fluid,
                 coefficients: self.coefficients,
                 manoeuvre: manoeuvre?,
@@ -458,6 +479,7 @@ impl ManoeuvreFile {
                 unused(p, "speed", self.speed.is_some());
                 unused(p, "frequency", self.frequency.is_some());
                 unused(p, "amplitude", self.amplitude.is_some());
+                unused(p, "moment", self.moment.is_some());
                 let (Some(duration), Some(dt)) = (self.duration, self.dt) else {
                     if self.duration.is_none() {
                         required(p, "duration", "s");
@@ -690,6 +712,7 @@ impl ManoeuvreFile {
                     speeds,
                     moment_reference_length: l_ref,
                     cubic,
+                    moment: self.moment.unwrap_or(YawMoment::LiftOnly),
                 })
             }
             Kind::Captive => self.captive(produces, p),
@@ -711,6 +734,7 @@ impl ManoeuvreFile {
                         self.moment_reference_length.is_some(),
                     ),
                     ("cubic", self.cubic.is_some()),
+                    ("moment", self.moment.is_some()),
                 ] {
                     unused(p, key, given);
                 }
@@ -749,6 +773,7 @@ impl ManoeuvreFile {
             ("steering", self.steering.is_some()),
             ("process_noise", self.process_noise.is_some()),
             ("alpha_deg", self.alpha_deg.is_some()),
+            ("moment", self.moment.is_some()),
             (
                 "moment_reference_length",
                 self.moment_reference_length.is_some(),

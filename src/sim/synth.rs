@@ -4,7 +4,7 @@
 use super::config::{Manoeuvre, SimConfig};
 use super::inputs::{changes_of, rate_limited, stepped, Input, InputSeries};
 use super::integrate::{complete_coefficients, simulate};
-use crate::coefficients::{Coefficient, CoefficientSet, Source};
+use crate::coefficients::{Coefficient, CoefficientSet, Source, YawMoment, SYMMETRY};
 use crate::error::{Error, Result};
 use crate::models::{with_model, InputRule, Model, ModelVisitor};
 use crate::quantity::Quantity;
@@ -36,12 +36,13 @@ pub fn synthesize(cfg: &SimConfig) -> Result<Columns> {
             speeds,
             moment_reference_length,
             cubic,
+            moment,
         } => polar_sweep(
             cfg,
             &set,
             alpha_deg,
             speeds,
-            *moment_reference_length,
+            (*moment_reference_length, *moment),
             cubic,
         )?,
         Manoeuvre::Pmm(_) => with_model(
@@ -311,25 +312,31 @@ fn per_sample<M: Model>(
 
 /// The steady polar implied by the coefficients: paper eq. 5 inverted with q = 0.5 rho A_ref,
 /// C_D = a alpha^2 + b alpha + c with c = -Xuu/q, b = -Xuv/q, a = -Xvv/q - c/2,
-/// C_L = (Yuvl/q) alpha + c3 alpha^3, C_M = (Nuvl/(q L_ref)) alpha + c3 alpha^3.
+/// C_L = (Yuvl/q) alpha + c3 alpha^3, C_M = (Nuvl/(q L_ref)) alpha + c3 alpha^3 when C_M is
+/// the lift moment only (`moment` lift-only, the paper's reading), or with the total
+/// Nuv = Nuva + Nuvl of the truth completed by symmetry (paper eq. 2 and 4) in place of Nuvl
+/// when C_M is the whole yaw moment, as a CFD static drift run measures it.
 fn polar_sweep(
     cfg: &SimConfig,
     set: &CoefficientSet,
     alpha_deg: &[f64],
     speeds: &[f64],
-    l_ref: f64,
+    (l_ref, moment): (f64, YawMoment),
     cubic: &BTreeMap<Quantity, f64>,
 ) -> Result<Columns> {
     let q = 0.5 * cfg.fluid.rho * cfg.vehicle.reference_area;
+    let mut completed = set.clone();
+    completed.complete(SYMMETRY, cfg.vehicle.yaw_moment);
     let get = |n: &str| {
-        set.value(n)
+        completed
+            .value(n)
             .ok_or_else(|| Error::Usage(format!("a polar sweep needs {n} in [coefficients]")))
     };
     let c = -get("Xuu")? / q;
     let b = -get("Xuv")? / q;
     let a = -get("Xvv")? / q - c / 2.0;
     let cla = get("Yuvl")? / q;
-    let cma = get("Nuvl")? / (q * l_ref);
+    let cma = get(moment.polar_coefficient())? / (q * l_ref);
     let c3l = cubic.get(&Quantity::Cl).copied().unwrap_or(0.0);
     let c3m = cubic.get(&Quantity::Cm).copied().unwrap_or(0.0);
     let mut cols = Columns::new();

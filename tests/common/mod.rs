@@ -48,6 +48,7 @@ pub fn vehicle() -> VehicleConfig {
         bg: None,
         scale: None,
         particulars: Default::default(),
+        yaw_moment: Default::default(),
     }
 }
 

@@ -71,6 +71,11 @@ pub fn write<'a>(d: &mut Document<'a>, p: &PolarResult, figs: &Figures<'a>) {
         ]);
     }
     d.table(t);
+    d.text(format!(
+        "Yaw moment (polar.moment.part = \"{}\"): {}.",
+        rf.moment,
+        rf.moment.statement()
+    ));
     if p.per_speed.len() > 1 && !p.spread.is_empty() {
         d.heading(3, "Agreement between speeds");
         d.text(

@@ -8,11 +8,15 @@
 //! Yuvd = q c          Yuvl = q C_La       Nuvl = q L_ref C_Ma
 //! ```
 //!
+//! That last line is the paper's lift-only reading of C_M. A CFD static drift run measures the
+//! whole yaw moment, Munk moment included, so in the total reading (`polar.moment.part`, the
+//! default) the slope gives the total coefficient instead: Nuv = q L_ref C_Ma.
+//!
 //! The paper refers C_M to A_f alone (effective L_ref = 1 m). Every coefficient is a linear
 //! combination g'x of one channel's constants, so its variance is g' Cov g.
 
 use super::ChannelFit;
-use crate::coefficients::{directions_of, Coefficient, Direction, Source};
+use crate::coefficients::{directions_of, Coefficient, Direction, Source, YawMoment};
 
 /// One coefficient of eq. 5 as a linear combination of a channel's constants.
 struct Map {
@@ -84,14 +88,36 @@ const MAPS: &[Map] = &[
     },
 ];
 
-/// The coefficients this mapping gives (paper eq. 5).
-pub fn provides() -> Vec<&'static str> {
-    MAPS.iter().map(|m| m.name).collect()
+/// The moment map in the total reading: the same slope, the whole yaw moment.
+const TOTAL_MOMENT: Map = Map {
+    name: "Nuv",
+    channel: Channel::Moment,
+    terms: &[(1.0, "slope")],
+    moment: true,
+    relation: "total yaw-moment slope, Munk moment included: Nuv = q L_ref C_Ma",
+};
+
+/// The maps of eq. 5 in the reading `part` of C_M.
+fn maps(part: YawMoment) -> impl Iterator<Item = &'static Map> {
+    MAPS.iter().map(move |m| match (m.channel, part) {
+        (Channel::Moment, YawMoment::Total) => &TOTAL_MOMENT,
+        _ => m,
+    })
 }
 
-/// Each coefficient this mapping gives with its relation to the fitted constants.
+/// The coefficients this mapping gives (paper eq. 5) when C_M is the part `part` of the yaw
+/// moment.
+pub fn provides(part: YawMoment) -> Vec<&'static str> {
+    maps(part).map(|m| m.name).collect()
+}
+
+/// Each coefficient this mapping gives in either reading of C_M with its relation to the
+/// fitted constants (the lift-only moment map first).
 pub fn relations() -> Vec<(&'static str, &'static str)> {
-    MAPS.iter().map(|m| (m.name, m.relation)).collect()
+    MAPS.iter()
+        .chain(std::iter::once(&TOTAL_MOMENT))
+        .map(|m| (m.name, m.relation))
+        .collect()
 }
 
 /// The gradient g of a coefficient with respect to its channel's constants (in `fit.names`
@@ -124,15 +150,17 @@ fn channel_fit<'a>(
 }
 
 /// The coefficients of paper eq. 5 from the three channel fits; `q` = 0.5 rho A_ref, kg/m;
-/// `l_ref` = moment reference length, m.
+/// `l_ref` = moment reference length, m; `part`: what C_M holds (total: the slope gives Nuv,
+/// lift-only: Nuvl).
 pub fn coefficients(
     drag: &ChannelFit,
     lift: &ChannelFit,
     moment: &ChannelFit,
     q: f64,
     l_ref: f64,
+    part: YawMoment,
 ) -> Vec<Coefficient> {
-    MAPS.iter()
+    maps(part)
         .map(|m| {
             let fit = channel_fit(m, drag, lift, moment);
             let g = gradient(m, fit, q, l_ref);
@@ -160,13 +188,14 @@ pub fn coefficients(
 /// each channel's covariance of constants (the channels are fitted separately, so their
 /// errors are independent), each mapped through eq. 5 to every coefficient of that channel.
 /// Together they reproduce the coefficients' sigmas and their correlations (Xuu and Yuvd,
-/// both from c, move together).
+/// both from c, move together). The moment's directions move Nuv or Nuvl as `part` names it.
 pub fn directions(
     drag: &ChannelFit,
     lift: &ChannelFit,
     moment: &ChannelFit,
     q: f64,
     l_ref: f64,
+    part: YawMoment,
 ) -> Vec<Direction> {
     let mut out = Vec::new();
     for (label, fit) in [
@@ -178,10 +207,7 @@ pub fn directions(
         let names: Vec<&str> = fit.names.iter().map(String::as_str).collect();
         for d in directions_of(label, &names, cov) {
             let mut deltas = std::collections::BTreeMap::new();
-            for m in MAPS
-                .iter()
-                .filter(|m| std::ptr::eq(channel_fit(m, drag, lift, moment), fit))
-            {
+            for m in maps(part).filter(|m| std::ptr::eq(channel_fit(m, drag, lift, moment), fit)) {
                 let g = gradient(m, fit, q, l_ref);
                 let delta: f64 = fit
                     .names
@@ -202,4 +228,70 @@ pub fn directions(
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn fit(channel: &str, names: &[&str], values: &[f64], sd: f64) -> ChannelFit {
+        let n = names.len();
+        ChannelFit {
+            channel: channel.into(),
+            model: String::new(),
+            names: names.iter().map(|s| s.to_string()).collect(),
+            units: vec![String::new(); n],
+            values: values.to_vec(),
+            std_errors: vec![Some(sd); n],
+            covariance: Some(
+                (0..n)
+                    .map(|i| (0..n).map(|j| if i == j { sd * sd } else { 0.0 }).collect())
+                    .collect(),
+            ),
+            active_constraints: Vec::new(),
+            binding_inequalities: Vec::new(),
+            n_points: 10,
+            dof: 8,
+            rss: 0.0,
+            residual_std: None,
+            r_squared: None,
+            residuals: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn the_moment_slope_gives_nuv_when_total_and_nuvl_when_lift_only() {
+        let drag = fit("drag", &["a", "b", "c"], &[0.293, -0.0273, 0.0826], 1e-3);
+        let lift = fit("lift", &["intercept", "slope"], &[0.0, -1.013], 1e-2);
+        let moment = fit("moment", &["intercept", "slope"], &[0.0, -0.56], 0.02);
+        let (q, l_ref) = (16.1, 1.2);
+        for (part, name, other) in [
+            (YawMoment::Total, "Nuv", "Nuvl"),
+            (YawMoment::LiftOnly, "Nuvl", "Nuv"),
+        ] {
+            let cs = coefficients(&drag, &lift, &moment, q, l_ref, part);
+            let c = cs.iter().find(|c| c.name == name).expect(name);
+            assert!(
+                cs.iter().all(|c| c.name != other),
+                "{part}: {other} given too"
+            );
+            // q L_ref C_Ma, sigma q L_ref SE(C_Ma)
+            assert!((c.value - q * l_ref * -0.56).abs() < 1e-12, "{}", c.value);
+            assert!((c.sigma.unwrap() - q * l_ref * 0.02).abs() < 1e-12);
+            assert_eq!(provides(part).iter().filter(|n| **n == name).count(), 1);
+            let ds = directions(&drag, &lift, &moment, q, l_ref, part);
+            let moved: Vec<&str> = ds
+                .iter()
+                .filter(|d| d.source.starts_with("polar moment"))
+                .flat_map(|d| d.deltas.keys().map(String::as_str))
+                .collect();
+            assert!(
+                !moved.is_empty() && moved.iter().all(|n| *n == name),
+                "{moved:?}"
+            );
+        }
+        let total = coefficients(&drag, &lift, &moment, q, l_ref, YawMoment::Total);
+        let note = total.iter().find(|c| c.name == "Nuv").unwrap().note.clone();
+        assert!(note.unwrap().contains("Munk moment included"));
+    }
 }

@@ -36,9 +36,10 @@ use channel::fit_all;
 
 pub(crate) const STAGE: &str = "polar";
 
-/// The coefficients this stage estimates (paper eq. 5).
-pub fn provides() -> Vec<&'static str> {
-    mapping::provides()
+/// The coefficients this stage estimates (paper eq. 5) with its configuration: the moment
+/// slope gives Nuv or Nuvl as `polar.moment.part` says.
+pub fn provides(config: &PolarConfig) -> Vec<&'static str> {
+    mapping::provides(config.moment_part())
 }
 
 /// Each coefficient this stage estimates with its relation to the fitted polar constants
@@ -86,8 +87,11 @@ pub fn run(
     let l_ref = vehicle.reference_length;
 
     let pooled = fit_all(config, &used, "pooled fit")?;
-    let coefficients = mapping::coefficients(&pooled.drag, &pooled.lift, &pooled.moment, q, l_ref);
-    let directions = mapping::directions(&pooled.drag, &pooled.lift, &pooled.moment, q, l_ref);
+    let part = config.moment_part();
+    let coefficients =
+        mapping::coefficients(&pooled.drag, &pooled.lift, &pooled.moment, q, l_ref, part);
+    let directions =
+        mapping::directions(&pooled.drag, &pooled.lift, &pooled.moment, q, l_ref, part);
     warnings.extend(binding_warnings(&pooled));
     warnings.extend(linearity_warnings(config, &used));
     let per_speed = fit_per_speed(config, vehicle, fluid, &used, &mut warnings)?;
@@ -209,7 +213,7 @@ fn fit_per_speed(
             Err(e) => (None, Some(e.to_string())),
         };
         let coefficients = fit.as_ref().map_or_else(Vec::new, |f| {
-            mapping::coefficients(&f.drag, &f.lift, &f.moment, q, l_ref)
+            mapping::coefficients(&f.drag, &f.lift, &f.moment, q, l_ref, config.moment_part())
         });
         if let Some(e) = &error {
             warnings.push(Warning::new(
@@ -276,6 +280,7 @@ fn reference(config: &PolarConfig, vehicle: &VehicleConfig, fluid: &FluidConfig)
         axes: config.axes,
         alpha_max_deg: config.alpha_max_deg,
         weights: config.weights,
+        moment: config.moment_part(),
         statement,
     }
 }

@@ -29,6 +29,9 @@ pub struct Reference {
     pub alpha_max_deg: Option<f64>,
     /// Point weights.
     pub weights: PolarWeights,
+    /// Which part of the yaw moment C_M is: `total` (Munk moment included; the slope gives
+    /// Nuv) or `lift-only` (the slope gives Nuvl).
+    pub moment: crate::coefficients::YawMoment,
     /// The definitions in words.
     pub statement: String,
 }
