@@ -286,3 +286,43 @@ fn sign_constraints_hold_a_coefficient_at_its_bound() {
     let (v, s) = value_sigma(&held["stages"]["captive"]["coefficients"], "Nrd");
     assert!((v + 1.4532).abs() < 3.0 * s, "Nrd {v} ± {s}");
 }
+
+/// A PMM programme's mistakes are said with their keys, and nothing is written.
+#[test]
+fn a_pmm_programme_with_mistakes_names_every_key() {
+    let dir = tempfile::tempdir().unwrap();
+    let sim =
+        std::fs::read_to_string(common::root().join("configs/simulate/spheroid_pmm_sway.toml"))
+            .unwrap()
+            .replace(
+                "file = \"../../cfd_exports/spheroid_pmm_sway.forces.dat\"",
+                &format!("file = \"{}\"", dir.path().join("out.dat").display()),
+            );
+    let check = |bad: String, keys: &[&str]| {
+        let cfg = dir.path().join("bad.toml");
+        std::fs::write(&cfg, bad).unwrap();
+        let o = common::hydroid(&["simulate", cfg.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(2), "{}", common::text(&o.stderr));
+        let e = common::text(&o.stderr);
+        for k in keys {
+            assert!(e.contains(k), "{k}: {e}");
+        }
+        assert!(!dir.path().join("out.dat").exists());
+    };
+    check(
+        sim.replace("frequency = \"0.5 Hz\"", "frequency = \"0.5 m\""),
+        &["manoeuvre.frequency", "expected a frequency"],
+    );
+    check(
+        sim.replace(
+            "amplitude = { v = \"0.25 m/s\" }",
+            "amplitude = { x = \"0.25 m\" }",
+        )
+        .replace("dt = 0.01", "dt = 0.5"),
+        &[
+            "manoeuvre.amplitude.x: a PMM oscillates a velocity of the model",
+            "manoeuvre.dt",
+            "fewer than 20 samples",
+        ],
+    );
+}
