@@ -325,4 +325,9 @@ fn a_pmm_programme_with_mistakes_names_every_key() {
             "fewer than 20 samples",
         ],
     );
+    // a key of another kind of manoeuvre
+    check(
+        sim.replace("kind = \"pmm\"", "kind = \"pmm\"\nspeeds = [2.0]"),
+        &["manoeuvre.speeds: is not used by a pmm manoeuvre"],
+    );
 }

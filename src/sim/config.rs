@@ -250,6 +250,58 @@ enum Kind {
     Pmm,
 }
 
+impl Kind {
+    /// The configuration's word.
+    fn name(self) -> &'static str {
+        match self {
+            Kind::TimeHistory => "time_history",
+            Kind::PolarSweep => "polar_sweep",
+            Kind::Captive => "captive",
+            Kind::Pmm => "pmm",
+        }
+    }
+
+    /// The optional `[manoeuvre]` keys a manoeuvre of this kind reads; any other given is
+    /// an error.
+    fn keys(self) -> &'static [&'static str] {
+        match self {
+            Kind::TimeHistory => &[
+                "duration",
+                "dt",
+                "substeps",
+                "initial",
+                "inputs",
+                "steps",
+                "rates",
+                "steering",
+                "process_noise",
+            ],
+            Kind::PolarSweep => &[
+                "alpha_deg",
+                "speeds",
+                "moment_reference_length",
+                "cubic",
+                "moment",
+            ],
+            Kind::Captive => &[
+                "speeds",
+                "drift_deg",
+                "yaw_rate_prime",
+                "rudder_deg",
+                "inputs",
+            ],
+            Kind::Pmm => &[
+                "speed",
+                "amplitude",
+                "frequency",
+                "duration",
+                "dt",
+                "inputs",
+            ],
+        }
+    }
+}
+
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct ManoeuvreFile {
@@ -442,21 +494,45 @@ impl SimFile {
 }
 
 impl ManoeuvreFile {
+    /// Every optional key and whether the file gives it.
+    fn given(&self) -> [(&'static str, bool); 20] {
+        [
+            ("duration", self.duration.is_some()),
+            ("dt", self.dt.is_some()),
+            ("substeps", self.substeps.is_some()),
+            ("initial", self.initial.is_some()),
+            ("inputs", self.inputs.is_some()),
+            ("steps", self.steps.is_some()),
+            ("rates", self.rates.is_some()),
+            ("steering", self.steering.is_some()),
+            ("process_noise", self.process_noise.is_some()),
+            ("alpha_deg", self.alpha_deg.is_some()),
+            ("speeds", self.speeds.is_some()),
+            (
+                "moment_reference_length",
+                self.moment_reference_length.is_some(),
+            ),
+            ("cubic", self.cubic.is_some()),
+            ("moment", self.moment.is_some()),
+            ("drift_deg", self.drift_deg.is_some()),
+            ("yaw_rate_prime", self.yaw_rate_prime.is_some()),
+            ("rudder_deg", self.rudder_deg.is_some()),
+            ("speed", self.speed.is_some()),
+            ("frequency", self.frequency.is_some()),
+            ("amplitude", self.amplitude.is_some()),
+        ]
+    }
+
     fn check(self, model: ModelName, produces: &Produces, p: &mut Problems) -> Option<Manoeuvre> {
-        let kind = match self.kind {
-            Kind::TimeHistory => "time_history",
-            Kind::PolarSweep => "polar_sweep",
-            Kind::Captive => "captive",
-            Kind::Pmm => "pmm",
-        };
-        let unused = |p: &mut Problems, key: &str, given: bool| {
-            if given {
+        let kind = self.kind.name();
+        for (key, given) in self.given() {
+            if given && !self.kind.keys().contains(&key) {
                 p.add(
                     &format!("manoeuvre.{key}"),
                     format!("is not used by a {kind} manoeuvre"),
                 );
             }
-        };
+        }
         let required = |p: &mut Problems, key: &str, unit: &str| {
             p.add(
                 &format!("manoeuvre.{key}"),
@@ -465,21 +541,6 @@ impl ManoeuvreFile {
         };
         match self.kind {
             Kind::TimeHistory => {
-                unused(p, "drift_deg", self.drift_deg.is_some());
-                unused(p, "yaw_rate_prime", self.yaw_rate_prime.is_some());
-                unused(p, "rudder_deg", self.rudder_deg.is_some());
-                unused(p, "alpha_deg", self.alpha_deg.is_some());
-                unused(p, "speeds", self.speeds.is_some());
-                unused(
-                    p,
-                    "moment_reference_length",
-                    self.moment_reference_length.is_some(),
-                );
-                unused(p, "cubic", self.cubic.is_some());
-                unused(p, "speed", self.speed.is_some());
-                unused(p, "frequency", self.frequency.is_some());
-                unused(p, "amplitude", self.amplitude.is_some());
-                unused(p, "moment", self.moment.is_some());
                 let (Some(duration), Some(dt)) = (self.duration, self.dt) else {
                     if self.duration.is_none() {
                         required(p, "duration", "s");
@@ -636,25 +697,6 @@ impl ManoeuvreFile {
                 })
             }
             Kind::PolarSweep => {
-                for (key, given) in [
-                    ("duration", self.duration.is_some()),
-                    ("dt", self.dt.is_some()),
-                    ("substeps", self.substeps.is_some()),
-                    ("initial", self.initial.is_some()),
-                    ("inputs", self.inputs.is_some()),
-                    ("steps", self.steps.is_some()),
-                    ("rates", self.rates.is_some()),
-                    ("steering", self.steering.is_some()),
-                    ("process_noise", self.process_noise.is_some()),
-                    ("drift_deg", self.drift_deg.is_some()),
-                    ("yaw_rate_prime", self.yaw_rate_prime.is_some()),
-                    ("rudder_deg", self.rudder_deg.is_some()),
-                    ("speed", self.speed.is_some()),
-                    ("frequency", self.frequency.is_some()),
-                    ("amplitude", self.amplitude.is_some()),
-                ] {
-                    unused(p, key, given);
-                }
                 if self.alpha_deg.is_none() {
                     required(p, "alpha_deg", "a list of angles in degrees");
                 }
@@ -717,27 +759,6 @@ impl ManoeuvreFile {
             }
             Kind::Captive => self.captive(produces, p),
             Kind::Pmm => {
-                for (key, given) in [
-                    ("substeps", self.substeps.is_some()),
-                    ("initial", self.initial.is_some()),
-                    ("steps", self.steps.is_some()),
-                    ("rates", self.rates.is_some()),
-                    ("steering", self.steering.is_some()),
-                    ("process_noise", self.process_noise.is_some()),
-                    ("alpha_deg", self.alpha_deg.is_some()),
-                    ("speeds", self.speeds.is_some()),
-                    ("drift_deg", self.drift_deg.is_some()),
-                    ("yaw_rate_prime", self.yaw_rate_prime.is_some()),
-                    ("rudder_deg", self.rudder_deg.is_some()),
-                    (
-                        "moment_reference_length",
-                        self.moment_reference_length.is_some(),
-                    ),
-                    ("cubic", self.cubic.is_some()),
-                    ("moment", self.moment.is_some()),
-                ] {
-                    unused(p, key, given);
-                }
                 let has_forces = produces
                     .all
                     .iter()
@@ -763,33 +784,6 @@ impl ManoeuvreFile {
     /// The keys of a captive programme: speeds, drift angles, yaw rates r' and rudder
     /// angles (every combination is a condition), and the constant inputs.
     fn captive(self, produces: &Produces, p: &mut Problems) -> Option<Manoeuvre> {
-        for (key, given) in [
-            ("duration", self.duration.is_some()),
-            ("dt", self.dt.is_some()),
-            ("substeps", self.substeps.is_some()),
-            ("initial", self.initial.is_some()),
-            ("steps", self.steps.is_some()),
-            ("rates", self.rates.is_some()),
-            ("steering", self.steering.is_some()),
-            ("process_noise", self.process_noise.is_some()),
-            ("alpha_deg", self.alpha_deg.is_some()),
-            ("moment", self.moment.is_some()),
-            (
-                "moment_reference_length",
-                self.moment_reference_length.is_some(),
-            ),
-            ("cubic", self.cubic.is_some()),
-            ("speed", self.speed.is_some()),
-            ("frequency", self.frequency.is_some()),
-            ("amplitude", self.amplitude.is_some()),
-        ] {
-            if given {
-                p.add(
-                    &format!("manoeuvre.{key}"),
-                    "is not used by a captive manoeuvre",
-                );
-            }
-        }
         if produces
             .all
             .iter()
