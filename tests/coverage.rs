@@ -11,23 +11,6 @@ mod common;
 
 use std::path::Path;
 
-/// The truth of the bundled spheroid exports (configs/simulate/*.toml).
-const TRUTH: [(&str, f64); 13] = [
-    ("Xud", -1.164),
-    ("Yvd", -23.626),
-    ("Yrd", 0.0),
-    ("Nrd", -1.4532),
-    ("Nvv", 10.0),
-    ("Nrr", -5.0),
-    ("Yrr", 0.5),
-    ("Yuvl", -16.31),
-    ("Nuvl", 13.43),
-    ("Xuu", -1.33),
-    ("Xuv", 0.44),
-    ("Xvv", -5.38),
-    ("Yvv", -0.44),
-];
-
 /// The exports of the twin, re-simulated with each seed.
 const SIMULATED: [&str; 5] = [
     "polar_sweep",
@@ -60,7 +43,7 @@ fn identify(example: &Path) -> (Outcome, Outcome) {
             sigma: Vec::new(),
             flagged: Vec::new(),
         };
-        for (name, truth) in TRUTH {
+        for (name, truth) in common::spheroid_joint_truth() {
             let row = common::named(rows, name);
             let (v, s) = (row[key][0].as_f64().unwrap(), row[key][1].as_f64().unwrap());
             outcome.z.push((v - truth) / s);
@@ -96,6 +79,7 @@ fn seed(example: &Path, originals: &[(String, String)], k: u64) -> (Outcome, Out
 
 #[test]
 fn joint_mode_covers_the_truth_over_30_seeds() {
+    let truths = common::spheroid_joint_truth();
     let originals: Vec<(String, String)> = SIMULATED
         .iter()
         .map(|n| {
@@ -155,7 +139,7 @@ fn joint_mode_covers_the_truth_over_30_seeds() {
     );
     // joint mode: nothing flagged as undetermined, no sigma above consider mode's
     for (k, (j, c)) in outcomes.iter().enumerate() {
-        for (i, (name, _)) in TRUTH.iter().enumerate() {
+        for (i, (name, _)) in truths.iter().enumerate() {
             assert!(
                 j.sigma[i] <= c.sigma[i] * 1.0001,
                 "seed {k}: {name} joint sigma {} > consider {}",
@@ -168,7 +152,7 @@ fn joint_mode_covers_the_truth_over_30_seeds() {
     // says so
     for (k, (_, c)) in outcomes.iter().enumerate() {
         for name in ["Nrd", "Nvv"] {
-            let i = TRUTH.iter().position(|(n, _)| *n == name).unwrap();
+            let i = truths.iter().position(|(n, _)| *n == name).unwrap();
             assert!(c.flagged[i], "seed {k}: consider mode does not flag {name}");
         }
     }

@@ -7,23 +7,6 @@ mod common;
 
 use std::path::Path;
 
-/// The truth of the bundled spheroid exports (configs/simulate/*.toml).
-const TRUTH: [(&str, f64); 13] = [
-    ("Xud", -1.164),
-    ("Yvd", -23.626),
-    ("Yrd", 0.0),
-    ("Nrd", -1.4532),
-    ("Nvv", 10.0),
-    ("Nrr", -5.0),
-    ("Yrr", 0.5),
-    ("Yuvl", -16.31),
-    ("Nuvl", 13.43),
-    ("Xuu", -1.33),
-    ("Xuv", 0.44),
-    ("Xvv", -5.38),
-    ("Yvv", -0.44),
-];
-
 fn run_ok(config: &Path, out: &Path, set: &[&str]) -> (serde_json::Value, String) {
     let o = common::run_config(config, out, set);
     assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
@@ -51,8 +34,9 @@ fn spheroid_joint_example_meets_the_targets() {
         "{console}"
     );
     let hekf = &joint["stages"]["hekf"];
+    let truths = common::spheroid_joint_truth();
     for name in ["Xud", "Yvd", "Nrd", "Nvv", "Nrr"] {
-        let truth = TRUTH.iter().find(|(n, _)| *n == name).unwrap().1;
+        let truth = truths.iter().find(|(n, _)| *n == name).unwrap().1;
         let (v, s) = value_sigma(&hekf["coefficients"], name);
         assert!(
             ((v - truth) / truth).abs() < 0.01,
@@ -73,7 +57,7 @@ fn spheroid_joint_example_meets_the_targets() {
     assert_eq!(v["source"], "held constant by the run (constants)", "{v}");
     // the captive runs alone: every coefficient within 3 sigma of the truth
     let captive = &joint["stages"]["captive"];
-    for (name, truth) in TRUTH {
+    for &(name, truth) in &truths {
         let (v, s) = value_sigma(&captive["coefficients"], name);
         assert!(
             (v - truth).abs() < 3.0 * s,
@@ -86,7 +70,7 @@ fn spheroid_joint_example_meets_the_targets() {
     // consider mode, run beside it: no joint sigma above it; the yaw scale pinned by the
     // captive stage alone
     let rows = &hekf["modes"]["rows"];
-    for (name, _) in TRUTH {
+    for &(name, _) in &truths {
         let row = common::named(rows, name);
         let (sj, sc) = (
             row["joint"][1].as_f64().unwrap(),

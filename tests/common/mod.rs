@@ -195,3 +195,22 @@ pub fn run_example(extra: &[&str]) -> ExampleRun {
     let output = hydroid(&args);
     ExampleRun { dir, out, output }
 }
+
+/// The coefficients configs/spheroid_joint.toml estimates (captive stage and HEKF), each
+/// with the truth the bundled spheroid exports were simulated with
+/// (`spheroid3::BOUNDED_TRUTH`).
+pub fn spheroid_joint_truth() -> Vec<(&'static str, f64)> {
+    const ESTIMATED: [&str; 13] = [
+        "Xud", "Yvd", "Yrd", "Nrd", "Nvv", "Nrr", "Yrr", "Yuvl", "Nuvl", "Xuu", "Xuv", "Xvv", "Yvv",
+    ];
+    ESTIMATED
+        .iter()
+        .map(|n| {
+            let truth = hydroid::models::spheroid3::BOUNDED_TRUTH
+                .iter()
+                .find(|(m, _)| m == n)
+                .unwrap_or_else(|| panic!("no truth for {n}"));
+            (*n, truth.1)
+        })
+        .collect()
+}
