@@ -1,7 +1,7 @@
 //! Model inputs (thrust, rudder, rpm ...) over time: constants or sampled series, linearly
 //! interpolated between samples and held beyond the ends; inputs given as steps, sampled.
 
-use crate::config::{InputSpec, Step};
+use crate::config::{Constant, InputSpec, Step};
 use crate::models::{InputDef, InputRule};
 use crate::quantity::Quantity;
 
@@ -114,6 +114,22 @@ pub fn sampled_steps(
         out.push((q, values));
     }
     Ok(out)
+}
+
+/// The model inputs `quantities` held at the constants `given` (`inputs = { rpm = ... }`),
+/// in hydroid's internal unit as a record holds them (rev/s for rpm); one not given is 0.
+pub fn constant_inputs(
+    quantities: &[Quantity],
+    given: &std::collections::BTreeMap<Quantity, Constant>,
+) -> Vec<f64> {
+    quantities
+        .iter()
+        .map(|q| {
+            given
+                .get(q)
+                .map_or(0.0, |c| c.si / q.internal_unit().factor)
+        })
+        .collect()
 }
 
 /// The inputs of a model over time.

@@ -42,15 +42,8 @@ pub(super) struct PmmKeys {
     pub(super) inputs: Option<BTreeMap<Quantity, Constant>>,
 }
 
-/// The velocities a PMM may oscillate.
-const OSCILLATING: [Quantity; 6] = [
-    Quantity::U,
-    Quantity::V,
-    Quantity::W,
-    Quantity::P,
-    Quantity::Q,
-    Quantity::R,
-];
+/// The velocities a PMM may oscillate: the body velocities and rates.
+const OSCILLATING: &[Quantity] = Quantity::MOTION.split_at(6).0;
 
 /// Checks the keys of a `pmm` manoeuvre for a model with `states`, `inputs` and `forces`.
 pub(super) fn check(
@@ -214,16 +207,7 @@ impl ModelVisitor for History<'_> {
         })?;
         let omega = 2.0 * PI * pmm.frequency;
         let forces = model.force_quantities();
-        let u: Vec<f64> = model
-            .input_quantities()
-            .iter()
-            .map(|q| {
-                // in hydroid's internal unit, as a record holds it (rev/s for rpm)
-                pmm.inputs
-                    .get(q)
-                    .map_or(0.0, |k| k.si / q.internal_unit().factor)
-            })
-            .collect();
+        let u = super::inputs::constant_inputs(&model.input_quantities(), &pmm.inputs);
         let rows = (pmm.duration / pmm.dt + 1e-9).floor() as usize + 1;
         let mut cols = Columns::new();
         let mut x = vec![0.0; model.nx()];

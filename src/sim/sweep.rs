@@ -346,14 +346,7 @@ fn balance(
                 .ok_or_else(|| Error::Usage("the model has no surge state".into()))?;
             let mut x = vec![0.0; model.nx()];
             x[iu] = self.speed;
-            let mut u: Vec<f64> = quantities
-                .iter()
-                .map(|q| {
-                    self.inputs
-                        .get(q)
-                        .map_or(0.0, |c| c.si / q.internal_unit().factor)
-                })
-                .collect();
+            let mut u = super::inputs::constant_inputs(&quantities, self.inputs);
             if let Some(r) = quantities.iter().position(|q| *q == Quantity::Rudder) {
                 u[r] = 0.0;
             }

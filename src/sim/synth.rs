@@ -390,6 +390,9 @@ impl ModelVisitor for Captive<'_> {
         let length = self.cfg.vehicle.length;
         let forces = model.force_quantities();
         let mut f = vec![0.0; forces.len()];
+        let quantities = model.input_quantities();
+        let held = super::inputs::constant_inputs(&quantities, inputs);
+        let rudder = quantities.iter().position(|q| *q == Quantity::Rudder);
         let mut cols = Columns::new();
         for &speed in speeds {
             for &beta in drift_deg {
@@ -408,18 +411,10 @@ impl ModelVisitor for Captive<'_> {
                                 cols.entry(q).or_default().push(v);
                             }
                         }
-                        let u: Vec<f64> = model
-                            .input_quantities()
-                            .iter()
-                            .map(|q| match q {
-                                Quantity::Rudder => delta.to_radians(),
-                                // in hydroid's internal unit, as a record holds it (rev/s
-                                // for rpm)
-                                q => inputs
-                                    .get(q)
-                                    .map_or(0.0, |k| k.si / q.internal_unit().factor),
-                            })
-                            .collect();
+                        let mut u = held.clone();
+                        if let Some(i) = rudder {
+                            u[i] = delta.to_radians();
+                        }
                         for (q, v) in model.input_quantities().iter().zip(&u) {
                             cols.entry(*q).or_default().push(*v);
                         }
