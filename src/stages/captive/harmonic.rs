@@ -112,7 +112,7 @@ pub struct Periods {
     pub frequency: f64,
     /// Whole periods used.
     pub periods: usize,
-    /// Start and end of the periods used, s.
+    /// Start of the periods used, s.
     pub from: f64,
     /// End of the periods used, s.
     pub to: f64,
@@ -141,18 +141,15 @@ pub fn reduce(
     forces: &[&str],
 ) -> Result<(Condition, Periods, Option<Warning>), String> {
     let t: Vec<f64> = samples.iter().map(|s| s.t).collect();
-    let lead = oscillating
+    // the largest relative swing: a rate and a velocity compared by their RMS
+    let swing = |i: usize| {
+        let (lo, hi) = range(samples.iter().map(|s| s.row.x[i]));
+        (hi - lo) / rms(samples.iter().map(|s| s.row.x[i])).max(1e-300)
+    };
+    let (lead, _) = oscillating
         .iter()
-        .copied()
-        .max_by(|&a, &b| {
-            let span = |i: usize| {
-                let (lo, hi) = range(samples.iter().map(|s| s.row.x[i]));
-                hi - lo
-            };
-            // the largest relative swing: a rate and a velocity compared by their RMS
-            let rel = |i: usize| span(i) / rms(samples.iter().map(|s| s.row.x[i])).max(1e-300);
-            rel(a).total_cmp(&rel(b))
-        })
+        .map(|&i| (i, swing(i)))
+        .max_by(|a, b| a.1.total_cmp(&b.1))
         .ok_or("no state oscillates")?;
     let lead_series: Vec<f64> = samples.iter().map(|s| s.row.x[lead]).collect();
     let omega = frequency(&t, &lead_series).ok_or_else(|| {
@@ -227,29 +224,28 @@ pub fn reduce(
                 *s = s.max(p);
             }
         }
-        // the first and the second half of the periods must agree (no transient left)
-        if whole >= 2 {
-            let split = (whole / 2) as f64 * 2.0 * std::f64::consts::PI;
-            let cut = phases.iter().position(|p| *p >= split).unwrap_or(half);
-            if let (Some(a), Some(b)) = (
-                fourier(&phases[..cut], &y[..cut]),
-                fourier(&phases[cut..], &y[cut..]),
-            ) {
-                let (sa, sb) = (a.standard_errors(), b.standard_errors());
-                // beyond the noise, and beyond rounding (a noise-free history)
-                let floor = 1e-9 * rms(y.iter().copied());
-                for k in 0..3 {
-                    let d = (a.values[k] - b.values[k]).abs();
-                    if d > 4.0 * sa[k].hypot(sb[k]) && d > floor {
-                        changing.push(format!(
-                            "{} ({}: {}, then {})",
-                            forces.get(i).copied().unwrap_or("a force"),
-                            part_name(k),
-                            num(a.values[k]),
-                            num(b.values[k])
-                        ));
-                        break;
-                    }
+        // the first and the second half of the periods (at least MIN_PERIODS = 2 of them)
+        // must agree: no transient left
+        let split = (whole / 2) as f64 * 2.0 * std::f64::consts::PI;
+        let cut = phases.iter().position(|p| *p >= split).unwrap_or(half);
+        if let (Some(a), Some(b)) = (
+            fourier(&phases[..cut], &y[..cut]),
+            fourier(&phases[cut..], &y[cut..]),
+        ) {
+            let (sa, sb) = (a.standard_errors(), b.standard_errors());
+            // beyond the noise, and beyond rounding (a noise-free history)
+            let floor = 1e-9 * rms(y.iter().copied());
+            for k in 0..3 {
+                let d = (a.values[k] - b.values[k]).abs();
+                if d > 4.0 * sa[k].hypot(sb[k]) && d > floor {
+                    changing.push(format!(
+                        "{} ({}: {}, then {})",
+                        forces.get(i).copied().unwrap_or("a force"),
+                        part_name(k),
+                        num(a.values[k]),
+                        num(b.values[k])
+                    ));
+                    break;
                 }
             }
         }
