@@ -309,6 +309,11 @@ fn a_pmm_programme_with_mistakes_names_every_key() {
             "fewer than 20 samples",
         ],
     );
+    // a model without forces for a prescribed motion
+    check(
+        sim.replace("model = \"spheroid3\"", "model = \"spheroid6\""),
+        &["this model gives no forces for a prescribed motion, so it has no PMM runs"],
+    );
     // a key of another kind of manoeuvre
     check(
         sim.replace("kind = \"pmm\"", "kind = \"pmm\"\nspeeds = [2.0]"),

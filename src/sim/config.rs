@@ -353,17 +353,22 @@ struct ManoeuvreFile {
 pub(super) struct Produces {
     pub(super) states: Vec<Quantity>,
     pub(super) inputs: Vec<Quantity>,
+    /// The force components of a captive or PMM run (empty for the other kinds, and for a
+    /// model that gives no forces for a prescribed motion).
+    pub(super) forces: Vec<Quantity>,
     pub(super) all: Vec<Quantity>,
 }
 
 struct Signature;
 
 impl ModelVisitor for Signature {
-    type Output = (Vec<Quantity>, Vec<Quantity>);
+    /// States, inputs and the force components of a prescribed motion.
+    type Output = (Vec<Quantity>, Vec<Quantity>, Vec<Quantity>);
     fn visit<M: Model>(self, model: &M) -> Self::Output {
         (
             model.states().iter().map(|s| s.quantity).collect(),
             model.input_quantities(),
+            model.force_quantities().to_vec(),
         )
     }
 }
@@ -378,7 +383,7 @@ impl SimFile {
             p.known_coefficient(&key, name);
             p.coefficient_sized(&key, *v);
         }
-        let (states, inputs) =
+        let (states, inputs, forces) =
             match with_model(self.model, &self.vehicle.for_model(&self.fluid), Signature) {
                 Ok(signature) => signature,
                 Err(problems) => {
@@ -396,10 +401,12 @@ impl SimFile {
                     .collect(),
                 states,
                 inputs,
+                forces: Vec::new(),
             },
             Kind::PolarSweep => Produces {
                 states: Vec::new(),
                 inputs: Vec::new(),
+                forces: Vec::new(),
                 all: vec![
                     Quantity::Speed,
                     Quantity::Alpha,
@@ -408,8 +415,11 @@ impl SimFile {
                     Quantity::Cm,
                 ],
             },
-            Kind::Pmm => Produces {
-                all: std::iter::once(Quantity::Time)
+            Kind::Captive | Kind::Pmm => Produces {
+                // a PMM run is a history in time, a captive programme a table of conditions
+                all: (self.manoeuvre.kind == Kind::Pmm)
+                    .then_some(Quantity::Time)
+                    .into_iter()
                     .chain(
                         states
                             .iter()
@@ -417,21 +427,11 @@ impl SimFile {
                             .filter(|q| Quantity::MOTION[..6].contains(q)),
                     )
                     .chain(inputs.iter().copied())
-                    .chain(forces_of(self.model, &self.vehicle, &self.fluid))
+                    .chain(forces.iter().copied())
                     .collect(),
                 states,
                 inputs,
-            },
-            Kind::Captive => Produces {
-                all: states
-                    .iter()
-                    .copied()
-                    .filter(|q| Quantity::MOTION[..6].contains(q))
-                    .chain(inputs.iter().copied())
-                    .chain(forces_of(self.model, &self.vehicle, &self.fluid))
-                    .collect(),
-                states,
-                inputs,
+                forces,
             },
         };
         let manoeuvre = self.manoeuvre.check(self.model, &produces, p);
@@ -758,37 +758,27 @@ impl ManoeuvreFile {
                 })
             }
             Kind::Captive => self.captive(produces, p),
-            Kind::Pmm => {
-                let has_forces = produces
-                    .all
-                    .iter()
-                    .any(|q| matches!(q, Quantity::Fx | Quantity::Fy | Quantity::Mz));
-                super::pmm::check(
-                    super::pmm::PmmKeys {
-                        speed: self.speed,
-                        amplitude: self.amplitude,
-                        frequency: self.frequency,
-                        duration: self.duration,
-                        dt: self.dt,
-                        inputs: self.inputs,
-                    },
-                    &produces.states,
-                    &produces.inputs,
-                    has_forces,
-                    p,
-                )
-            }
+            Kind::Pmm => super::pmm::check(
+                super::pmm::PmmKeys {
+                    speed: self.speed,
+                    amplitude: self.amplitude,
+                    frequency: self.frequency,
+                    duration: self.duration,
+                    dt: self.dt,
+                    inputs: self.inputs,
+                },
+                &produces.states,
+                &produces.inputs,
+                !produces.forces.is_empty(),
+                p,
+            ),
         }
     }
 
     /// The keys of a captive programme: speeds, drift angles, yaw rates r' and rudder
     /// angles (every combination is a condition), and the constant inputs.
     fn captive(self, produces: &Produces, p: &mut Problems) -> Option<Manoeuvre> {
-        if produces
-            .all
-            .iter()
-            .all(|q| !matches!(q, Quantity::Fx | Quantity::Fy | Quantity::Mz))
-        {
+        if produces.forces.is_empty() {
             p.add(
                 "model",
                 "this model gives no forces for a prescribed motion, so it has no captive runs",
@@ -871,18 +861,6 @@ fn rows_within_limit(p: &mut Problems, key: &str, rows: u64, what: &str) -> bool
         return false;
     }
     true
-}
-
-/// The force components a model gives for a prescribed motion (none for most models).
-fn forces_of(model: ModelName, vehicle: &VehicleConfig, fluid: &FluidConfig) -> Vec<Quantity> {
-    struct Forces;
-    impl ModelVisitor for Forces {
-        type Output = Vec<Quantity>;
-        fn visit<M: Model>(self, model: &M) -> Vec<Quantity> {
-            model.force_quantities().to_vec()
-        }
-    }
-    with_model(model, &vehicle.for_model(fluid), Forces).unwrap_or_default()
 }
 
 /// Checks duration, dt and sub-steps against [`limits`]; true when a simulation of them is
