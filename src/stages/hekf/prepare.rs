@@ -161,11 +161,7 @@ fn stage_correlation(
     for a in 0..nb {
         corr[a * nb + a] = 1.0;
         for b in (0..nb).filter(|&b| b != a && held[a] && held[b]) {
-            let cov: f64 = known
-                .directions
-                .iter()
-                .filter_map(|d| Some(d.deltas.get(&names[a])? * d.deltas.get(&names[b])?))
-                .sum();
+            let cov = known.covariance(&names[a], &names[b]);
             let r = (cov / (sigma[a] * sigma[b])).clamp(-1.0, 1.0);
             if r != 0.0 {
                 any = true;
