@@ -102,6 +102,14 @@ pub fn noise_floor(y: &[f64]) -> f64 {
     (1e-8 * peak).max(1e-12)
 }
 
+/// The smallest and largest value (infinite, reversed, for no values).
+pub fn range(v: impl IntoIterator<Item = f64>) -> (f64, f64) {
+    v.into_iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+            (a.min(x), b.max(x))
+        })
+}
+
 /// Neighbours on each side of a sample.
 pub const HALF_WINDOW: usize = 3;
 

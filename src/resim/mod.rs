@@ -245,11 +245,7 @@ pub fn warnings(m: &ResimMetrics, rec: &Record) -> Vec<Warning> {
     for (q, rms) in &m.rms {
         let Some(raw) = rec.channel(*q) else { continue };
         let v = signal::cleaned(raw, &signal::outliers(raw));
-        let (lo, hi) = v
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
-                (a.min(*x), b.max(*x))
-            });
+        let (lo, hi) = signal::range(v.iter().copied());
         let range = hi - lo;
         // the measurement noise is in the RMS error but is not the model's: only the excess
         // over it counts (errors add in quadrature), which matters for a quantity that moves

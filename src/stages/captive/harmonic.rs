@@ -13,6 +13,7 @@ use super::fit::Condition;
 use crate::ad::Scalar;
 use crate::models::Model;
 use crate::numfmt::num;
+use crate::signal::range;
 use crate::warning::Warning;
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
@@ -446,12 +447,6 @@ fn frequency(t: &[f64], y: &[f64]) -> Option<f64> {
         }
     }
     Some(0.5 * (a + b))
-}
-
-fn range(v: impl Iterator<Item = f64>) -> (f64, f64) {
-    v.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
-        (a.min(x), b.max(x))
-    })
 }
 
 fn rms(v: impl Iterator<Item = f64>) -> f64 {

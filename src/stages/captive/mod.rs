@@ -611,11 +611,7 @@ fn moving_states(kept: &[(f64, &Condition)], held: &Held) -> Vec<usize> {
         .filter(|(i, (_, kind))| {
             let Some(rate) = kind else { return false };
             let scale = if *rate { speed / held.length } else { speed };
-            let (lo, hi) = kept
-                .iter()
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (_, c)| {
-                    (a.min(c.x[*i]), b.max(c.x[*i]))
-                });
+            let (lo, hi) = crate::signal::range(kept.iter().map(|(_, c)| c.x[*i]));
             hi - lo > 2.0 * STEADY_MOTION * scale
         })
         .map(|(i, _)| i)

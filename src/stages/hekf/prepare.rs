@@ -493,11 +493,7 @@ fn still_inputs<M: Model>(model: &M, rec: &Record) -> Vec<Warning> {
         .filter_map(|q| {
             let held = match rec.channel(q) {
                 Some(v) => {
-                    let (lo, hi) = v
-                        .iter()
-                        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
-                            (a.min(*x), b.max(*x))
-                        });
+                    let (lo, hi) = crate::signal::range(v.iter().copied());
                     // less than 0.1 deg of motion
                     (hi - lo < 0.1f64.to_radians()).then_some(0.5 * (lo + hi))
                 }

@@ -77,11 +77,7 @@ pub(super) fn momentum(
                 .collect();
             let mean = d.iter().sum::<f64>() / d.len() as f64;
             let rms = (d.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / d.len() as f64).sqrt();
-            let (lo, hi) = stack.u[r.clone()]
-                .iter()
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-                    (a.min(*v), b.max(*v))
-                });
+            let (lo, hi) = crate::signal::range(stack.u[r.clone()].iter().copied());
             let relative = rms / (mass * (hi - lo)).max(f64::MIN_POSITIVE);
             if relative > 0.05 {
                 warnings.push(
