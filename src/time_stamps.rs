@@ -44,20 +44,34 @@ pub fn tidy(table: &mut Table, t: usize, dt: Option<f64>) -> Result<(), InputErr
             let built = if dt.is_some() || repeated_stamps(time) >= 2 {
                 rebuild(time, dt)
             } else {
-                None
+                Err(None)
             };
-            if let Some(built) = built {
-                warn_rebuilt(table, t, &built, dt.is_some());
-                table.columns[t].values = built.times;
-            } else if let Some(dt) = dt {
-                return Err(not_uniform(table, t, Some(dt)));
-            } else if twice_at_most(&table.columns[t].values) {
-                keep_last(table, t);
-            } else {
-                return Err(not_uniform(table, t, None));
+            match built {
+                Ok(built) => {
+                    warn_rebuilt(table, t, &built, dt.is_some());
+                    table.columns[t].values = built.times;
+                }
+                Err(misfit) if dt.is_some() => return Err(not_uniform(table, t, dt, misfit)),
+                Err(_) if twice_at_most(&table.columns[t].values) => keep_last(table, t),
+                Err(misfit) => return Err(not_uniform(table, t, None, misfit)),
             }
         }
-        Repeats::Restart => keep_last(table, t),
+        Repeats::Restart => {
+            // A coarse time column with one stamp out of place also goes back: it is read
+            // as a uniform sampling (or refused at that row), never thinned as a restart.
+            let time = &table.columns[t].values;
+            let adjacent = (1..time.len()).filter(|&i| time[i] == time[i - 1]).count();
+            match (adjacent >= 2).then(|| rebuild(time, dt)) {
+                Some(Ok(built)) => {
+                    warn_rebuilt(table, t, &built, dt.is_some());
+                    table.columns[t].values = built.times;
+                }
+                Some(Err(Some(misfit @ Misfit::Row { .. }))) => {
+                    return Err(not_uniform(table, t, dt, Some(misfit)))
+                }
+                _ => keep_last(table, t),
+            }
+        }
     }
     check_increasing(table, t)
 }
@@ -197,35 +211,65 @@ fn check_increasing(table: &Table, t: usize) -> Result<(), InputError> {
 }
 
 /// The error for repeated stamps with different rows that are no uniform sampling: names the
-/// first two lines that share a stamp.
-fn not_uniform(table: &Table, t: usize, dt: Option<f64>) -> InputError {
+/// first row beyond one printed digit of the best uniform grid, or else the first two lines
+/// that share a stamp.
+fn not_uniform(table: &Table, t: usize, dt: Option<f64>, misfit: Option<Misfit>) -> InputError {
     let time = &table.columns[t].values;
     let i = (1..time.len())
         .find(|&i| time[i] == time[i - 1])
         .unwrap_or(0);
     let j = i.saturating_sub(1);
-    let why = match dt {
-        Some(dt) => format!(
-            "and they are not the stamps of a uniform sampling with the configured dt = {dt} s \
-             printed with the digits the file has"
+    let grid = match dt {
+        Some(dt) => format!("a uniform sampling with the configured dt = {dt} s"),
+        None => "a uniform sampling".to_string(),
+    };
+    let (row, what) = match misfit {
+        Some(Misfit::Row { row, at, by }) => (
+            row,
+            format!(
+                "line {} has time {} where {grid} printed with the digits the file has would \
+                 give {} ({} s off, more than one printed digit), although lines {} and {} \
+                 share the stamp {} as a time column printed with too few digits does",
+                table.lines[row],
+                time[row],
+                crate::numfmt::num(at),
+                crate::numfmt::num(by),
+                table.lines[j],
+                table.lines[i],
+                time[i]
+            ),
         ),
-        None => "and they are not the stamps of a uniform sampling printed with too few digits \
-                 (nor a restart, which repeats each stamp once)"
-            .to_string(),
+        Some(Misfit::TooMany { count }) => (
+            i,
+            format!(
+                "lines {} and {} both have time {} but different values, and {count} stamps \
+                 are one printed digit off the rounding of {grid} (at most {} may be)",
+                table.lines[j],
+                table.lines[i],
+                time[i],
+                max_off(time.len())
+            ),
+        ),
+        None => (
+            i,
+            format!(
+                "lines {} and {} both have time {} but different values, and they are not the \
+                 stamps of {grid} printed with too few digits (nor a restart, which repeats \
+                 each stamp once)",
+                table.lines[j], table.lines[i], time[i]
+            ),
+        ),
     };
     InputError::new(
         table
-            .place(i)
+            .place(row)
             .with_column_name(table.columns[t].name.clone()),
-        format!(
-            "lines {} and {} both have time {} but different values, {why}",
-            table.lines[j], table.lines[i], time[i]
-        ),
+        what,
     )
     .expected(
         "one row per time stamp; a log sampled at a fixed interval but printed with too few \
-         digits is read with `dt` (its interval in s) when its stamps are the rounding of \
-         t0 + k dt",
+         digits is read when its stamps are the rounding of t0 + k dt (a few one printed digit \
+         off); `dt` (its interval in s) fixes the interval",
     )
 }
 
@@ -234,6 +278,27 @@ struct Rebuilt {
     times: Vec<f64>,
     dt: f64,
     resolution: f64,
+    /// Rows whose printed stamp is one printed digit off the rounding of the rebuilt time (a
+    /// logger's clock jitter at a rounding boundary), first few.
+    off: Vec<usize>,
+    /// How many rows are one printed digit off.
+    off_count: usize,
+}
+
+/// Most stamps that may be one printed digit off the rounding of a uniform sampling: 1 % of
+/// the rows (at least 3). More is not a uniform sampling.
+fn max_off(rows: usize) -> usize {
+    (rows / 100).max(3)
+}
+
+/// Why a column of repeated stamps is no uniform sampling: the first row beyond one printed
+/// digit of the best uniform grid, or too many rows one digit off.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Misfit {
+    /// Row `row` lies `by` s from the grid's time `at`, more than one printed digit.
+    Row { row: usize, at: f64, by: f64 },
+    /// `count` rows are one printed digit off (more than [`max_off`] allows).
+    TooMany { count: usize },
 }
 
 /// The print resolution of each stamp: the larger of a fixed number of decimals (the most any
@@ -270,68 +335,185 @@ fn resolutions(time: &[f64]) -> Vec<f64> {
         .collect()
 }
 
-/// The uniform sampling `a + k dt` whose rounding gives every stamp, if there is one: `dt`
+/// The uniform sampling `a + k dt` whose rounding gives the stamps, if there is one: `dt`
 /// when given, else the interval that fits best. Every stamp must lie within half its print
-/// resolution of the rebuilt time.
-fn rebuild(time: &[f64], dt: Option<f64>) -> Option<Rebuilt> {
+/// resolution of the rebuilt time, except at most [`max_off`] rows that may be one printed
+/// digit off (within one and a half resolutions), which are counted.
+fn rebuild(time: &[f64], dt: Option<f64>) -> Result<Rebuilt, Option<Misfit>> {
     let n = time.len();
     if n < 2 || time.iter().any(|v| !v.is_finite()) {
-        return None;
+        return Err(None);
     }
     let res = resolutions(time);
-    let tol: Vec<f64> = time
-        .iter()
-        .zip(&res)
-        .map(|(t, r)| 0.5 * r * (1.0 + 1e-9) + 4.0 * f64::EPSILON * t.abs())
-        .collect();
-    // The intercepts a that fit with interval h: a + k h within [t_k - tol_k, t_k + tol_k].
-    let span = |h: f64| {
-        let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
-        for (k, (t, e)) in time.iter().zip(&tol).enumerate() {
-            lo = lo.max(t - e - k as f64 * h);
-            hi = hi.min(t + e - k as f64 * h);
+    // tolerance of a stamp printed right (half a resolution) and one printed digit off
+    let slack =
+        |k: usize, half: f64| half * res[k] * (1.0 + 1e-9) + 4.0 * f64::EPSILON * time[k].abs();
+    let (a, h) = consensus_grid(time, &res, dt, max_off(n)).ok_or(None)?;
+    let mut off = Vec::new();
+    let mut off_count = 0;
+    for k in 0..n {
+        let by = time[k] - a - k as f64 * h;
+        if by.abs() <= slack(k, 0.5) {
+            continue;
         }
-        (lo, hi)
-    };
-    let gap = |h: f64| {
-        let (lo, hi) = span(h);
-        lo - hi
-    };
-    let h = match dt {
-        Some(h) => h,
-        None => {
-            // gap(h) is convex (a maximum of lines minus a minimum of lines): golden section.
-            let tol_max = tol.iter().fold(0.0f64, |a, &b| a.max(b));
-            let (mut a, mut b) = (
-                0.0,
-                2.0 * (time[n - 1] - time[0] + 2.0 * tol_max) / (n - 1) as f64,
-            );
-            let g = (5f64.sqrt() - 1.0) / 2.0;
-            for _ in 0..200 {
-                let (c, d) = (b - g * (b - a), a + g * (b - a));
-                if gap(c) <= gap(d) {
-                    b = d;
-                } else {
-                    a = c;
-                }
-            }
-            0.5 * (a + b)
+        if by.abs() > slack(k, 1.5) {
+            return Err(Some(Misfit::Row {
+                row: k,
+                at: a + k as f64 * h,
+                by,
+            }));
         }
-    };
-    let (lo, hi) = span(h);
-    if !(h > 0.0 && lo <= hi) {
-        return None;
+        off_count += 1;
+        if off.len() < 5 {
+            off.push(k);
+        }
     }
-    let a = if (lo..=hi).contains(&time[0]) {
-        time[0]
-    } else {
-        0.5 * (lo + hi)
-    };
-    Some(Rebuilt {
+    if off_count > max_off(n) {
+        return Err(Some(Misfit::TooMany { count: off_count }));
+    }
+    Ok(Rebuilt {
         times: (0..n).map(|k| a + k as f64 * h).collect(),
         dt: h,
         resolution: res.iter().fold(0.0f64, |m, &r| m.max(r)),
+        off,
+        off_count,
     })
+}
+
+/// The grid `a + k h` that rounds to the most stamps: the minimax fit of every stamp within
+/// half its resolution, removing the two rows that bind it while it does not fit (Sim &
+/// Hartley 2006, "Removing outliers using the L-infinity norm", CVPR: each removal takes at
+/// least one row that does not fit), at most `spare + 1` times. Rows removed on the way that
+/// do fit are counted back by the caller's classification.
+fn consensus_grid(time: &[f64], res: &[f64], dt: Option<f64>, spare: usize) -> Option<(f64, f64)> {
+    // start from the rows near the least-squares line, which a few rows off cannot move
+    let (a0, h0) = least_squares_grid(time, res, dt);
+    let mut rows: Vec<usize> = (0..time.len())
+        .filter(|&k| (time[k] - a0 - k as f64 * h0).abs() <= 0.5 * res[k])
+        .collect();
+    for _ in 0..=spare + 1 {
+        if rows.len() < 2 {
+            return None;
+        }
+        let fit = minimax_grid(time, res, &rows, dt);
+        if fit.lo <= fit.hi && fit.h > 0.0 {
+            return Some(refit(time, res, dt, fit));
+        }
+        rows.retain(|&k| k != fit.binding.0 && k != fit.binding.1);
+    }
+    None
+}
+
+/// The intercept of a feasible minimax fit: the first stamp when it fits, else the middle of
+/// the window.
+fn intercept(time: &[f64], fit: &Minimax) -> f64 {
+    if (fit.lo..=fit.hi).contains(&time[0]) {
+        time[0]
+    } else {
+        0.5 * (fit.lo + fit.hi)
+    }
+}
+
+/// Takes back the rows a feasible grid fits (the removal may have taken some that fit) and
+/// fits them again, while that takes back more rows (a few rounds).
+fn refit(time: &[f64], res: &[f64], dt: Option<f64>, mut fit: Minimax) -> (f64, f64) {
+    let mut grid = (intercept(time, &fit), fit.h);
+    let mut count = 0;
+    for _ in 0..5 {
+        let rows: Vec<usize> = (0..time.len())
+            .filter(|&k| {
+                let tol = 0.5 * res[k] * (1.0 + 1e-9) + 4.0 * f64::EPSILON * time[k].abs();
+                (time[k] - grid.0 - k as f64 * grid.1).abs() <= tol
+            })
+            .collect();
+        if rows.len() <= count || rows.len() < 2 {
+            break;
+        }
+        count = rows.len();
+        fit = minimax_grid(time, res, &rows, dt);
+        if !(fit.lo <= fit.hi && fit.h > 0.0) {
+            break;
+        }
+        grid = (intercept(time, &fit), fit.h);
+    }
+    grid
+}
+
+/// The minimax grid of some rows: its interval, the window of intercepts that fit every row
+/// (empty when `lo > hi`) and the two rows that bound the window.
+struct Minimax {
+    h: f64,
+    lo: f64,
+    hi: f64,
+    binding: (usize, usize),
+}
+
+/// The straight line `a + k h` through the stamps by weighted least squares (weights
+/// 1/res^2; `h` fixed when given).
+fn least_squares_grid(time: &[f64], res: &[f64], dt: Option<f64>) -> (f64, f64) {
+    let (mut sw, mut sk, mut st, mut skk, mut skt) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for (k, (t, r)) in time.iter().zip(res).enumerate() {
+        let w = 1.0 / (r * r);
+        let kf = k as f64;
+        sw += w;
+        sk += w * kf;
+        st += w * t;
+        skk += w * kf * kf;
+        skt += w * kf * t;
+    }
+    let h = dt.unwrap_or((sw * skt - sk * st) / (sw * skk - sk * sk));
+    ((st - h * sk) / sw, h)
+}
+
+/// The interval `h` (given, or of smallest misfit: the misfit is convex in h, golden
+/// section) and the window of intercepts `a` with `a + k h` within half a resolution of
+/// every stamp of `rows`.
+fn minimax_grid(time: &[f64], res: &[f64], rows: &[usize], dt: Option<f64>) -> Minimax {
+    let tol = |k: usize| 0.5 * res[k] * (1.0 + 1e-9) + 4.0 * f64::EPSILON * time[k].abs();
+    let window = |h: f64| {
+        let mut m = Minimax {
+            h,
+            lo: f64::NEG_INFINITY,
+            hi: f64::INFINITY,
+            binding: (rows[0], rows[0]),
+        };
+        for &k in rows {
+            let (lo, hi) = (
+                time[k] - tol(k) - k as f64 * h,
+                time[k] + tol(k) - k as f64 * h,
+            );
+            if lo > m.lo {
+                (m.lo, m.binding.0) = (lo, k);
+            }
+            if hi < m.hi {
+                (m.hi, m.binding.1) = (hi, k);
+            }
+        }
+        m
+    };
+    let h = dt.unwrap_or_else(|| {
+        let gap = |h: f64| {
+            let w = window(h);
+            w.lo - w.hi
+        };
+        let (first, last) = (rows[0], rows[rows.len() - 1]);
+        let tol_max = rows.iter().fold(0.0f64, |m, &k| m.max(tol(k)));
+        let (mut a, mut b) = (
+            0.0,
+            2.0 * (time[last] - time[first] + 2.0 * tol_max) / (last - first).max(1) as f64,
+        );
+        let g = (5f64.sqrt() - 1.0) / 2.0;
+        for _ in 0..120 {
+            let (c, d) = (b - g * (b - a), a + g * (b - a));
+            if gap(c) <= gap(d) {
+                b = d;
+            } else {
+                a = c;
+            }
+        }
+        0.5 * (a + b)
+    });
+    window(h)
 }
 
 /// The warning for a rebuilt time base.
@@ -341,11 +523,30 @@ fn warn_rebuilt(table: &mut Table, t: usize, built: &Rebuilt, configured: bool) 
     let i = (1..time.len())
         .find(|&i| time[i] == time[i - 1])
         .unwrap_or(0);
+    let off =
+        if built.off_count == 0 {
+            String::new()
+        } else {
+            let lines: Vec<String> = built
+                .off
+                .iter()
+                .map(|&k| table.lines[k].to_string())
+                .collect();
+            format!(
+            "; {} stamp{} one printed digit off that rounding (line{} {}{}), as a logger's clock \
+             jitter at a rounding boundary prints them",
+            built.off_count,
+            if built.off_count == 1 { " is" } else { "s are" },
+            if lines.len() == 1 { "" } else { "s" },
+            lines.join(", "),
+            if built.off_count > lines.len() { " ..." } else { "" }
+        )
+        };
     table.warnings.push(format!(
         "the time column repeats stamps while the rows differ ({shared} rows share the stamp \
          of the row above, first lines {} and {}): it is printed with too few digits \
          (resolution up to {} s); rebuilt the time base as a uniform sampling from {} s every \
-         {} s ({}), which rounds to every printed stamp",
+         {} s ({}), which rounds to the printed stamps{off}",
         table.lines[i.saturating_sub(1)],
         table.lines[i],
         crate::numfmt::num(built.resolution),
@@ -423,6 +624,97 @@ mod tests {
         tidy(&mut t, 0, Some(dt)).unwrap();
         assert!((t.columns[0].values[999] - 999.0 * dt).abs() < 1e-9);
         assert!(t.warnings[0].contains("configured"), "{:?}", t.warnings);
+    }
+
+    /// A uniform grid printed with 3 significant digits, with `jitter` (s) added to the rows
+    /// in `jittered` before printing (a logger clock near a rounding boundary).
+    fn jittered_log(n: usize, dt: f64, jittered: &[usize], jitter: f64) -> Vec<f64> {
+        (0..n)
+            .map(|k| {
+                let t = k as f64 * dt + if jittered.contains(&k) { jitter } else { 0.0 };
+                three_digits(t)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn stamps_one_printed_digit_off_are_counted_and_the_grid_kept() {
+        let dt = 0.135264;
+        let n = 15000;
+        // rows whose stamp lies near a rounding boundary, nudged across it
+        let near: Vec<usize> = (1..n)
+            .filter(|&k| {
+                let t = k as f64 * dt;
+                let r = 10f64.powi(t.log10().floor() as i32 - 2);
+                let frac = (t / r).fract();
+                (0.44..0.5).contains(&frac)
+            })
+            .take(20)
+            .collect();
+        assert_eq!(near.len(), 20);
+        // each nudged by just enough to print one digit up: the independent statement of the
+        // trap (MARIN's logs have 4-34 such rows per file)
+        let printed: Vec<f64> = (0..n)
+            .map(|k| {
+                let t = k as f64 * dt;
+                if near.contains(&k) {
+                    let r = 10f64.powi(t.log10().floor() as i32 - 2);
+                    three_digits(three_digits(t) + r)
+                } else {
+                    three_digits(t)
+                }
+            })
+            .collect();
+        let u: Vec<f64> = (0..n).map(|k| k as f64).collect();
+        let mut t = table(&printed, &u);
+        tidy(&mut t, 0, None).unwrap();
+        let worst = t.columns[0]
+            .values
+            .iter()
+            .enumerate()
+            .fold(0.0f64, |m, (k, v)| m.max((v - k as f64 * dt).abs()));
+        assert!(worst < 1e-3, "rebuilt grid off by {worst} s");
+        let w = &t.warnings[0];
+        assert!(w.contains("20 stamps are one printed digit off"), "{w}");
+        assert!(w.contains(&format!("lines {},", near[0] + 4)), "{w}");
+        // the same with the interval configured
+        let mut t = table(&printed, &u);
+        tidy(&mut t, 0, Some(dt)).unwrap();
+        assert!((t.columns[0].values[n - 1] - (n - 1) as f64 * dt).abs() < 1e-6);
+    }
+
+    #[test]
+    fn a_stamp_two_digits_off_is_named() {
+        let dt = 0.135264;
+        let mut printed = jittered_log(3000, dt, &[], 0.0);
+        // line 34 (row 30, t = 4.058 s printed 4.06) is written 0.03 s late (three printed
+        // digits); and a stamp out of place where the column repeats (it goes back)
+        printed[30] += 0.03;
+        let u: Vec<f64> = (0..3000).map(|k| k as f64).collect();
+        let mut t = table(&printed, &u);
+        let e = tidy(&mut t, 0, None).unwrap_err();
+        let m = e.to_string();
+        assert_eq!(e.place.line, Some(34), "{m}");
+        assert!(m.contains("more than one printed digit"), "{m}");
+        let mut printed = jittered_log(3000, dt, &[], 0.0);
+        printed[2000] += 3.0;
+        let mut t = table(&printed, &u);
+        let e = tidy(&mut t, 0, None).unwrap_err();
+        assert_eq!(e.place.line, Some(2004), "{e}");
+    }
+
+    #[test]
+    fn many_stamps_one_digit_off_are_no_uniform_sampling() {
+        let dt = 0.135264;
+        let every: Vec<usize> = (0..2000).step_by(7).collect();
+        let printed = jittered_log(2000, dt, &every, 0.006);
+        let u: Vec<f64> = (0..2000).map(|k| k as f64).collect();
+        let mut t = table(&printed, &u);
+        let m = tidy(&mut t, 0, None).unwrap_err().to_string();
+        assert!(
+            m.contains("one printed digit off") || m.contains("not the stamps"),
+            "{m}"
+        );
     }
 
     #[test]
