@@ -1,0 +1,163 @@
+//! Runs hydroid as a library on a configuration written next to generated logs and measures,
+//! per estimated coefficient, estimate, sigma, truth and z = (estimate - truth) / sigma.
+
+use super::Truth;
+use std::path::Path;
+use std::time::Instant;
+
+/// One estimated coefficient against its truth.
+#[derive(Debug, Clone)]
+pub struct Row {
+    pub name: String,
+    pub truth: f64,
+    pub estimate: f64,
+    pub sigma: f64,
+    /// (estimate - truth) / sigma.
+    pub z: f64,
+    /// The run determines it: sigma below half of |truth| (a coefficient whose truth is 0
+    /// counts as determined: its z is still a test).
+    pub determined: bool,
+    /// hydroid names it among the estimates the runs leave undetermined or correlated
+    /// (its identifiability advice).
+    pub flagged: bool,
+}
+
+impl Row {
+    pub fn error_percent(&self) -> f64 {
+        if self.truth == 0.0 {
+            f64::NAN
+        } else {
+            100.0 * (self.estimate - self.truth) / self.truth
+        }
+    }
+}
+
+/// What one identification gave.
+#[derive(Debug, Clone)]
+pub struct Outcome {
+    pub title: String,
+    pub rows: Vec<Row>,
+    /// Every warning hydroid gave, as text.
+    pub warnings: Vec<String>,
+    /// Seconds the run took.
+    pub seconds: f64,
+}
+
+impl Outcome {
+    /// The row of `name`.
+    pub fn row(&self, name: &str) -> &Row {
+        self.rows
+            .iter()
+            .find(|r| r.name == name)
+            .unwrap_or_else(|| panic!("{name} was not estimated"))
+    }
+
+    /// The determined coefficients.
+    pub fn determined(&self) -> impl Iterator<Item = &Row> {
+        self.rows.iter().filter(|r| r.determined)
+    }
+
+    /// How many determined coefficients lie within 2 sigma, of how many determined.
+    pub fn within_two_sigma(&self) -> (usize, usize) {
+        let d: Vec<&Row> = self.determined().collect();
+        (d.iter().filter(|r| r.z.abs() <= 2.0).count(), d.len())
+    }
+
+    /// The undetermined coefficients.
+    pub fn undetermined(&self) -> Vec<&Row> {
+        self.rows.iter().filter(|r| !r.determined).collect()
+    }
+
+    /// The largest |z| of the determined coefficients.
+    pub fn worst_z(&self) -> f64 {
+        self.determined().map(|r| r.z.abs()).fold(0.0, f64::max)
+    }
+
+    /// The table, one line per coefficient.
+    pub fn table(&self) -> String {
+        let mut s = format!(
+            "{} ({:.1} s)\n{:>8} {:>13} {:>13} {:>10} {:>8} {:>7}  note\n",
+            self.title, self.seconds, "coef", "truth", "estimate", "sigma", "error %", "z"
+        );
+        for r in &self.rows {
+            s.push_str(&format!(
+                "{:>8} {:>13.5e} {:>13.5e} {:>10.2e} {:>+8.2} {:>+7.2}  {}{}\n",
+                r.name,
+                r.truth,
+                r.estimate,
+                r.sigma,
+                r.error_percent(),
+                r.z,
+                if r.determined { "" } else { "undetermined" },
+                if r.flagged { " (flagged by hydroid)" } else { "" }
+            ));
+        }
+        let (k, n) = self.within_two_sigma();
+        s.push_str(&format!(
+            "determined: {n} of {}, within 2 sigma: {k} of {n}, worst |z| {:.2}\n",
+            self.rows.len(),
+            self.worst_z()
+        ));
+        s
+    }
+
+    /// Asserts that every undetermined coefficient is flagged by hydroid.
+    #[track_caller]
+    pub fn assert_undetermined_flagged(&self) {
+        for r in self.undetermined() {
+            assert!(
+                r.flagged,
+                "{} is undetermined (sigma {:.2e} against {:.2e}) but hydroid does not flag it\n{}",
+                r.name,
+                r.sigma,
+                r.truth,
+                self.table()
+            );
+        }
+    }
+}
+
+/// Loads `config` (hydroid::load), runs it (hydroid::run) and compares the HEKF stage's
+/// estimates with `truth`.
+pub fn identify(config: &Path, truth: &Truth) -> Outcome {
+    let started = Instant::now();
+    let loaded = hydroid::load(config, &[]).unwrap_or_else(|e| panic!("{config:?}: {e}"));
+    let out = hydroid::run(&loaded, &mut hydroid::progress::Silent)
+        .unwrap_or_else(|e| panic!("{config:?}: {e}"));
+    let seconds = started.elapsed().as_secs_f64();
+    let h = out.result.stages.hekf.as_ref().expect("an HEKF stage");
+    let flagged: Vec<&str> = h
+        .identifiability
+        .iter()
+        .map(|a| a.coefficient.as_str())
+        .collect();
+    let rows = h
+        .coefficients
+        .iter()
+        .map(|c| {
+            let t = super::truth_of(truth, &c.name);
+            let s = c.sigma.expect("a sigma");
+            Row {
+                name: c.name.clone(),
+                truth: t,
+                estimate: c.value,
+                sigma: s,
+                z: (c.value - t) / s,
+                determined: t == 0.0 || s < 0.5 * t.abs(),
+                flagged: flagged.contains(&c.name.as_str()),
+            }
+        })
+        .collect();
+    let warnings = out
+        .result
+        .warnings
+        .iter()
+        .map(|w| format!("[{}] {}", w.stage, w.message))
+        .collect();
+    Outcome {
+        title: out.result.title.clone().unwrap_or_default(),
+        rows,
+        warnings,
+        seconds,
+    }
+}
