@@ -83,7 +83,7 @@ fn npsauv_straight_run_settles_at_the_surge_balance_speed() {
             assert!(last[i].abs() < 1e-6, "state {i} = {}", last[i]);
         }
         for i in [7, 8] {
-            assert!(last[i].abs() < 0.05, "state {i} = {}", last[i]);
+            assert!(last[i].abs() < 0.5, "state {i} = {}", last[i]);
         }
     }
 }
