@@ -28,8 +28,8 @@ fn hydroid_name(csv: &str) -> &str {
 }
 
 /// Seconds of helix and of zig-zag logged (50 Hz).
-const HELIX: f64 = 100.0;
-const ZIGZAG: f64 = 200.0;
+const HELIX: f64 = 40.0;
+const ZIGZAG: f64 = 50.0;
 
 /// Writes the two logs and a configuration into `dir`; returns the configuration's path.
 fn write_case(dir: &Path, auv: &NpsAuv) -> std::path::PathBuf {
