@@ -325,10 +325,13 @@ impl Sensors {
 
 /// Runs the ship from straight ahead at the approach speed with the propeller at its
 /// self-propulsion speed, `helm` through the steering gear, RK4 at `fine` s, logged every
-/// `sample` s with `sensors` noise from `seed`.
+/// `sample` s with `sensors` noise from `seed`. With `held`, the hull feels the rudder angle
+/// of the last logged sample (a diagnostic: the rudder then acts exactly as hydroid's
+/// mmg3 assumes between samples) while the logged rudder still moves continuously.
 #[allow(clippy::too_many_arguments)]
 pub fn simulate(
     ship: &Kvlcc2,
+    held: bool,
     mut helm: Helm,
     duration: f64,
     fine: f64,
@@ -346,11 +349,13 @@ pub fn simulate(
     let mut x: State = [u0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
     let mut states = Vec::new();
     let mut times = Vec::new();
+    let mut seen = x[6];
     for k in 0..=steps {
         let t = k as f64 * fine;
         if k % per == 0 {
             states.push(x);
             times.push(t);
+            seen = x[6];
         }
         if k == steps {
             break;
@@ -365,7 +370,18 @@ pub fn simulate(
             }
             Helm::ZigZag(z) => z.command(t, x[5]),
         };
-        x = rk4(&|s: &State| ship.derivatives(s, cmd, &servo, n), &x, fine);
+        let f = |s: &State| {
+            if held {
+                let mut h = *s;
+                h[6] = seen;
+                let mut d = ship.derivatives(&h, cmd, &servo, n);
+                d[6] = servo.rate_of(s[6], cmd);
+                d
+            } else {
+                ship.derivatives(s, cmd, &servo, n)
+            }
+        };
+        x = rk4(&f, &x, fine);
     }
     let mut noise = Noise::new(seed);
     let col = |i: usize| states.iter().map(|s| s[i]).collect::<Vec<f64>>();
@@ -391,8 +407,14 @@ pub fn simulate(
 /// A turning circle with the rudder to `angle` (rad, positive to starboard) at 5 s,
 /// `duration` s, RK4 at 5 ms, logged at `rate_hz`.
 pub fn turn(ship: &Kvlcc2, angle: f64, duration: f64, rate_hz: f64, seed: u64) -> Run {
+    turn_held(ship, false, angle, duration, rate_hz, seed)
+}
+
+/// [`turn`], with the rudder held between samples as the hull feels it when `held`.
+pub fn turn_held(ship: &Kvlcc2, held: bool, angle: f64, duration: f64, rate_hz: f64, seed: u64) -> Run {
     simulate(
         ship,
+        held,
         Helm::Turn { angle, at: 5.0 },
         duration,
         0.005,
@@ -408,8 +430,14 @@ pub fn turn(ship: &Kvlcc2, angle: f64, duration: f64, rate_hz: f64, seed: u64) -
 
 /// A 20/20 zig-zag, first order to starboard at 5 s, RK4 at 5 ms, logged at `rate_hz`.
 pub fn zigzag(ship: &Kvlcc2, duration: f64, rate_hz: f64, seed: u64) -> Run {
+    zigzag_held(ship, false, duration, rate_hz, seed)
+}
+
+/// [`zigzag`], with the rudder held between samples as the hull feels it when `held`.
+pub fn zigzag_held(ship: &Kvlcc2, held: bool, duration: f64, rate_hz: f64, seed: u64) -> Run {
     simulate(
         ship,
+        held,
         Helm::ZigZag(ZigZag::new(
             20f64.to_radians(),
             20f64.to_radians(),

@@ -27,7 +27,8 @@
 //! ([`CrossFlow::StripTheory`]). MSS npsauv.m (2025) evaluates it as a sum over 11 stations
 //! at x = -L/2, -0.4 L, ..., L/2 each weighted L/10 (1.1 L in all) and takes the pitch
 //! moment with (w + x q) instead of (w - x q) and the opposite sign:
-//! [`CrossFlow::Mss`] reproduces that form for comparison.
+//! [`CrossFlow::Mss`] reproduces that form, [`CrossFlow::Stations`] the 11-station sum
+//! with the strip-theory pitch term, for comparison.
 //!
 //! Propulsion (Healey & Lienard 1993 as in MSS): eta = k n / u (n in rad/s, k = 0.012 m),
 //! X_prop = 0.5 rho L^2 C_d0 (k^2 n |n| - u |u|) (= u^2 C_d0 (eta |eta| - 1) for u > 0), and
@@ -86,7 +87,10 @@ coefficients!(
 pub enum CrossFlow {
     /// Healey & Lienard's integral over -L/2..L/2, pitch moment of the heave strip force.
     StripTheory,
-    /// MSS npsauv.m (2025): 11 stations weighted L/10, pitch term with (w + x q).
+    /// MSS npsauv.m's 11 stations weighted L/10, with the pitch moment of the heave strip
+    /// force (w - x q).
+    Stations,
+    /// MSS npsauv.m (2025) as written: 11 stations weighted L/10, pitch term with (w + x q).
     Mss,
 }
 
@@ -302,7 +306,8 @@ impl NpsAuv {
                 }
                 [-half_rho * y, -half_rho * z, half_rho * m, -half_rho * n]
             }
-            CrossFlow::Mss => {
+            CrossFlow::Stations | CrossFlow::Mss => {
+                let mss = self.cross_flow == CrossFlow::Mss;
                 let dx = self.length / 10.0;
                 let (mut y, mut z, mut m, mut n) = (0.0, 0.0, 0.0, 0.0);
                 for k in 0..=10 {
@@ -313,10 +318,14 @@ impl NpsAuv {
                     let d = dx * (ch * vc * vc + cb * wc * wc) / ucf;
                     y += d * vc;
                     z += d * wc;
-                    m += d * (w + x * q) * x;
+                    if mss {
+                        m -= d * (w + x * q) * x;
+                    } else {
+                        m += d * wc * x;
+                    }
                     n += d * vc * x;
                 }
-                [-half_rho * y, -half_rho * z, -half_rho * m, -half_rho * n]
+                [-half_rho * y, -half_rho * z, half_rho * m, -half_rho * n]
             }
         }
     }
@@ -521,7 +530,9 @@ impl Sensors {
 
 /// Runs `vehicle` from `x0` for `duration` s with the propeller at `rpm`, `steering` through
 /// `servo`, RK4 at `fine` s, logged every `sample` s (a whole number of fine steps) with
-/// `sensors` noise from `seed`.
+/// `sensors` noise from `seed`. With [`HOLD_FINS`] set for the thread, the hull feels the
+/// fin angles of the last logged sample (a diagnostic: the fins then act exactly as
+/// hydroid's npsauv assumes between samples) while the logged angles still move.
 #[allow(clippy::too_many_arguments)]
 pub fn simulate(
     vehicle: &NpsAuv,
@@ -543,11 +554,14 @@ pub fn simulate(
     let mut x = x0;
     let mut states = Vec::new();
     let mut times = Vec::new();
+    let held = HOLD_FINS.with(|h| h.get());
+    let mut seen = [x[ix::DR], x[ix::DS]];
     for k in 0..=steps {
         let t = k as f64 * fine;
         if k % per == 0 {
             states.push(x);
             times.push(t);
+            seen = [x[ix::DR], x[ix::DS]];
         }
         if k == steps {
             break;
@@ -567,7 +581,20 @@ pub fn simulate(
             Steering::ZigZag(z) => [z.command(t, x[ix::PSI]), 0.0],
             Steering::Straight => [0.0, 0.0],
         };
-        x = rk4(&|s: &State| vehicle.derivatives(s, cmd, &servo, n), &x, fine);
+        let f = |s: &State| {
+            if held {
+                let mut h = *s;
+                h[ix::DR] = seen[0];
+                h[ix::DS] = seen[1];
+                let mut d = vehicle.derivatives(&h, cmd, &servo, n);
+                d[ix::DR] = servo.rate_of(s[ix::DR], cmd[0]);
+                d[ix::DS] = servo.rate_of(s[ix::DS], cmd[1]);
+                d
+            } else {
+                vehicle.derivatives(s, cmd, &servo, n)
+            }
+        };
+        x = rk4(&f, &x, fine);
     }
     let mut noise = Noise::new(seed);
     let col = |i: usize| states.iter().map(|s| s[i]).collect::<Vec<f64>>();
@@ -591,6 +618,12 @@ pub fn simulate(
     log.push("Bow Planes", "deg", vec![0.0; times.len()]);
     log.push("Propeller Speed", "rpm", vec![rpm; times.len()]);
     Run { log, states, times }
+}
+
+thread_local! {
+    /// Diagnostic switch of [`simulate`]: the hull feels the fins held at their last logged
+    /// angles.
+    pub static HOLD_FINS: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
 }
 
 /// Straight ahead at `u` m/s.
