@@ -104,9 +104,16 @@ fn run(cross_flow: CrossFlow) -> Outcome {
     outcome
 }
 
-/// The helix (100 s) and the horizontal 20/20 zig-zag (200 s), 50 Hz, fins moving at
-/// 10 deg/s: every determined coefficient within 2 sigma of the published value.
+/// The helix (40 s) and the horizontal 20/20 zig-zag (50 s), 50 Hz, fins moving at
+/// 10 deg/s, the generator's drag integral the published one (Healey & Lienard's integral
+/// over the hull). Shortened from 100 s and 200 s (6 min in a debug build) to keep the test
+/// near a minute; the longer runs gave the same picture (Nr +2.8 % z -25, Ndr +1.9 % z
+/// -35, Nv +15 % z -50). The diagnostics below split the misfit: hydroid's npsauv sums the
+/// cross-flow drag over MSS's 11 stations each weighted L/10 (1.1 L in all; in pure yaw
+/// its moment is 1.44 times the integral's), which moves Nv, Nr and Ndr and the roll terms;
+/// the fins held between 50 Hz samples move Nr and Ndr by a further 1 % and 0.8 %.
 #[test]
+#[ignore = "issue 22: 10/17 within 2 sigma: Nr -0.016455 +- 0.000037 (truth -0.016, +2.8 %, z -12.2), Ndr -0.013272 +- 0.000012 (-0.013, +2.1 %, z -22.2), Nv -0.008489 +- 0.000049 (-0.0074, +14.7 %, z -22.5), Kp +1.5 % z -3.3, Kr +5.4 % z -3.4, Kv -2.4 % z -3.2, Zq -1.8 % z +2.4; Yp flagged (sigma 21 %)"]
 fn helix_and_zigzag_at_50_hz_with_moving_fins() {
     let o = run(CrossFlow::StripTheory);
     o.assert_undetermined_flagged();
@@ -117,30 +124,34 @@ fn helix_and_zigzag_at_50_hz_with_moving_fins() {
 /// Diagnostic: the cross-flow drag as MSS's 11-station sum (each station weighted L/10,
 /// 1.1 L in all; pitch moment of the heave strip force), fins moving: the difference from
 /// the test above is the quadrature of the drag integral.
+/// Measured: 14/17; what is left is the fins' path between samples (held by hydroid).
 #[test]
-#[ignore = "diagnostic for issue 22: the cross-flow integral as the 11-station sum"]
+#[ignore = "issue 22 (diagnostic, the drag form as hydroid's): 14/17 within 2 sigma: Nr +1.24 % (z -5.3), Ndr +0.80 % (z -8.5), Nv +2.0 % (z -3.0): the fins moving between 50 Hz samples"]
 fn helix_and_zigzag_with_the_station_sum() {
     let o = run(CrossFlow::Stations);
     let (k, n) = o.within_two_sigma();
     assert_eq!(k, n, "{}", o.table());
 }
 
-/// Diagnostic: the 11-station sum and the fins held at each logged sample as the hull feels
-/// them (as hydroid's npsauv assumes between samples): the generator and hydroid's model
-/// then agree in form, and this checks the generator itself.
+/// The 11-station sum and the fins held at each logged sample as the hull feels them (as
+/// hydroid's npsauv assumes between samples): the generator and hydroid's model then agree
+/// in form, and this checks the generator (kinetics, signs, units, the column maps) against
+/// hydroid. Measured: 17/17 within 2 sigma, worst |z| 1.59 (Kv); asserted at 1.5 times.
 #[test]
-#[ignore = "diagnostic for issue 22: the station sum and the fins' inter-sample rule taken out"]
 fn helix_and_zigzag_with_the_station_sum_and_held_fins() {
     npsauv::HOLD_FINS.with(|h| h.set(true));
     let o = run(CrossFlow::Stations);
+    npsauv::HOLD_FINS.with(|h| h.set(false));
+    o.assert_undetermined_flagged();
     let (k, n) = o.within_two_sigma();
     assert_eq!(k, n, "{}", o.table());
+    assert!(o.worst_z() < 2.38, "{}", o.table());
 }
 
 /// Diagnostic: MSS npsauv.m's form as written (11 stations, pitch integrand w + x q), fins
-/// moving: the pitch term's form.
+/// moving: the pitch term's form moves Mw (the issue's earlier generator: Mw +2.2 %, z 9).
 #[test]
-#[ignore = "diagnostic for issue 22: the cross-flow form of MSS npsauv.m as written"]
+#[ignore = "issue 22 (diagnostic, MSS's pitch integrand w + x q): 11/17 within 2 sigma: Mw +1.9 % (z +5.5), Mq z +2.6, Mds z +2.6, Nr +1.2 % (z -5.2), Ndr +0.8 % (z -8.5), Nv +1.9 % (z -2.9)"]
 fn helix_and_zigzag_with_the_mss_cross_flow_form() {
     let o = run(CrossFlow::Mss);
     let (k, n) = o.within_two_sigma();
