@@ -32,7 +32,10 @@ fn npsauv_energy_is_conserved_without_damping() {
         worst = worst.max(((energy(&x) - e0) / e0).abs());
     }
     println!("NPS AUV energy: E0 = {e0:.3} J, worst relative drift {worst:.2e} in 30 s");
-    assert!((x[3] - x0[3]).abs() > 1e-3, "the motion is not trivial: {x:?}");
+    assert!(
+        (x[3] - x0[3]).abs() > 1e-3,
+        "the motion is not trivial: {x:?}"
+    );
     assert!(worst < 1e-8, "relative energy drift {worst:.2e}");
 }
 
@@ -62,8 +65,7 @@ fn npsauv_straight_run_settles_at_the_surge_balance_speed() {
         let n = rpm * 2.0 * PI / 60.0;
         let big_u = auv.balance_speed(n);
         let l = auv.length;
-        let a = 0.5 * auv.rho * l * l * auv.cd0
-            / (auv.mass_matrix[0][0]);
+        let a = 0.5 * auv.rho * l * l * auv.cd0 / (auv.mass_matrix[0][0]);
         let closed = |t: f64| big_u * (a * big_u * t + (u0 / big_u).atanh()).tanh();
         let mut worst: f64 = 0.0;
         for (t, s) in run.times.iter().zip(&run.states) {
@@ -75,7 +77,11 @@ fn npsauv_straight_run_settles_at_the_surge_balance_speed() {
              worst departure from the closed form {worst:.2e} of U",
             last[0]
         );
-        assert!((last[0] - big_u).abs() < 1e-3 * big_u, "{} vs {big_u}", last[0]);
+        assert!(
+            (last[0] - big_u).abs() < 1e-3 * big_u,
+            "{} vs {big_u}",
+            last[0]
+        );
         assert!(worst < 1e-4, "departure from the closed form {worst:.2e}");
         // nothing else moves (but for traces from the m z_G surge-pitch coupling while the
         // speed changes, and from the products of inertia, 13.58 kg m^2)
@@ -104,18 +110,30 @@ fn npsauv_cross_flow_integral_matches_the_closed_forms() {
     let rho = with_drag.rho;
     let (h, l) = (with_drag.hull_height, with_drag.length);
     let y_sway = -0.5 * rho * 0.5 * h * l * 0.4 * 0.4;
-    assert!((f[1] - y_sway).abs() < 1e-9 * y_sway.abs(), "{} vs {y_sway}", f[1]);
+    assert!(
+        (f[1] - y_sway).abs() < 1e-9 * y_sway.abs(),
+        "{} vs {y_sway}",
+        f[1]
+    );
     assert!(f[5].abs() < 1e-9 * y_sway.abs(), "N = {}", f[5]);
     let mut mss = with_drag.clone();
     mss.cross_flow = npsauv::CrossFlow::Mss;
     let g = mss.forces(&x, 0.0);
-    assert!((g[1] / f[1] - 1.1).abs() < 1e-4, "MSS/integral {}", g[1] / f[1]);
+    assert!(
+        (g[1] / f[1] - 1.1).abs() < 1e-4,
+        "MSS/integral {}",
+        g[1] / f[1]
+    );
     let mut x = [0.0; 14];
     x[0] = 1e-12;
     x[5] = 0.2;
     let f = with_drag.forces(&x, 0.0);
     let n_yaw = -0.5 * rho * 0.5 * h * 0.2 * 0.2 * (0.5 * l).powi(4) / 2.0;
-    assert!((f[5] - n_yaw).abs() < 1e-9 * n_yaw.abs(), "{} vs {n_yaw}", f[5]);
+    assert!(
+        (f[5] - n_yaw).abs() < 1e-9 * n_yaw.abs(),
+        "{} vs {n_yaw}",
+        f[5]
+    );
     assert!(f[1].abs() < 1e-9 * n_yaw.abs(), "Y = {}", f[1]);
     // heave and pitch mirror sway and yaw: M = +rho/2 ... (w - x q) x, so a pitch rate q > 0
     // (bow up) meets a moment against it
@@ -124,7 +142,11 @@ fn npsauv_cross_flow_integral_matches_the_closed_forms() {
     x[4] = 0.2;
     let f = with_drag.forces(&x, 0.0);
     let m_pitch = -0.5 * rho * 0.6 * with_drag.hull_breadth * 0.2 * 0.2 * (0.5 * l).powi(4) / 2.0;
-    assert!((f[4] - m_pitch).abs() < 1e-9 * m_pitch.abs(), "{} vs {m_pitch}", f[4]);
+    assert!(
+        (f[4] - m_pitch).abs() < 1e-9 * m_pitch.abs(),
+        "{} vs {m_pitch}",
+        f[4]
+    );
 }
 
 /// Directions (Fossen's convention with the published N_dr < 0, M_ds < 0): a positive rudder
@@ -146,14 +168,20 @@ fn npsauv_controls_turn_and_pitch_the_published_way() {
     assert!(last[5] < -0.005, "turns to port: r = {}", last[5]);
     assert!(last[10] < -0.01, "nose down: theta = {}", last[10]);
     assert!(last[8] > 1.0, "dives: z = {}", last[8]);
-    assert!(r_spread < 0.01 * last[5].abs(), "steady turn: spread {r_spread}");
+    assert!(
+        r_spread < 0.01 * last[5].abs(),
+        "steady turn: spread {r_spread}"
+    );
     // the rudder ramps at the servo's rate: continuous between samples
     let rudder = run.log.get("Rudder");
     let step = rudder
         .windows(2)
         .map(|w| (w[1] - w[0]).abs())
         .fold(0.0, f64::max);
-    assert!(step <= 10.0 * 0.02 + 1e-9 && step > 0.1, "rudder step per sample {step} deg");
+    assert!(
+        step <= 10.0 * 0.02 + 1e-9 && step > 0.1,
+        "rudder step per sample {step} deg"
+    );
 }
 
 /// The horizontal 20/20 zig-zag reverses the rudder at 20 deg of heading change, overshoots,
@@ -168,7 +196,9 @@ fn npsauv_zigzag_reverses_and_overshoots() {
         .windows(2)
         .filter(|w| w[0].abs() > 19.0 && w[1].abs() < 19.0)
         .count();
-    let (lo, hi) = psi.iter().fold((f64::MAX, f64::MIN), |(a, b), &p| (a.min(p), b.max(p)));
+    let (lo, hi) = psi
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(a, b), &p| (a.min(p), b.max(p)));
     let depth_change = run.states.iter().map(|s| s[8].abs()).fold(0.0, f64::max);
     println!(
         "NPS AUV zig-zag: heading {lo:.1} .. {hi:.1} deg, {reversals} reversals, |z| <= \
@@ -229,8 +259,16 @@ fn mmg_35_deg_turns_have_the_published_tactical_diameter() {
             "tactical diameter {:.2} L",
             tactical / l
         );
-        assert!((2.6..3.8).contains(&(advance / l)), "advance {:.2} L", advance / l);
-        assert!(last[0] < 0.7 * mmg::approach_speed(), "speed loss: {}", last[0]);
+        assert!(
+            (2.6..3.8).contains(&(advance / l)),
+            "advance {:.2} L",
+            advance / l
+        );
+        assert!(
+            last[0] < 0.7 * mmg::approach_speed(),
+            "speed loss: {}",
+            last[0]
+        );
     }
 }
 
@@ -412,7 +450,16 @@ fn nomoto_zigzag_in_waves_is_logged_as_a_compass_would() {
 #[test]
 fn spheroid_energy_is_conserved_without_damping() {
     let body = spheroid::Spheroid::bounded_truth().inertial_only();
-    let run = spheroid::simulate(&body, [3.0, 1.0, 0.5, 0.0, 0.0, 0.0], 0.0, 5.0, 0.001, 0.01, 1, false);
+    let run = spheroid::simulate(
+        &body,
+        [3.0, 1.0, 0.5, 0.0, 0.0, 0.0],
+        0.0,
+        5.0,
+        0.001,
+        0.01,
+        1,
+        false,
+    );
     let e0 = body.kinetic_energy(&run.states[0]);
     let worst = run
         .states

@@ -54,8 +54,14 @@ const COLUMNS: &str = "time = \"time\"\nx = \"x\"\ny = \"y\"\nyaw = \"heading\"\
 /// With `held` the hull feels the rudder held at its logged samples (a diagnostic).
 fn write_case(dir: &Path, ship: &Kvlcc2, hz: f64, fit: &[&str], held: bool) -> std::path::PathBuf {
     let runs = [
-        ("turn35", mmg::turn_held(ship, held, 35f64.to_radians(), 200.0, hz, 2801)),
-        ("turn35_port", mmg::turn_held(ship, held, -35f64.to_radians(), 200.0, hz, 2802)),
+        (
+            "turn35",
+            mmg::turn_held(ship, held, 35f64.to_radians(), 200.0, hz, 2801),
+        ),
+        (
+            "turn35_port",
+            mmg::turn_held(ship, held, -35f64.to_radians(), 200.0, hz, 2802),
+        ),
         ("zigzag20", mmg::zigzag_held(ship, held, 150.0, hz, 2803)),
     ];
     let truth = mmg::hull_truth(ship);

@@ -96,7 +96,11 @@ fn zigzag_in_8_s_waves_w0_known() {
     let d0 = o.row("delta0");
     assert!(k.error_percent().abs() < 0.6, "{}", o.table());
     assert!(inv_t.error_percent().abs() < 0.92, "{}", o.table());
-    assert!((d0.estimate - d0.truth).to_degrees().abs() < 0.0235, "{}", o.table());
+    assert!(
+        (d0.estimate - d0.truth).to_degrees().abs() < 0.0235,
+        "{}",
+        o.table()
+    );
     assert!(o.worst_z() < 1.18, "{}", o.table());
 }
 

@@ -89,7 +89,11 @@ impl Outcome {
                 r.error_percent(),
                 r.z,
                 if r.determined { "" } else { "undetermined" },
-                if r.flagged { " (flagged by hydroid)" } else { "" }
+                if r.flagged {
+                    " (flagged by hydroid)"
+                } else {
+                    ""
+                }
             ));
         }
         let (k, n) = self.within_two_sigma();

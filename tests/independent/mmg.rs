@@ -171,7 +171,8 @@ impl Kvlcc2 {
         } else {
             self.c2_minus
         };
-        let one_minus_wp = (1.0 - self.w_p0) * (1.0 + (1.0 - (-self.c1 * beta_p.abs()).exp()) * (c2 - 1.0));
+        let one_minus_wp =
+            (1.0 - self.w_p0) * (1.0 + (1.0 - (-self.c1 * beta_p.abs()).exp()) * (c2 - 1.0));
         let j = u * one_minus_wp / (n * self.d_p);
         let kt = self.k[0] + self.k[1] * j + self.k[2] * j * j;
         let thrust = self.rho * n * n * self.d_p.powi(4) * kt;
@@ -186,7 +187,11 @@ impl Kvlcc2 {
         let (vd, rd) = (v / big_u, r * l / big_u);
         let qf = 0.5 * self.rho * l * self.draught * big_u * big_u;
         let xh = qf
-            * (-self.r0 + self.xvv * vd * vd + self.xvr * vd * rd + self.xrr * rd * rd + self.xvvvv * vd.powi(4));
+            * (-self.r0
+                + self.xvv * vd * vd
+                + self.xvr * vd * rd
+                + self.xrr * rd * rd
+                + self.xvvvv * vd.powi(4));
         let yh = qf
             * (self.yv * vd
                 + self.yr * rd
@@ -208,7 +213,8 @@ impl Kvlcc2 {
         let beta = (-v).atan2(u);
         let u_p = one_minus_wp * u;
         let eta = self.d_p / self.h_r;
-        let slip = 1.0 + self.kappa * ((1.0 + 8.0 * kt / (std::f64::consts::PI * j * j)).sqrt() - 1.0);
+        let slip =
+            1.0 + self.kappa * ((1.0 + 8.0 * kt / (std::f64::consts::PI * j * j)).sqrt() - 1.0);
         let u_r = self.epsilon * u_p * (eta * slip * slip + (1.0 - eta)).sqrt();
         let beta_r = beta - self.l_r * rd;
         let gamma = if beta_r < 0.0 {
@@ -218,7 +224,8 @@ impl Kvlcc2 {
         };
         let v_r = big_u * gamma * beta_r;
         let alpha_r = delta - v_r.atan2(u_r);
-        let f_n = 0.5 * self.rho * self.a_r * (u_r * u_r + v_r * v_r) * self.f_alpha * alpha_r.sin();
+        let f_n =
+            0.5 * self.rho * self.a_r * (u_r * u_r + v_r * v_r) * self.f_alpha * alpha_r.sin();
         let x_r = -0.5 * l;
         let xr = -(1.0 - self.t_r) * f_n * delta.sin();
         let yr = -(1.0 + self.a_h) * f_n * delta.cos();
@@ -288,7 +295,10 @@ pub fn steering_gear() -> Servo {
 #[derive(Debug, Clone, Copy)]
 pub enum Helm {
     /// Rudder to `angle` (rad) at `at` s and held.
-    Turn { angle: f64, at: f64 },
+    Turn {
+        angle: f64,
+        at: f64,
+    },
     ZigZag(ZigZag),
 }
 
@@ -411,7 +421,14 @@ pub fn turn(ship: &Kvlcc2, angle: f64, duration: f64, rate_hz: f64, seed: u64) -
 }
 
 /// [`turn`], with the rudder held between samples as the hull feels it when `held`.
-pub fn turn_held(ship: &Kvlcc2, held: bool, angle: f64, duration: f64, rate_hz: f64, seed: u64) -> Run {
+pub fn turn_held(
+    ship: &Kvlcc2,
+    held: bool,
+    angle: f64,
+    duration: f64,
+    rate_hz: f64,
+    seed: u64,
+) -> Run {
     simulate(
         ship,
         held,

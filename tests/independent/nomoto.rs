@@ -105,7 +105,10 @@ pub struct Run {
 #[derive(Debug, Clone, Copy)]
 pub enum Helm {
     /// Rudder to `angle` (rad) at `at` s.
-    Step { angle: f64, at: f64 },
+    Step {
+        angle: f64,
+        at: f64,
+    },
     ZigZag(ZigZag),
 }
 

@@ -75,11 +75,11 @@ macro_rules! coefficients {
 
 coefficients!(
     Xpp, Xqq, Xrr, Xpr, Xudot, Xwq, Xvp, Xvr, Xqds, Xqdb2, Xrdr, Xvv, Xww, Xvdr, Xwds, Xwdb2,
-    Xdsds, Xdrdr, Xqdsn, Xwdsn, Xdsdsn, Ypdot, Yrdot, Ypq, Yqr, Yvdot, Yp, Yr, Yvq, Ywp, Ywr,
-    Yv, Yvw, Ydr, Zqdot, Zpp, Zpr, Zrr, Zwdot, Zq, Zvp, Zvr, Zw, Zvv, Zds, Zdb2, Zqn, Zwn,
-    Zdsn, Kpdot, Krdot, Kpq, Kqr, Kvdot, Kp, Kr, Kvq, Kwp, Kwr, Kv, Kvw, Kdb2, Kpn, Kprop,
-    Mqdot, Mpp, Mpr, Mrr, Mwdot, Muq, Mvp, Mvr, Muw, Mvv, Mds, Mdb2, Mqn, Mwn, Mdsn, Npdot,
-    Nrdot, Npq, Nqr, Nvdot, Np, Nr, Nvq, Nwp, Nwr, Nv, Nvw, Ndr, Nprop,
+    Xdsds, Xdrdr, Xqdsn, Xwdsn, Xdsdsn, Ypdot, Yrdot, Ypq, Yqr, Yvdot, Yp, Yr, Yvq, Ywp, Ywr, Yv,
+    Yvw, Ydr, Zqdot, Zpp, Zpr, Zrr, Zwdot, Zq, Zvp, Zvr, Zw, Zvv, Zds, Zdb2, Zqn, Zwn, Zdsn, Kpdot,
+    Krdot, Kpq, Kqr, Kvdot, Kp, Kr, Kvq, Kwp, Kwr, Kv, Kvw, Kdb2, Kpn, Kprop, Mqdot, Mpp, Mpr, Mrr,
+    Mwdot, Muq, Mvp, Mvr, Muw, Mvv, Mds, Mdb2, Mqn, Mwn, Mdsn, Npdot, Nrdot, Npq, Nqr, Nvdot, Np,
+    Nr, Nvq, Nwp, Nwr, Nv, Nvw, Ndr, Nprop,
 );
 
 /// How the cross-flow drag integral is evaluated (see the module doc).
@@ -375,23 +375,40 @@ impl NpsAuv {
         // control surfaces (bow planes at zero) and propulsion
         let xprop = r2 * self.cd0 * (self.prop_k * self.prop_k * n * n.abs() - u * u.abs());
         let xc = r3 * (h.Xrdr * u * r * dr + h.Xqds * u * q * ds)
-            + r2 * (h.Xvdr * u * v * dr + h.Xwds * u * w * ds + (h.Xdsds * ds * ds + h.Xdrdr * dr * dr) * u * u)
-            + eps * (r3 * h.Xqdsn * u * q * ds + r2 * (h.Xwdsn * u * w * ds + h.Xdsdsn * u * u * ds * ds))
+            + r2 * (h.Xvdr * u * v * dr
+                + h.Xwds * u * w * ds
+                + (h.Xdsds * ds * ds + h.Xdrdr * dr * dr) * u * u)
+            + eps
+                * (r3 * h.Xqdsn * u * q * ds
+                    + r2 * (h.Xwdsn * u * w * ds + h.Xdsdsn * u * u * ds * ds))
             + xprop;
         let yc = r2 * h.Ydr * u * u * dr;
-        let zc = r2 * h.Zds * u * u * ds + eps * (r3 * h.Zqn * u * q + r2 * (h.Zwn * u * w + h.Zdsn * u * u * ds));
+        let zc = r2 * h.Zds * u * u * ds
+            + eps * (r3 * h.Zqn * u * q + r2 * (h.Zwn * u * w + h.Zdsn * u * u * ds));
         let kc = eps * r4 * h.Kpn * u * p + r3 * u * u * u * h.Kprop;
-        let mc = r3 * h.Mds * u * u * ds + eps * (r4 * h.Mqn * u * q + r3 * (h.Mwn * u * w + h.Mdsn * u * u * ds));
+        let mc = r3 * h.Mds * u * u * ds
+            + eps * (r4 * h.Mqn * u * q + r3 * (h.Mwn * u * w + h.Mdsn * u * u * ds));
         let nc = r3 * u * u * (h.Ndr * dr + h.Nprop);
         let [ycf, zcf, mcf, ncf] = self.cross_flow(v, w, q, r);
         // restoring: weight at r_G, buoyancy at CO
-        let e_z = [-theta.sin(), theta.cos() * phi.sin(), theta.cos() * phi.cos()];
+        let e_z = [
+            -theta.sin(),
+            theta.cos() * phi.sin(),
+            theta.cos() * phi.cos(),
+        ];
         let f_g: [f64; 3] = [
             (self.weight - self.buoyancy) * e_z[0],
             (self.weight - self.buoyancy) * e_z[1],
             (self.weight - self.buoyancy) * e_z[2],
         ];
-        let m_g = cross(self.r_g, [self.weight * e_z[0], self.weight * e_z[1], self.weight * e_z[2]]);
+        let m_g = cross(
+            self.r_g,
+            [
+                self.weight * e_z[0],
+                self.weight * e_z[1],
+                self.weight * e_z[2],
+            ],
+        );
         [
             xh + xc + f_g[0],
             yh + yc + ycf + f_g[1],
@@ -478,7 +495,11 @@ impl NpsAuv {
 #[derive(Debug, Clone, Copy)]
 pub enum Steering {
     /// Rudder and stern planes ordered to these angles (rad) at `at` s.
-    Helix { rudder: f64, stern_planes: f64, at: f64 },
+    Helix {
+        rudder: f64,
+        stern_planes: f64,
+        at: f64,
+    },
     /// A horizontal zig-zag on the rudder (stern planes at 0).
     ZigZag(ZigZag),
     /// Nothing moves.
@@ -548,7 +569,10 @@ pub fn simulate(
     title: &str,
 ) -> Run {
     let per = (sample / fine).round() as usize;
-    assert!((per as f64 * fine - sample).abs() < 1e-9, "sample / fine must be whole");
+    assert!(
+        (per as f64 * fine - sample).abs() < 1e-9,
+        "sample / fine must be whole"
+    );
     let steps = (duration / fine).round() as usize;
     let n = rpm * 2.0 * std::f64::consts::PI / 60.0;
     let mut x = x0;
@@ -610,11 +634,23 @@ pub fn simulate(
     for (name, i) in [("p", ix::P), ("q", ix::Q), ("r", ix::R)] {
         log.push(name, "deg/s", deg(noise.add(&col(i), sensors.rate)));
     }
-    for (name, i) in [("Roll", ix::PHI), ("Pitch", ix::THETA), ("Heading", ix::PSI)] {
+    for (name, i) in [
+        ("Roll", ix::PHI),
+        ("Pitch", ix::THETA),
+        ("Heading", ix::PSI),
+    ] {
         log.push(name, "deg", deg(noise.add(&col(i), sensors.angle)));
     }
-    log.push("Rudder", "deg", deg(noise.add(&col(ix::DR), sensors.control)));
-    log.push("Stern Planes", "deg", deg(noise.add(&col(ix::DS), sensors.control)));
+    log.push(
+        "Rudder",
+        "deg",
+        deg(noise.add(&col(ix::DR), sensors.control)),
+    );
+    log.push(
+        "Stern Planes",
+        "deg",
+        deg(noise.add(&col(ix::DS), sensors.control)),
+    );
     log.push("Bow Planes", "deg", vec![0.0; times.len()]);
     log.push("Propeller Speed", "rpm", vec![rpm; times.len()]);
     Run { log, states, times }

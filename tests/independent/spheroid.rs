@@ -101,7 +101,11 @@ impl Spheroid {
                 + xvr * v * r
                 + xrr * r * r
                 + thrust,
-            -m * u * r + self.yvv * v * v.abs() + self.yrr * r * r.abs() + yur * u * r + yuv * u * v,
+            -m * u * r
+                + self.yvv * v * v.abs()
+                + self.yrr * r * r.abs()
+                + yur * u * r
+                + yuv * u * v,
             self.nvv * v * v.abs() + self.nrr * r * r.abs() + nur * u * r + nuv * u * v,
         ]
     }
