@@ -272,7 +272,7 @@ fn unwrap(psi: &[f64]) -> Vec<f64> {
 }
 
 /// The smallest rudder movement read as a rudder order, rad (1 deg).
-const RUDDER_MOVE_MIN: f64 = PI / 180.0;
+pub(super) const RUDDER_MOVE_MIN: f64 = PI / 180.0;
 
 /// The sample of the rudder order (execute): the last sample at the approach rudder angle
 /// before the rudder moves. The move is found where the rudder first leaves its first value

@@ -42,12 +42,15 @@ impl ManoeuvreComparison {
     /// The measures side by side, with the IMO criteria checked on each.
     pub fn table(&self) -> manoeuvre::ComparisonTable {
         let model = self.model.as_ref().map(RunMeasures::measures);
+        let model_notes = self.model.iter().flat_map(|m| m.not_judged.iter());
         manoeuvre::ComparisonTable::new(
             &self.measured.measures(),
             model.as_deref(),
             &self.measured.checks,
             self.model.as_ref().map_or(&[][..], |m| &m.checks[..]),
         )
+        .with_notes(self.measured.notes("measured"))
+        .with_notes(model_notes.map(|r| format!("IMO criteria (identified model): {r}")))
     }
 
     /// How the model was steered, in words: "35 deg rudder at 15.8 deg/s from t = 5 s".
@@ -82,13 +85,16 @@ impl ManoeuvreComparison {
     }
 }
 
-/// The ship of the run: its length (m) and scale ratio (None when unknown).
+/// The ship of the run, its length (m) and scale ratio (None when unknown), and the nominal
+/// angles of its manoeuvre given in the configuration (the others are inferred from the run).
 #[derive(Debug, Clone, Copy)]
-pub struct Scale {
+pub struct RunSettings {
     /// Ship length L of the run, m.
     pub length: f64,
     /// Scale ratio lambda (1 at full scale).
     pub lambda: Option<f64>,
+    /// The nominal rudder and check angles given for the run.
+    pub nominal: manoeuvre::Nominal,
 }
 
 /// The run's measures and the model's on the same manoeuvre, or None when the run is not a
@@ -100,7 +106,7 @@ pub fn compare<M: Model>(
     rec: &Record,
     inputs: &InputSeries,
     substeps: usize,
-    scale: Scale,
+    run: RunSettings,
 ) -> Option<ManoeuvreComparison> {
     let rudder_input = model
         .input_quantities()
@@ -109,8 +115,8 @@ pub fn compare<M: Model>(
     let yaw = model.state_index(Quantity::Yaw)?;
     let rudder = rec.channel(Quantity::Rudder)?;
     let h = manoeuvre::history_of(|q| rec.channel(q).map(<[f64]>::to_vec)).ok()??;
-    let measured = manoeuvre::measure_history(&h, scale.length, scale.lambda).ok()?;
-    let steering = law_of(&measured, h.time(), rudder)?;
+    let measured = manoeuvre::measure_history(&h, run.length, run.lambda, run.nominal).ok()?;
+    let steering = law_of(&measured, &h)?;
 
     let mut steered_inputs = inputs.clone();
     steered_inputs.inputs[rudder_input] = Input::Held(vec![rudder[0]; h.time().len()]);
@@ -135,15 +141,16 @@ pub fn compare<M: Model>(
         Input::Held(s) | Input::Series(s) => s.clone(),
         Input::Constant(v) => vec![*v; xs.len()],
     };
-    let (model_measures, failure) = match model_history(model, h.time(), &xs, yaw, helm)
-        .and_then(|mh| manoeuvre::measure_history(&mh, scale.length, scale.lambda))
-    {
-        Ok(m) => (Some(m), note),
-        Err(e) => (
-            None,
-            Some(format!("the model's manoeuvre cannot be measured: {e}")),
-        ),
-    };
+    let (model_measures, failure) =
+        match model_history(model, h.time(), &xs, yaw, helm).and_then(|mh| {
+            manoeuvre::measure_history(&mh, run.length, run.lambda, nominal_of(steering))
+        }) {
+            Ok(m) => (Some(m), note),
+            Err(e) => (
+                None,
+                Some(format!("the model's manoeuvre cannot be measured: {e}")),
+            ),
+        };
     Some(ManoeuvreComparison {
         steering,
         measured,
@@ -152,30 +159,45 @@ pub fn compare<M: Model>(
     })
 }
 
-/// The helm that sailed the run: a zig-zag's rudder angle (its first excursion's sign) and
-/// execute heading, or a turn's held rudder; the steepest rudder rate of the run; the execute
+/// The helm that sailed the run, at the run's nominal angles: a zig-zag's rudder angle and
+/// check angle, or a turn's rudder angle, put over in the direction the run's rudder was
+/// (in the model's sign convention, as the run was read: a rudder column whose sign was
+/// reversed with `scale = -1` already is); the steepest rudder rate of the run; the execute
 /// time the measures found.
-fn law_of(m: &RunMeasures, time: &[f64], rudder: &[f64]) -> Option<Steering> {
-    let rate = manoeuvre::rudder_rate(time, rudder)?;
+fn law_of(m: &RunMeasures, h: &History) -> Option<Steering> {
+    let rate = manoeuvre::rudder_rate(h.time(), h.rudder()?)?;
     match (&m.zigzag, &m.turning_circle) {
-        (Some(z), _) => {
-            let after = time.iter().position(|t| *t > z.execute_time)?;
-            let first = rudder[after..].iter().find(|d| d.abs() > 1e-6)?;
-            Some(Steering::ZigZag {
-                rudder: z.rudder_angle.value()?.copysign(*first),
-                heading: z.heading_angle,
-                rate,
-                execute: z.execute_time,
-                surface: Surface::Rudder,
-            })
-        }
+        (Some(z), _) => Some(Steering::ZigZag {
+            rudder: z.rudder_angle.value()? * manoeuvre::rudder_put_over(h, z.execute_time)?,
+            heading: z.heading_angle,
+            rate,
+            execute: z.execute_time,
+            surface: Surface::Rudder,
+        }),
         (None, Some(t)) => Some(Steering::Turn {
-            rudder: t.rudder_angle.value()?,
+            rudder: t.nominal_rudder_angle.value()?
+                * manoeuvre::rudder_put_over(h, t.execute_time)?,
             rate,
             execute: t.execute_time,
             surface: Surface::Rudder,
         }),
         (None, None) => None,
+    }
+}
+
+/// The nominal angles a steering law sails at, as given angles for measuring the model.
+fn nominal_of(law: Steering) -> manoeuvre::Nominal {
+    match law {
+        Steering::Turn { rudder, .. } => manoeuvre::Nominal {
+            rudder: Some(rudder.abs()),
+            check: None,
+        },
+        Steering::ZigZag {
+            rudder, heading, ..
+        } => manoeuvre::Nominal {
+            rudder: Some(rudder.abs()),
+            check: Some(heading),
+        },
     }
 }
 
