@@ -300,3 +300,129 @@ pub fn warnings(cmp: &ManoeuvreComparison, run: &str) -> Vec<Warning> {
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::manoeuvre::{Nominal, Side};
+    use std::collections::BTreeMap;
+
+    /// A free-running log of the KVLCC2 model (mmg3, Yasukawa & Yoshimura 2015; a positive
+    /// rudder turns it to starboard) steered by a helm written here: the rudder trimmed `trim`
+    /// (rad) on the approach, put over to `rudder` (rad) at 5 s at 2.32 deg/s (a slow gear:
+    /// the rudder leaves its trim over several samples), and, for a
+    /// zig-zag (`check` given, rad), reversed each time the heading change from the execute
+    /// reaches `check` beyond the side the rudder turns it to.
+    fn kvlcc2_log(rudder: f64, check: Option<f64>, trim: f64, duration: f64) -> Record {
+        use crate::models::mmg3::{self, Mmg3};
+        use crate::models::Model;
+        use crate::quantity::Quantity as Q;
+        use crate::sim::{simulate, InputSeries};
+        let m = Mmg3::build(&mmg3::kvlcc2_model_vehicle()).unwrap();
+        let c = m.coefficient_vector(mmg3::KVLCC2);
+        let (dt, execute, rate) = (0.1, 5.0, 2.32f64.to_radians());
+        let mut x = vec![mmg3::KVLCC2_SPEED, 0.0, 0.0, 0.0, 0.0, 0.0];
+        let (mut delta, mut target, mut psi0) = (trim, trim, 0.0);
+        let mut cols: BTreeMap<Q, Vec<f64>> = BTreeMap::new();
+        let quantities = [
+            Q::Time,
+            Q::U,
+            Q::V,
+            Q::R,
+            Q::X,
+            Q::Y,
+            Q::Yaw,
+            Q::Rudder,
+            Q::Rpm,
+        ];
+        for k in 0..=(duration / dt) as usize {
+            let t = k as f64 * dt;
+            let row = [
+                t,
+                x[0],
+                x[1],
+                x[2],
+                x[3],
+                x[4],
+                x[5],
+                delta,
+                mmg3::KVLCC2_RPS,
+            ];
+            for (q, v) in quantities.iter().zip(row) {
+                cols.entry(*q).or_default().push(v);
+            }
+            if (t - execute).abs() < 1e-9 {
+                (target, psi0) = (rudder, x[5]);
+            }
+            if let (Some(check), true) = (check, t > execute) {
+                // the rudder turns the ship to the side of its sign (mmg3)
+                let change = (x[5] - psi0) * target.signum();
+                if change >= check {
+                    target = -target;
+                }
+            }
+            delta += (target - delta).clamp(-rate * dt, rate * dt);
+            let inputs = InputSeries::constant(&[delta, mmg3::KVLCC2_RPS]);
+            x = simulate(&m, &c, &x, &inputs, &[t, t + dt], 4).unwrap()[1].clone();
+        }
+        Record::from_channels("log", "log.csv", cols)
+    }
+
+    /// The model steered through `rec`'s manoeuvre at the run's nominal angles.
+    fn steered(rec: &Record) -> ManoeuvreComparison {
+        use crate::models::mmg3::{self, Mmg3};
+        use crate::models::Model;
+        let m = Mmg3::build(&mmg3::kvlcc2_model_vehicle()).unwrap();
+        let c = m.coefficient_vector(mmg3::KVLCC2);
+        let inputs = crate::sim::InputSeries::from_record(m.inputs(), rec).unwrap();
+        let run = RunSettings {
+            length: 7.0,
+            lambda: Some(45.7),
+            nominal: Nominal::default(),
+        };
+        compare(&m, &c, rec, &inputs, 4, run).expect("a manoeuvre the model can sail")
+    }
+
+    /// A port-first 20/20 zig-zag and a 35 deg turning circle to port, each after an approach
+    /// with the rudder trimmed 1 deg to starboard (the first samples after the execute are
+    /// still on the starboard side): the model (the truth here) is steered to port as the run
+    /// went, and sails the run's manoeuvre.
+    #[test]
+    fn the_model_is_steered_to_the_side_the_run_went() {
+        let trim = 1f64.to_radians();
+        let zz = kvlcc2_log(-20f64.to_radians(), Some(20f64.to_radians()), trim, 150.0);
+        let turn = kvlcc2_log(-35f64.to_radians(), None, trim, 120.0);
+        for (rec, rudder) in [(&zz, -20.0), (&turn, -35.0)] {
+            let cmp = steered(rec);
+            let model = cmp
+                .model
+                .as_ref()
+                .expect("the model's manoeuvre is measured");
+            assert_eq!(cmp.measured.side(), Some(Side::Port));
+            assert_eq!(model.side(), Some(Side::Port), "{}", cmp.steering_text());
+            let law = match cmp.steering {
+                Steering::Turn { rudder, .. } | Steering::ZigZag { rudder, .. } => rudder,
+            };
+            assert!((law.to_degrees() - rudder).abs() < 1e-9, "{law}");
+            assert!(
+                warnings(&cmp, "log").is_empty(),
+                "{:?}",
+                warnings(&cmp, "log")
+            );
+        }
+        // the truth sails the zig-zag as the run did, to the helm's timing: hydroid's helm
+        // reverses the rudder within a step, this log's at its samples (0.1 s; 0.2 deg)
+        let cmp = steered(&zz);
+        let (run, model) = (
+            cmp.measured.zigzag.unwrap(),
+            cmp.model.unwrap().zigzag.unwrap(),
+        );
+        let first = |z: &crate::manoeuvre::ZigZag| z.first_overshoot.value().unwrap().to_degrees();
+        assert!(
+            (first(&run) - first(&model)).abs() < 0.5,
+            "{} {}",
+            first(&run),
+            first(&model)
+        );
+    }
+}
