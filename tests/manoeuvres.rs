@@ -549,7 +549,7 @@ fn a_late_reversal_is_measured_at_the_nominal_angles_inferred_or_given() {
     let m = measure_history(&h, 100.0, None, ten).unwrap();
     assert_eq!(m.checks.len(), 1, "{:?}", m.checks);
     assert_eq!(m.not_judged.len(), 2, "{:?}", m.not_judged);
-    assert!(m.not_judged[0].contains("give --scale or vehicle.scale"));
+    assert!(m.not_judged[0].contains("give the scale ratio (vehicle.scale"));
 }
 
 /// A heading printed to 0.5 deg has a plateau of about 2.3 s at each peak: the peak is the

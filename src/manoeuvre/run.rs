@@ -197,8 +197,8 @@ fn judge(
         };
         let Some(lambda) = lambda else {
             not_judged.push(format!(
-                "{} ({}) not judged: its limit depends on the full-scale L/V; give --scale or \
-                 vehicle.scale (1 for full-scale data)",
+                "{} ({}) not judged: its limit depends on the full-scale L/V; give the scale \
+                 ratio (vehicle.scale, or --scale of hydroid manoeuvre; 1 for full-scale data)",
                 c.label(),
                 c.rule()
             ));
