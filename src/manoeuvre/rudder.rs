@@ -15,8 +15,6 @@ const RELEASE_SHARE: f64 = 0.1;
 pub(super) struct Hold {
     /// +1 when the rudder moves to larger angles, -1 to smaller (the run's sign convention).
     pub sign: f64,
-    /// The extreme of the excursion from the approach angle, rad (positive).
-    pub excursion: f64,
     /// The first sample at the extreme (within a quarter of the release threshold).
     pub reached: usize,
     /// The last sample at the extreme before the rudder moves back by more than the
@@ -60,7 +58,6 @@ pub(super) fn first_hold(rudder: &[f64], exec: At) -> Hold {
     held.sort_by(f64::total_cmp);
     Hold {
         sign,
-        excursion: top,
         reached,
         released,
         angle: held[held.len() / 2],
