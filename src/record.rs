@@ -504,6 +504,7 @@ mod tests {
             steps: Vec::new(),
             velocity_frame: VelocityFrame::Body,
             rate_frame: None,
+            manoeuvre: None,
         }
     }
 

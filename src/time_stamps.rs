@@ -386,7 +386,15 @@ fn rebuild(time: &[f64], dt: Option<f64>) -> Result<Rebuilt, Option<Misfit>> {
 /// least one row that does not fit), at most `spare + 1` times. Rows removed on the way that
 /// do fit are counted back by the caller's classification.
 fn consensus_grid(time: &[f64], res: &[f64], dt: Option<f64>, spare: usize) -> Option<(f64, f64)> {
-    // start from the rows near the least-squares line, which a few rows off cannot move
+    // every stamp on one grid: stamps exactly at a rounding boundary (a time of 100.5 s
+    // printed 1.00E+02, as a grid of 0.1 s gives) fit the exact grid only, which a fit of
+    // part of the rows would miss and then count them one printed digit off
+    let all: Vec<usize> = (0..time.len()).collect();
+    let fit = minimax_grid(time, res, &all, dt);
+    if fit.lo <= fit.hi && fit.h > 0.0 {
+        return Some(refit(time, res, dt, fit));
+    }
+    // else start from the rows near the least-squares line, which a few rows off cannot move
     let (a0, h0) = least_squares_grid(time, res, dt);
     let mut rows: Vec<usize> = (0..time.len())
         .filter(|&k| (time[k] - a0 - k as f64 * h0).abs() <= 0.5 * res[k])
@@ -681,6 +689,24 @@ mod tests {
         let mut t = table(&printed, &u);
         tidy(&mut t, 0, Some(dt)).unwrap();
         assert!((t.columns[0].values[n - 1] - (n - 1) as f64 * dt).abs() < 1e-6);
+    }
+
+    #[test]
+    fn stamps_at_a_rounding_boundary_fit_the_exact_grid() {
+        // 0.1 s printed with 3 significant digits: 100.5 s is printed 1.00E+02 or 1.01E+02
+        // as the binary value falls, exactly half a resolution from the grid
+        let dt = 0.1;
+        let printed: Vec<f64> = (0..2001).map(|k| three_digits(k as f64 * dt)).collect();
+        let u: Vec<f64> = (0..2001).map(|k| k as f64).collect();
+        let mut t = table(&printed, &u);
+        tidy(&mut t, 0, None).unwrap();
+        let worst = t.columns[0]
+            .values
+            .iter()
+            .enumerate()
+            .fold(0.0f64, |m, (k, v)| m.max((v - k as f64 * dt).abs()));
+        assert!(worst < 1e-6, "rebuilt grid off by {worst} s");
+        assert!(!t.warnings[0].contains("off"), "{}", t.warnings[0]);
     }
 
     #[test]

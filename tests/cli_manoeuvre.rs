@@ -105,3 +105,85 @@ fn ship_manoeuvres_steered_by_the_helm_are_measured() {
     assert!(second > first, "second overshoot {second} deg");
     assert!(z["period"]["value"].as_f64().unwrap() > 0.0);
 }
+
+/// The measures of `hydroid manoeuvre ARGS --json`.
+fn measures(args: &[&str]) -> serde_json::Value {
+    let mut all = vec!["manoeuvre"];
+    all.extend_from_slice(args);
+    all.push("--json");
+    let o = hydroid(&all);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    serde_json::from_slice(&o.stdout).expect("stdout is JSON")
+}
+
+/// Nominal angles given per run in the configuration, or for every run on the command line
+/// (over the configuration), are those the measures are taken at; the results and the table
+/// say where each comes from, and a test no IMO criterion applies to says so.
+#[test]
+fn nominal_angles_are_given_per_run_or_on_the_command_line() {
+    let cfg = "tests/fixtures/ships/manoeuvres.toml";
+    let per_run = "hekf.validation[0].manoeuvre.check=\"20 deg\"";
+    let inferred = measures(&[cfg]);
+    let given = measures(&[cfg, "--set", per_run]);
+    let overridden = measures(&[cfg, "--set", per_run, "--check", "10"]);
+    let z = |v: &serde_json::Value| v[1]["zigzag"].clone();
+    let deg = |v: &serde_json::Value, key: &str| v[key]["value"].as_f64().unwrap().to_degrees();
+    // the helm of `hydroid simulate` reversed the rudder at 20 deg: inferred as 20 deg
+    assert_eq!(z(&inferred)["heading_angle_from"]["from"], "inferred");
+    assert_eq!(z(&given)["heading_angle_from"]["from"], "given");
+    assert_eq!(
+        z(&given)["first_overshoot"],
+        z(&inferred)["first_overshoot"]
+    );
+    // read as a 20/10 the first swing's peak is 10 deg further beyond the check angle
+    let (a, b) = (
+        deg(&z(&overridden), "first_overshoot"),
+        deg(&z(&given), "first_overshoot"),
+    );
+    assert!((a - b - 10.0).abs() < 1e-9, "{a} {b}");
+    let reasons = overridden[1]["not_judged"].as_array().unwrap();
+    assert!(
+        reasons[0]
+            .as_str()
+            .unwrap()
+            .starts_with("no IMO criterion applies to a 20/10 zig-zag"),
+        "{reasons:?}"
+    );
+    assert_eq!(
+        inferred[0]["turning_circle"]["nominal_rudder_from"]["from"],
+        "inferred"
+    );
+    // the table says where the angles come from and why no criterion is judged
+    let o = hydroid(&["manoeuvre", cfg, "--rudder", "20", "--check", "10"]);
+    let out = text(&o.stdout);
+    assert!(
+        out.contains(
+            "nominal angles (measured): rudder angle nominal 20 deg, given; check angle \
+             nominal 10 deg, given"
+        ),
+        "{out}"
+    );
+    assert!(
+        out.contains("IMO criteria (measured): no IMO criterion applies to a 20/10 zig-zag"),
+        "{out}"
+    );
+    // an angle out of range is refused, naming the option
+    let o = hydroid(&["manoeuvre", cfg, "--rudder", "120"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(text(&o.stderr).contains("--rudder must be an angle in degrees above 0 and at most 90"));
+}
+
+/// `hydroid check` names a bad `manoeuvre` value with its file, line and key.
+#[test]
+fn check_reports_a_bad_nominal_angle_with_its_line() {
+    let o = hydroid(&[
+        "check",
+        "tests/fixtures/configs/errors/manoeuvre_angles.toml",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = text(&o.stderr);
+    assert!(
+        err.contains("manoeuvre_angles.toml:33: hekf.runs[0].manoeuvre.check: must be an angle"),
+        "{err}"
+    );
+}

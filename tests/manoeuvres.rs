@@ -2,8 +2,8 @@
 
 use hydroid::manoeuvre::imo::{turning_checks, zigzag_checks};
 use hydroid::manoeuvre::{
-    turning_circle, zigzag, ComparisonTable, Criterion, History, Measure, Ship, Side,
-    TurningOptions, Verdict, ZigZagOptions,
+    measure_history, turning_circle, zigzag, AngleSource, ComparisonTable, Criterion, History,
+    Measure, Nominal, Ship, Side, TurningOptions, Verdict, ZigZagOptions,
 };
 use std::f64::consts::PI;
 
@@ -111,6 +111,7 @@ fn a_given_execute_time_replaces_the_rudder() {
         &h,
         &TurningOptions {
             execute_time: Some(T0),
+            ..Default::default()
         },
     )
     .unwrap();
@@ -119,6 +120,7 @@ fn a_given_execute_time_replaces_the_rudder() {
         &h,
         &TurningOptions {
             execute_time: Some(-1.0),
+            ..Default::default()
         },
     )
     .unwrap_err();
@@ -174,10 +176,35 @@ const A: f64 = 15.0; // deg
 const PERIOD: f64 = 40.06; // s (peaks fall between samples)
 const ZDT: f64 = 0.05; // s
 
+/// How a zig-zag log of [`zig_log`] is written: the rudder angle (deg; None: no rudder
+/// column), how late the rudder is reversed after each nominal 10 deg crossing (s), the
+/// approach rudder trim before the first execute (deg), and the step the heading is printed
+/// to (deg; 0: exactly).
+#[derive(Clone, Copy)]
+struct Log {
+    rudder: Option<f64>,
+    late: f64,
+    trim: f64,
+    step: f64,
+}
+
+const EXACT: Log = Log {
+    rudder: Some(10.0),
+    late: 0.0,
+    trim: 0.0,
+    step: 0.0,
+};
+
 fn zig(side: f64, until: f64, with_rudder: bool) -> History {
+    let rudder = with_rudder.then_some(10.0);
+    zig_log(side, until, Log { rudder, ..EXACT })
+}
+
+fn zig_log(side: f64, until: f64, log: Log) -> History {
     let w = 2.0 * PI / PERIOD;
     let e = (10.0 / A).asin() / w; // time from T0 to the second execute
     let n = (until / ZDT) as usize + 1;
+    let delta = log.rudder.unwrap_or(0.0);
     let (mut t, mut psi, mut d, mut x, mut y) = (vec![], vec![], vec![], vec![], vec![]);
     for i in 0..n {
         let ti = i as f64 * ZDT;
@@ -187,26 +214,32 @@ fn zig(side: f64, until: f64, with_rudder: bool) -> History {
         } else {
             0.0
         };
-        // +10 deg until the second execute, -10 until the third, +10 until the fourth ...
+        // +delta until the second execute, -delta until the third, +delta until the fourth ...
+        // each reversal `late` s after the heading crosses 10 deg
         let half = PERIOD / 2.0;
-        let k = ((phase - e) / half).floor();
+        let k = ((phase - e - log.late) / half).floor();
         let rudder = if phase <= 1e-9 {
-            0.0
-        } else if phase < e {
-            10.0
+            log.trim
+        } else if phase < e + log.late {
+            delta
         } else if k as i64 % 2 == 0 {
-            -10.0
+            -delta
         } else {
-            10.0
+            delta
+        };
+        let printed = if log.step > 0.0 {
+            (side * change / log.step).round() * log.step
+        } else {
+            side * change
         };
         t.push(ti);
-        psi.push((side * change).to_radians());
+        psi.push(printed.to_radians());
         d.push((side * rudder).to_radians());
         x.push(U * ti);
         y.push(0.0);
     }
     let h = History::new(t, psi).unwrap().with_track(x, y).unwrap();
-    if with_rudder {
+    if log.rudder.is_some() {
         h.with_rudder(d).unwrap()
     } else {
         h
@@ -225,7 +258,11 @@ fn check_zigzag(side: f64) {
             Side::Port
         }
     );
-    assert!(z.rudder_angle_detected && z.heading_angle_detected);
+    assert!(matches!(
+        z.rudder_angle_from,
+        Some(AngleSource::Inferred { .. })
+    ));
+    assert!(matches!(z.heading_angle_from, AngleSource::Inferred { .. }));
     close(&z.rudder_angle, 10f64.to_radians(), 1e-12);
     assert!((z.heading_angle - 10f64.to_radians()).abs() < 1e-12);
     assert!((z.execute_time - T0).abs() < 1e-9);
@@ -328,4 +365,205 @@ fn a_20_20_zigzag_is_checked_against_25_deg() {
     };
     let z = zigzag(&zig(1.0, 120.0, true), &opts).unwrap();
     assert!(zigzag_checks(&z, &Ship::new(100.0, 5.0).unwrap()).is_empty());
+}
+
+// A turn as a ship sails it, with a pull-out after it.
+const R_S: f64 = 0.02; // steady yaw rate, rad/s
+const U_S: f64 = 1.2; // steady speed, m/s
+const TAU: f64 = 15.0; // time constant of the transients, s
+
+/// After the execute at T0 the yaw rate rises to R_S and the speed falls from U to U_S, both
+/// as 1 - exp(-(t - T0) / TAU); the rudder (35 deg) is held until the heading has changed
+/// `hold` (rad), then put back to zero (a pull-out): the yaw rate decays and the speed
+/// recovers with the same time constant for `after` s. Integrated in 0.01 s steps (midpoint),
+/// sampled every DT.
+fn turn_with_pull_out(hold: f64, after: f64) -> History {
+    let h = 0.01;
+    let every = (DT / h).round() as usize;
+    let (mut psi, mut x, mut y) = (0.0f64, 0.0f64, 0.0f64);
+    let mut released: Option<(f64, f64, f64)> = None; // time, yaw rate and speed then
+    let rate_speed = |t: f64, released: Option<(f64, f64, f64)>| -> (f64, f64) {
+        match released {
+            _ if t <= T0 => (0.0, U),
+            None => {
+                let f = (-(t - T0) / TAU).exp();
+                (R_S * (1.0 - f), U_S + (U - U_S) * f)
+            }
+            Some((th, rh, uh)) => {
+                let f = (-(t - th) / TAU).exp();
+                (rh * f, U - (U - uh) * f)
+            }
+        }
+    };
+    let mut cols: [Vec<f64>; 7] = Default::default();
+    let mut k = 0usize;
+    loop {
+        let t = k as f64 * h;
+        if k.is_multiple_of(every) {
+            let (_, speed) = rate_speed(t, released);
+            let rudder = if t > T0 && released.is_none() {
+                35f64.to_radians()
+            } else {
+                0.0
+            };
+            for (c, v) in cols.iter_mut().zip([t, psi, x, y, speed, 0.0, rudder]) {
+                c.push(v);
+            }
+        }
+        if released.is_some_and(|(th, _, _)| t > th + after) {
+            break;
+        }
+        let (r, speed) = rate_speed(t + 0.5 * h, released);
+        let mid = psi + 0.5 * h * r;
+        psi += h * r;
+        x += h * speed * mid.cos();
+        y += h * speed * mid.sin();
+        k += 1;
+        if released.is_none() && psi >= hold {
+            let (r, speed) = rate_speed(k as f64 * h, None);
+            released = Some((k as f64 * h, r, speed));
+        }
+    }
+    let [t, psi, x, y, u, v, d] = cols;
+    History::new(t, psi)
+        .and_then(|hy| hy.with_track(x, y))
+        .and_then(|hy| hy.with_velocity(u, v))
+        .and_then(|hy| hy.with_rudder(d))
+        .unwrap()
+}
+
+/// The steady turning diameter and speed are read in the steady part of the turn with the
+/// rudder held, not over the pull-out after it: 2 U_S / R_S and U_S / U.
+#[test]
+fn a_turn_with_a_pull_out_is_steady_only_while_the_rudder_is_held() {
+    let h = turn_with_pull_out(3.0 * PI, 300.0);
+    let c = turning_circle(&h, &TurningOptions::default()).unwrap();
+    let held = c.rudder_changed_at.expect("the rudder is put back");
+    assert!(
+        (c.max_heading_change.to_degrees() - 540.0).abs() < 1.0,
+        "{}",
+        c.max_heading_change.to_degrees()
+    );
+    // steady once the transients (time constant TAU) have died down to a few per cent
+    assert!(
+        value(&c.steady_from) > T0 + 3.0 * TAU,
+        "{:?}",
+        c.steady_from
+    );
+    assert!(value(&c.steady_from) < held);
+    close(&c.steady_diameter, 2.0 * U_S / R_S, 0.01 * 2.0 * U_S / R_S);
+    close(&c.steady_yaw_rate, R_S, 0.01 * R_S);
+    close(&c.steady_speed, U_S, 0.01 * U_S);
+    close(&c.speed_ratio, U_S / U, 0.01 * U_S / U);
+    close(&c.rudder_angle, 35f64.to_radians(), 1e-12);
+    close(&c.nominal_rudder_angle, 35f64.to_radians(), 1e-12);
+    assert!(
+        c.hold_text().starts_with("rudder held until t = "),
+        "{}",
+        c.hold_text()
+    );
+}
+
+/// A rudder put back before the turn is steady: the measures past it are missing, each
+/// with the reason, and nothing is read from the pull-out.
+#[test]
+fn a_turn_pulled_out_early_has_no_steady_part_and_says_why() {
+    let h = turn_with_pull_out(120f64.to_radians(), 200.0);
+    let c = turning_circle(&h, &TurningOptions::default()).unwrap();
+    assert!(c.advance.value().is_some());
+    let Measure::Missing(r) = &c.tactical_diameter else {
+        panic!("{:?}", c.tactical_diameter)
+    };
+    assert!(
+        r.contains("with the rudder held (it is changed at t = "),
+        "{r}"
+    );
+    for m in [&c.steady_diameter, &c.steady_speed, &c.speed_ratio] {
+        let Measure::Missing(r) = m else {
+            panic!("{m:?}")
+        };
+        assert!(
+            r.contains("with the rudder held") && r.contains("needs"),
+            "{r}"
+        );
+    }
+}
+
+/// A 20/10 zig-zag whose rudder is reversed 0.3 s after each 10 deg crossing (at 10.5 deg of
+/// heading change), from an approach rudder trimmed 1 deg the other way: at its nominal
+/// angles, inferred or given, the overshoots are the heading change beyond 10 deg (5 deg),
+/// and the times run from the nominal crossings.
+#[test]
+fn a_late_reversal_is_measured_at_the_nominal_angles_inferred_or_given() {
+    let log = Log {
+        rudder: Some(20.0),
+        late: 0.3,
+        trim: -1.0,
+        step: 0.0,
+    };
+    let e = (10.0 / A).asin() / (2.0 * PI / PERIOD);
+    let given = ZigZagOptions {
+        rudder_angle: Some(20f64.to_radians()),
+        heading_angle: Some(10f64.to_radians()),
+        ..Default::default()
+    };
+    for side in [1.0, -1.0] {
+        let h = zig_log(side, 120.0, log);
+        let inferred = zigzag(&h, &ZigZagOptions::default()).unwrap();
+        let given = zigzag(&h, &given).unwrap();
+        for z in [&inferred, &given] {
+            close(&z.rudder_angle.map(f64::to_degrees), 20.0, 1e-9);
+            assert!((z.heading_angle.to_degrees() - 10.0).abs() < 1e-9);
+            close(&z.first_overshoot.map(f64::to_degrees), 5.0, 1e-5);
+            close(&z.second_overshoot.map(f64::to_degrees), 5.0, 1e-5);
+            close(&z.initial_turning_time, e, 1e-4);
+            close(&z.time_to_check_yaw, PERIOD / 4.0 - e, 1e-4);
+        }
+        assert_eq!(
+            inferred.nominal_text(),
+            "rudder angle nominal 20 deg, inferred from the rudder held at 20.0 deg; \
+             check angle nominal 10 deg, inferred from the reversal at 10.5 deg"
+        );
+        assert_eq!(
+            given.nominal_text(),
+            "rudder angle nominal 20 deg, given; check angle nominal 10 deg, given"
+        );
+    }
+    // a 20/10 is judged by no IMO criterion, and the table says so
+    let h = zig_log(-1.0, 120.0, log);
+    let m = measure_history(&h, 100.0, Some(1.0), Nominal::default()).unwrap();
+    assert!(m.checks.is_empty());
+    let table =
+        ComparisonTable::new(&m.measures(), None, &m.checks, &[]).with_notes(m.notes("measured"));
+    let text = table.to_string();
+    assert!(
+        text.contains("IMO criteria (measured): no IMO criterion applies to a 20/10 zig-zag"),
+        "{text}"
+    );
+    assert!(text.contains("check angle (nominal)"), "{text}");
+    // given as a 10/10 it is judged as one; without the scale, the overshoot limits say why not
+    let ten = Nominal {
+        rudder: Some(10f64.to_radians()),
+        check: Some(10f64.to_radians()),
+    };
+    let m = measure_history(&h, 100.0, None, ten).unwrap();
+    assert_eq!(m.checks.len(), 1, "{:?}", m.checks);
+    assert_eq!(m.not_judged.len(), 2, "{:?}", m.not_judged);
+    assert!(m.not_judged[0].contains("give the scale ratio (vehicle.scale"));
+}
+
+/// A heading printed to 0.5 deg has a plateau of about 2.3 s at each peak: the peak is the
+/// vertex of the parabola fitted across the plateau, not its first sample (1.2 s early). The
+/// second execute is read on the printed heading too (up to 0.25 deg / 1.75 deg/s = 0.14 s
+/// early), hence 0.3 s on the time to check yaw.
+#[test]
+fn the_peak_of_a_quantised_heading_is_found_across_its_plateau() {
+    let e = (10.0 / A).asin() / (2.0 * PI / PERIOD);
+    for side in [1.0, -1.0] {
+        let h = zig_log(side, 120.0, Log { step: 0.5, ..EXACT });
+        let z = zigzag(&h, &ZigZagOptions::default()).unwrap();
+        close(&z.first_overshoot.map(f64::to_degrees), 5.0, 0.1);
+        close(&z.second_overshoot.map(f64::to_degrees), 5.0, 0.1);
+        close(&z.time_to_check_yaw, PERIOD / 4.0 - e, 0.3);
+    }
 }

@@ -1,9 +1,10 @@
 //! `hydroid manoeuvre CONFIG`: the turning-circle or zig-zag measures of every HEKF run of a
-//! configuration (fit and validation runs, read as the run reads them), with the IMO criteria
-//! when the full-scale length and speed are known (docs/manoeuvres.md).
+//! configuration (fit and validation runs, read as the run reads them), at the nominal angles
+//! given (`--rudder`, `--check`, or a run's `manoeuvre` key) or inferred from each run, with
+//! the IMO criteria when the full-scale length and speed are known (docs/manoeuvres.md).
 
 use super::CmdResult;
-use hydroid::manoeuvre::{self, ComparisonTable};
+use hydroid::manoeuvre::{self, ComparisonTable, Nominal};
 use hydroid::record::Record;
 use hydroid::{config, pipeline, Error};
 use std::io::Write;
@@ -22,6 +23,15 @@ pub struct Args {
     /// L/V, sqrt(lambda) times the run's).
     #[arg(long, value_name = "LAMBDA")]
     scale: Option<f64>,
+    /// Nominal rudder angle of every run, deg (35 for a 35 deg turning circle, 20 for a 20/10
+    /// zig-zag), over a run's `manoeuvre.rudder`; by default each run's, else inferred from
+    /// the run.
+    #[arg(long, value_name = "DEG")]
+    rudder: Option<f64>,
+    /// Nominal check (execute heading) angle of every zig-zag, deg (10 for a 20/10), over a
+    /// run's `manoeuvre.check`; by default each run's, else inferred from the run.
+    #[arg(long, value_name = "DEG")]
+    check: Option<f64>,
     /// Print machine-readable JSON instead of text.
     #[arg(long)]
     json: bool,
@@ -46,6 +56,10 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
             .into());
         }
     }
+    let given = Nominal {
+        rudder: nominal_option("--rudder", args.rudder)?,
+        check: nominal_option("--check", args.check)?,
+    };
     let loaded = config::load(&args.config, &args.set)?;
     let planned = pipeline::stage_inputs(&loaded.config);
     let runs: Vec<_> = planned
@@ -66,7 +80,13 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
     let mut all = Vec::new();
     for p in runs {
         let input = pipeline::load_input(&loaded, p)?;
-        all.push(measure(&input.record, length, scale)?);
+        let configured = p
+            .spec
+            .manoeuvre
+            .as_ref()
+            .map(config::ManoeuvreSpec::nominal);
+        let nominal = given.or(configured.unwrap_or_default());
+        all.push(measure(&input.record, length, scale, nominal)?);
     }
     if args.json {
         let text = serde_json::to_string_pretty(&all)
@@ -80,22 +100,33 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
             continue;
         }
         writeln!(out, "{} ({}): {}", m.run, m.file, m.measures.kind())?;
-        let table = ComparisonTable::new(&measures, None, &m.measures.checks, &[]);
+        let table = ComparisonTable::new(&measures, None, &m.measures.checks, &[])
+            .with_notes(m.measures.notes("measured"));
         writeln!(out, "{table}")?;
-    }
-    if scale.is_none() {
-        writeln!(
-            out,
-            "10/10 zig-zag overshoot limits not judged: they depend on the full-scale L/V; give \
-             --scale or vehicle.scale (1 for full-scale data)"
-        )?;
     }
     Ok(0)
 }
 
+/// A nominal angle given on the command line (deg) in rad; a usage error unless above 0 and
+/// at most 90 deg.
+fn nominal_option(name: &str, deg: Option<f64>) -> Result<Option<f64>, Error> {
+    match deg {
+        None => Ok(None),
+        Some(d) if d.is_finite() && d > 0.0 && d <= 90.0 => Ok(Some(d.to_radians())),
+        Some(d) => Err(Error::Usage(format!(
+            "{name} must be an angle in degrees above 0 and at most 90, got {d}"
+        ))),
+    }
+}
+
 /// The measures of one run (a zig-zag when its rudder reverses at least twice, else a
-/// turning circle).
-fn measure(rec: &Record, length: f64, scale: Option<f64>) -> Result<RunMeasures, Error> {
+/// turning circle) at the `nominal` angles given.
+fn measure(
+    rec: &Record,
+    length: f64,
+    scale: Option<f64>,
+    nominal: Nominal,
+) -> Result<RunMeasures, Error> {
     let fail = |e: manoeuvre::HistoryError| {
         Error::Usage(format!(
             "run '{}' ({}): {e}",
@@ -115,6 +146,6 @@ fn measure(rec: &Record, length: f64, scale: Option<f64>) -> Result<RunMeasures,
     Ok(RunMeasures {
         run: rec.name.clone(),
         file: rec.source.display().to_string(),
-        measures: manoeuvre::measure_history(&h, length, scale).map_err(fail)?,
+        measures: manoeuvre::measure_history(&h, length, scale, nominal).map_err(fail)?,
     })
 }

@@ -73,6 +73,70 @@ pub struct InputSpec {
     /// log of earth-frame dx/dt, dy/dt with body yaw and roll rates: `rate_frame = "body"`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rate_frame: Option<VelocityFrame>,
+    /// The nominal angles of the run's manoeuvre (HEKF runs only), for `hydroid manoeuvre`
+    /// and the report's re-simulation: `manoeuvre = { rudder = "20 deg", check = "10 deg" }`;
+    /// an angle not given is inferred from the run (docs/manoeuvres.md, "Nominal angles").
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub manoeuvre: Option<ManoeuvreSpec>,
+}
+
+/// The nominal angles of a run's turning circle or zig-zag (`manoeuvre = { ... }`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ManoeuvreSpec {
+    /// The test's rudder angle, a magnitude: `"35 deg"` for a 35 deg turning circle, `"20 deg"`
+    /// for a 20/10 zig-zag.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rudder: Option<Constant>,
+    /// The zig-zag's check (execute heading) angle, a magnitude: `"10 deg"` for a 20/10.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub check: Option<Constant>,
+}
+
+/// Largest nominal rudder or check angle, deg (a bare number is in rad: 20 would be 1146 deg).
+pub const MAX_NOMINAL_ANGLE_DEG: f64 = 90.0;
+
+impl ManoeuvreSpec {
+    /// The nominal angles given, rad (magnitudes).
+    pub fn nominal(&self) -> crate::manoeuvre::Nominal {
+        crate::manoeuvre::Nominal {
+            rudder: self.rudder.as_ref().map(|c| c.si.abs()),
+            check: self.check.as_ref().map(|c| c.si.abs()),
+        }
+    }
+
+    /// Adds every problem with the angles (at key path `key`, e.g.
+    /// `hekf.runs[0].manoeuvre`) to `p`: each an angle, not zero, at most
+    /// [`MAX_NOMINAL_ANGLE_DEG`].
+    fn validate(&self, key: &str, p: &mut super::Problems) {
+        for (name, c) in [("rudder", &self.rudder), ("check", &self.check)] {
+            let Some(c) = c else { continue };
+            let k = format!("{key}.{name}");
+            if let Err(m) = c.expect_dim([0, 0, 0, 1]) {
+                p.add(&k, m);
+                continue;
+            }
+            let deg = c.si.abs().to_degrees();
+            if !(deg > 0.0 && deg <= MAX_NOMINAL_ANGLE_DEG) {
+                p.add(
+                    &k,
+                    format!(
+                        "must be an angle above 0 and at most {MAX_NOMINAL_ANGLE_DEG} deg, got {} \
+                         ({} deg); a number without a unit is in rad: write e.g. \"20 deg\"",
+                        c.text,
+                        crate::numfmt::num(deg)
+                    ),
+                );
+            }
+        }
+        if self.rudder.is_none() && self.check.is_none() {
+            p.add(
+                key,
+                "gives no angle: give `rudder` and, for a zig-zag, `check` (e.g. \
+                 { rudder = \"20 deg\", check = \"10 deg\" }), or leave the key out",
+            );
+        }
+    }
 }
 
 /// Highest 1-based column number a column map may name (a CFD export has far fewer).
@@ -154,6 +218,17 @@ impl InputSpec {
             match dt.expect_dim([0, 0, 1, 0]) {
                 Ok(()) => p.positive(&format!("{key}.dt"), dt.si, "s"),
                 Err(m) => p.add(&format!("{key}.dt"), m),
+            }
+        }
+        if let Some(m) = &self.manoeuvre {
+            if key.starts_with("hekf.") {
+                m.validate(&format!("{key}.manoeuvre"), p);
+            } else {
+                p.add(
+                    &format!("{key}.manoeuvre"),
+                    "is read only for the runs of hekf.runs and hekf.validation (the manoeuvres \
+                     `hydroid manoeuvre` measures); leave it out here",
+                );
             }
         }
         if let Some(f) = &self.froude {

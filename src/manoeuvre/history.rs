@@ -272,23 +272,29 @@ fn unwrap(psi: &[f64]) -> Vec<f64> {
 }
 
 /// The smallest rudder movement read as a rudder order, rad (1 deg).
-const RUDDER_MOVE_MIN: f64 = PI / 180.0;
+pub(super) const RUDDER_MOVE_MIN: f64 = PI / 180.0;
 
 /// The sample of the rudder order (execute): the last sample at the approach rudder angle
-/// before the rudder moves. The move is found where the rudder first leaves its first value
-/// by 10 % of its largest excursion (at least 1 deg, so that sensor noise is not read as an
-/// order); the execute is the last sample before it within a quarter of that threshold of the
-/// approach angle (the mean of the samples before the move).
+/// before the rudder moves ("the position at which the rudder order is given", MSC.137(76),
+/// annex, 4.2.3). The move is found where the rudder first leaves its first value by 10 % of
+/// its largest excursion (at least 1 deg, so that sensor noise is not read as an order); from
+/// there the rudder's path is followed back while its departure from the approach angle (the
+/// median of the samples before the move) keeps falling, to where the movement starts: a
+/// steering gear at 2.3 deg/s takes many samples to reach the move.
 pub(super) fn rudder_execute(rudder: &[f64]) -> Option<usize> {
     let d0 = rudder[0];
     let range = rudder.iter().map(|d| (d - d0).abs()).fold(0.0, f64::max);
     let threshold = (0.1 * range).max(RUDDER_MOVE_MIN);
     let moved = rudder.iter().position(|d| (d - d0).abs() > threshold)?;
-    let approach = rudder[..moved].iter().sum::<f64>() / moved as f64;
-    (0..moved)
-        .rev()
-        .find(|&j| (rudder[j] - approach).abs() <= 0.25 * threshold)
-        .or(Some(0))
+    let mut before = rudder[..moved].to_vec();
+    before.sort_by(f64::total_cmp);
+    let approach = before[before.len() / 2];
+    let departure = |j: usize| (rudder[j] - approach).abs();
+    let mut e = moved - 1;
+    while e > 0 && departure(e - 1) < departure(e) {
+        e -= 1;
+    }
+    Some(e)
 }
 
 /// The direction the rudder first moves in from `start` after sample `from`: the sign of its
@@ -338,6 +344,15 @@ mod tests {
             .map(|d: &f64| d.to_radians())
             .collect();
         assert_eq!(rudder_execute(&d), Some(2));
+        // a slow steering gear: the order is where the rudder leaves its (noisy) approach
+        // angle, not where it has moved by the threshold
+        let slow: Vec<f64> = [
+            -1.16, -1.17, -1.16, -1.15, -1.16, -0.9, -0.3, 0.3, 0.9, 1.5, 2.1,
+        ]
+        .iter()
+        .map(|d: &f64| d.to_radians())
+        .collect();
+        assert_eq!(rudder_execute(&slow), Some(4));
         assert_eq!(rudder_execute(&[0.001, -0.001, 0.0]), None);
     }
 

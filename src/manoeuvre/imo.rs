@@ -220,30 +220,41 @@ pub fn turning_checks(turn: &TurningCircle, ship: &Ship) -> Vec<Check> {
 /// Tolerance on a test's nominal angles when naming it 10/10 or 20/20, rad (0.5 deg).
 const NOMINAL: f64 = 0.5 * std::f64::consts::PI / 180.0;
 
-/// The checks a zig-zag is subject to: a 10/10 gives the first and second overshoot and the
-/// initial turning ability, a 20/20 its first overshoot, any other test none. The rudder
-/// angle, when the run lacks it, is taken equal to the execute heading angle.
-pub fn zigzag_checks(z: &ZigZag, ship: &Ship) -> Vec<Check> {
+/// The criteria a zig-zag is subject to, with the measure each judges: a 10/10 gives the
+/// first and second overshoot (MSC.137(76) 5.3.3.1-2) and the initial turning ability
+/// (5.3.2), a 20/20 its first overshoot (5.3.3.3); any other test none, and the reason. The
+/// rudder angle, when the run lacks it, is taken equal to the check angle.
+pub fn zigzag_criteria(z: &ZigZag) -> Result<Vec<(Criterion, &Measure)>, String> {
     let rudder = z.rudder_angle.value().unwrap_or(z.heading_angle);
     let is = |deg: f64| {
         (rudder - deg.to_radians()).abs() <= NOMINAL
             && (z.heading_angle - deg.to_radians()).abs() <= NOMINAL
     };
     if is(10.0) {
-        vec![
-            Check::new(Criterion::FirstOvershoot10, &z.first_overshoot, ship),
-            Check::new(Criterion::SecondOvershoot10, &z.second_overshoot, ship),
-            Check::new(Criterion::InitialTurning, &z.initial_turning_distance, ship),
-        ]
+        Ok(vec![
+            (Criterion::FirstOvershoot10, &z.first_overshoot),
+            (Criterion::SecondOvershoot10, &z.second_overshoot),
+            (Criterion::InitialTurning, &z.initial_turning_distance),
+        ])
     } else if is(20.0) {
-        vec![Check::new(
-            Criterion::FirstOvershoot20,
-            &z.first_overshoot,
-            ship,
-        )]
+        Ok(vec![(Criterion::FirstOvershoot20, &z.first_overshoot)])
     } else {
-        Vec::new()
+        Err(format!(
+            "no IMO criterion applies to a {} zig-zag: MSC.137(76) 5.3.2-5.3.3 judge the \
+             10/10 and the 20/20 zig-zags",
+            z.test_name()
+        ))
     }
+}
+
+/// The checks a zig-zag is subject to ([`zigzag_criteria`]) for `ship`; none for a test no
+/// criterion applies to.
+pub fn zigzag_checks(z: &ZigZag, ship: &Ship) -> Vec<Check> {
+    zigzag_criteria(z)
+        .unwrap_or_default()
+        .into_iter()
+        .map(|(c, m)| Check::new(c, m, ship))
+        .collect()
 }
 
 #[cfg(test)]

@@ -2,8 +2,9 @@
 //! at least twice, else a turning circle; with the IMO criteria that can be judged.
 
 use super::history::{History, HistoryError};
-use super::imo::{turning_checks, zigzag_checks, Check, Ship};
-use super::measure::Named;
+use super::imo::{turning_checks, zigzag_criteria, Check, Criterion, Ship};
+use super::measure::{Measure, Named};
+use super::nominal::Nominal;
 use super::turning::{turning_circle, TurningCircle, TurningOptions};
 use super::zigzag::{zigzag, ZigZag, ZigZagOptions};
 use crate::quantity::Quantity;
@@ -20,6 +21,10 @@ pub struct RunMeasures {
     pub zigzag: Option<ZigZag>,
     /// The IMO criteria checked (empty when none can be judged).
     pub checks: Vec<Check>,
+    /// Why IMO criteria are not judged on this run (none applies to the test, the scale
+    /// ratio or the approach speed is unknown), one sentence each.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub not_judged: Vec<String>,
 }
 
 impl RunMeasures {
@@ -48,6 +53,37 @@ impl RunMeasures {
             (Some(t), None) => Some(t.side),
             (None, None) => None,
         }
+    }
+
+    /// Where the nominal angles the measures were taken at come from, in words.
+    pub fn nominal_text(&self) -> Option<String> {
+        match (&self.turning_circle, &self.zigzag) {
+            (_, Some(z)) => Some(z.nominal_text()),
+            (Some(t), None) => t.nominal_text(),
+            (None, None) => None,
+        }
+    }
+
+    /// The notes a table of these measures carries ([`super::ComparisonTable::with_notes`]):
+    /// where the nominal angles come from and why IMO criteria are not judged, for `who`
+    /// ("measured", "identified model").
+    pub fn notes(&self, who: &str) -> Vec<String> {
+        let nominal = self
+            .nominal_text()
+            .map(|t| format!("nominal angles ({who}): {t}"));
+        let hold = self
+            .turning_circle
+            .as_ref()
+            .map(|t| format!("turn ({who}): {}", t.hold_text()));
+        nominal
+            .into_iter()
+            .chain(hold)
+            .chain(
+                self.not_judged
+                    .iter()
+                    .map(|r| format!("IMO criteria ({who}): {r}")),
+            )
+            .collect()
     }
 
     /// The approach speed, m/s, when the run gives it.
@@ -82,43 +118,98 @@ pub fn history_of(
 }
 
 /// The measures of `h`: a zig-zag when the rudder changes side at least twice, else a turning
-/// circle. `length` is the ship length L of the run (m) and `scale` the scale ratio lambda of
-/// the run (1 at full scale, None when unknown): criteria in ship lengths are Froude-invariant
-/// and judged on the run's own scale; the 10/10 overshoot limits depend on the full-scale
+/// circle, at the `nominal` angles given (the others inferred from the run). `length` is the
+/// ship length L of the run (m) and `scale` the scale ratio lambda of the run (1 at full
+/// scale, None when unknown): criteria in ship lengths are Froude-invariant and judged on the
+/// run's own scale; the 10/10 overshoot limits depend on the full-scale
 /// L/V = sqrt(lambda) L/U (MSC.137(76) 5.3.3) and are judged only when `scale` is known.
 pub fn measure_history(
     h: &History,
     length: f64,
     scale: Option<f64>,
+    nominal: Nominal,
 ) -> Result<RunMeasures, HistoryError> {
     let reversals = h.rudder().map_or(0, reversals);
-    // a ship of the run's length at U / sqrt(lambda) has the full-scale L/V
-    let ship = |u: Option<f64>, lambda: Option<f64>| Ship::new(length, u? / lambda?.sqrt()).ok();
     let mut m = RunMeasures {
         turning_circle: None,
         zigzag: None,
         checks: Vec::new(),
+        not_judged: Vec::new(),
     };
     if reversals >= 2 {
-        let z = zigzag(h, &ZigZagOptions::default())?;
-        if let Some(s) = ship(z.approach_speed.value(), scale) {
-            m.checks = zigzag_checks(&z, &s);
-        } else if let Some(s) = ship(z.approach_speed.value(), Some(1.0)) {
-            // without the scale, only the criteria that do not depend on L/V
-            m.checks = zigzag_checks(&z, &s)
-                .into_iter()
-                .filter(|c| !c.criterion.needs_full_scale_speed())
-                .collect();
+        let options = ZigZagOptions {
+            execute_time: None,
+            rudder_angle: nominal.rudder,
+            heading_angle: nominal.check,
+        };
+        let z = zigzag(h, &options)?;
+        match zigzag_criteria(&z) {
+            Ok(criteria) => {
+                let speed = z.approach_speed.clone();
+                (m.checks, m.not_judged) = judge(&criteria, &speed, length, scale);
+            }
+            Err(reason) => m.not_judged.push(reason),
         }
         m.zigzag = Some(z);
     } else {
-        let t = turning_circle(h, &TurningOptions::default())?;
-        if let Some(s) = ship(t.approach_speed.value(), Some(scale.unwrap_or(1.0))) {
-            m.checks = turning_checks(&t, &s);
+        let options = TurningOptions {
+            execute_time: None,
+            rudder_angle: nominal.rudder,
+        };
+        let t = turning_circle(h, &options)?;
+        match Ship::new(length, t.approach_speed.value().unwrap_or(0.0)) {
+            Ok(s) => m.checks = turning_checks(&t, &s),
+            Err(e) => m
+                .not_judged
+                .push(format!("the IMO criteria are not judged: {e}")),
         }
         m.turning_circle = Some(t);
     }
     Ok(m)
+}
+
+/// The `criteria` checked for a ship of the run's `length` at its approach `speed` on the
+/// run's `scale`, and why any is not: the 10/10 overshoot limits depend on the full-scale
+/// L/V (a ship of the run's length at U / sqrt(lambda) has it), so they wait for the scale.
+fn judge(
+    criteria: &[(Criterion, &Measure)],
+    speed: &Measure,
+    length: f64,
+    scale: Option<f64>,
+) -> (Vec<Check>, Vec<String>) {
+    let u = match speed {
+        Measure::Value(u) => *u,
+        Measure::Missing(r) => {
+            return (
+                Vec::new(),
+                vec![format!(
+                    "the IMO criteria are not judged: the approach speed is missing ({r})"
+                )],
+            )
+        }
+    };
+    let (mut checks, mut not_judged) = (Vec::new(), Vec::new());
+    for (c, value) in criteria {
+        let lambda = if c.needs_full_scale_speed() {
+            scale
+        } else {
+            Some(1.0)
+        };
+        let Some(lambda) = lambda else {
+            not_judged.push(format!(
+                "{} ({}) not judged: its limit depends on the full-scale L/V; give the scale \
+                 ratio (vehicle.scale, or --scale of hydroid manoeuvre; 1 for full-scale data)",
+                c.label(),
+                c.rule()
+            ));
+            continue;
+        };
+        match Ship::new(length, u / lambda.sqrt()) {
+            Ok(s) => checks.push(Check::new(*c, value, &s)),
+            Err(e) => not_judged.push(format!("{} ({}) not judged: {e}", c.label(), c.rule())),
+        }
+    }
+    (checks, not_judged)
 }
 
 /// How often the rudder changes side (sign, ignoring amidships).

@@ -89,6 +89,17 @@ impl ComparisonTable {
         ComparisonTable { rows, notes }
     }
 
+    /// The table with `notes` added after the reasons for missing values (where the nominal
+    /// angles come from, why a criterion is not judged); a note already there is not repeated.
+    pub fn with_notes(mut self, notes: impl IntoIterator<Item = String>) -> Self {
+        for n in notes {
+            if !self.notes.contains(&n) {
+                self.notes.push(n);
+            }
+        }
+        self
+    }
+
     /// The column headings.
     pub const HEADER: [&'static str; 5] =
         ["measure", "unit", "measured", "identified model", "limit"];

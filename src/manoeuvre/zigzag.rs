@@ -1,13 +1,21 @@
-//! The zig-zag (Kempf) manoeuvre (IMO MSC/Circ.1053, 3.4.2; ITTC 7.5-04-02-01, 2.2): first
-//! and second overshoot angles, initial turning time, time to check yaw, period.
+//! The zig-zag (Kempf) manoeuvre (MSC.137(76), annex, 4.2.5-4.2.9; MSC/Circ.1053, annex,
+//! 1.3.2; ITTC 7.5-04-02-01, 2.2.2): first and second overshoot angles, initial turning time,
+//! time to check yaw, period.
 //!
-//! The executes: the first is the rudder order; the second, third and fourth are the
-//! moments the heading change reaches the execute heading angle, alternately to the side of
-//! the first turn and to the other, when the rudder is reversed.
+//! A delta/psi zig-zag is measured at its nominal angles (given, or inferred from the run:
+//! [`super::nominal`]). The executes: the first is the rudder order; the second, third and
+//! fourth are the moments the heading change reaches the nominal check angle psi,
+//! alternately to the side of the first turn and to the other, when the rudder is to be
+//! reversed (4.2.6). An overshoot angle is the heading change beyond psi after the second
+//! (first overshoot, 4.2.7) or third execute (second overshoot, 4.2.8), so a rudder reversed a
+//! little late does not move it by the lateness.
 
-use super::history::{first_reaching, rudder_execute_sign, At, History, HistoryError};
+use super::history::{first_reaching, At, History, HistoryError};
 use super::measure::{Kind, Measure, Named, Side};
+use super::nominal::{nominal, AngleSource, STANDARD_CHECK_DEG, STANDARD_RUDDER_DEG};
+use super::rudder::first_hold;
 use super::turning::approach_speed;
+use nalgebra::{Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
 
 /// What the zig-zag analysis may be told instead of finding it in the data (rad, s).
@@ -15,11 +23,12 @@ use serde::{Deserialize, Serialize};
 pub struct ZigZagOptions {
     /// The time of the first rudder order, s; by default found in the rudder history.
     pub execute_time: Option<f64>,
-    /// The rudder angle of the test (10 deg in a 10/10), rad; by default the rudder's first
-    /// excursion rounded to a whole degree.
+    /// The test's nominal rudder angle (10 deg in a 10/10), rad; by default the angle the
+    /// rudder is held at in its first excursion, rounded to a standard angle within reach.
     pub rudder_angle: Option<f64>,
-    /// The execute heading angle (the second 10 of a 10/10), rad; by default the heading
-    /// change at the first rudder reversal rounded to a whole degree.
+    /// The nominal check (execute heading) angle (the second 10 of a 10/10), rad; by
+    /// default the heading change at the first rudder reversal, rounded to a standard angle
+    /// within reach.
     pub heading_angle: Option<f64>,
 }
 
@@ -34,23 +43,24 @@ pub struct ZigZag {
     pub approach_heading: f64,
     /// Speed at the first execute, m/s.
     pub approach_speed: Measure,
-    /// The test's rudder angle, rad (magnitude).
+    /// The test's nominal rudder angle, rad (magnitude).
     pub rudder_angle: Measure,
-    /// Whether the rudder angle was read from the data (true) or given.
-    pub rudder_angle_detected: bool,
-    /// The execute heading angle, rad (magnitude).
+    /// Where the nominal rudder angle comes from (absent when it is missing).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rudder_angle_from: Option<AngleSource>,
+    /// The nominal check (execute heading) angle, rad (magnitude).
     pub heading_angle: f64,
-    /// Whether the execute heading angle was read from the data (true) or given.
-    pub heading_angle_detected: bool,
-    /// Time from the first execute until the heading change reaches the execute heading, s.
+    /// Where the nominal check angle comes from.
+    pub heading_angle_from: AngleSource,
+    /// Time from the first execute until the heading change reaches the check angle, s.
     pub initial_turning_time: Measure,
     /// Distance travelled from the first execute until then, m (IMO initial turning ability).
     pub initial_turning_distance: Measure,
-    /// Largest heading change past the execute heading in the first swing, rad.
+    /// Largest heading change past the check angle in the first swing, rad.
     pub first_overshoot: Measure,
     /// Time from the second execute to the first swing's largest heading change, s.
     pub time_to_check_yaw: Measure,
-    /// Largest heading change past the execute heading in the second swing, rad.
+    /// Largest heading change past the check angle in the second swing, rad.
     pub second_overshoot: Measure,
     /// Time from the second to the fourth execute (one full heading oscillation), s.
     pub period: Measure,
@@ -98,52 +108,100 @@ impl ZigZag {
                 Kind::Speed,
                 &self.approach_speed,
             ),
+            n(
+                "rudder_angle",
+                "rudder angle (nominal)",
+                Kind::Angle,
+                &self.rudder_angle,
+            ),
+            n(
+                "heading_angle",
+                "check angle (nominal)",
+                Kind::Angle,
+                &Measure::Value(self.heading_angle),
+            ),
         ]
+    }
+
+    /// The test's name from its nominal angles, e.g. "20/10".
+    pub fn test_name(&self) -> String {
+        let deg = |a: f64| crate::numfmt::fixed_trimmed(a.to_degrees(), 1);
+        match self.rudder_angle.value() {
+            Some(r) => format!("{}/{}", deg(r), deg(self.heading_angle)),
+            None => format!("?/{}", deg(self.heading_angle)),
+        }
+    }
+
+    /// Where the nominal angles come from, in words: "rudder angle nominal 20 deg, given;
+    /// check angle nominal 10 deg, inferred from the reversal at 10.7 deg".
+    pub fn nominal_text(&self) -> String {
+        let rudder = match (self.rudder_angle.value(), self.rudder_angle_from) {
+            (Some(a), Some(from)) => from.describe(a, "the rudder held"),
+            _ => "missing".to_string(),
+        };
+        format!(
+            "rudder angle {rudder}; check angle {}",
+            self.heading_angle_from
+                .describe(self.heading_angle, "the reversal")
+        )
     }
 }
 
-/// Rounds an angle to a whole degree (tests are named by whole degrees: 10/10, 20/20).
-fn whole_degrees(a: f64) -> f64 {
-    a.to_degrees().round().to_radians()
+/// The nominal rudder and check angles of the run: given, or inferred from the rudder's first
+/// hold (its angle, and the heading change where it ends).
+fn nominal_angles(
+    history: &History,
+    options: &ZigZagOptions,
+    exec: At,
+    change: &[f64],
+) -> Result<(Measure, Option<AngleSource>, f64, AngleSource), HistoryError> {
+    const WHAT: &str = "the zig-zag";
+    let hold = history.rudder().map(|r| first_hold(r, exec));
+    let (rudder_angle, rudder_from) = match (options.rudder_angle, &hold) {
+        (None, None) => (
+            Measure::missing("the history has no rudder angle and none was given"),
+            None,
+        ),
+        (given, hold) => {
+            let held = hold.map_or(0.0, |h| h.angle);
+            let (a, from) = nominal(given, held, &STANDARD_RUDDER_DEG);
+            (Measure::Value(a), Some(from))
+        }
+    };
+    let reversal = hold.and_then(|h| h.released).map(|i| change[i]);
+    let (check, check_from) = match (options.heading_angle, reversal, &hold) {
+        (Some(a), ..) => (a.abs(), AngleSource::Given),
+        (None, Some(c), _) => nominal(None, c, &STANDARD_CHECK_DEG),
+        (None, None, Some(_)) => {
+            return Err(HistoryError::Execute(format!(
+                "{WHAT}: the rudder is never reversed, so the check (execute heading) angle cannot be read; give it"
+            )))
+        }
+        (None, None, None) => {
+            return Err(HistoryError::Lacks {
+                what: WHAT,
+                series: "rudder angle (or the check angle: the execute heading angle)",
+            })
+        }
+    };
+    if check <= 0.0 {
+        return Err(HistoryError::Execute(format!(
+            "{WHAT}: the check angle is zero"
+        )));
+    }
+    Ok((rudder_angle, rudder_from, check, check_from))
 }
 
 /// The zig-zag measures of `history`. Measures the run does not reach are
 /// [`Measure::Missing`] with the reason.
 pub fn zigzag(history: &History, options: &ZigZagOptions) -> Result<ZigZag, HistoryError> {
-    const WHAT: &str = "the zig-zag";
     let time = history.time();
-    let exec = history.execute(options.execute_time, WHAT)?;
+    let exec = history.execute(options.execute_time, "the zig-zag")?;
     let t0 = exec.of(time);
     let psi0 = exec.of(history.heading());
     let change: Vec<f64> = history.heading().iter().map(|p| p - psi0).collect();
-
-    // The rudder's first excursion and its reversal (the second execute as ordered).
-    let excursion = history.rudder().map(|r| first_excursion(r, exec));
-    let rudder_angle = match (options.rudder_angle, &excursion) {
-        (Some(a), _) => Measure::Value(a.abs()),
-        (None, Some(e)) => Measure::Value(whole_degrees(e.angle)),
-        (None, None) => Measure::missing("the history has no rudder angle and none was given"),
-    };
-    let heading_angle = match (options.heading_angle, &excursion) {
-        (Some(a), _) => a.abs(),
-        (None, Some(Excursion { reversal: Some(at), .. })) => whole_degrees(at.of(&change).abs()),
-        (None, Some(_)) => {
-            return Err(HistoryError::Execute(format!(
-                "{WHAT}: the rudder is never reversed, so the execute heading angle cannot be read; give it"
-            )))
-        }
-        (None, None) => {
-            return Err(HistoryError::Lacks {
-                what: WHAT,
-                series: "rudder angle (or the execute heading angle)",
-            })
-        }
-    };
-    if heading_angle <= 0.0 {
-        return Err(HistoryError::Execute(format!(
-            "{WHAT}: the execute heading angle is zero"
-        )));
-    }
+    let (rudder_angle, rudder_angle_from, heading_angle, heading_angle_from) =
+        nominal_angles(history, options, exec, &change)?;
 
     let first = (exec.next_index()..change.len()).find(|&i| change[i].abs() >= heading_angle);
     let side = first.map_or(Side::Starboard, |i| Side::of(change[i]));
@@ -183,9 +241,9 @@ pub fn zigzag(history: &History, options: &ZigZagOptions) -> Result<ZigZag, Hist
         approach_heading: psi0,
         approach_speed: approach_speed(history, exec),
         rudder_angle,
-        rudder_angle_detected: options.rudder_angle.is_none(),
+        rudder_angle_from,
         heading_angle,
-        heading_angle_detected: options.heading_angle.is_none(),
+        heading_angle_from,
         initial_turning_time: to_measure(t2.clone().map(|t| t - t0)),
         initial_turning_distance: match &e2 {
             Ok(e) => distance(history, exec, *e),
@@ -198,63 +256,68 @@ pub fn zigzag(history: &History, options: &ZigZagOptions) -> Result<ZigZag, Hist
     })
 }
 
-/// The rudder's first excursion from its approach angle: its size and the place of the
-/// reversal (the last sample at the excursion's extreme before the rudder moves back).
-struct Excursion {
-    angle: f64,
-    reversal: Option<At>,
-}
+/// Distinct values of the signal, the largest first, that the window of a peak's fit reaches
+/// down to: on a heading printed with few digits (MARIN's logs: 0.1 deg steps from 10 deg,
+/// 1 deg from 100 deg) the maximum is a plateau of many samples, and the fit spans it and
+/// three quantisation steps below it on either side; on a smooth heading, the few samples
+/// around the largest.
+const PEAK_LEVELS: usize = 4;
 
-fn first_excursion(rudder: &[f64], exec: At) -> Excursion {
-    let start = exec.of(rudder);
-    let from = exec.next_index();
-    let sign = rudder_execute_sign(rudder, from, start);
-    let moved: Vec<f64> = rudder.iter().map(|d| sign * (d - start)).collect();
-    let mut top = 0.0f64;
-    for i in from..moved.len() {
-        let threshold = (0.1 * top).max(1f64.to_radians());
-        if top > threshold && moved[i] < top - threshold {
-            let last = (from..i)
-                .rev()
-                .find(|&j| moved[j] >= top - 0.25 * threshold)
-                .unwrap_or(from);
-            return Excursion {
-                angle: top,
-                reversal: Some(At::sample(last)),
-            };
-        }
-        top = top.max(moved[i]);
-    }
-    Excursion {
-        angle: top,
-        reversal: None,
-    }
-}
-
-/// The largest value of `signal` between `a` and `b` and its time, refined by the parabola
-/// through the largest sample and its neighbours (exact for a sampled parabola).
+/// The largest value of `signal` between `a` and `b` and its time: the vertex of the
+/// least-squares parabola through the samples around the maximum down to the
+/// [`PEAK_LEVELS`]-th largest distinct value (exact for a sampled parabola; on a quantised
+/// heading, centred on the plateau of the maximum rather than at its first sample). Where
+/// no parabola opening downwards peaks inside that window, the middle of the plateau of the
+/// maximum.
 fn peak(time: &[f64], signal: &[f64], a: At, b: At) -> (f64, f64) {
-    let lo = a.next_index();
-    let hi = b.index.max(lo);
-    let p = (lo..=hi)
-        .max_by(|&i, &j| signal[i].total_cmp(&signal[j]))
-        .unwrap_or(lo);
-    if p == 0 || p + 1 >= signal.len() {
-        return (time[p], signal[p]);
+    let lo = a.next_index().min(signal.len() - 1);
+    let hi = b.index.max(lo).min(signal.len() - 1);
+    let m = signal[lo..=hi].iter().copied().fold(f64::MIN, f64::max);
+    let first = (lo..=hi).find(|&i| signal[i] == m).unwrap_or(lo);
+    let last = (lo..=hi).rev().find(|&i| signal[i] == m).unwrap_or(first);
+    let mut levels: Vec<f64> = signal[lo..=hi].to_vec();
+    levels.sort_by(|x, y| y.total_cmp(x));
+    levels.dedup();
+    let floor = levels[(PEAK_LEVELS - 1).min(levels.len() - 1)];
+    let (mut i, mut j) = (first, last);
+    while i > lo && signal[i - 1] >= floor {
+        i -= 1;
     }
-    let (h1, h2) = (time[p] - time[p - 1], time[p + 1] - time[p]);
-    let s1 = (signal[p] - signal[p - 1]) / h1;
-    let s2 = (signal[p + 1] - signal[p]) / h2;
-    let curvature = 2.0 * (s2 - s1) / (h1 + h2);
-    let slope = (s1 * h2 + s2 * h1) / (h1 + h2);
-    if curvature >= 0.0 {
-        return (time[p], signal[p]);
+    while j < hi && signal[j + 1] >= floor {
+        j += 1;
     }
-    let tau = (-slope / curvature).clamp(-h1, h2);
-    (
-        time[p] + tau,
-        signal[p] + slope * tau + 0.5 * curvature * tau * tau,
-    )
+    let mid = 0.5 * (time[first] + time[last]);
+    match parabola(&time[i..=j], &signal[i..=j], mid, m) {
+        Some((c0, c1, c2)) if c2 < 0.0 => {
+            let tau = -c1 / (2.0 * c2);
+            if tau >= time[i] - mid && tau <= time[j] - mid {
+                (mid + tau, m + c0 + c1 * tau + c2 * tau * tau)
+            } else {
+                (mid, m)
+            }
+        }
+        _ => (mid, m),
+    }
+}
+
+/// The least-squares parabola `y - y0 = c0 + c1 tau + c2 tau^2`, `tau = t - t0`, through the
+/// points; None for fewer than three points or a singular fit.
+fn parabola(t: &[f64], y: &[f64], t0: f64, y0: f64) -> Option<(f64, f64, f64)> {
+    if t.len() < 3 {
+        return None;
+    }
+    let mut a = Matrix3::<f64>::zeros();
+    let mut b = Vector3::<f64>::zeros();
+    for (&ti, &yi) in t.iter().zip(y) {
+        let tau = ti - t0;
+        let row = Vector3::new(1.0, tau, tau * tau);
+        a += row * row.transpose();
+        b += row * (yi - y0);
+    }
+    let c = a.lu().solve(&b)?;
+    c.iter()
+        .all(|v| v.is_finite())
+        .then_some((c[0], c[1], c[2]))
 }
 
 /// Distance travelled from `a` to `b`: along the track if the history has it (chords between

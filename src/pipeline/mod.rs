@@ -333,12 +333,21 @@ fn hekf_step(
     complete_for(&mut final_set, hc.model, cfg.vehicle.yaw_moment);
     let vehicle = cfg.vehicle.for_model(&cfg.fluid);
     let mut resim = Resimulation::default();
-    for (rec, used) in fit
+    // the nominal angles each run's configuration gives (runs are read in the order listed)
+    let nominal = |spec: &crate::config::InputSpec| {
+        spec.manoeuvre
+            .as_ref()
+            .map(crate::config::ManoeuvreSpec::nominal)
+            .unwrap_or_default()
+    };
+    for ((rec, used), given) in fit
         .iter()
         .map(|r| (r, true))
         .chain(validation.iter().map(|r| (r, false)))
+        .zip(hc.runs.iter().chain(&hc.validation).map(nominal))
     {
-        let (m, t) = resimulate(hc.model, &vehicle, &final_set, rec, used, cfg.vehicle.scale)?;
+        let scale = cfg.vehicle.scale;
+        let (m, t) = resimulate(hc.model, &vehicle, &final_set, rec, used, scale, given)?;
         log.say(crate::resim::warnings(&m, rec));
         resim.metrics.push(m);
         resim.traces.push((rec.clone(), t));

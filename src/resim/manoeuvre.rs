@@ -42,12 +42,15 @@ impl ManoeuvreComparison {
     /// The measures side by side, with the IMO criteria checked on each.
     pub fn table(&self) -> manoeuvre::ComparisonTable {
         let model = self.model.as_ref().map(RunMeasures::measures);
+        let model_notes = self.model.iter().flat_map(|m| m.not_judged.iter());
         manoeuvre::ComparisonTable::new(
             &self.measured.measures(),
             model.as_deref(),
             &self.measured.checks,
             self.model.as_ref().map_or(&[][..], |m| &m.checks[..]),
         )
+        .with_notes(self.measured.notes("measured"))
+        .with_notes(model_notes.map(|r| format!("IMO criteria (identified model): {r}")))
     }
 
     /// How the model was steered, in words: "35 deg rudder at 15.8 deg/s from t = 5 s".
@@ -82,13 +85,16 @@ impl ManoeuvreComparison {
     }
 }
 
-/// The ship of the run: its length (m) and scale ratio (None when unknown).
+/// The ship of the run, its length (m) and scale ratio (None when unknown), and the nominal
+/// angles of its manoeuvre given in the configuration (the others are inferred from the run).
 #[derive(Debug, Clone, Copy)]
-pub struct Scale {
+pub struct RunSettings {
     /// Ship length L of the run, m.
     pub length: f64,
     /// Scale ratio lambda (1 at full scale).
     pub lambda: Option<f64>,
+    /// The nominal rudder and check angles given for the run.
+    pub nominal: manoeuvre::Nominal,
 }
 
 /// The run's measures and the model's on the same manoeuvre, or None when the run is not a
@@ -100,7 +106,7 @@ pub fn compare<M: Model>(
     rec: &Record,
     inputs: &InputSeries,
     substeps: usize,
-    scale: Scale,
+    run: RunSettings,
 ) -> Option<ManoeuvreComparison> {
     let rudder_input = model
         .input_quantities()
@@ -109,8 +115,8 @@ pub fn compare<M: Model>(
     let yaw = model.state_index(Quantity::Yaw)?;
     let rudder = rec.channel(Quantity::Rudder)?;
     let h = manoeuvre::history_of(|q| rec.channel(q).map(<[f64]>::to_vec)).ok()??;
-    let measured = manoeuvre::measure_history(&h, scale.length, scale.lambda).ok()?;
-    let steering = law_of(&measured, h.time(), rudder)?;
+    let measured = manoeuvre::measure_history(&h, run.length, run.lambda, run.nominal).ok()?;
+    let steering = law_of(&measured, &h)?;
 
     let mut steered_inputs = inputs.clone();
     steered_inputs.inputs[rudder_input] = Input::Held(vec![rudder[0]; h.time().len()]);
@@ -135,15 +141,16 @@ pub fn compare<M: Model>(
         Input::Held(s) | Input::Series(s) => s.clone(),
         Input::Constant(v) => vec![*v; xs.len()],
     };
-    let (model_measures, failure) = match model_history(model, h.time(), &xs, yaw, helm)
-        .and_then(|mh| manoeuvre::measure_history(&mh, scale.length, scale.lambda))
-    {
-        Ok(m) => (Some(m), note),
-        Err(e) => (
-            None,
-            Some(format!("the model's manoeuvre cannot be measured: {e}")),
-        ),
-    };
+    let (model_measures, failure) =
+        match model_history(model, h.time(), &xs, yaw, helm).and_then(|mh| {
+            manoeuvre::measure_history(&mh, run.length, run.lambda, nominal_of(steering))
+        }) {
+            Ok(m) => (Some(m), note),
+            Err(e) => (
+                None,
+                Some(format!("the model's manoeuvre cannot be measured: {e}")),
+            ),
+        };
     Some(ManoeuvreComparison {
         steering,
         measured,
@@ -152,30 +159,45 @@ pub fn compare<M: Model>(
     })
 }
 
-/// The helm that sailed the run: a zig-zag's rudder angle (its first excursion's sign) and
-/// execute heading, or a turn's held rudder; the steepest rudder rate of the run; the execute
+/// The helm that sailed the run, at the run's nominal angles: a zig-zag's rudder angle and
+/// check angle, or a turn's rudder angle, put over in the direction the run's rudder was
+/// (in the model's sign convention, as the run was read: a rudder column whose sign was
+/// reversed with `scale = -1` already is); the steepest rudder rate of the run; the execute
 /// time the measures found.
-fn law_of(m: &RunMeasures, time: &[f64], rudder: &[f64]) -> Option<Steering> {
-    let rate = manoeuvre::rudder_rate(time, rudder)?;
+fn law_of(m: &RunMeasures, h: &History) -> Option<Steering> {
+    let rate = manoeuvre::rudder_rate(h.time(), h.rudder()?)?;
     match (&m.zigzag, &m.turning_circle) {
-        (Some(z), _) => {
-            let after = time.iter().position(|t| *t > z.execute_time)?;
-            let first = rudder[after..].iter().find(|d| d.abs() > 1e-6)?;
-            Some(Steering::ZigZag {
-                rudder: z.rudder_angle.value()?.copysign(*first),
-                heading: z.heading_angle,
-                rate,
-                execute: z.execute_time,
-                surface: Surface::Rudder,
-            })
-        }
+        (Some(z), _) => Some(Steering::ZigZag {
+            rudder: z.rudder_angle.value()? * manoeuvre::rudder_put_over(h, z.execute_time)?,
+            heading: z.heading_angle,
+            rate,
+            execute: z.execute_time,
+            surface: Surface::Rudder,
+        }),
         (None, Some(t)) => Some(Steering::Turn {
-            rudder: t.rudder_angle.value()?,
+            rudder: t.nominal_rudder_angle.value()?
+                * manoeuvre::rudder_put_over(h, t.execute_time)?,
             rate,
             execute: t.execute_time,
             surface: Surface::Rudder,
         }),
         (None, None) => None,
+    }
+}
+
+/// The nominal angles a steering law sails at, as given angles for measuring the model.
+fn nominal_of(law: Steering) -> manoeuvre::Nominal {
+    match law {
+        Steering::Turn { rudder, .. } => manoeuvre::Nominal {
+            rudder: Some(rudder.abs()),
+            check: None,
+        },
+        Steering::ZigZag {
+            rudder, heading, ..
+        } => manoeuvre::Nominal {
+            rudder: Some(rudder.abs()),
+            check: Some(heading),
+        },
     }
 }
 
@@ -277,4 +299,131 @@ pub fn warnings(cmp: &ManoeuvreComparison, run: &str) -> Vec<Warning> {
         ));
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::manoeuvre::{Nominal, Side};
+    use std::collections::BTreeMap;
+
+    /// A free-running log of the KVLCC2 model (mmg3, Yasukawa & Yoshimura 2015; a positive
+    /// rudder turns it to starboard) steered by a helm written here: the rudder trimmed `trim`
+    /// (rad) on the approach, put over to `rudder` (rad) at 5 s at 2.32 deg/s (a slow gear:
+    /// the rudder leaves its trim over several samples), and, for a
+    /// zig-zag (`check` given, rad), reversed each time the heading change from the execute
+    /// reaches `check` beyond the side the rudder turns it to.
+    fn kvlcc2_log(rudder: f64, check: Option<f64>, trim: f64, duration: f64) -> Record {
+        use crate::models::mmg3::{self, Mmg3};
+        use crate::models::Model;
+        use crate::quantity::Quantity as Q;
+        use crate::sim::{simulate, InputSeries};
+        let m = Mmg3::build(&mmg3::kvlcc2_model_vehicle()).unwrap();
+        let c = m.coefficient_vector(mmg3::KVLCC2);
+        let (dt, execute, rate) = (0.1, 5.0, 2.32f64.to_radians());
+        let mut x = vec![mmg3::KVLCC2_SPEED, 0.0, 0.0, 0.0, 0.0, 0.0];
+        let (mut delta, mut target, mut psi0) = (trim, trim, 0.0);
+        let mut cols: BTreeMap<Q, Vec<f64>> = BTreeMap::new();
+        let quantities = [
+            Q::Time,
+            Q::U,
+            Q::V,
+            Q::R,
+            Q::X,
+            Q::Y,
+            Q::Yaw,
+            Q::Rudder,
+            Q::Rpm,
+        ];
+        for k in 0..=(duration / dt) as usize {
+            let t = k as f64 * dt;
+            let row = [
+                t,
+                x[0],
+                x[1],
+                x[2],
+                x[3],
+                x[4],
+                x[5],
+                delta,
+                mmg3::KVLCC2_RPS,
+            ];
+            for (q, v) in quantities.iter().zip(row) {
+                cols.entry(*q).or_default().push(v);
+            }
+            if (t - execute).abs() < 1e-9 {
+                (target, psi0) = (rudder, x[5]);
+            }
+            if let (Some(check), true) = (check, t > execute) {
+                // the rudder turns the ship to the side of its sign (mmg3)
+                let change = (x[5] - psi0) * target.signum();
+                if change >= check {
+                    target = -target;
+                }
+            }
+            delta += (target - delta).clamp(-rate * dt, rate * dt);
+            let inputs = InputSeries::constant(&[delta, mmg3::KVLCC2_RPS]);
+            x = simulate(&m, &c, &x, &inputs, &[t, t + dt], 4).unwrap()[1].clone();
+        }
+        Record::from_channels("log", "log.csv", cols)
+    }
+
+    /// The model steered through `rec`'s manoeuvre at the run's nominal angles.
+    fn steered(rec: &Record) -> ManoeuvreComparison {
+        use crate::models::mmg3::{self, Mmg3};
+        use crate::models::Model;
+        let m = Mmg3::build(&mmg3::kvlcc2_model_vehicle()).unwrap();
+        let c = m.coefficient_vector(mmg3::KVLCC2);
+        let inputs = crate::sim::InputSeries::from_record(m.inputs(), rec).unwrap();
+        let run = RunSettings {
+            length: 7.0,
+            lambda: Some(45.7),
+            nominal: Nominal::default(),
+        };
+        compare(&m, &c, rec, &inputs, 4, run).expect("a manoeuvre the model can sail")
+    }
+
+    /// A port-first 20/20 zig-zag and a 35 deg turning circle to port, each after an approach
+    /// with the rudder trimmed 1 deg to starboard (the first samples after the execute are
+    /// still on the starboard side): the model (the truth here) is steered to port as the run
+    /// went, and sails the run's manoeuvre.
+    #[test]
+    fn the_model_is_steered_to_the_side_the_run_went() {
+        let trim = 1f64.to_radians();
+        let zz = kvlcc2_log(-20f64.to_radians(), Some(20f64.to_radians()), trim, 150.0);
+        let turn = kvlcc2_log(-35f64.to_radians(), None, trim, 120.0);
+        for (rec, rudder) in [(&zz, -20.0), (&turn, -35.0)] {
+            let cmp = steered(rec);
+            let model = cmp
+                .model
+                .as_ref()
+                .expect("the model's manoeuvre is measured");
+            assert_eq!(cmp.measured.side(), Some(Side::Port));
+            assert_eq!(model.side(), Some(Side::Port), "{}", cmp.steering_text());
+            let law = match cmp.steering {
+                Steering::Turn { rudder, .. } | Steering::ZigZag { rudder, .. } => rudder,
+            };
+            assert!((law.to_degrees() - rudder).abs() < 1e-9, "{law}");
+            assert!(
+                warnings(&cmp, "log").is_empty(),
+                "{:?}",
+                warnings(&cmp, "log")
+            );
+        }
+        // the truth sails the zig-zag as the run did, to the helm's timing: hydroid's helm
+        // reverses the rudder within a step, this log's at its samples (0.1 s), which moves
+        // the 42 deg overshoot of this slow gear by half a degree
+        let cmp = steered(&zz);
+        let (run, model) = (
+            cmp.measured.zigzag.unwrap(),
+            cmp.model.unwrap().zigzag.unwrap(),
+        );
+        let first = |z: &crate::manoeuvre::ZigZag| z.first_overshoot.value().unwrap().to_degrees();
+        assert!(
+            (first(&run) - first(&model)).abs() < 1.0,
+            "{} {}",
+            first(&run),
+            first(&model)
+        );
+    }
 }

@@ -64,7 +64,8 @@ pub struct ResimTrace {
 }
 
 /// Re-simulates `rec` with the model `model` of `vehicle` and the coefficients of `set`;
-/// `scale` is the data's scale ratio (for the IMO criteria of a ship's manoeuvre).
+/// `scale` is the data's scale ratio (for the IMO criteria of a ship's manoeuvre) and
+/// `nominal` the nominal angles of the run's manoeuvre given in the configuration.
 pub fn resimulate(
     model: ModelName,
     vehicle: &RunVehicle,
@@ -72,6 +73,7 @@ pub fn resimulate(
     rec: &Record,
     used_for_fit: bool,
     scale: Option<f64>,
+    nominal: crate::manoeuvre::Nominal,
 ) -> Result<(ResimMetrics, ResimTrace)> {
     with_model(
         model,
@@ -80,9 +82,10 @@ pub fn resimulate(
             set,
             rec,
             used_for_fit,
-            scale: manoeuvre::Scale {
+            run: manoeuvre::RunSettings {
                 length: vehicle.vehicle.length,
                 lambda: scale,
+                nominal,
             },
         },
     )
@@ -93,7 +96,7 @@ struct Resim<'a> {
     set: &'a CoefficientSet,
     rec: &'a Record,
     used_for_fit: bool,
-    scale: manoeuvre::Scale,
+    run: manoeuvre::RunSettings,
 }
 
 impl ModelVisitor for Resim<'_> {
@@ -197,7 +200,7 @@ impl ModelVisitor for Resim<'_> {
             }
         }
         let steps = steps_for(regular, max_step).unwrap_or(1);
-        let manoeuvre = manoeuvre::compare(model, &c, rec, &inputs, steps, self.scale);
+        let manoeuvre = manoeuvre::compare(model, &c, rec, &inputs, steps, self.run);
         Ok((
             ResimMetrics {
                 run: rec.name.clone(),

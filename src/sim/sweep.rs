@@ -284,7 +284,11 @@ pub fn simulate_sweep(loaded: &LoadedSim) -> Result<SweepResult> {
         let history = manoeuvre::history_of(col)
             .map_err(|e| Error::numerical("sweep", format!("{label}: {e}")))?
             .ok_or_else(|| Error::Usage(format!("{label}: the model has no heading")))?;
-        let measured = manoeuvre::measure_history(&history, cfg.vehicle.length, None)
+        let nominal = manoeuvre::Nominal {
+            rudder: Some(rudder.abs()),
+            check: None,
+        };
+        let measured = manoeuvre::measure_history(&history, cfg.vehicle.length, None, nominal)
             .map_err(|e| Error::numerical("sweep", format!("{label}: {e}")))?;
         let Some(turn) = measured.turning_circle else {
             return Err(Error::numerical("sweep", format!("{label}: not a turn")));
