@@ -61,7 +61,11 @@ pub fn preflight(loaded: &LoadedConfig, inputs: &InputsByStage<LoadedInput>) -> 
         &cfg.coefficients,
         &runs,
     );
-    let fit_names: Vec<&str> = inputs.hekf_fit.iter().map(|i| i.record.name.as_str()).collect();
+    let fit_names: Vec<&str> = inputs
+        .hekf_fit
+        .iter()
+        .map(|i| i.record.name.as_str())
+        .collect();
     let (fit_warnings, validation_warnings) = found
         .warnings
         .into_iter()

@@ -172,8 +172,9 @@ pub fn preflight(
     .unwrap_or_default()
 }
 
-/// What the model expects of the runs: its coefficients at the priors' configured initial
-/// values, else the `configured` values, else its example's.
+/// What the model expects of the runs: its coefficients at the priors' initial values that
+/// say something (at least one prior sigma from zero: `initial = 1e-4, sigma = 0.3` is a
+/// placeholder, not a sign), else the `configured` values, else its example's.
 fn expectation<M: Model>(
     model: &M,
     cfg: &HekfConfig,
@@ -181,10 +182,12 @@ fn expectation<M: Model>(
     vehicle: &crate::models::Vehicle,
 ) -> plausibility::Expectation {
     let given = |n: &str| {
-        cfg.prior
-            .get(n)
-            .and_then(|p| p.initial)
-            .or_else(|| configured(n))
+        let informative = cfg.prior.get(n).and_then(|p| {
+            let v = p.initial?;
+            let sigma = p.sigma.unwrap_or_else(|| model.typical_magnitude(n));
+            (v.abs() >= sigma).then_some(v)
+        });
+        informative.or_else(|| configured(n))
     };
     plausibility::Expectation::new(model, &given, vehicle)
 }

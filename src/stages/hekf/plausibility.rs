@@ -64,6 +64,10 @@ pub struct Expectation {
     /// `initial`) where given, the model's example values elsewhere (they carry the model's
     /// sign conventions and sizes), completed by the relations.
     pub coefficients: Vec<f64>,
+    /// Whether the sizes of the model's responses carry over to this vehicle: every
+    /// coefficient taken from the example is non-dimensional (a dimensional one belongs to
+    /// the example's vehicle, and then only the signs of the responses are judged).
+    pub sizes_known: bool,
     /// `vehicle.particulars.propeller_diameter`, m, when given.
     pub propeller_diameter: Option<f64>,
     /// The wake fraction at the propeller in straight motion: the model's `wP0` when it has
@@ -80,21 +84,25 @@ impl Expectation {
         vehicle: &Vehicle,
     ) -> Self {
         let example = model.example();
-        let values: Vec<(&str, f64)> = model
-            .coefficient_names()
-            .into_iter()
-            .filter_map(|n| {
-                let from_example = || example.coefficients.iter().find(|e| e.0 == n).map(|e| e.1);
-                Some((n, configured(n).or_else(from_example)?))
-            })
-            .collect();
+        let mut sizes_known = true;
+        let mut values: Vec<(&str, f64)> = Vec::new();
+        for def in model.coefficients() {
+            if let Some(v) = configured(def.name) {
+                values.push((def.name, v));
+            } else if let Some(&(_, v)) = example.coefficients.iter().find(|e| e.0 == def.name) {
+                sizes_known &= def.unit == "-" || v == 0.0;
+                values.push((def.name, v));
+            }
+        }
         let coefficients = model.coefficient_vector(&values);
         let wake = model
             .coefficient_index("wP0")
-            .map_or(0.0, |i| coefficients[i])
-            .clamp(0.0, 0.9);
+            .map(|i| coefficients[i])
+            .filter(|w| w.is_finite())
+            .map_or(0.0, |w| w.clamp(0.0, 0.9));
         Expectation {
             coefficients,
+            sizes_known,
             propeller_diameter: propeller_diameter(vehicle),
             wake,
         }
@@ -432,15 +440,14 @@ const TRAVEL_FACTORS: &[Factor] = &[
         words: "the velocities look like km/h read as m/s: give `unit = \"km/h\"` in the u \
                 and v column entries",
     },
+    // the words of the two factors of 1000 depend on the unit read (`travel::thousand`)
     Factor {
         gain: 1e-3,
-        words: "the positions look like kilometres read as metres: give `unit = \"km\"` in \
-                the x and y column entries",
+        words: "the positions look 1000 times too small for the speeds",
     },
     Factor {
         gain: 1e3,
-        words: "the positions look like millimetres read as metres: give `unit = \"mm\"` in \
-                the x and y column entries",
+        words: "the positions look 1000 times too large for the speeds",
     },
     Factor {
         gain: 60.0,

@@ -13,8 +13,7 @@
 //! wrong unit is off by 57.3, one of the opposite sign convention turns the other way.
 
 use super::{
-    approach, file, integral, median_of, named, sig, window_lengths, windows, Expectation,
-    Finding,
+    approach, file, integral, median_of, named, sig, window_lengths, windows, Expectation, Finding,
 };
 use crate::models::Model;
 use crate::quantity::Quantity;
@@ -61,8 +60,11 @@ pub(super) fn check<M: Model>(
     let largest = delta.iter().fold(0.0f64, |a, d| a.max(d.abs()));
     let response = response(model, rec, expect, rate_trusted);
     let ratio = response.as_ref().map(|r| r.run / r.model);
-    let near = |x: f64, f: f64| (x / f).abs().max((f / x).abs()) < UNIT_BAND;
-    let agrees = ratio.is_some_and(|x| x > 0.0 && x.abs() < AGREE && x.abs() > 1.0 / AGREE);
+    // the size of the model's response is judged only when it carries over to this vehicle
+    let sized = expect.sizes_known;
+    let near = |x: f64, f: f64| sized && (x / f).abs().max((f / x).abs()) < UNIT_BAND;
+    let agrees =
+        sized && ratio.is_some_and(|x| x > 0.0 && x.abs() < AGREE && x.abs() > 1.0 / AGREE);
     let too_large = largest > MAX_RUDDER && largest / DEG <= MAX_RUDDER && !agrees;
     let (unit, sign) = match ratio {
         Some(x) if near(x, DEG) => (Some("radians read as degrees"), x < 0.0),
@@ -73,7 +75,11 @@ pub(super) fn check<M: Model>(
     let scaled = rec.columns.get(&Quantity::Rudder).map_or(1.0, |c| c.scale);
     let mut fixes = Vec::new();
     if let Some(words) = unit {
-        let right = if words.starts_with("rad") { "rad" } else { "deg" };
+        let right = if words.starts_with("rad") {
+            "rad"
+        } else {
+            "deg"
+        };
         fixes.push(format!(
             "the rudder looks like {words}: give `unit = \"{right}\"` in its column entry"
         ));
@@ -81,12 +87,18 @@ pub(super) fn check<M: Model>(
     if sign {
         fixes.push(sign_fix(model, response.as_ref(), scaled));
     }
-    let seen = seen(model, rec, response.as_ref(), largest);
+    let mut seen = seen(model, rec, response.as_ref(), largest);
+    if response.is_some() && !sized {
+        seen.push_str(
+            " (only the signs are compared: the model's dimensional coefficients that the \
+             configuration does not give are its example vehicle's)",
+        );
+    }
     if !fixes.is_empty() {
         return Some(Finding::new(rec, true, seen, fixes.join("; ")));
     }
     // neither a unit nor a sign: a ratio outside the agreeing band is only a warning
-    let x = ratio.filter(|_| !agrees)?;
+    let x = ratio.filter(|_| sized && !agrees)?;
     Some(Finding::new(
         rec,
         false,

@@ -141,11 +141,18 @@ fn valid_runs_at_high_rates_with_noisy_positions_pass_every_kinematic_check() {
 fn positions_in_km_and_time_in_minutes_are_named() {
     let mut km = weave(0.05, 240.0, 0.0, 0.0);
     for q in [Quantity::X, Quantity::Y] {
-        km.channels.get_mut(&q).unwrap().iter_mut().for_each(|v| *v *= 1e-3);
+        km.channels
+            .get_mut(&q)
+            .unwrap()
+            .iter_mut()
+            .for_each(|v| *v *= 1e-3);
     }
     let (f, suspect) = travel::speed(&km).expect("a finding");
     assert!(f.blocking && suspect == travel::Suspect::Other, "{f:?}");
-    assert!(f.warning.meaning.contains("kilometres read as metres"), "{f:?}");
+    assert!(
+        f.warning.meaning.contains("kilometres read as metres"),
+        "{f:?}"
+    );
     assert!(f.warning.message.contains("9.997e-4 times"), "{f:?}");
 
     let mut minutes = weave(0.05, 240.0, 0.0, 0.0);
@@ -157,7 +164,10 @@ fn positions_in_km_and_time_in_minutes_are_named() {
         .for_each(|t| *t /= 60.0);
     let (f, suspect) = travel::speed(&minutes).expect("a finding");
     assert!(f.blocking && suspect == travel::Suspect::Time, "{f:?}");
-    assert!(f.warning.meaning.contains("minutes read as seconds"), "{f:?}");
+    assert!(
+        f.warning.meaning.contains("minutes read as seconds"),
+        "{f:?}"
+    );
 }
 
 #[test]
@@ -173,7 +183,10 @@ fn swapped_surge_and_sway_are_named() {
     // without positions, the approach says it (a warning)
     rec.channels.remove(&Quantity::X);
     let f = travel::sway_over_surge(&rec).expect("a finding");
-    assert!(!f.blocking && f.warning.meaning.contains("swapped"), "{f:?}");
+    assert!(
+        !f.blocking && f.warning.meaning.contains("swapped"),
+        "{f:?}"
+    );
 }
 
 #[test]
@@ -186,5 +199,8 @@ fn a_rate_column_that_holds_an_angle_is_not_the_rate() {
     let f = heading_rate(&rec).expect("a finding");
     assert!(f.blocking, "{f:?}");
     assert!(f.warning.meaning.contains("is not the yaw rate"), "{f:?}");
-    assert!(f.warning.meaning.contains("moves like the heading"), "{f:?}");
+    assert!(
+        f.warning.meaning.contains("moves like the heading"),
+        "{f:?}"
+    );
 }

@@ -91,7 +91,8 @@ pub(super) fn speed(rec: &Record) -> Option<(Finding, Suspect)> {
             } else {
                 Suspect::Other
             };
-            (Finding::new(rec, true, seen, f.words.to_string()), suspect)
+            let words = thousand(rec, f.gain).unwrap_or_else(|| f.words.to_string());
+            (Finding::new(rec, true, seen, words), suspect)
         }
         None => (
             Finding::new(
@@ -105,6 +106,27 @@ pub(super) fn speed(rec: &Record) -> Option<(Finding, Suspect)> {
             Suspect::Other,
         ),
     })
+}
+
+/// The words for positions read 1000 times too large (`gain` 1000) or too small (1/1000),
+/// from the unit they were read in: the file's unit is the one a thousand times smaller
+/// (larger). None for a gain that is no factor of 1000, or a unit without such a neighbour.
+fn thousand(rec: &Record, gain: f64) -> Option<String> {
+    const LADDER: [(&str, &str); 3] =
+        [("mm", "millimetres"), ("m", "metres"), ("km", "kilometres")];
+    let read = rec.units.get(&Quantity::X).map_or("m", String::as_str);
+    let at = LADDER.iter().position(|(u, _)| *u == read)?;
+    let file_at = match gain {
+        g if (g / 1e3 - 1.0).abs() < 0.03 => at.checked_sub(1)?,
+        g if (g * 1e3 - 1.0).abs() < 0.03 => at + 1,
+        _ => return None,
+    };
+    let (unit, words) = LADDER.get(file_at)?;
+    Some(format!(
+        "the positions look like {words} read as {}: give `unit = \"{unit}\"` in the x and y \
+         column entries",
+        LADDER[at].1
+    ))
 }
 
 type Predict<'a> = Box<dyn Fn(usize) -> (f64, f64) + 'a>;
