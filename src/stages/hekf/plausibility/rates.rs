@@ -164,8 +164,7 @@ fn judge(rec: &Record, p: &Pair, f: &Fit, clear_motion: bool) -> Finding {
                 "{} and {} follow opposite sign conventions (e.g. a compass heading clockwise \
                  from north with r positive to port): flip one of them with `scale = -1` in \
                  its column entry",
-                p.angle_words,
-                p.rate_words
+                p.angle_words, p.rate_words
             ),
         )
     } else if let Some(fac) = fits.then(|| factor(f.gain.abs(), RATE_FACTORS)).flatten() {
@@ -179,8 +178,7 @@ fn judge(rec: &Record, p: &Pair, f: &Fit, clear_motion: bool) -> Finding {
                 "{} and {} disagree; the filter will trust whichever has the smaller noise, \
                  and the coefficients absorb the rest: check both columns' units, signs and \
                  which columns they are",
-                p.angle_words,
-                p.rate_words
+                p.angle_words, p.rate_words
             ),
         )
     };

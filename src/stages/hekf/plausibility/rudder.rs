@@ -104,7 +104,7 @@ pub(super) fn check<M: Model>(
         false,
         seen,
         format!(
-            "the rudder moves the ship {} times as strongly as the {} model expects: check the \
+            "the rudder turns the vehicle {} times as strongly as the {} model expects: check the \
              rudder column's unit and scale, and the model's rudder coefficients and \
              particulars",
             sig(x),
@@ -141,8 +141,9 @@ fn seen<M: Model>(model: &M, rec: &Record, r: Option<&Response>, largest: f64) -
 
 /// The fix of a rudder turning the other way from the model's.
 fn sign_fix<M: Model>(model: &M, r: Option<&Response>, scaled: f64) -> String {
+    // hydroid's axes: z down, so a positive yaw rate turns to starboard
     let side = if r.is_some_and(|r| r.model > 0.0) {
-        "starboard (positive yaw rate)"
+        "starboard (positive yaw rate); basin logs often count the rudder positive to port"
     } else {
         "port (negative yaw rate)"
     };
@@ -152,9 +153,9 @@ fn sign_fix<M: Model>(model: &M, r: Option<&Response>, scaled: f64) -> String {
         "flip it with `scale = -1` in the rudder's column entry"
     };
     format!(
-        "the ship turns the other way from the {} model for the same rudder angle: the log's \
-         rudder sign convention is the opposite of the model's (a positive rudder turns the \
-         model to {side}; basin logs often count positive to port): {action}",
+        "the vehicle turns the other way from the {} model for the same rudder angle: the \
+         log's rudder sign convention is the opposite of the model's (a positive rudder turns \
+         the model to {side}): {action}",
         model.name()
     )
 }
@@ -171,13 +172,13 @@ fn response<M: Model>(
     let speed = speeds(rec);
     let range = approach(rec).unwrap_or(0..n);
     let u0 = median_of(range.clone().map(|k| speed[k]))?;
-    let yaw_rate = yaw_rate(rec, rate_trusted)?;
     // windows of about a 200th of the run, at least 5 samples (the fit hardly depends on it)
     let len = window_lengths(times)
         .into_iter()
         .take_while(|l| l * 200 <= n)
         .last()
         .unwrap_or(super::WINDOW);
+    let yaw_rate = yaw_rate(rec, rate_trusted, 2 * len)?;
     let wins = windows(times, len);
     let (b, se) = fit(rec, times, &wins, &yaw_rate, &speed)?;
     if !(b.abs() > SIGNIFICANT * se) {
@@ -206,8 +207,10 @@ fn speeds(rec: &Record) -> Vec<f64> {
     }
 }
 
-/// The yaw rate: the column when it passed its check, else the heading's central difference.
-fn yaw_rate(rec: &Record, rate_trusted: bool) -> Option<Vec<f64>> {
+/// The yaw rate: the column when it passed its check, else the heading's central difference
+/// over `span` samples on each side (a derivative of a noisy heading, or one that carries
+/// wave-induced yaw, needs the span to average them out).
+fn yaw_rate(rec: &Record, rate_trusted: bool, span: usize) -> Option<Vec<f64>> {
     if let Some(r) = rec.channel(Quantity::R).filter(|_| rate_trusted) {
         return Some(r.to_vec());
     }
@@ -216,7 +219,7 @@ fn yaw_rate(rec: &Record, rate_trusted: bool) -> Option<Vec<f64>> {
     Some(
         (0..n)
             .map(|k| {
-                let (a, b) = (k.saturating_sub(1), (k + 1).min(n - 1));
+                let (a, b) = (k.saturating_sub(span), (k + span).min(n - 1));
                 (psi[b] - psi[a]) / (t[b] - t[a])
             })
             .collect(),
