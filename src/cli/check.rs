@@ -189,12 +189,7 @@ pub fn run(args: Args, stdout: &mut impl Write) -> CmdResult {
         return Ok(code);
     }
     stdout.write_all(&text)?;
-    if !warnings.is_empty() {
-        writeln!(stdout, "warnings:")?;
-        for w in &warnings {
-            writeln!(stdout, "  - {}", w.to_string().replace('\n', "\n    "))?;
-        }
-    }
+    print_warnings(stdout, &warnings)?;
     if ok {
         writeln!(stdout, "ok: the configuration and every input are usable")?;
         return Ok(0);
@@ -211,4 +206,19 @@ pub fn run(args: Args, stdout: &mut impl Write) -> CmdResult {
         eprintln!("  - {e}");
     }
     Ok(code)
+}
+
+/// The plausibility checks' warnings, under `warnings:`, each with its meaning indented.
+fn print_warnings(
+    out: &mut impl Write,
+    warnings: &[hydroid::warning::Warning],
+) -> std::io::Result<()> {
+    if warnings.is_empty() {
+        return Ok(());
+    }
+    writeln!(out, "warnings:")?;
+    for w in warnings {
+        writeln!(out, "  - {}", w.to_string().replace('\n', "\n    "))?;
+    }
+    Ok(())
 }

@@ -134,6 +134,11 @@ fn propeller_diameter(vehicle: &Vehicle) -> Option<f64> {
 /// the checks built on rates are left out when one is found.
 pub fn before_filter<M: Model>(model: &M, rec: &Record, expect: &Expectation) -> Vec<Finding> {
     let mut out = duplicates(rec);
+    // every check indexes the channels by sample: a record whose channels differ in length
+    // (made in memory, never read from a file) is not judged further
+    if rec.channels.values().any(|v| v.len() != rec.rows()) {
+        return out;
+    }
     let speed = travel::speed(rec);
     let time_wrong = matches!(speed, Some((_, travel::Suspect::Time)));
     let speed_found = speed.is_some();

@@ -18,10 +18,14 @@ const PLAUSIBLE: (f64, f64) = (0.1, 1.5);
 pub(super) fn check(rec: &Record, expect: &Expectation) -> Option<Finding> {
     let diameter = expect.propeller_diameter?;
     let n = rec.rows();
+    if n < 10 {
+        return None;
+    }
     let rps = |k: usize| rec.value_at(Quantity::Rpm, k);
     rps(0)?;
-    let u = rec.channel(Quantity::U)?;
-    let speed = |k: usize| u[k].hypot(rec.channel(Quantity::V).map_or(0.0, |v| v[k]));
+    let u = rec.channel(Quantity::U).filter(|u| u.len() == n)?;
+    let v = rec.channel(Quantity::V).filter(|v| v.len() == n);
+    let speed = |k: usize| u[k].hypot(v.map_or(0.0, |v| v[k]));
     // the samples at speed (at least half the run's 95th percentile of the speed: not a
     // start from rest, not a crash stop) with the propeller turning ahead
     let mut speeds: Vec<f64> = (0..n).map(speed).collect();

@@ -131,36 +131,99 @@ fn thousand(rec: &Record, gain: f64) -> Option<String> {
 
 type Predict<'a> = Box<dyn Fn(usize) -> (f64, f64) + 'a>;
 
-/// The positions against the velocities rotated by the heading. Windows grow (doubling)
-/// until the relation holds; over the longest the mix-ups a user may have made are tried.
-pub(super) fn track(rec: &Record) -> Option<Finding> {
-    let times = rec.time()?;
-    let (x, y) = (rec.channel(Quantity::X)?, rec.channel(Quantity::Y)?);
-    let psi = rec.channel(Quantity::Yaw)?;
-    let (u, v) = (rec.channel(Quantity::U)?, rec.channel(Quantity::V)?);
-    let rotate = |k: usize, (a, b): (f64, f64), heading: f64| -> (f64, f64) {
-        let (s, c) = (heading * psi[k]).sin_cos();
+/// The channels the path check relates.
+struct Path<'a> {
+    times: &'a [f64],
+    x: &'a [f64],
+    y: &'a [f64],
+    psi: &'a [f64],
+    u: &'a [f64],
+    v: &'a [f64],
+}
+
+impl<'a> Path<'a> {
+    fn of(rec: &'a Record) -> Option<Self> {
+        Some(Path {
+            times: rec.time()?,
+            x: rec.channel(Quantity::X)?,
+            y: rec.channel(Quantity::Y)?,
+            psi: rec.channel(Quantity::Yaw)?,
+            u: rec.channel(Quantity::U)?,
+            v: rec.channel(Quantity::V)?,
+        })
+    }
+
+    /// (a + i b) e^(i heading psi_k): a body vector in the earth frame (`heading` -1 for the
+    /// opposite sign convention).
+    fn rotate(&self, k: usize, (a, b): (f64, f64), heading: f64) -> (f64, f64) {
+        let (s, c) = (heading * self.psi[k]).sin_cos();
         (a * c - b * s, a * s + b * c)
-    };
-    // x(t1) - x(t0) + i (y(t1) - y(t0)) = integral of the predicted earth velocity
-    let fit = |len: usize, predict: &dyn Fn(usize) -> (f64, f64)| {
-        let wins = windows(times, len);
-        let (measured, p): (Vec<(f64, f64)>, Vec<(f64, f64)>) = wins
-            .iter()
-            .map(|&w| {
-                let re = increment(times, w, x, |k| predict(k).0);
-                let im = increment(times, w, y, |k| predict(k).1);
+    }
+
+    /// x(t1) - x(t0) + i (y(t1) - y(t0)) = integral of the predicted earth velocity, over
+    /// windows of `len` samples: the complex gain and its median relative residual.
+    fn fit(&self, len: usize, predict: &dyn Fn(usize) -> (f64, f64)) -> Option<((f64, f64), f64)> {
+        let (measured, p): (Vec<(f64, f64)>, Vec<(f64, f64)>) = windows(self.times, len)
+            .into_iter()
+            .map(|w| {
+                let re = increment(self.times, w, self.x, |k| predict(k).0);
+                let im = increment(self.times, w, self.y, |k| predict(k).1);
                 ((re.0, im.0), (re.1, im.1))
             })
             .unzip();
         complex_gain(&measured, &p)
-    };
+    }
+
+    /// The mix-ups a user may have made, each as the earth velocity it predicts and what it
+    /// means.
+    fn mix_ups(&self) -> [(Predict<'_>, &'static str); 5] {
+        const SWAPPED: &str = "u and v look swapped (the column mapped to u holds the sway \
+            velocity, the one mapped to v the surge velocity): exchange the columns of the u \
+            and v entries";
+        let (u, v) = (self.u, self.v);
+        [
+            (
+                Box::new(move |k| (u[k], v[k])),
+                "the velocity columns hold earth-frame velocities (dx/dt, dy/dt), not body \
+                 velocities: set `velocity_frame = \"earth\"` for this run",
+            ),
+            (
+                Box::new(move |k| self.rotate(k, (u[k], v[k]), -1.0)),
+                "the heading has the opposite sign convention to the positions (e.g. clockwise \
+                 while x-y is counter-clockwise): flip it with `scale = -1` in its column entry",
+            ),
+            (
+                Box::new(move |k| self.rotate(k, (u[k], -v[k]), 1.0)),
+                "the sway velocity has the opposite sign convention (positive to port): flip it \
+                 with `scale = -1` in its column entry",
+            ),
+            // swapped in a body-frame file ...
+            (
+                Box::new(move |k| self.rotate(k, (v[k], u[k]), 1.0)),
+                SWAPPED,
+            ),
+            // ... and in an earth-frame file, rotated into the body frame after the swap
+            (
+                Box::new(move |k| {
+                    let (e, n) = self.rotate(k, (u[k], v[k]), 1.0);
+                    (n, e)
+                }),
+                SWAPPED,
+            ),
+        ]
+    }
+}
+
+/// The positions against the velocities rotated by the heading. Windows grow (doubling)
+/// until the relation holds; over the longest the mix-ups a user may have made are tried.
+pub(super) fn track(rec: &Record) -> Option<Finding> {
+    let path = Path::of(rec)?;
     let holds = |(g, rel): ((f64, f64), f64)| {
         (g.0 - 1.0).abs() < GAIN_TOLERANCE && g.1.abs() < GAIN_TOLERANCE && rel < GOOD_FIT
     };
     let mut last = None;
-    for len in window_lengths(times) {
-        let Some(f) = fit(len, &|k| rotate(k, (u[k], v[k]), 1.0)) else {
+    for len in window_lengths(path.times) {
+        let Some(f) = path.fit(len, &|k| path.rotate(k, (path.u[k], path.v[k]), 1.0)) else {
             break;
         };
         if holds(f) {
@@ -185,38 +248,8 @@ pub(super) fn track(rec: &Record) -> Option<Finding> {
         100.0 * rel
     );
     // a mix-up that explains the data exactly comes first
-    const SWAPPED: &str = "u and v look swapped (the column mapped to u holds the sway \
-        velocity, the one mapped to v the surge velocity): exchange the columns of the u and \
-        v entries";
-    let alternatives: [(Predict, &str); 5] = [
-        (
-            Box::new(|k| (u[k], v[k])),
-            "the velocity columns hold earth-frame velocities (dx/dt, dy/dt), not body \
-             velocities: set `velocity_frame = \"earth\"` for this run",
-        ),
-        (
-            Box::new(|k| rotate(k, (u[k], v[k]), -1.0)),
-            "the heading has the opposite sign convention to the positions (e.g. clockwise \
-             while x-y is counter-clockwise): flip it with `scale = -1` in its column entry",
-        ),
-        (
-            Box::new(|k| rotate(k, (u[k], -v[k]), 1.0)),
-            "the sway velocity has the opposite sign convention (positive to port): flip it \
-             with `scale = -1` in its column entry",
-        ),
-        // swapped in a body-frame file ...
-        (Box::new(|k| rotate(k, (v[k], u[k]), 1.0)), SWAPPED),
-        // ... and in an earth-frame file, rotated into the body frame after the swap
-        (
-            Box::new(|k| {
-                let (e, n) = rotate(k, (u[k], v[k]), 1.0);
-                (n, e)
-            }),
-            SWAPPED,
-        ),
-    ];
-    for (predict, words) in &alternatives {
-        if fit(len, predict.as_ref()).is_some_and(holds) {
+    for (predict, words) in &path.mix_ups() {
+        if path.fit(len, predict.as_ref()).is_some_and(holds) {
             return Some(Finding::new(rec, true, seen, words.to_string()));
         }
     }
@@ -258,6 +291,10 @@ pub(super) fn sway_over_surge(rec: &Record) -> Option<Finding> {
     let times = rec.time()?;
     let (u, v) = (rec.channel(Quantity::U)?, rec.channel(Quantity::V)?);
     let range = approach(rec)?;
+    let range = range.start..range.end.min(u.len()).min(v.len()).min(times.len());
+    if range.len() < 10 {
+        return None;
+    }
     let surge = median_of(u[range.clone()].iter().map(|x| x.abs()))?;
     let sway = median_of(v[range.clone()].iter().map(|x| x.abs()))?;
     let noise = crate::signal::noise_sigma(v).unwrap_or(0.0);
