@@ -34,7 +34,7 @@ pub(super) fn check(rec: &Record, expect: &Expectation) -> Option<Finding> {
     let used: Vec<usize> = (0..n)
         .filter(|&k| speed(k) >= 0.5 * fast && rps(k).is_some_and(|r| r > 0.0))
         .collect();
-    if used.len() < 10 || !(fast > 0.0) {
+    if used.len() < 10 || fast.is_nan() || fast <= 0.0 {
         return None;
     }
     let wake = expect.wake;

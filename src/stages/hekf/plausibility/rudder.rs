@@ -181,7 +181,8 @@ fn response<M: Model>(
     let yaw_rate = yaw_rate(rec, rate_trusted, 2 * len)?;
     let wins = windows(times, len);
     let (b, se) = fit(rec, times, &wins, &yaw_rate, &speed)?;
-    if !(b.abs() > SIGNIFICANT * se) {
+    // a NaN standard error judges nothing either
+    if b.abs() <= SIGNIFICANT * se || se.is_nan() {
         return None;
     }
     let model_b = model_response(model, rec, expect, range, u0)?;

@@ -37,7 +37,7 @@ fn speed_fit(rec: &Record, len: usize) -> Option<((f64, f64), f64, usize)> {
     let v = rec.channel(Quantity::V);
     let psi = rec.channel(Quantity::Yaw);
     let speed = |k: usize| u[k].hypot(v.map_or(0.0, |v| v[k]));
-    let (measured, predicted): (Vec<(f64, f64)>, Vec<(f64, f64)>) = windows(times, len)
+    let (measured, predicted): (Vec<Complex>, Vec<Complex>) = windows(times, len)
         .into_iter()
         .filter(|&(a, b)| psi.is_none_or(|p| (p[b] - p[a]).abs() < MAX_TURN))
         .map(|w| {
@@ -129,7 +129,10 @@ fn thousand(rec: &Record, gain: f64) -> Option<String> {
     ))
 }
 
-type Predict<'a> = Box<dyn Fn(usize) -> (f64, f64) + 'a>;
+/// A complex number as (real, imaginary): a horizontal vector, x + i y.
+type Complex = (f64, f64);
+
+type Predict<'a> = Box<dyn Fn(usize) -> Complex + 'a>;
 
 /// The channels the path check relates.
 struct Path<'a> {
@@ -163,7 +166,7 @@ impl<'a> Path<'a> {
     /// x(t1) - x(t0) + i (y(t1) - y(t0)) = integral of the predicted earth velocity, over
     /// windows of `len` samples: the complex gain and its median relative residual.
     fn fit(&self, len: usize, predict: &dyn Fn(usize) -> (f64, f64)) -> Option<((f64, f64), f64)> {
-        let (measured, p): (Vec<(f64, f64)>, Vec<(f64, f64)>) = windows(self.times, len)
+        let (measured, p): (Vec<Complex>, Vec<Complex>) = windows(self.times, len)
             .into_iter()
             .map(|w| {
                 let re = increment(self.times, w, self.x, |k| predict(k).0);
