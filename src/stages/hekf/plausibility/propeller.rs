@@ -2,10 +2,10 @@
 //! (Carlton 2012, Marine Propellers and Propulsion, ch. 6; Yasukawa & Yoshimura 2015, eq.
 //! 13, with the wake fraction w = w_P0 in straight motion). A propeller driving its vehicle
 //! works at J of about 0.1 (a tug, a slow turn) to 1.5 (a lightly loaded fast propeller); a
-//! propeller speed read in rpm where the log has rps gives J 60 times too large, rps read as
-//! rpm 60 times too small. Judged only for a vehicle whose particulars give the propeller
-//! diameter, and only for gross unit mistakes (the balance of the surge equation is not
-//! judged here).
+//! propeller speed read in rpm where the log has rps gives J 60 times too large, one read in
+//! rps where the log has rpm 60 times too small. Judged only for a vehicle whose particulars
+//! give the propeller diameter, and only for gross unit mistakes (the balance of the surge
+//! equation is not judged here).
 
 use super::{file, median_of, named, sig, Expectation, Finding};
 use crate::quantity::Quantity;

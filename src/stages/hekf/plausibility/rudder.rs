@@ -9,7 +9,7 @@
 //! increments over windows: r(t1) - r(t0) = a int U r + d int U v + b int U^2 delta + c (t1 -
 //! t0). The model shows it as d r_dot / d delta at the run's approach speed with its
 //! starting coefficients. The two agree within a factor of about 2 for a sound
-//! configuration (on the KVLCC2 logs of MARIN and HSVA, 1.0 to 1.4); a rudder read in the
+//! configuration (on the KVLCC2 logs of MARIN and HSVA, 0.90 to 1.19); a rudder read in the
 //! wrong unit is off by 57.3, one of the opposite sign convention turns the other way.
 
 use super::{
