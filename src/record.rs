@@ -25,12 +25,37 @@ pub struct Record {
     pub constants: BTreeMap<Quantity, f64>,
     /// The unit each channel was read in (for reports: "deg" when converted from degrees).
     pub units: BTreeMap<Quantity, String>,
+    /// The file column each channel was read from, for messages that name it (empty for a
+    /// record made in memory, and for quantities given as steps or read from a quaternion).
+    pub columns: BTreeMap<Quantity, ColumnOrigin>,
     /// 1-based file line of each row.
     pub lines: Vec<usize>,
     /// Header metadata of the file.
     pub meta: Vec<(String, String)>,
     /// Things fixed or noticed while reading.
     pub warnings: Vec<String>,
+}
+
+/// Where a channel of a record came from.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ColumnOrigin {
+    /// The column's name in the file (or in `names`).
+    pub name: String,
+    /// Its 1-based number.
+    pub number: usize,
+    /// The `scale` factor applied after the unit conversion.
+    pub scale: f64,
+}
+
+impl std::fmt::Display for ColumnOrigin {
+    /// `column 'delta' (10)`, with ` scaled by -1` when a scale was applied.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "column '{}' ({})", self.name, self.number)?;
+        if self.scale != 1.0 {
+            write!(f, " scaled by {}", self.scale)?;
+        }
+        Ok(())
+    }
 }
 
 /// What a stage needs from a record.
@@ -56,6 +81,7 @@ impl Record {
             channels,
             constants: BTreeMap::new(),
             units: BTreeMap::new(),
+            columns: BTreeMap::new(),
             lines: (2..rows + 2).collect(),
             meta: Vec::new(),
             warnings: Vec::new(),
@@ -200,6 +226,7 @@ pub fn from_table(mut table: Table, spec: &InputSpec, needs: &Needs) -> Result<R
     let time_history = picks.iter().any(|p| p.0 == Quantity::Time);
     let mut channels = BTreeMap::new();
     let mut units = BTreeMap::new();
+    let mut columns = BTreeMap::new();
     for (q, idx, unit, scale) in &picks {
         if *q != Quantity::Time {
             if let Some(u) = unit {
@@ -225,6 +252,14 @@ pub fn from_table(mut table: Table, spec: &InputSpec, needs: &Needs) -> Result<R
             .expected("a finite number"));
         }
         unwrap_attitude(*q, time_history, &mut values);
+        columns.insert(
+            *q,
+            ColumnOrigin {
+                name: col.name.clone(),
+                number: *idx + 1,
+                scale: *scale,
+            },
+        );
         units.insert(
             *q,
             unit.as_ref()
@@ -235,6 +270,9 @@ pub fn from_table(mut table: Table, spec: &InputSpec, needs: &Needs) -> Result<R
 
     if from_quaternion {
         euler_from_quaternion(&table, time_history, &mut channels, &mut units)?;
+        for q in Quantity::QUATERNION {
+            columns.remove(&q);
+        }
     }
 
     let rows = table.rows();
@@ -305,6 +343,7 @@ pub fn from_table(mut table: Table, spec: &InputSpec, needs: &Needs) -> Result<R
         channels,
         constants,
         units,
+        columns,
         lines: table.lines.clone(),
         meta: table.meta.clone(),
         warnings,

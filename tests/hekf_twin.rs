@@ -147,6 +147,7 @@ fn simulate(man: Man) -> Record {
             .collect(),
         channels: cols,
         constants: BTreeMap::new(),
+        columns: BTreeMap::new(),
         lines: (1..=rows).collect(),
         meta: Vec::new(),
         warnings: Vec::new(),

@@ -10,8 +10,10 @@ use std::path::PathBuf;
 
 /// Validate the configuration and every input file it names; print what would run.
 ///
-/// Every problem is listed, not only the first. Exit code 2 when the configuration has
-/// problems, 1 when only input files do, 0 when all is well.
+/// Every problem is listed, not only the first, and the plausibility checks' warnings about
+/// the runs. Exit code 2 when the configuration has problems (a clear mistake the
+/// plausibility checks find in a run is one), 1 when only input files do, 0 when all is
+/// well (warnings or not).
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// The run configuration (TOML).
@@ -137,8 +139,12 @@ pub fn run(args: Args, stdout: &mut impl Write) -> CmdResult {
             .present();
     }
     // the stage checks need every key usable: with a placeholder they would mislead
+    let mut warnings = Vec::new();
     if let Some(l) = loaded.as_ref().filter(|l| l.unusable.is_empty()) {
-        config_problems.extend(pipeline::preflight(l, &usable));
+        let found = pipeline::preflight(l, &usable);
+        config_problems.extend(found.problems);
+        warnings.extend(found.fit_warnings);
+        warnings.extend(found.validation_warnings);
     }
     let ok = config_problems.is_empty() && input_problems.is_empty();
     let code = if ok {
@@ -176,12 +182,14 @@ pub fn run(args: Args, stdout: &mut impl Write) -> CmdResult {
             "ok": ok,
             "would_run": plan,
             "inputs": inputs_json,
+            "warnings": warnings,
             "problems": problems,
         });
         json::write(stdout, &report)?;
         return Ok(code);
     }
     stdout.write_all(&text)?;
+    print_warnings(stdout, &warnings)?;
     if ok {
         writeln!(stdout, "ok: the configuration and every input are usable")?;
         return Ok(0);
@@ -198,4 +206,19 @@ pub fn run(args: Args, stdout: &mut impl Write) -> CmdResult {
         eprintln!("  - {e}");
     }
     Ok(code)
+}
+
+/// The plausibility checks' warnings, under `warnings:`, each with its meaning indented.
+fn print_warnings(
+    out: &mut impl Write,
+    warnings: &[hydroid::warning::Warning],
+) -> std::io::Result<()> {
+    if warnings.is_empty() {
+        return Ok(());
+    }
+    writeln!(out, "warnings:")?;
+    for w in warnings {
+        writeln!(out, "  - {}", w.to_string().replace('\n', "\n    "))?;
+    }
+    Ok(())
 }

@@ -7,7 +7,7 @@ mod inputs;
 mod preflight;
 
 pub use inputs::{file_sha256, load_input, load_inputs, stage_inputs, InputsByStage, PlannedInput};
-pub use preflight::{available_coefficients, preflight};
+pub use preflight::{available_coefficients, preflight, Preflight};
 
 use crate::coefficients::{Coefficient, CoefficientSet, Source, YawMoment, SYMMETRY};
 use crate::config::{Config, LoadedConfig};
@@ -42,15 +42,17 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutp
     let cfg = &loaded.config;
     // every input first: a bad file stops the run before any stage has run
     let inputs = load_inputs(loaded, stage_inputs(cfg))?;
-    let problems = preflight(loaded, &inputs);
-    if !problems.is_empty() {
-        return Err(Error::Config(problems));
+    let found = preflight(loaded, &inputs);
+    if !found.problems.is_empty() {
+        return Err(Error::Config(found.problems));
     }
     let mut log = Log {
         progress,
         warnings: Vec::new(),
     };
     log.say(input_warnings(&inputs));
+    // the fit runs' findings come with the HEKF stage's result
+    log.say(found.validation_warnings);
     let mut known = configured_coefficients(cfg);
     let analytic = analytic_added_mass(loaded)?;
     let mut stages = StageResults::default();

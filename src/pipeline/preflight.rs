@@ -8,6 +8,7 @@ use crate::error::ConfigProblem;
 use crate::record::Record;
 use crate::results::LoadedInput;
 use crate::stages::{captive, hekf, polar, surge};
+use crate::warning::Warning;
 
 /// Coefficient names that the configuration, the analytic formulas and the enabled stages
 /// will provide (so that a stage's needs can be checked before anything runs).
@@ -30,28 +31,57 @@ pub fn available_coefficients(cfg: &Config) -> Vec<String> {
     names
 }
 
-/// Problems of the configuration that only show with the inputs read: what the HEKF stage
-/// would miss (coefficients nothing provides, estimated coefficients a relation derives,
-/// inputs a run lacks).
-pub fn preflight(loaded: &LoadedConfig, inputs: &InputsByStage<LoadedInput>) -> Vec<ConfigProblem> {
+/// What can be checked with the inputs read, before any stage runs.
+#[derive(Debug, Clone, Default)]
+pub struct Preflight {
+    /// Problems of the configuration: what the HEKF stage would miss (coefficients nothing
+    /// provides, estimated coefficients a relation derives, inputs a run lacks) and the
+    /// clear mistakes the plausibility checks of its runs find (a unit, a sign, a column).
+    pub problems: Vec<ConfigProblem>,
+    /// The plausibility checks' warnings about the HEKF's fit runs (the stage repeats them
+    /// with its result) ...
+    pub fit_warnings: Vec<Warning>,
+    /// ... and about its validation runs.
+    pub validation_warnings: Vec<Warning>,
+}
+
+/// What the configuration and its inputs show before anything runs: `hydroid check` and
+/// `hydroid run` both call it, so that check runs every validation run does.
+pub fn preflight(loaded: &LoadedConfig, inputs: &InputsByStage<LoadedInput>) -> Preflight {
     let cfg = &loaded.config;
     let Some(hc) = cfg.hekf.as_ref().filter(|c| c.enabled) else {
-        return Vec::new();
+        return Preflight::default();
     };
     let runs: Vec<&Record> = inputs.hekf_all().map(|i| &i.record).collect();
-    hekf::preflight(
+    let found = hekf::preflight(
         hc,
         &cfg.vehicle,
         &cfg.fluid,
         &available_coefficients(cfg),
+        &cfg.coefficients,
         &runs,
-    )
-    .into_iter()
-    .map(|message| ConfigProblem {
-        file: loaded.path.clone(),
-        line: None,
-        key: Some("hekf".into()),
-        message,
-    })
-    .collect()
+    );
+    let fit_names: Vec<&str> = inputs
+        .hekf_fit
+        .iter()
+        .map(|i| i.record.name.as_str())
+        .collect();
+    let (fit_warnings, validation_warnings) = found
+        .warnings
+        .into_iter()
+        .partition(|w| w.run.as_deref().is_some_and(|r| fit_names.contains(&r)));
+    Preflight {
+        problems: found
+            .problems
+            .into_iter()
+            .map(|message| ConfigProblem {
+                file: loaded.path.clone(),
+                line: None,
+                key: Some("hekf".into()),
+                message,
+            })
+            .collect(),
+        fit_warnings,
+        validation_warnings,
+    }
 }

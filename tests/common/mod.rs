@@ -25,6 +25,7 @@ pub fn record(
         channels: channels.iter().cloned().collect(),
         constants: constants.iter().copied().collect(),
         units: BTreeMap::new(),
+        columns: BTreeMap::new(),
         lines: (2..rows + 2).collect(),
         meta: Vec::new(),
         warnings: Vec::new(),

@@ -84,31 +84,49 @@ pub fn run(
     .map_err(Error::vehicle)?
 }
 
+/// What [`preflight`] found.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Preflight {
+    /// Problems that stop the run before any stage runs.
+    pub problems: Vec<String>,
+    /// The plausibility checks' warnings, each about a run (with `hekf.checks = "warn"`,
+    /// their clear mistakes too), in the order of the runs.
+    pub warnings: Vec<Warning>,
+}
+
 /// Problems the stage would meet, found before any stage runs: estimated coefficients the
 /// model does not have or that a relation derives, fixed coefficients that nothing will
 /// provide (`available`: names the configuration, analytic formulas and enabled stages give),
-/// model inputs a run lacks, and a run too large for the memory there is. `runs` are the
-/// fit runs followed by the validation runs, as [`HekfConfig::inputs`] lists them.
+/// model inputs a run lacks, a run too large for the memory there is, and the plausibility
+/// checks of every run (a clear mistake is a problem with `hekf.checks = "error"`; the model
+/// is judged at the `configured` coefficients over its example). `runs` are the fit runs
+/// followed by the validation runs, as [`HekfConfig::inputs`] lists them.
 pub fn preflight(
     cfg: &HekfConfig,
     vehicle: &VehicleConfig,
     fluid: &FluidConfig,
     available: &[String],
+    configured: &std::collections::BTreeMap<String, f64>,
     runs: &[&Record],
-) -> Vec<String> {
+) -> Preflight {
     struct Pre<'a> {
         cfg: &'a HekfConfig,
         available: &'a [String],
+        configured: &'a std::collections::BTreeMap<String, f64>,
+        vehicle: crate::models::Vehicle,
         runs: &'a [&'a Record],
     }
     impl ModelVisitor for Pre<'_> {
-        type Output = Vec<String>;
-        fn visit<M: Model>(self, model: &M) -> Vec<String> {
+        type Output = Preflight;
+        fn visit<M: Model>(self, model: &M) -> Preflight {
             let mut p = prepare::coefficient_problems(model, self.cfg, |n| {
                 self.available.iter().any(|a| a == n)
             })
             .err()
             .unwrap_or_default();
+            let configured = |n: &str| self.configured.get(n).copied();
+            let expect = expectation(model, self.cfg, &configured, &self.vehicle);
+            let mut warnings = Vec::new();
             for r in self.runs {
                 for q in model.input_quantities() {
                     if !r.has(q) {
@@ -120,22 +138,22 @@ pub fn preflight(
                         ));
                     }
                 }
-                if self.cfg.checks == Checks::Error {
-                    p.extend(
-                        plausibility::kinematics(r)
-                            .into_iter()
-                            .filter(|f| f.blocking)
-                            .map(|f| {
-                                format!(
-                                    "run '{}': {}; {} (hekf.checks = \"warn\" runs anyway)",
-                                    r.name, f.warning.message, f.warning.meaning
-                                )
-                            }),
-                    );
+                for f in plausibility::before_filter(model, r, &expect) {
+                    if f.blocking && self.cfg.checks == Checks::Error {
+                        p.push(format!(
+                            "run '{}': {}; {} (hekf.checks = \"warn\" runs anyway)",
+                            r.name, f.warning.message, f.warning.meaning
+                        ));
+                    } else {
+                        warnings.push(f.warning);
+                    }
                 }
             }
             p.extend(memory_problem(self.cfg, model.nx(), self.runs));
-            p
+            Preflight {
+                problems: p,
+                warnings,
+            }
         }
     }
     with_model(
@@ -144,12 +162,34 @@ pub fn preflight(
         Pre {
             cfg,
             available,
+            configured,
+            vehicle: vehicle.vehicle_data(fluid),
             runs,
         },
     )
     // a model that cannot be built for the vehicle is reported by the configuration's
     // validation, against the vehicle's keys
     .unwrap_or_default()
+}
+
+/// What the model expects of the runs: its coefficients at the priors' initial values that
+/// say something (at least one prior sigma from zero: `initial = 1e-4, sigma = 0.3` is a
+/// placeholder, not a sign), else the `configured` values, else its example's.
+fn expectation<M: Model>(
+    model: &M,
+    cfg: &HekfConfig,
+    configured: &dyn Fn(&str) -> Option<f64>,
+    vehicle: &crate::models::Vehicle,
+) -> plausibility::Expectation {
+    let given = |n: &str| {
+        let informative = cfg.prior.get(n).and_then(|p| {
+            let v = p.initial?;
+            let sigma = p.sigma.unwrap_or_else(|| model.typical_magnitude(n));
+            (v.abs() >= sigma).then_some(v)
+        });
+        informative.or_else(|| configured(n))
+    };
+    plausibility::Expectation::new(model, &given, vehicle)
 }
 
 struct Identify<'a> {
@@ -165,6 +205,16 @@ impl ModelVisitor for Identify<'_> {
         let (cfg, inputs) = (self.cfg, self.inputs);
         let tuning = tuning::Resolved::from_config(cfg);
         let plan = prepare::plan(model, cfg, &tuning, inputs.known, inputs.runs)?;
+        // the model's expectation as preflight judged it: configured coefficients only
+        let configured = |n: &str| {
+            inputs
+                .known
+                .get(n)
+                .filter(|c| c.source == crate::coefficients::Source::Config)
+                .map(|c| c.value)
+        };
+        let vehicle = inputs.vehicle.vehicle_data(inputs.fluid);
+        let expect = expectation(model, cfg, &configured, &vehicle);
         let mut runs = Vec::new();
         let mut summaries = Vec::new();
         for rec in inputs.runs {
@@ -172,7 +222,7 @@ impl ModelVisitor for Identify<'_> {
                 prepare::run_data(model, cfg, &tuning, rec, inputs.base_dir)?;
             // blocking findings stopped the run in preflight unless checks = "warn"
             summary.warnings.extend(
-                plausibility::kinematics(rec)
+                plausibility::before_filter(model, rec, &expect)
                     .into_iter()
                     .filter(|f| !f.blocking || cfg.checks == Checks::Warn)
                     .map(|f| f.warning),

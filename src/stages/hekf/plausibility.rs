@@ -1,22 +1,38 @@
 //! Cheap plausibility checks of a run before it is filtered, so that the common mistakes
 //! (a wrong velocity frame, knots read as m/s, a heading in the wrong unit or sign, two
-//! quantities mapped to one column, a constant input that does not fit the motion) are named
-//! as such instead of ending as "the sway-yaw mass matrix is singular" or, worse, as
-//! confident wrong coefficients.
+//! quantities mapped to one column, the wrong column for a rate, a rudder in the wrong unit
+//! or sign, rpm read as rps, positions in km or a time in minutes, u and v swapped, a
+//! constant input that does not fit the motion) are named as such instead of ending as "the
+//! sway-yaw mass matrix is singular", a filter divergence or, worse, confident wrong
+//! coefficients.
 //!
-//! Kinematics need no coefficients: the positions must follow the body velocities rotated by
-//! the heading (x_dot + i y_dot = (u + i v) e^(i psi), Fossen 2011, eq. 2.40 in the
-//! horizontal plane), and the heading rate the yaw rate (psi_dot = (q sin phi + r cos phi) /
-//! cos theta, Fossen 2011, eq. 2.41; r when roll and pitch are not given). Each relation is
-//! fitted with a robust gain (medians of sample ratios, so that an outlier does not decide),
-//! and when it fails, the alternatives a user may have meant are fitted too and the one
-//! that holds is named.
+//! Kinematics need no coefficients (`rates`, `travel`): the positions must follow the body
+//! velocities rotated by the heading (x_dot + i y_dot = (u + i v) e^(i psi), Fossen 2011,
+//! eq. 2.40 in the horizontal plane), so the distance travelled is the speed's integral; and
+//! the Euler angles' rates follow the body rates (Fossen 2011, eq. 2.41). Each relation is
+//! fitted with a robust gain (medians of sample ratios, so that an outlier does not decide)
+//! over windows long enough that the noise cannot dominate, and when it fails, the
+//! alternatives a user may have meant are fitted too and the one that holds is named.
+//!
+//! The controls are judged against the model (`rudder`, `propeller`): the yaw acceleration a
+//! rudder angle gives, as the run shows it and as the model at its starting coefficients
+//! says, and the propeller's advance ratio.
+//!
+//! A finding is `blocking` when the data contradict the configuration and one unambiguous
+//! alternative (a factor of 57.3, 60 or 1000, a sign) explains them; otherwise it is a
+//! warning. A check that cannot judge a run (the heading does not move, the rudder is still)
+//! says nothing.
 
 mod inputs;
+mod propeller;
+mod rates;
+mod rudder;
+mod travel;
 
 pub use inputs::{constant_inputs, Start};
 
 use super::STAGE;
+use crate::models::{Model, Vehicle};
 use crate::quantity::Quantity;
 use crate::record::Record;
 use crate::warning::Warning;
@@ -40,17 +56,108 @@ impl Finding {
     }
 }
 
-/// A relation holds when its robust gain is within this of 1 ...
-const GAIN_TOLERANCE: f64 = 0.15;
-/// ... and the median residual is below this share of the median signal.
-const GOOD_FIT: f64 = 0.25;
+/// What the model expects of a run, for the checks that compare the run with the model:
+/// its coefficients at the starting point and the vehicle's propeller diameter.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Expectation {
+    /// The model's coefficient vector: the configured values (`[coefficients]`, a prior's
+    /// `initial`) where given, the model's example values elsewhere (they carry the model's
+    /// sign conventions and sizes), completed by the relations.
+    pub coefficients: Vec<f64>,
+    /// Whether the sizes of the model's responses carry over to this vehicle: every
+    /// coefficient taken from the example is non-dimensional (a dimensional one belongs to
+    /// the example's vehicle, and then only the signs of the responses are judged).
+    pub sizes_known: bool,
+    /// `vehicle.particulars.propeller_diameter`, m, when given.
+    pub propeller_diameter: Option<f64>,
+    /// The wake fraction at the propeller in straight motion: the model's `wP0` when it has
+    /// one, else 0.
+    pub wake: f64,
+}
 
-/// Every check of a run's kinematics: duplicated columns, heading against yaw rate, positions
-/// against velocities.
-pub fn kinematics(rec: &Record) -> Vec<Finding> {
+impl Expectation {
+    /// The expectation of `model` for `vehicle`, with `configured` giving a coefficient's
+    /// configured value by name.
+    pub fn new<M: Model>(
+        model: &M,
+        configured: &dyn Fn(&str) -> Option<f64>,
+        vehicle: &Vehicle,
+    ) -> Self {
+        let example = model.example();
+        let mut sizes_known = true;
+        let mut values: Vec<(&str, f64)> = Vec::new();
+        for def in model.coefficients() {
+            if let Some(v) = configured(def.name) {
+                values.push((def.name, v));
+            } else if let Some(&(_, v)) = example.coefficients.iter().find(|e| e.0 == def.name) {
+                sizes_known &= def.unit == "-" || v == 0.0;
+                values.push((def.name, v));
+            }
+        }
+        let coefficients = model.coefficient_vector(&values);
+        let wake = model
+            .coefficient_index("wP0")
+            .map(|i| coefficients[i])
+            .filter(|w| w.is_finite())
+            .map_or(0.0, |w| w.clamp(0.0, 0.9));
+        Expectation {
+            coefficients,
+            sizes_known,
+            propeller_diameter: propeller_diameter(vehicle),
+            wake,
+        }
+    }
+}
+
+/// `vehicle.particulars.propeller_diameter` in m (a number in m or a string with a unit),
+/// whatever model reads the particulars.
+fn propeller_diameter(vehicle: &Vehicle) -> Option<f64> {
+    #[derive(serde::Deserialize)]
+    struct Propeller {
+        #[serde(
+            default,
+            deserialize_with = "crate::config::si::option::<_, crate::config::si::Length>"
+        )]
+        propeller_diameter: Option<f64>,
+    }
+    vehicle
+        .particulars::<Propeller>("")
+        .ok()?
+        .propeller_diameter
+        .filter(|d| d.is_finite() && *d > 0.0)
+}
+
+/// Every check of a run before it is filtered: duplicated columns, positions and time
+/// against the speeds, each Euler angle against its rate, positions against the velocities
+/// rotated by the heading, u and v in the approach, the rudder against the model's response
+/// and the propeller's advance ratio. A time axis in the wrong unit spoils every rate, so
+/// the checks built on rates are left out when one is found.
+pub fn before_filter<M: Model>(model: &M, rec: &Record, expect: &Expectation) -> Vec<Finding> {
     let mut out = duplicates(rec);
-    out.extend(heading_rate(rec));
-    out.extend(track(rec));
+    // every check indexes the channels by sample: a record whose channels differ in length
+    // (made in memory, never read from a file) is not judged further
+    if rec.channels.values().any(|v| v.len() != rec.rows()) {
+        return out;
+    }
+    let speed = travel::speed(rec);
+    let time_wrong = matches!(speed, Some((_, travel::Suspect::Time)));
+    let speed_found = speed.is_some();
+    out.extend(speed.map(|(f, _)| f));
+    let mut rate_trusted = true;
+    if !time_wrong {
+        for (q, f) in rates::all(rec) {
+            rate_trusted &= !(q == Quantity::R && f.blocking);
+            out.push(f);
+        }
+    }
+    if !speed_found {
+        out.extend(travel::track(rec));
+    }
+    out.extend(travel::sway_over_surge(rec));
+    if !time_wrong {
+        out.extend(rudder::check(model, rec, expect, rate_trusted));
+    }
+    out.extend(propeller::check(rec, expect));
     out
 }
 
@@ -113,6 +220,51 @@ fn piecewise_constant(v: &[f64]) -> bool {
     changes * 10 <= v.len()
 }
 
+/// A quantity as messages name it: `r (column 'r' (9), read in deg/s)`, or the key alone
+/// for a channel made in memory.
+fn named(rec: &Record, q: Quantity) -> String {
+    let unit = rec
+        .units
+        .get(&q)
+        .map(|u| format!(", read in {u}"))
+        .unwrap_or_default();
+    match rec.columns.get(&q) {
+        Some(c) => format!("{q} ({c}{unit})"),
+        None => q.key().to_string(),
+    }
+}
+
+/// The approach: the leading samples before the manoeuvre, while the heading stays within
+/// 5 deg and the rudder within 2 deg of their starting values (the median of the first five
+/// samples); the whole run when it has neither. None when shorter than 10 samples.
+fn approach(rec: &Record) -> Option<std::ops::Range<usize>> {
+    let n = rec.rows();
+    let departs = |q: Quantity, limit_deg: f64| -> usize {
+        let Some(v) = rec.channel(q) else {
+            return n;
+        };
+        let Some(start) = median_of(v.iter().take(5).copied()) else {
+            return n;
+        };
+        let limit = limit_deg.to_radians();
+        v.iter()
+            .position(|x| (x - start).abs() > limit)
+            .unwrap_or(v.len())
+    };
+    let end = departs(Quantity::Yaw, 5.0)
+        .min(departs(Quantity::Rudder, 2.0))
+        .min(n);
+    (end >= 10).then_some(0..end)
+}
+
+/// The file of a run, as messages name it (its file name).
+fn file(rec: &Record) -> String {
+    rec.source.file_name().map_or_else(
+        || rec.source.display().to_string(),
+        |f| f.to_string_lossy().into_owned(),
+    )
+}
+
 /// Samples per window of the integral checks: increments over a few samples average the
 /// measurement noise out of the comparison.
 const WINDOW: usize = 5;
@@ -120,6 +272,11 @@ const WINDOW: usize = 5;
 /// Fewest windows a check fits its gain over (longer windows are tried while at least this
 /// many fit in the run).
 const MIN_WINDOWS: usize = 40;
+
+/// A relation holds when its robust gain is within this of 1 ...
+const GAIN_TOLERANCE: f64 = 0.15;
+/// ... and the median residual is below this share of the median signal.
+const GOOD_FIT: f64 = 0.25;
 
 /// Non-overlapping windows (first, last sample) of `len` regular intervals (each within 1 %
 /// of the median interval).
@@ -142,6 +299,22 @@ fn windows(times: &[f64], len: usize) -> Vec<(usize, usize)> {
     out
 }
 
+/// The window lengths (samples) a check tries, shortest first: 5 samples, doubled while at
+/// least [`MIN_WINDOWS`] windows fit in the run. A relation that fails over short windows
+/// because the signal moves less than its noise (or its printed resolution) holds over the
+/// longer ones; one that fails over every length is a mistake.
+fn window_lengths(times: &[f64]) -> Vec<usize> {
+    let mut out = vec![WINDOW];
+    let mut len = WINDOW;
+    loop {
+        len *= 2;
+        if windows(times, len).len() < MIN_WINDOWS {
+            return out;
+        }
+        out.push(len);
+    }
+}
+
 /// The increment of `y` over a window and the integral of `rate(k)` over it (trapezoid):
 /// y(t1) - y(t0) = integral of y_dot dt.
 fn increment(
@@ -150,10 +323,14 @@ fn increment(
     y: &[f64],
     rate: impl Fn(usize) -> f64,
 ) -> (f64, f64) {
-    let integral = (a..b)
+    (y[b] - y[a], integral(times, (a, b), rate))
+}
+
+/// The integral of `rate(k)` over a window (trapezoid).
+fn integral(times: &[f64], (a, b): (usize, usize), rate: impl Fn(usize) -> f64) -> f64 {
+    (a..b)
         .map(|k| 0.5 * (rate(k) + rate(k + 1)) * (times[k + 1] - times[k]))
-        .sum();
-    (y[b] - y[a], integral)
+        .sum()
 }
 
 fn median(v: &mut [f64]) -> Option<f64> {
@@ -163,6 +340,12 @@ fn median(v: &mut [f64]) -> Option<f64> {
     let mid = v.len() / 2;
     let (_, m, _) = v.select_nth_unstable_by(mid, f64::total_cmp);
     Some(*m)
+}
+
+/// The median of the finite values of an iterator.
+fn median_of(v: impl IntoIterator<Item = f64>) -> Option<f64> {
+    let mut v: Vec<f64> = v.into_iter().filter(|x| x.is_finite()).collect();
+    median(&mut v)
 }
 
 /// A robust complex gain g with measured = g * predicted, and the median relative residual,
@@ -210,228 +393,107 @@ fn complex_gain(measured: &[(f64, f64)], predicted: &[(f64, f64)]) -> Option<((f
     Some((g, rel))
 }
 
-/// Words for a gain that is a common unit factor.
-fn unit_factor(gain: f64) -> Option<&'static str> {
-    const KNOT: f64 = 1852.0 / 3600.0;
-    const FOOT: f64 = 0.3048;
-    const KMH: f64 = 1.0 / 3.6;
-    let known: [(f64, &str); 8] = [
-        (KNOT, "the velocities look like knots read as m/s"),
-        (1.0 / KNOT, "the velocities look like m/s read as knots"),
-        (
-            FOOT,
-            "the velocities look like ft/s read as m/s, or the positions like feet",
-        ),
-        (1.0 / FOOT, "the positions look like feet read as metres"),
-        (KMH, "the velocities look like km/h read as m/s"),
-        (
-            std::f64::consts::PI / 180.0,
-            "the rate looks like deg/s read as rad/s",
-        ),
-        (
-            180.0 / std::f64::consts::PI,
-            "the angle looks like degrees read as radians (or the rate like rad/s read as deg/s)",
-        ),
-        (
-            1000.0,
-            "one of the two looks like millimetres or kilometres",
-        ),
-    ];
-    known
-        .iter()
-        .find(|(f, _)| (gain / f - 1.0).abs() < 0.03)
-        .map(|(_, s)| *s)
-}
-
-/// The heading rate against the yaw rate.
-fn heading_rate(rec: &Record) -> Option<Finding> {
-    let times = rec.time()?;
-    let psi = rec.channel(Quantity::Yaw)?;
-    let r = rec.channel(Quantity::R)?;
-    // psi_dot = (q sin phi + r cos phi) / cos theta (Fossen 2011, eq. 2.41)
-    let euler = |k: usize| -> f64 {
-        match (
-            rec.channel(Quantity::Roll),
-            rec.channel(Quantity::Pitch),
-            rec.channel(Quantity::Q),
-        ) {
-            (Some(phi), Some(theta), Some(q)) => {
-                (q[k] * phi[k].sin() + r[k] * phi[k].cos()) / theta[k].cos()
-            }
-            _ => r[k],
-        }
-    };
-    type Pairs = Vec<(f64, f64)>;
-    let fit = |wins: &[(usize, usize)]| {
-        let (measured, predicted): (Pairs, Pairs) = wins
-            .iter()
-            .map(|&w| {
-                let (m, p) = increment(times, w, psi, euler);
-                ((m, 0.0), (p, 0.0))
-            })
-            .unzip();
-        complex_gain(&measured, &predicted)
-    };
-    // A slow turn changes the heading less in a few samples than the heading's noise: the
-    // windows grow (doubling) until the relation holds or too few windows are left, and
-    // the longest (least noisy) fit is reported.
-    let mut len = WINDOW;
-    let mut wins = windows(times, len);
-    let mut last = fit(&wins)?;
-    loop {
-        let ((g, _), rel) = last;
-        if (g - 1.0).abs() < GAIN_TOLERANCE && rel < GOOD_FIT {
-            return None;
-        }
-        len *= 2;
-        let longer = windows(times, len);
-        if longer.len() < MIN_WINDOWS {
-            break;
-        }
-        match fit(&longer) {
-            Some(f) => (last, wins) = (f, longer),
-            None => break,
-        }
-    }
-    let ((g, _), rel) = last;
-    // A heading that moves no more than its noise over the longest windows (a vertical
-    // manoeuvre) says nothing about the yaw rate: no finding. An increment of two noisy
-    // samples has sigma sqrt(2) s; 4 s is beyond it for nine windows in ten.
-    let noise = crate::signal::noise_sigma(psi).unwrap_or(0.0);
-    let mut moves: Vec<f64> = wins.iter().map(|&(a, b)| (psi[b] - psi[a]).abs()).collect();
-    if median(&mut moves).is_none_or(|m| m < 4.0 * noise) {
+/// Pearson's correlation of two equally long series (None when either does not vary).
+fn correlation(a: &[f64], b: &[f64]) -> Option<f64> {
+    let n = a.len().min(b.len());
+    if n < 3 {
         return None;
     }
-    let fits = rel < GOOD_FIT;
-    let seen = format!(
-        "the heading changes {} times as fast as the yaw rate r says (median relative \
-         residual {:.0} %)",
-        sig(g),
-        100.0 * rel
-    );
-    let (blocking, meaning) = if fits && (g + 1.0).abs() < GAIN_TOLERANCE {
-        (
-            true,
-            "heading and yaw rate follow opposite sign conventions (e.g. a compass heading \
-             clockwise from north with r positive to port): flip one of them with `scale = -1` \
-             in its column entry"
-                .to_string(),
-        )
-    } else if let Some(words) = fits.then(|| unit_factor(g.abs())).flatten() {
-        (
-            true,
-            format!(
-                "{words}: give the column's unit explicitly, e.g. `unit = \"deg\"` or \
-                 `unit = \"deg/s\"` in its column entry"
-            ),
-        )
-    } else {
-        (
-            false,
-            "heading and yaw rate disagree; the filter will trust whichever has the smaller \
-             noise, and the coefficients absorb the rest: check both columns' units, signs and \
-             which columns they are"
-                .to_string(),
-        )
-    };
-    Some(Finding::new(rec, blocking, seen, meaning))
+    let mean = |v: &[f64]| v[..n].iter().sum::<f64>() / n as f64;
+    let (ma, mb) = (mean(a), mean(b));
+    let (mut sab, mut saa, mut sbb) = (0.0, 0.0, 0.0);
+    for k in 0..n {
+        let (x, y) = (a[k] - ma, b[k] - mb);
+        sab += x * y;
+        saa += x * x;
+        sbb += y * y;
+    }
+    let r = sab / (saa * sbb).sqrt();
+    r.is_finite().then_some(r)
 }
 
-/// The positions against the velocities rotated by the heading.
-fn track(rec: &Record) -> Option<Finding> {
-    let times = rec.time()?;
-    let (x, y) = (rec.channel(Quantity::X)?, rec.channel(Quantity::Y)?);
-    let psi = rec.channel(Quantity::Yaw)?;
-    let (u, v) = (rec.channel(Quantity::U)?, rec.channel(Quantity::V)?);
-    let wins = windows(times, WINDOW);
-    let measured: Vec<(f64, f64)> = wins
-        .iter()
-        .map(|&(a, b)| (x[b] - x[a], y[b] - y[a]))
-        .collect();
-    let rotate = |k: usize, sway: f64, heading: f64| -> (f64, f64) {
-        let (s, c) = (heading * psi[k]).sin_cos();
-        let (a, b) = (u[k], sway * v[k]);
-        (a * c - b * s, a * s + b * c)
-    };
-    // x(t1) - x(t0) + i (y(t1) - y(t0)) = integral of the predicted earth velocity
-    let fit = |predict: &dyn Fn(usize) -> (f64, f64)| {
-        let p: Vec<(f64, f64)> = wins
-            .iter()
-            .map(|&w| {
-                let re = increment(times, w, x, |k| predict(k).0).1;
-                let im = increment(times, w, y, |k| predict(k).1).1;
-                (re, im)
-            })
-            .collect();
-        complex_gain(&measured, &p)
-    };
-    let holds = |(g, rel): ((f64, f64), f64)| {
-        (g.0 - 1.0).abs() < GAIN_TOLERANCE && g.1.abs() < GAIN_TOLERANCE && rel < GOOD_FIT
-    };
-    let configured = fit(&|k| rotate(k, 1.0, 1.0))?;
-    if holds(configured) {
-        return None;
-    }
-    let ((gr, gi), rel) = configured;
-    let gain = gr.hypot(gi);
-    let angle = gi.atan2(gr).to_degrees();
-    let seen = format!(
-        "the positions do not move as u and v rotated by the heading say: they move {} times \
-         as far, turned by {:.0} deg (median relative residual {:.0} %)",
-        sig(gain),
-        angle,
-        100.0 * rel
-    );
-    let clear = |meaning: String| Some(Finding::new(rec, true, seen.clone(), meaning));
-    // a mix-up that explains the data exactly comes first
-    type Predict<'a> = Box<dyn Fn(usize) -> (f64, f64) + 'a>;
-    let alternatives: [(Predict, &str); 3] = [
-        (
-            Box::new(|k| (u[k], v[k])),
-            "the velocity columns hold earth-frame velocities (dx/dt, dy/dt), not body \
-             velocities: set `velocity_frame = \"earth\"` for this run",
-        ),
-        (
-            Box::new(|k| rotate(k, 1.0, -1.0)),
-            "the heading has the opposite sign convention to the positions (e.g. clockwise \
-             while x-y is counter-clockwise): flip it with `scale = -1` in its column entry",
-        ),
-        (
-            Box::new(|k| rotate(k, -1.0, 1.0)),
-            "the sway velocity has the opposite sign convention (positive to port): flip it \
-             with `scale = -1` in its column entry",
-        ),
-    ];
-    for (predict, words) in &alternatives {
-        if fit(predict.as_ref()).is_some_and(holds) {
-            return clear(words.to_string());
-        }
-    }
-    if rel < GOOD_FIT {
-        // the relation holds up to a factor or a turn
-        if let Some(words) = unit_factor(gain).filter(|_| angle.abs() < 10.0) {
-            return clear(format!(
-                "{words}: give the columns' units explicitly, e.g. `u = {{ column = \"...\", \
-                 unit = \"kn\" }}`"
-            ));
-        }
-        if angle.abs() >= 10.0 && (gain - 1.0).abs() < GAIN_TOLERANCE {
-            return clear(format!(
-                "the heading seems offset by {angle:.0} deg from the x axis of the positions \
-                 (e.g. a compass heading from north with positions east-north): check which \
-                 axis the heading is measured from"
-            ));
-        }
-    }
-    Some(Finding::new(
-        rec,
-        false,
-        seen,
-        "positions, heading and velocities disagree and no simple mix-up explains it; the \
-         filter will fit a compromise and the coefficients absorb the rest: check the units, \
-         signs and frames of x, y, yaw, u and v"
-            .to_string(),
-    ))
+/// A unit mistake a gain may reveal: the factor and what it means, with the fix.
+struct Factor {
+    gain: f64,
+    words: &'static str,
+}
+
+/// Positions travelled per the speeds' distance: what a factor means.
+const TRAVEL_FACTORS: &[Factor] = &[
+    Factor {
+        gain: 1852.0 / 3600.0,
+        words: "the velocities look like knots read as m/s: give their unit, e.g. \
+                `u = { column = \"...\", unit = \"kn\" }` (and v)",
+    },
+    Factor {
+        gain: 3600.0 / 1852.0,
+        words: "the velocities look like m/s read as knots: give `unit = \"m/s\"` in the u \
+                and v column entries",
+    },
+    Factor {
+        gain: 0.3048,
+        words: "the velocities look like ft/s read as m/s, or the positions like feet: give \
+                `unit = \"ft/s\"` in the u and v column entries, or `unit = \"ft\"` in x and y",
+    },
+    Factor {
+        gain: 1.0 / 0.3048,
+        words: "the positions look like feet read as metres: give `unit = \"ft\"` in the x and \
+                y column entries",
+    },
+    Factor {
+        gain: 1.0 / 3.6,
+        words: "the velocities look like km/h read as m/s: give `unit = \"km/h\"` in the u \
+                and v column entries",
+    },
+    // the words of the two factors of 1000 depend on the unit read (`travel::thousand`)
+    Factor {
+        gain: 1e-3,
+        words: "the positions look 1000 times too small for the speeds",
+    },
+    Factor {
+        gain: 1e3,
+        words: "the positions look 1000 times too large for the speeds",
+    },
+    Factor {
+        gain: 60.0,
+        words: "the time looks like minutes read as seconds: give `time = { column = \"...\", \
+                unit = \"min\" }`",
+    },
+    Factor {
+        gain: 1.0 / 60.0,
+        words: "the time looks like seconds read as minutes: give `unit = \"s\"` in the time \
+                column entry",
+    },
+];
+
+/// An angle's change per its rate's integral: what a factor means.
+const RATE_FACTORS: &[Factor] = &[
+    Factor {
+        gain: std::f64::consts::PI / 180.0,
+        words: "the rate looks like deg/s read as rad/s: give the column's unit explicitly, \
+                e.g. `unit = \"deg/s\"` in its column entry",
+    },
+    Factor {
+        gain: 180.0 / std::f64::consts::PI,
+        words: "the angle looks like degrees read as radians (or the rate like rad/s read as \
+                deg/s): give the column's unit explicitly, e.g. `unit = \"deg\"` or \
+                `unit = \"deg/s\"` in its column entry",
+    },
+    Factor {
+        gain: 60.0,
+        words: "the time looks like minutes read as seconds (or the rate like a rate per \
+                minute): give `time = { column = \"...\", unit = \"min\" }`",
+    },
+    Factor {
+        gain: 1.0 / 60.0,
+        words: "the time looks like seconds read as minutes: give `unit = \"s\"` in the time \
+                column entry",
+    },
+];
+
+/// The factor of `table` within 3 % of `gain`.
+fn factor(gain: f64, table: &'static [Factor]) -> Option<&'static Factor> {
+    table.iter().find(|f| (gain / f.gain - 1.0).abs() < 0.03)
 }
 
 fn sig(v: f64) -> String {
@@ -439,65 +501,4 @@ fn sig(v: f64) -> String {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use rand::SeedableRng;
-    use rand_distr::{Distribution, Normal};
-    use std::collections::BTreeMap;
-
-    /// A slow steady turn (the NPS AUV helix: 1 deg/s) sampled at 100 Hz with a heading
-    /// noise of 0.05 deg and a yaw-rate noise of 0.1 deg/s; `rate_scale` mislabels the rate.
-    fn slow_turn(rate_scale: f64) -> Record {
-        let mut rng = rand::rngs::StdRng::seed_from_u64(7);
-        let psi_noise = Normal::new(0.0, 0.05f64.to_radians()).unwrap();
-        let r_noise = Normal::new(0.0, 0.1f64.to_radians()).unwrap();
-        let k = 6000;
-        let rate = -1.0f64.to_radians();
-        let mut channels = BTreeMap::new();
-        let t: Vec<f64> = (0..k).map(|i| i as f64 * 0.01).collect();
-        let psi = t
-            .iter()
-            .map(|t| rate * t + psi_noise.sample(&mut rng))
-            .collect();
-        let r = t
-            .iter()
-            .map(|_| rate_scale * (rate + r_noise.sample(&mut rng)))
-            .collect();
-        channels.insert(Quantity::Time, t);
-        channels.insert(Quantity::Yaw, psi);
-        channels.insert(Quantity::R, r);
-        Record::from_channels("slow turn", "turn.csv", channels)
-    }
-
-    #[test]
-    fn a_slow_noisy_turn_is_not_taken_for_a_heading_mistake() {
-        // over 5 samples the heading moves 0.05 deg, its noise as much: the windows must grow
-        assert_eq!(heading_rate(&slow_turn(1.0)), None);
-    }
-
-    #[test]
-    fn a_heading_that_does_not_move_beyond_its_noise_is_not_judged() {
-        // a vertical zig-zag: the heading holds, r is noise
-        let mut still = slow_turn(1.0);
-        let n = still.channels[&Quantity::Yaw].len();
-        let psi: Vec<f64> = (0..n).map(|k| 1e-3 * ((k * 7919) % 13) as f64).collect();
-        still.channels.insert(Quantity::Yaw, psi);
-        let r: Vec<f64> = (0..n)
-            .map(|k| 2e-3 * ((k * 104729) % 11) as f64 - 0.01)
-            .collect();
-        still.channels.insert(Quantity::R, r);
-        assert_eq!(heading_rate(&still), None);
-    }
-
-    #[test]
-    fn a_rate_in_degrees_read_as_radians_is_still_named_in_a_slow_turn() {
-        // a rate in deg/s read as rad/s: 57 times too large
-        let f = heading_rate(&slow_turn(180.0 / std::f64::consts::PI)).expect("a finding");
-        assert!(f.blocking, "{f:?}");
-        assert!(
-            f.warning.meaning.contains("deg/s read as rad/s"),
-            "{:?}",
-            f.warning
-        );
-    }
-}
+mod tests;

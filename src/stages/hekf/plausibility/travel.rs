@@ -1,0 +1,327 @@
+//! The positions against the velocities: the distance travelled against the speed's
+//! integral (the units of positions, velocities and time), the path against the velocities
+//! rotated by the heading (frames, signs, swapped columns), and u against v where the
+//! vehicle holds a straight course.
+//!
+//! x_dot + i y_dot = (u + i v) e^(i psi) (Fossen 2011, eq. 2.40 in the horizontal plane):
+//! over a window the positions' increment is the integral of the rotated velocity, and its
+//! length the integral of the speed sqrt(u^2 + v^2) when the heading turns little (a chord
+//! of an arc of 20 deg is 98.5 % of the arc). The speed needs no heading and no frame, so a
+//! factor between the two is a unit (or the time's unit), whatever else is wrong.
+
+use super::{
+    approach, complex_gain, factor, file, increment, integral, median_of, named, sig,
+    window_lengths, windows, Finding, GAIN_TOLERANCE, GOOD_FIT, TRAVEL_FACTORS,
+};
+use crate::quantity::Quantity;
+use crate::record::Record;
+
+/// What a factor between distance and speed points at.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Suspect {
+    /// The time axis: every rate of the run is off by the same factor.
+    Time,
+    /// The positions or the velocities.
+    Other,
+}
+
+/// Largest heading change within a window whose chord is compared with the speed's
+/// integral (the chord of a 20 deg arc is 98.5 % of its length).
+const MAX_TURN: f64 = 20.0 * std::f64::consts::PI / 180.0;
+
+/// The gain of chord on arc over windows of `len` samples that turn less than [`MAX_TURN`].
+fn speed_fit(rec: &Record, len: usize) -> Option<((f64, f64), f64, usize)> {
+    let times = rec.time()?;
+    let (x, y) = (rec.channel(Quantity::X)?, rec.channel(Quantity::Y)?);
+    let u = rec.channel(Quantity::U)?;
+    let v = rec.channel(Quantity::V);
+    let psi = rec.channel(Quantity::Yaw);
+    let speed = |k: usize| u[k].hypot(v.map_or(0.0, |v| v[k]));
+    let (measured, predicted): (Vec<Complex>, Vec<Complex>) = windows(times, len)
+        .into_iter()
+        .filter(|&(a, b)| psi.is_none_or(|p| (p[b] - p[a]).abs() < MAX_TURN))
+        .map(|w| {
+            let chord = (x[w.1] - x[w.0]).hypot(y[w.1] - y[w.0]);
+            ((chord, 0.0), (integral(times, w, speed), 0.0))
+        })
+        .unzip();
+    let (g, rel) = complex_gain(&measured, &predicted)?;
+    Some((g, rel, measured.len()))
+}
+
+/// The distance travelled against the speed's integral. Windows grow (doubling) until the
+/// relation holds, so that position noise or a coarse printed resolution cannot decide; a
+/// consistent factor over the longest windows is named.
+pub(super) fn speed(rec: &Record) -> Option<(Finding, Suspect)> {
+    let times = rec.time()?;
+    let mut last = None;
+    for len in window_lengths(times) {
+        let Some(((g, _), rel, n)) = speed_fit(rec, len) else {
+            break;
+        };
+        if (g - 1.0).abs() < GAIN_TOLERANCE && rel < GOOD_FIT {
+            return None;
+        }
+        last = Some((g, rel, n, len));
+    }
+    let (g, rel, n, len) = last?;
+    if rel >= GOOD_FIT {
+        // no consistent factor: the path check says what disagrees
+        return None;
+    }
+    let dt = crate::sampling::median_interval(times).unwrap_or(0.0);
+    let seen = format!(
+        "in {}, the positions {} and {} travel {} times the distance the speed from {} and {} \
+         gives between the same time stamps of {} ({n} windows of {} s; median relative \
+         residual {:.0} %)",
+        file(rec),
+        named(rec, Quantity::X),
+        named(rec, Quantity::Y),
+        sig(g),
+        named(rec, Quantity::U),
+        named(rec, Quantity::V),
+        named(rec, Quantity::Time),
+        sig(len as f64 * dt),
+        100.0 * rel
+    );
+    Some(match factor(g, TRAVEL_FACTORS) {
+        Some(f) => {
+            let suspect = if (f.gain - 60.0).abs() < 1.0 || (f.gain * 60.0 - 1.0).abs() < 0.01 {
+                Suspect::Time
+            } else {
+                Suspect::Other
+            };
+            let words = thousand(rec, f.gain).unwrap_or_else(|| f.words.to_string());
+            (Finding::new(rec, true, seen, words), suspect)
+        }
+        None => (
+            Finding::new(
+                rec,
+                false,
+                seen,
+                "positions and speeds disagree by a factor that is no common unit: check the \
+                 units of x, y, u, v and time"
+                    .to_string(),
+            ),
+            Suspect::Other,
+        ),
+    })
+}
+
+/// The words for positions read 1000 times too large (`gain` 1000) or too small (1/1000),
+/// from the unit they were read in: the file's unit is the one a thousand times smaller
+/// (larger). None for a gain that is no factor of 1000, or a unit without such a neighbour.
+fn thousand(rec: &Record, gain: f64) -> Option<String> {
+    const LADDER: [(&str, &str); 3] =
+        [("mm", "millimetres"), ("m", "metres"), ("km", "kilometres")];
+    let read = rec.units.get(&Quantity::X).map_or("m", String::as_str);
+    let at = LADDER.iter().position(|(u, _)| *u == read)?;
+    let file_at = match gain {
+        g if (g / 1e3 - 1.0).abs() < 0.03 => at.checked_sub(1)?,
+        g if (g * 1e3 - 1.0).abs() < 0.03 => at + 1,
+        _ => return None,
+    };
+    let (unit, words) = LADDER.get(file_at)?;
+    Some(format!(
+        "the positions look like {words} read as {}: give `unit = \"{unit}\"` in the x and y \
+         column entries",
+        LADDER[at].1
+    ))
+}
+
+/// A complex number as (real, imaginary): a horizontal vector, x + i y.
+type Complex = (f64, f64);
+
+type Predict<'a> = Box<dyn Fn(usize) -> Complex + 'a>;
+
+/// The channels the path check relates.
+struct Path<'a> {
+    times: &'a [f64],
+    x: &'a [f64],
+    y: &'a [f64],
+    psi: &'a [f64],
+    u: &'a [f64],
+    v: &'a [f64],
+}
+
+impl<'a> Path<'a> {
+    fn of(rec: &'a Record) -> Option<Self> {
+        Some(Path {
+            times: rec.time()?,
+            x: rec.channel(Quantity::X)?,
+            y: rec.channel(Quantity::Y)?,
+            psi: rec.channel(Quantity::Yaw)?,
+            u: rec.channel(Quantity::U)?,
+            v: rec.channel(Quantity::V)?,
+        })
+    }
+
+    /// (a + i b) e^(i heading psi_k): a body vector in the earth frame (`heading` -1 for the
+    /// opposite sign convention).
+    fn rotate(&self, k: usize, (a, b): (f64, f64), heading: f64) -> (f64, f64) {
+        let (s, c) = (heading * self.psi[k]).sin_cos();
+        (a * c - b * s, a * s + b * c)
+    }
+
+    /// x(t1) - x(t0) + i (y(t1) - y(t0)) = integral of the predicted earth velocity, over
+    /// windows of `len` samples: the complex gain and its median relative residual.
+    fn fit(&self, len: usize, predict: &dyn Fn(usize) -> (f64, f64)) -> Option<((f64, f64), f64)> {
+        let (measured, p): (Vec<Complex>, Vec<Complex>) = windows(self.times, len)
+            .into_iter()
+            .map(|w| {
+                let re = increment(self.times, w, self.x, |k| predict(k).0);
+                let im = increment(self.times, w, self.y, |k| predict(k).1);
+                ((re.0, im.0), (re.1, im.1))
+            })
+            .unzip();
+        complex_gain(&measured, &p)
+    }
+
+    /// The mix-ups a user may have made, each as the earth velocity it predicts and what it
+    /// means.
+    fn mix_ups(&self) -> [(Predict<'_>, &'static str); 5] {
+        const SWAPPED: &str = "u and v look swapped (the column mapped to u holds the sway \
+            velocity, the one mapped to v the surge velocity): exchange the columns of the u \
+            and v entries";
+        let (u, v) = (self.u, self.v);
+        [
+            (
+                Box::new(move |k| (u[k], v[k])),
+                "the velocity columns hold earth-frame velocities (dx/dt, dy/dt), not body \
+                 velocities: set `velocity_frame = \"earth\"` for this run",
+            ),
+            (
+                Box::new(move |k| self.rotate(k, (u[k], v[k]), -1.0)),
+                "the heading has the opposite sign convention to the positions (e.g. clockwise \
+                 while x-y is counter-clockwise): flip it with `scale = -1` in its column entry",
+            ),
+            (
+                Box::new(move |k| self.rotate(k, (u[k], -v[k]), 1.0)),
+                "the sway velocity has the opposite sign convention (positive to port): flip it \
+                 with `scale = -1` in its column entry",
+            ),
+            // swapped in a body-frame file ...
+            (
+                Box::new(move |k| self.rotate(k, (v[k], u[k]), 1.0)),
+                SWAPPED,
+            ),
+            // ... and in an earth-frame file, rotated into the body frame after the swap
+            (
+                Box::new(move |k| {
+                    let (e, n) = self.rotate(k, (u[k], v[k]), 1.0);
+                    (n, e)
+                }),
+                SWAPPED,
+            ),
+        ]
+    }
+}
+
+/// The positions against the velocities rotated by the heading. Windows grow (doubling)
+/// until the relation holds; over the longest the mix-ups a user may have made are tried.
+pub(super) fn track(rec: &Record) -> Option<Finding> {
+    let path = Path::of(rec)?;
+    let holds = |(g, rel): ((f64, f64), f64)| {
+        (g.0 - 1.0).abs() < GAIN_TOLERANCE && g.1.abs() < GAIN_TOLERANCE && rel < GOOD_FIT
+    };
+    let mut last = None;
+    for len in window_lengths(path.times) {
+        let Some(f) = path.fit(len, &|k| path.rotate(k, (path.u[k], path.v[k]), 1.0)) else {
+            break;
+        };
+        if holds(f) {
+            return None;
+        }
+        last = Some((len, f));
+    }
+    let (len, ((gr, gi), rel)) = last?;
+    let gain = gr.hypot(gi);
+    let angle = gi.atan2(gr).to_degrees();
+    let seen = format!(
+        "in {}, the positions {} and {} do not move as {} and {} rotated by the heading {} \
+         say: they move {} times as far, turned by {angle:.0} deg (median relative residual \
+         {:.0} %)",
+        file(rec),
+        named(rec, Quantity::X),
+        named(rec, Quantity::Y),
+        named(rec, Quantity::U),
+        named(rec, Quantity::V),
+        named(rec, Quantity::Yaw),
+        sig(gain),
+        100.0 * rel
+    );
+    // a mix-up that explains the data exactly comes first
+    for (predict, words) in &path.mix_ups() {
+        if path.fit(len, predict.as_ref()).is_some_and(holds) {
+            return Some(Finding::new(rec, true, seen, words.to_string()));
+        }
+    }
+    if rel < GOOD_FIT && angle.abs() >= 10.0 && (gain - 1.0).abs() < GAIN_TOLERANCE {
+        return Some(Finding::new(
+            rec,
+            true,
+            seen,
+            format!(
+                "the heading seems offset by {angle:.0} deg from the x axis of the positions \
+                 (e.g. a compass heading from north with positions east-north): check which \
+                 axis the heading is measured from"
+            ),
+        ));
+    }
+    Some(Finding::new(
+        rec,
+        false,
+        seen,
+        "positions, heading and velocities disagree and no simple mix-up explains it; the \
+         filter will fit a compromise and the coefficients absorb the rest: check the units, \
+         signs and frames of x, y, yaw, u and v"
+            .to_string(),
+    ))
+}
+
+/// Sway against surge where the vehicle holds a straight course (the approach, before the
+/// heading or the rudder moves): a ship or an AUV on a straight course moves along its x
+/// axis, so a sway far larger than the surge there is u and v swapped. Judged only when the
+/// path check cannot (no positions or no heading), and a warning: a vehicle may move
+/// sideways on purpose.
+pub(super) fn sway_over_surge(rec: &Record) -> Option<Finding> {
+    let track_judges = [Quantity::X, Quantity::Y, Quantity::Yaw]
+        .iter()
+        .all(|q| rec.channel(*q).is_some());
+    if track_judges {
+        return None;
+    }
+    let times = rec.time()?;
+    let (u, v) = (rec.channel(Quantity::U)?, rec.channel(Quantity::V)?);
+    let range = approach(rec)?;
+    let range = range.start..range.end.min(u.len()).min(v.len()).min(times.len());
+    if range.len() < 10 {
+        return None;
+    }
+    let surge = median_of(u[range.clone()].iter().map(|x| x.abs()))?;
+    let sway = median_of(v[range.clone()].iter().map(|x| x.abs()))?;
+    let noise = crate::signal::noise_sigma(v).unwrap_or(0.0);
+    if !(sway > 3.0 * surge && sway > 10.0 * noise) {
+        return None;
+    }
+    Some(Finding::new(
+        rec,
+        false,
+        format!(
+            "in {}, while the vehicle holds its course (t = {} to {} s), the sway {} is {} \
+             times the surge {} (median {} against {} m/s)",
+            file(rec),
+            sig(times[range.start]),
+            sig(times[range.end - 1]),
+            named(rec, Quantity::V),
+            sig(sway / surge.max(f64::MIN_POSITIVE)),
+            named(rec, Quantity::U),
+            sig(sway),
+            sig(surge)
+        ),
+        "a vehicle on a straight course moves along its x axis: u and v look swapped; \
+         exchange the columns of the u and v entries (if this vehicle really moves sideways \
+         here, ignore this)"
+            .to_string(),
+    ))
+}
