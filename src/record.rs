@@ -544,6 +544,7 @@ mod tests {
             velocity_frame: VelocityFrame::Body,
             rate_frame: None,
             manoeuvre: None,
+            source: None,
         }
     }
 

@@ -78,6 +78,41 @@ pub struct InputSpec {
     /// an angle not given is inferred from the run (docs/manoeuvres.md, "Nominal angles").
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub manoeuvre: Option<ManoeuvreSpec>,
+    /// Where the data come from, for the words of the report: `"measured"` (a basin,
+    /// sea-trial or captive-test log) or `"cfd"` (a CFD export); by default from the layout
+    /// the file is read as ([`DataSource::of_format`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub source: Option<DataSource>,
+}
+
+/// Where an input's data come from: what the report calls them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum DataSource {
+    /// Measured: a basin or sea-trial log, a captive test.
+    Measured,
+    /// A CFD export.
+    Cfd,
+}
+
+impl DataSource {
+    /// The default for a file read as `format`: `cfd` for the layouts CFD codes write (CFX,
+    /// STAR-CCM+, Fluent, OpenFOAM), `measured` for a plain delimited table (model-test and
+    /// sea-trial logs are most often headerless or plain tables).
+    pub fn of_format(format: Format) -> Self {
+        match format {
+            Format::Delimited => DataSource::Measured,
+            _ => DataSource::Cfd,
+        }
+    }
+
+    /// The word the report uses for such data: "measured" or "CFD".
+    pub fn word(self) -> &'static str {
+        match self {
+            DataSource::Measured => "measured",
+            DataSource::Cfd => "CFD",
+        }
+    }
 }
 
 /// The nominal angles of a run's turning circle or zig-zag (`manoeuvre = { ... }`).

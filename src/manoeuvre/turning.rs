@@ -139,6 +139,24 @@ impl TurningCircle {
         ))
     }
 
+    /// The circle the steady turning diameter was read from: the circle fitted to the track
+    /// of `history` (the history these measures were taken from) over the steady part, as
+    /// (centre x, centre y, radius) in m; None when the turn has no steady part.
+    pub fn steady_circle(&self, history: &History) -> Option<(f64, f64, f64)> {
+        let (x, y) = history.track()?;
+        let t = history.time();
+        let steady_from = self.steady_from.value()?;
+        let from = t.partition_point(|&s| s < steady_from);
+        let to = match self.rudder_changed_at {
+            Some(c) => t.partition_point(|&s| s <= c).checked_sub(1)?,
+            None => t.len() - 1,
+        };
+        (from < to)
+            .then(|| fit_circle(&x[from..=to], &y[from..=to]))
+            .flatten()
+            .map(|c| (c.cx, c.cy, c.radius))
+    }
+
     /// What part of the run the measures are of, in words: "rudder held until t = 1515 s
     /// (then changed: a pull-out is not part of the turn); steady from t = 393.5 s".
     pub fn hold_text(&self) -> String {

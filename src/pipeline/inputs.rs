@@ -2,7 +2,7 @@
 //! once from the configuration, then read (each file checked and hashed) before any stage
 //! runs.
 
-use crate::config::{Config, InputSpec, LoadedConfig};
+use crate::config::{Config, DataSource, InputSpec, LoadedConfig};
 use crate::error::Result;
 use crate::record::{self, Needs};
 use crate::results::LoadedInput;
@@ -146,10 +146,15 @@ pub fn load_inputs(
 pub fn load_input(loaded: &LoadedConfig, input: &PlannedInput) -> Result<LoadedInput> {
     let record = record::load(input.spec, &loaded.base_dir, &input.needs)?;
     let sha256 = file_sha256(&record.source)?;
+    let source = input
+        .spec
+        .source
+        .unwrap_or_else(|| DataSource::of_format(record.format));
     Ok(LoadedInput {
         key: input.key.clone(),
         record,
         sha256,
+        source,
     })
 }
 

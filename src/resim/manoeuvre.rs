@@ -36,6 +36,10 @@ pub struct ManoeuvreComparison {
     /// Why the model's measures are missing or partial (it diverged, never turned ...).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub model_note: Option<String>,
+    /// The identified model's steered history (time, heading, track, the helm's rudder), for
+    /// the report's manoeuvre figures; not written to results.json.
+    #[serde(skip)]
+    pub model_history: Option<History>,
 }
 
 impl ManoeuvreComparison {
@@ -134,6 +138,7 @@ pub fn compare<M: Model>(
                     measured,
                     model: None,
                     model_note: Some(format!("the steered model stopped: {e}")),
+                    model_history: None,
                 })
             }
         };
@@ -141,21 +146,22 @@ pub fn compare<M: Model>(
         Input::Held(s) | Input::Series(s) => s.clone(),
         Input::Constant(v) => vec![*v; xs.len()],
     };
-    let (model_measures, failure) =
-        match model_history(model, h.time(), &xs, yaw, helm).and_then(|mh| {
-            manoeuvre::measure_history(&mh, run.length, run.lambda, nominal_of(steering))
-        }) {
-            Ok(m) => (Some(m), note),
-            Err(e) => (
-                None,
-                Some(format!("the model's manoeuvre cannot be measured: {e}")),
-            ),
-        };
+    let history = model_history(model, h.time(), &xs, yaw, helm);
+    let (model_measures, failure) = match history.as_ref().map_err(Clone::clone).and_then(|mh| {
+        manoeuvre::measure_history(mh, run.length, run.lambda, nominal_of(steering))
+    }) {
+        Ok(m) => (Some(m), note),
+        Err(e) => (
+            None,
+            Some(format!("the model's manoeuvre cannot be measured: {e}")),
+        ),
+    };
     Some(ManoeuvreComparison {
         steering,
         measured,
         model: model_measures,
         model_note: failure,
+        model_history: history.ok(),
     })
 }
 

@@ -61,6 +61,13 @@ pub struct ResimTrace {
     pub states: Vec<Vec<f64>>,
     /// State quantities, in state order.
     pub quantities: Vec<Quantity>,
+    /// The quantities of the model's outputs (its sensors' readings), in output order; empty
+    /// when the model declares no measurement function (its outputs are its states).
+    pub outputs: Vec<Quantity>,
+    /// The outputs per simulated sample (K x ny, in `outputs` order); empty with `outputs`.
+    pub output_values: Vec<Vec<f64>>,
+    /// The quantities of the model's inputs (rudder, planes, propeller ...), in input order.
+    pub inputs: Vec<Quantity>,
 }
 
 /// Re-simulates `rec` with the model `model` of `vehicle` and the coefficients of `set`;
@@ -152,53 +159,14 @@ impl ModelVisitor for Resim<'_> {
             }
         }
         let quantities: Vec<Quantity> = states.iter().map(|s| s.quantity).collect();
-        // what the model's sensors would have read: its outputs (its states unless it
-        // declares a measurement function)
-        let ys: Vec<Vec<f64>> = if model.outputs().is_empty() {
+        let ys = outputs_of(model, &xs, &times, &inputs, &c);
+        let outputs = if ys.is_empty() {
             Vec::new()
         } else {
-            let mut u = vec![0.0; inputs.len()];
-            xs.iter()
-                .zip(&times)
-                .map(|(x, &t)| {
-                    inputs.at(t, &mut u);
-                    model.output_values(x, &u, &c)
-                })
-                .collect()
+            model.output_quantities()
         };
-        let ys = if ys.is_empty() { &xs } else { &ys };
-        let mut rms = BTreeMap::new();
-        for &q in model.compared() {
-            let (Some(i), Some(meas)) = (model.output_index(q), rec.channel(q)) else {
-                continue;
-            };
-            // gross outliers of the CFD data are not the model's error
-            let n = xs.len();
-            let spikes = signal::outliers(&meas[..n]);
-            let used: Vec<usize> = (0..n)
-                .filter(|k| spikes.binary_search_by_key(k, |o| o.index).is_err())
-                .collect();
-            let s: f64 = used.iter().map(|&k| (ys[k][i] - meas[k]).powi(2)).sum();
-            rms.insert(q, (s / used.len().max(1) as f64).sqrt());
-        }
-        let (mut final_err, mut distance) = (None, None);
-        if let (Some(ix), Some(iy), Some(mx), Some(my)) = (
-            model.state_index(Quantity::X),
-            model.state_index(Quantity::Y),
-            rec.channel(Quantity::X),
-            rec.channel(Quantity::Y),
-        ) {
-            let n = xs.len();
-            let d: f64 = (1..n)
-                .map(|k| ((mx[k] - mx[k - 1]).powi(2) + (my[k] - my[k - 1]).powi(2)).sqrt())
-                .sum();
-            let e =
-                ((xs[n - 1][ix] - mx[n - 1]).powi(2) + (xs[n - 1][iy] - my[n - 1]).powi(2)).sqrt();
-            if d > 0.0 {
-                final_err = Some(100.0 * e / d);
-                distance = Some(d);
-            }
-        }
+        let rms = rms_errors(model, rec, if ys.is_empty() { &xs } else { &ys });
+        let (final_err, distance) = position_error(model, rec, &xs).unzip();
         let steps = steps_for(regular, max_step).unwrap_or(1);
         let manoeuvre = manoeuvre::compare(model, &c, rec, &inputs, steps, self.run);
         Ok((
@@ -215,9 +183,66 @@ impl ModelVisitor for Resim<'_> {
                 times,
                 states: xs,
                 quantities,
+                outputs,
+                output_values: ys,
+                inputs: model.input_quantities(),
             },
         ))
     }
+}
+
+/// What the model's sensors would have read along the simulated states `xs`: its outputs,
+/// or nothing when it declares no measurement function (its states are its outputs).
+fn outputs_of<M: Model>(
+    model: &M,
+    xs: &[Vec<f64>],
+    times: &[f64],
+    inputs: &InputSeries,
+    c: &[f64],
+) -> Vec<Vec<f64>> {
+    if model.outputs().is_empty() {
+        return Vec::new();
+    }
+    let mut u = vec![0.0; inputs.len()];
+    xs.iter()
+        .zip(times)
+        .map(|(x, &t)| {
+            inputs.at(t, &mut u);
+            model.output_values(x, &u, c)
+        })
+        .collect()
+}
+
+/// The RMS difference of each compared quantity between the model's outputs `ys` and the
+/// run, leaving out the run's gross outliers (they are not the model's error).
+fn rms_errors<M: Model>(model: &M, rec: &Record, ys: &[Vec<f64>]) -> BTreeMap<Quantity, f64> {
+    let mut rms = BTreeMap::new();
+    for &q in model.compared() {
+        let (Some(i), Some(meas)) = (model.output_index(q), rec.channel(q)) else {
+            continue;
+        };
+        let n = ys.len();
+        let spikes = signal::outliers(&meas[..n]);
+        let used: Vec<usize> = (0..n)
+            .filter(|k| spikes.binary_search_by_key(k, |o| o.index).is_err())
+            .collect();
+        let s: f64 = used.iter().map(|&k| (ys[k][i] - meas[k]).powi(2)).sum();
+        rms.insert(q, (s / used.len().max(1) as f64).sqrt());
+    }
+    rms
+}
+
+/// The distance between the model's and the run's final positions as a percentage of the
+/// distance the run travelled, and that distance (m); None without x and y or travel.
+fn position_error<M: Model>(model: &M, rec: &Record, xs: &[Vec<f64>]) -> Option<(f64, f64)> {
+    let (ix, iy) = (model.state_index(Quantity::X)?, model.state_index(Quantity::Y)?);
+    let (mx, my) = (rec.channel(Quantity::X)?, rec.channel(Quantity::Y)?);
+    let n = xs.len();
+    let d: f64 = (1..n)
+        .map(|k| ((mx[k] - mx[k - 1]).powi(2) + (my[k] - my[k - 1]).powi(2)).sqrt())
+        .sum();
+    let e = ((xs[n - 1][ix] - mx[n - 1]).powi(2) + (xs[n - 1][iy] - my[n - 1]).powi(2)).sqrt();
+    (d > 0.0).then(|| (100.0 * e / d, d))
 }
 
 /// Warnings about one re-simulation: stopped early, or errors large against the motion

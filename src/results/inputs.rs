@@ -16,6 +16,8 @@ pub struct LoadedInput {
     pub record: Record,
     /// SHA-256 of the file, hex.
     pub sha256: String,
+    /// Where the data come from (the input's `source`, or the default of its layout).
+    pub source: crate::config::DataSource,
 }
 
 /// One input file.
@@ -39,6 +41,8 @@ pub struct InputSummary {
     pub quantities: BTreeMap<String, String>,
     /// Constants from the configuration (SI).
     pub constants: BTreeMap<String, f64>,
+    /// Where the data come from: `measured` or `cfd`.
+    pub source: crate::config::DataSource,
 }
 
 impl InputSummary {
@@ -64,6 +68,7 @@ impl InputSummary {
                 .iter()
                 .map(|(q, v)| (q.key().to_string(), *v))
                 .collect(),
+            source: i.source,
         }
     }
 }

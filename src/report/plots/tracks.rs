@@ -403,6 +403,9 @@ mod tests {
                 })
                 .collect(),
             quantities: vec![Quantity::X, Quantity::Y],
+            outputs: Vec::new(),
+            output_values: Vec::new(),
+            inputs: Vec::new(),
         };
         let run = RunView {
             index: 1,
