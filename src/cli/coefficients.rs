@@ -6,11 +6,11 @@ use hydroid::Error;
 use std::io::Write;
 
 /// List every coefficient hydroid knows: name, meaning, SI unit, the stages that can give it
-/// and the relations that derive it. With a model name (spheroid3, spheroid6), only that
-/// model's coefficients, with its states and inputs.
+/// and the relations that derive it. With a model name, only that model's coefficients, with
+/// its states and inputs (the model names are filled in from the registry: `help`).
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// A model (`hekf.model`): spheroid3 or spheroid6.
+    /// A model (`hekf.model`; the registry's names are filled in by `help`).
     model: Option<String>,
     /// Print machine-readable JSON instead of text.
     #[arg(long)]

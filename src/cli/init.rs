@@ -36,8 +36,7 @@ pub struct Args {
     /// the others: ships, Nomoto).
     #[arg(long, value_enum, value_delimiter = ',')]
     stages: Option<Vec<Stage>>,
-    /// The HEKF's model (`hydroid coefficients` lists them: spheroid3, spheroid6, mmg3,
-    /// ship_linear, nomoto_wave ...).
+    /// The HEKF's model (the registry's names are filled in by `help`).
     #[arg(long, default_value = "spheroid3")]
     model: String,
 }

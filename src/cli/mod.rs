@@ -4,6 +4,7 @@ mod analytic;
 mod check;
 mod coefficients;
 mod compare;
+mod help;
 mod init;
 mod inspect;
 mod json;
@@ -13,16 +14,14 @@ mod rerun;
 mod run;
 mod simulate;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use hydroid::Error;
 use std::io::Write;
 
-/// hydroid: CFD exports of marine vehicles to manoeuvring models.
+/// hydroid: CFD exports and model-test logs of marine vehicles to manoeuvring models.
 ///
-/// Reads what CFD codes export (CFX, STAR-CCM+, Fluent, OpenFOAM, plain CSV), fits static
-/// polars and a surge run, identifies the remaining coefficients with a hybrid extended
-/// Kalman filter, and reports every coefficient with its uncertainty against Fossen's
-/// analytic values and the source paper.
+/// (The full description, which names every model of the registry, is written by
+/// `help::with_models`.)
 #[derive(Debug, Parser)]
 #[command(name = "hydroid", version, about, long_about, max_term_width = 100)]
 pub struct Cli {
@@ -54,7 +53,10 @@ enum Command {
 
 /// Parses the command line, runs the command and returns the exit code.
 pub fn main() -> i32 {
-    let cli = match Cli::try_parse() {
+    let parsed = help::with_models(Cli::command())
+        .try_get_matches()
+        .and_then(|m| Cli::from_arg_matches(&m));
+    let cli = match parsed {
         Ok(c) => c,
         Err(e) => {
             let code = if e.use_stderr() { 2 } else { 0 };

@@ -171,9 +171,14 @@ pub fn render(doc: &Document) -> String {
             }
             Block::Figure(n, f) => {
                 body.push_str(&format!(
-                    "<figure id=\"fig-{name}\">\n{svg}\n<figcaption><strong>Figure {n}. {title}.</strong> \
+                    "<figure id=\"fig-{name}\"{shows}>\n{svg}\n<figcaption><strong>Figure {n}. {title}.</strong> \
                      {caption} <a href=\"{svg_path}\">SVG</a> · <a href=\"{png_path}\">PNG</a></figcaption>\n</figure>\n",
                     name = escape(&f.meta.name),
+                    shows = if f.meta.shows.is_empty() {
+                        String::new()
+                    } else {
+                        format!(" data-shows=\"{}\"", escape(&f.meta.shows.join(" ")))
+                    },
                     svg = inline_svg(&f.svg, &f.meta.title),
                     title = escape(&f.meta.title),
                     caption = escape(&f.meta.caption),
@@ -235,6 +240,7 @@ mod tests {
                 title: "T \"q\"".into(),
                 caption: "c".into(),
                 section: Section::Polar,
+                shows: Vec::new(),
             },
             svg: svg.into(),
         };

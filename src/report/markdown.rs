@@ -80,6 +80,7 @@ mod tests {
                 title: "Polars".into(),
                 caption: "C_D against alpha".into(),
                 section: Section::Polar,
+                shows: Vec::new(),
             },
             svg: "<svg/>".into(),
         };

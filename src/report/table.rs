@@ -73,17 +73,42 @@ fn value(row: &ComparisonRow) -> String {
     }
 }
 
-fn cells(row: &ComparisonRow) -> Vec<String> {
+/// The comparison columns a run's table has: Fossen's analytic values only when some
+/// coefficient has one (the added mass of a body with a diameter), the reference set's only
+/// when one is configured.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Columns {
+    /// Fossen's analytic value and the difference from it.
+    pub analytic: bool,
+    /// The first reference set's value and the difference from it.
+    pub reference: bool,
+}
+
+impl Columns {
+    /// The columns of `r`'s table.
+    pub fn of(r: &RunResult) -> Self {
+        Columns {
+            analytic: r.comparison.iter().any(|c| c.analytic.is_some()),
+            reference: r.reference.is_some(),
+        }
+    }
+}
+
+fn cells(row: &ComparisonRow, cols: Columns) -> Vec<String> {
     let mut c = vec![
         row.name.clone(),
         value(row),
         row.unit.clone(),
         row.source.clone(),
-        row.analytic.map_or_else(|| "-".into(), num),
-        pct(row.error_vs_analytic_pct),
-        row.reference.map_or_else(|| "-".into(), num),
-        pct(row.error_vs_reference_pct),
     ];
+    if cols.analytic {
+        c.push(row.analytic.map_or_else(|| "-".into(), num));
+        c.push(pct(row.error_vs_analytic_pct));
+    }
+    if cols.reference {
+        c.push(row.reference.map_or_else(|| "-".into(), num));
+        c.push(pct(row.error_vs_reference_pct));
+    }
     for o in &row.other_references {
         c.push(o.value.map_or_else(|| "-".into(), num));
         c.push(pct(o.error_pct));
@@ -93,23 +118,22 @@ fn cells(row: &ComparisonRow) -> Vec<String> {
 
 /// The terminal table's header: short names, each further reference set by its name.
 fn text_header(r: &RunResult) -> Vec<String> {
-    let mut h: Vec<String> = [
-        "coefficient",
-        "hydroid",
-        "unit",
-        "source",
-        "Fossen",
-        "vs Fossen",
-    ]
-    .map(String::from)
-    .to_vec();
-    // with several sets each column carries its set's name
-    let first = match (&r.reference, r.other_references.is_empty()) {
-        (Some(x), false) => x.name.as_str(),
-        _ => "reference",
-    };
-    h.push(first.to_string());
-    h.push(format!("vs {first}"));
+    let cols = Columns::of(r);
+    let mut h: Vec<String> = ["coefficient", "hydroid", "unit", "source"]
+        .map(String::from)
+        .to_vec();
+    if cols.analytic {
+        h.extend(["Fossen".to_string(), "vs Fossen".to_string()]);
+    }
+    if cols.reference {
+        // with several sets each column carries its set's name
+        let first = match (&r.reference, r.other_references.is_empty()) {
+            (Some(x), false) => x.name.as_str(),
+            _ => "reference",
+        };
+        h.push(first.to_string());
+        h.push(format!("vs {first}"));
+    }
     h.extend(further_reference_columns(r));
     h
 }
@@ -125,7 +149,8 @@ fn further_reference_columns(r: &RunResult) -> impl Iterator<Item = String> + '_
 pub fn write_text(out: &mut impl Write, r: &RunResult) -> io::Result<()> {
     let ordered = ordered(r);
     let header = text_header(r);
-    let rows: Vec<Vec<String>> = ordered.iter().map(|row| cells(row)).collect();
+    let cols = Columns::of(r);
+    let rows: Vec<Vec<String>> = ordered.iter().map(|row| cells(row, cols)).collect();
     let mut width: Vec<usize> = header.iter().map(|h| h.chars().count()).collect();
     for row in &rows {
         for (w, c) in width.iter_mut().zip(row) {
@@ -156,22 +181,17 @@ pub fn write_text(out: &mut impl Write, r: &RunResult) -> io::Result<()> {
 
 /// The header of the comparison table, with the reference's name.
 pub fn comparison_header(r: &RunResult) -> Vec<String> {
-    let ref_name = r
-        .reference
-        .as_ref()
-        .map_or("reference", |x| x.name.as_str());
-    let mut h: Vec<String> = [
-        "coefficient",
-        "hydroid ± σ",
-        "unit",
-        "source",
-        "Fossen analytic",
-        "vs Fossen",
-        ref_name,
-        &format!("vs {ref_name}"),
-    ]
-    .map(String::from)
-    .to_vec();
+    let cols = Columns::of(r);
+    let mut h: Vec<String> = ["coefficient", "hydroid ± σ", "unit", "source"]
+        .map(String::from)
+        .to_vec();
+    if cols.analytic {
+        h.extend(["Fossen analytic".to_string(), "vs Fossen".to_string()]);
+    }
+    if let (true, Some(x)) = (cols.reference, &r.reference) {
+        h.push(x.name.clone());
+        h.push(format!("vs {}", x.name));
+    }
     h.extend(further_reference_columns(r));
     h.push("flags".into());
     h
@@ -179,10 +199,11 @@ pub fn comparison_header(r: &RunResult) -> Vec<String> {
 
 /// The rows of the comparison table (as in [`comparison_header`]), in [`ordered`] order.
 pub fn comparison_rows(r: &RunResult) -> Vec<Vec<String>> {
+    let cols = Columns::of(r);
     ordered(r)
         .into_iter()
         .map(|row| {
-            let mut c = cells(row);
+            let mut c = cells(row, cols);
             c.push(row.flags.join("; "));
             c
         })

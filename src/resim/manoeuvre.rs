@@ -147,15 +147,16 @@ pub fn compare<M: Model>(
         Input::Constant(v) => vec![*v; xs.len()],
     };
     let history = model_history(model, h.time(), &xs, yaw, helm);
-    let (model_measures, failure) = match history.as_ref().map_err(Clone::clone).and_then(|mh| {
-        manoeuvre::measure_history(mh, run.length, run.lambda, nominal_of(steering))
-    }) {
-        Ok(m) => (Some(m), note),
-        Err(e) => (
-            None,
-            Some(format!("the model's manoeuvre cannot be measured: {e}")),
-        ),
-    };
+    let (model_measures, failure) =
+        match history.as_ref().map_err(Clone::clone).and_then(|mh| {
+            manoeuvre::measure_history(mh, run.length, run.lambda, nominal_of(steering))
+        }) {
+            Ok(m) => (Some(m), note),
+            Err(e) => (
+                None,
+                Some(format!("the model's manoeuvre cannot be measured: {e}")),
+            ),
+        };
     Some(ManoeuvreComparison {
         steering,
         measured,

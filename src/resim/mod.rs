@@ -235,7 +235,10 @@ fn rms_errors<M: Model>(model: &M, rec: &Record, ys: &[Vec<f64>]) -> BTreeMap<Qu
 /// The distance between the model's and the run's final positions as a percentage of the
 /// distance the run travelled, and that distance (m); None without x and y or travel.
 fn position_error<M: Model>(model: &M, rec: &Record, xs: &[Vec<f64>]) -> Option<(f64, f64)> {
-    let (ix, iy) = (model.state_index(Quantity::X)?, model.state_index(Quantity::Y)?);
+    let (ix, iy) = (
+        model.state_index(Quantity::X)?,
+        model.state_index(Quantity::Y)?,
+    );
     let (mx, my) = (rec.channel(Quantity::X)?, rec.channel(Quantity::Y)?);
     let n = xs.len();
     let d: f64 = (1..n)

@@ -72,3 +72,21 @@ impl InputSummary {
         }
     }
 }
+
+/// What the report calls the data of the inputs whose configuration key starts with
+/// `prefix` (`hekf.`, `polar.`; empty for all): "measured", "CFD", or "measured and CFD" when
+/// they differ; None without such inputs.
+pub fn data_word(inputs: &[InputSummary], prefix: &str) -> Option<&'static str> {
+    let mut all: Vec<crate::config::DataSource> = inputs
+        .iter()
+        .filter(|i| i.key.starts_with(prefix))
+        .map(|i| i.source)
+        .collect();
+    all.sort();
+    all.dedup();
+    match all.as_slice() {
+        [] => None,
+        [one] => Some(one.word()),
+        _ => Some("measured and CFD"),
+    }
+}

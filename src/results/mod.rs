@@ -6,7 +6,7 @@ pub mod comparison;
 pub mod inputs;
 
 pub use comparison::{compare, ComparisonRow, CORRELATED, UNCERTAIN};
-pub use inputs::{InputSummary, LoadedInput};
+pub use inputs::{data_word, InputSummary, LoadedInput};
 
 use crate::coefficients::{Coefficient, CoefficientSet, Correlation};
 use crate::config::{Config, LoadedConfig, ReferenceConfig};

@@ -5,7 +5,7 @@ use super::Figures;
 use crate::numfmt::num;
 use crate::report::doc::{code, text, Col, Document, Table};
 use crate::report::plots::budget::{lines, stages_of};
-use crate::report::table::{comparison_header, comparison_rows, ordered};
+use crate::report::table::{comparison_header, comparison_rows, ordered, Columns};
 use crate::results::RunResult;
 
 pub fn write<'a>(d: &mut Document<'a>, r: &RunResult, figs: &Figures<'a>) {
@@ -17,12 +17,17 @@ pub fn write<'a>(d: &mut Document<'a>, r: &RunResult, figs: &Figures<'a>) {
             .collect::<Vec<_>>()
             .join("; ")
     });
+    let analytic = if Columns::of(r).analytic {
+        ", Fossen's analytic value (Lamb's k-factors)"
+    } else {
+        ""
+    };
     d.para([text(format!(
         "Every coefficient of the final set: hydroid's value ± one standard deviation (σ \
          includes the uncertainty carried from earlier stages), where it came from (polar, \
-         surge, hekf, symmetry = paper eq. 4, config, analytic), Fossen's analytic value{} and \
-         the relative differences (hydroid − other) / |other|. Highlighted rows carry a flag: \
-         σ above 10 % of the value, or a correlation above 0.9 with another estimate.",
+         surge, captive, hekf, symmetry = paper eq. 4, config, analytic){analytic}{} and the \
+         relative differences (hydroid − other) / |other|. Highlighted rows carry a flag: σ \
+         above 10 % of the value, or a correlation above 0.9 with another estimate.",
         ref_name
             .as_ref()
             .map(|n| format!(", the reference values ({n})"))

@@ -40,11 +40,6 @@ pub fn serde_name<T: serde::Serialize>(v: &T) -> String {
     }
 }
 
-/// Radians (or rad/s) in degrees (deg/s).
-pub fn deg(v: f64) -> f64 {
-    v.to_degrees()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

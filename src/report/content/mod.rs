@@ -73,7 +73,8 @@ pub fn document<'a>(r: &'a RunResult, figures: Option<&'a [Figure]>) -> Document
     overview::write(&mut d, r, figures.is_some());
     coefficients::write(&mut d, r, &figs);
     if let Some(p) = &r.stages.polar {
-        polar::write(&mut d, p, &figs);
+        let word = crate::results::data_word(&r.inputs, "polar.").unwrap_or("CFD");
+        polar::write(&mut d, p, word, &figs);
     }
     if let Some(s) = &r.stages.surge {
         surge::write(&mut d, s, &figs);

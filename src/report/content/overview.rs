@@ -2,23 +2,27 @@
 //! ran and on which files.
 
 use super::fmt::{opt, serde_name};
+use crate::config::DataSource;
 use crate::numfmt::num;
 use crate::report::doc::{code, text, Col, Document, Table};
 use crate::results::RunResult;
 
 pub fn write(d: &mut Document, r: &RunResult, plots: bool) {
+    let analytic = if r.analytic.is_empty() {
+        ""
+    } else {
+        " and a comparison with Fossen's analytic added mass"
+    };
     d.para([
         text(format!(
-            "Hydrodynamic coefficients of the {} identified from {} CFD export{} by hydroid {}, \
-             with their uncertainties and a comparison with Fossen's analytic values{}. The \
-             numbers in this report come from ",
+            "Hydrodynamic coefficients of the {} identified from {} by hydroid {}, with their \
+             uncertainties{analytic}{}. The numbers in this report come from ",
             r.vehicle.name,
-            r.inputs.len(),
-            if r.inputs.len() == 1 { "" } else { "s" },
+            inputs_phrase(r),
             r.hydroid_version,
             r.reference
                 .as_ref()
-                .map(|x| format!(" and {}", x.name))
+                .map(|x| format!("; compared with {}", x.name))
                 .unwrap_or_default(),
         )),
         code("results.json"),
@@ -37,6 +41,25 @@ pub fn write(d: &mut Document, r: &RunResult, plots: bool) {
     vehicle(d, r);
     stages(d, r);
     inputs(d, r);
+}
+
+/// The inputs in words by their source: "3 CFD exports and 2 measured runs".
+fn inputs_phrase(r: &RunResult) -> String {
+    let count = |s: DataSource| r.inputs.iter().filter(|i| i.source == s).count();
+    let plural = |n: usize| if n == 1 { "" } else { "s" };
+    let parts: Vec<String> = [
+        (count(DataSource::Cfd), "CFD export"),
+        (count(DataSource::Measured), "measured run"),
+    ]
+    .into_iter()
+    .filter(|(n, _)| *n > 0)
+    .map(|(n, what)| format!("{n} {what}{}", plural(n)))
+    .collect();
+    if parts.is_empty() {
+        "no input file".to_string()
+    } else {
+        parts.join(" and ")
+    }
 }
 
 fn vehicle(d: &mut Document, r: &RunResult) {
@@ -185,18 +208,20 @@ fn inputs(d: &mut Document, r: &RunResult) {
         "name",
         "file",
         "format",
+        "source",
         "rows",
         "time span (s)",
         "SHA-256 (first 16 hex digits)",
     ])
     .col(1, Col::Text)
-    .col(4, Col::Num);
+    .col(5, Col::Num);
     for i in &r.inputs {
         t.row([
             i.key.clone(),
             i.name.clone(),
             i.file.clone(),
             i.format.clone(),
+            i.source.word().to_string(),
             i.rows.to_string(),
             i.time_span
                 .map_or_else(|| "-".into(), |s| format!("{} to {}", num(s[0]), num(s[1]))),

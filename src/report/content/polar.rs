@@ -20,13 +20,13 @@ fn constants(f: &ChannelFit) -> String {
         .join("; ")
 }
 
-pub fn write<'a>(d: &mut Document<'a>, p: &PolarResult, figs: &Figures<'a>) {
+pub fn write<'a>(d: &mut Document<'a>, p: &PolarResult, word: &str, figs: &Figures<'a>) {
     d.heading(2, "Static polars");
     let rf = &p.reference;
     d.text(format!(
-        "Constrained least squares on the steady CFD points (data as {}, {} axes, {} weights, \
-         fitting range {}), each channel separately; standard errors from the residual \
-         variance, zero for a constant held by an active constraint.",
+        "Constrained least squares on the steady {word} points (data as {}, {} axes, {} \
+         weights, fitting range {}), each channel separately; standard errors from the \
+         residual variance, zero for a constant held by an active constraint.",
         serde_name(&rf.data),
         serde_name(&rf.axes),
         serde_name(&rf.weights),

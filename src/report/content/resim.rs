@@ -1,62 +1,32 @@
 //! The identified model re-simulated open loop against every run.
 
-use super::fmt::{deg, opt};
+use super::fmt::opt;
 use super::Figures;
 use crate::quantity::Quantity;
 use crate::report::doc::{strong, text, Col, Document, Table};
-use crate::results::RunResult;
+use crate::report::plots::panels::{shown, unit_of};
+use crate::results::{data_word, RunResult};
 
 pub fn write<'a>(d: &mut Document<'a>, r: &RunResult, figs: &Figures<'a>) {
     if r.resimulation.is_empty() {
         return;
     }
+    let word = data_word(&r.inputs, "hekf.").unwrap_or("run's");
     d.heading(2, "Re-simulation");
-    d.text(
+    d.text(format!(
         "The identified model (the final coefficient set) integrated open loop from each run's \
-         first sample with the run's own inputs, compared with the CFD: RMS differences over \
-         the run and the final position error as a share of the distance travelled. Fit runs \
-         were used for identification; validation runs were not, so they show how the model \
-         predicts a manoeuvre it has not seen.",
-    );
-    let mut t = Table::new([
-        "run",
-        "use",
-        "RMS u (m/s)",
-        "RMS v (m/s)",
-        "RMS r (deg/s)",
-        "RMS heading (deg)",
-        "distance (m)",
-        "final position error (% of distance)",
-        "note",
-    ])
-    .numeric_from(2)
-    .col(0, Col::Text)
-    .col(8, Col::Text);
-    for m in &r.resimulation {
-        let rms = |q: Quantity, f: fn(f64) -> f64| opt(m.rms.get(&q).map(|v| f(*v)));
-        let row = [
-            m.run.clone(),
-            if m.used_for_fit { "fit" } else { "validation" }.to_string(),
-            rms(Quantity::U, |v| v),
-            rms(Quantity::V, |v| v),
-            rms(Quantity::R, deg),
-            rms(Quantity::Yaw, deg),
-            opt(m.distance),
-            m.final_position_error_pct
-                .map_or("-".into(), |p| format!("{p:.3} %")),
-            m.stopped
-                .as_ref()
-                .map(|s| format!("stopped early: {s}"))
-                .unwrap_or_default(),
-        ];
-        if m.stopped.is_some() {
-            t.marked_row(row);
-        } else {
-            t.row(row);
+         first sample with the run's own inputs, compared with the {word} data: RMS \
+         differences over the run and the final position error as a share of the distance \
+         travelled. Fit runs were used for identification; validation runs were not, so they \
+         show how the model predicts a manoeuvre it has not seen."
+    ));
+    d.table(metrics_table(r));
+    for stem in run_stems(r) {
+        for family in ["track", "states", "vertical", "roll", "other"] {
+            figs.put(d, &format!("{family}_{stem}"));
         }
     }
-    d.table(t);
-    manoeuvres(d, r);
+    manoeuvres(d, r, figs);
     if let Some(a) = &r.autopilot {
         d.heading(3, "Autopilot in waves");
         d.text(format!(
@@ -107,27 +77,105 @@ pub fn write<'a>(d: &mut Document<'a>, r: &RunResult, figs: &Figures<'a>) {
             s.text()
         ));
     }
+}
+
+/// The figure name suffix of each re-simulated run, in order: `fit_1`, `validation_1`.
+fn run_stems(r: &RunResult) -> Vec<String> {
     let (mut n_fit, mut n_val) = (0, 0);
+    r.resimulation
+        .iter()
+        .map(|m| {
+            if m.used_for_fit {
+                n_fit += 1;
+                format!("fit_{n_fit}")
+            } else {
+                n_val += 1;
+                format!("validation_{n_val}")
+            }
+        })
+        .collect()
+}
+
+/// The quantities the re-simulation compared, in the order of the figures.
+const COMPARED: [Quantity; 10] = [
+    Quantity::Yaw,
+    Quantity::R,
+    Quantity::V,
+    Quantity::U,
+    Quantity::Z,
+    Quantity::Pitch,
+    Quantity::W,
+    Quantity::Q,
+    Quantity::Roll,
+    Quantity::P,
+];
+
+/// The re-simulation's RMS differences of every compared quantity, the distance and the
+/// final position error, one row per run.
+fn metrics_table(r: &RunResult) -> Table {
+    let mut quantities: Vec<Quantity> = COMPARED
+        .into_iter()
+        .filter(|q| r.resimulation.iter().any(|m| m.rms.contains_key(q)))
+        .collect();
     for m in &r.resimulation {
-        let (kind, n) = if m.used_for_fit {
-            n_fit += 1;
-            ("fit", n_fit)
-        } else {
-            n_val += 1;
-            ("validation", n_val)
-        };
-        figs.put(d, &format!("track_{kind}_{n}"));
-        figs.put(d, &format!("states_{kind}_{n}"));
+        for q in m.rms.keys() {
+            if !quantities.contains(q) {
+                quantities.push(*q);
+            }
+        }
     }
+    let mut header = vec!["run".to_string(), "use".to_string()];
+    header.extend(quantities.iter().map(|q| {
+        let s = shown(*q);
+        let name = s.label.rsplit_once(" (").map_or(s.label.as_str(), |x| x.0);
+        format!("RMS {name} ({})", unit_of(&s.label))
+    }));
+    header.extend([
+        "distance (m)".to_string(),
+        "final position error (% of distance)".to_string(),
+        "note".to_string(),
+    ]);
+    let last = header.len() - 1;
+    let mut t = Table::new(header)
+        .numeric_from(2)
+        .col(0, Col::Text)
+        .col(last, Col::Text);
+    for m in &r.resimulation {
+        let mut row = vec![
+            m.run.clone(),
+            if m.used_for_fit { "fit" } else { "validation" }.to_string(),
+        ];
+        row.extend(
+            quantities
+                .iter()
+                .map(|q| opt(m.rms.get(q).map(|v| v * shown(*q).factor))),
+        );
+        row.extend([
+            opt(m.distance),
+            m.final_position_error_pct
+                .map_or("-".into(), |p| format!("{p:.3} %")),
+            m.stopped
+                .as_ref()
+                .map(|s| format!("stopped early: {s}"))
+                .unwrap_or_default(),
+        ]);
+        if m.stopped.is_some() {
+            t.marked_row(row);
+        } else {
+            t.row(row);
+        }
+    }
+    t
 }
 
 /// Each ship manoeuvre beside the identified model's, steered the same way, with the IMO
 /// criteria.
-fn manoeuvres(d: &mut Document<'_>, r: &RunResult) {
+fn manoeuvres<'a>(d: &mut Document<'a>, r: &RunResult, figs: &Figures<'a>) {
     let runs: Vec<_> = r
         .resimulation
         .iter()
-        .filter_map(|m| m.manoeuvre.as_ref().map(|c| (m, c)))
+        .zip(run_stems(r))
+        .filter_map(|(m, stem)| m.manoeuvre.as_ref().map(|c| (m, c, stem)))
         .collect();
     if runs.is_empty() {
         return;
@@ -141,7 +189,7 @@ fn manoeuvres(d: &mut Document<'_>, r: &RunResult) {
          (docs/manoeuvres.md). The limits are the IMO criteria (MSC.137(76) 5.3); a value \
          marked (fail) exceeds its limit.",
     );
-    for (m, cmp) in runs {
+    for (m, cmp, stem) in runs {
         d.para([
             strong(format!("{}: {}", m.run, cmp.measured.kind())),
             text(format!(
@@ -168,5 +216,7 @@ fn manoeuvres(d: &mut Document<'_>, r: &RunResult) {
         if let Some(note) = &cmp.model_note {
             d.text(format!("Identified model: {note}."));
         }
+        figs.put(d, &format!("turning_{stem}"));
+        figs.put(d, &format!("zigzag_{stem}"));
     }
 }

@@ -34,6 +34,7 @@ impl Plot for Histories<'_> {
                       reference, rudder angle and rudder rate."
                 .into(),
             section: Section::Resim,
+            shows: Vec::new(),
         }
     }
 
@@ -104,6 +105,7 @@ impl Plot for Spectrum<'_> {
                       takes out the wave-frequency peak."
                 .into(),
             section: Section::Resim,
+            shows: Vec::new(),
         }
     }
 

@@ -125,6 +125,9 @@ pub struct Axes<'s> {
     pub title: Option<&'s str>,
     /// The vertical coordinate is log10 of the value; tick labels show the value.
     pub log_y: bool,
+    /// The vertical axis points down: the caller plots minus the value and the tick labels
+    /// show the value (depth down).
+    pub flip_y: bool,
 }
 
 impl<'s> Axes<'s> {
@@ -137,12 +140,19 @@ impl<'s> Axes<'s> {
             y_desc,
             title: None,
             log_y: false,
+            flip_y: false,
         }
     }
 
     /// With a panel title.
     pub fn title(mut self, title: &'s str) -> Self {
         self.title = Some(title);
+        self
+    }
+
+    /// With the vertical axis pointing down: plot minus the values; ticks show the values.
+    pub fn flip_y(mut self) -> Self {
+        self.flip_y = true;
         self
     }
 
@@ -202,7 +212,13 @@ pub fn panel<'a, DB: DrawingBackend>(
         .axis_desc_style(style::text(size::AXIS))
         .x_desc(axes.x_desc)
         .y_desc(axes.y_desc)
-        .y_label_formatter(if axes.log_y { &log_tick } else { &tick })
+        .y_label_formatter(if axes.log_y {
+            &log_tick
+        } else if axes.flip_y {
+            &flipped_tick
+        } else {
+            &tick
+        })
         .x_label_formatter(&tick)
         .draw()?;
     Ok(chart)
@@ -223,9 +239,32 @@ pub fn tick(v: &f64) -> String {
     s.replace('-', "\u{2212}")
 }
 
+/// A tick label of an axis pointing down: the value -v.
+pub fn flipped_tick(v: &f64) -> String {
+    tick(&-*v)
+}
+
 /// A tick label of a log10 axis: the value 10^v.
 pub fn log_tick(v: &f64) -> String {
     tick(&10f64.powf(*v))
+}
+
+/// The plotting area a panel over `x`, `y` in `area` would have (to fit equal scales).
+pub fn probe_area<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    x: Range,
+    y: Range,
+) -> Result<(u32, u32), PlotError> {
+    Ok(ChartBuilder::on(area)
+        .margin_left(8)
+        .margin_right(22)
+        .margin_top(10)
+        .margin_bottom(6)
+        .x_label_area_size(X_LABEL_AREA)
+        .y_label_area_size(Y_LABEL_AREA)
+        .build_cartesian_2d(x.span_range(), y.span_range())?
+        .plotting_area()
+        .dim_in_pixel())
 }
 
 /// Ranges widened so that one unit is as long on both axes in a plotting area of `px`
@@ -548,6 +587,26 @@ pub fn error_bar<DB: DrawingBackend>(
 /// A note in the top left corner of a chart's plotting area.
 pub fn note<DB: DrawingBackend>(chart: &Chart<'_, DB>, lines: &[String]) -> Result<(), PlotError> {
     style::corner_note(&chart.plotting_area().strip_coord_spec(), lines)
+}
+
+/// Measured data, drawn light under the lines that are compared with them: a thin light
+/// line where the samples are denser than the panel's pixel columns (their noise then shows
+/// as a light band, thinned to the pixels), else light points.
+pub fn data<DB: DrawingBackend>(
+    chart: &mut Chart<'_, DB>,
+    points: &[(f64, f64)],
+    colour: RGBColor,
+) -> Result<(), PlotError> {
+    let width = chart.plotting_area().dim_in_pixel().0 as usize;
+    if points.len() > width {
+        line(chart, points.iter().copied(), colour.stroke_width(1))
+    } else {
+        let (x, y) = (chart.x_range(), chart.y_range());
+        let inside = points
+            .iter()
+            .filter(|p| x.contains(&p.0) && (y.start..=y.end).contains(&p.1));
+        dots(chart, inside.copied(), 2, colour.filled())
+    }
 }
 
 /// Filled dots (or rings) at the finite points; more than two per pixel column of the

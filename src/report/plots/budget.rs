@@ -116,6 +116,7 @@ impl Plot for Budget {
                       to 100 %; the total σ is written on the right."
                 .into(),
             section: Section::Budget,
+            shows: Vec::new(),
         }
     }
 

@@ -267,6 +267,7 @@ impl Plot for Convergence<'_> {
                     .unwrap_or_default()
             ),
             section: Section::Hekf,
+            shows: Vec::new(),
         }
     }
 

@@ -56,6 +56,7 @@ impl Plot for CorrelationMap<'_> {
                  other)."
             ),
             section: Section::Hekf,
+            shows: Vec::new(),
         }
     }
 

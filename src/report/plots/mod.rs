@@ -12,8 +12,12 @@ pub mod axes;
 pub mod budget;
 pub mod convergence;
 pub mod correlation;
+pub mod manoeuvre;
 pub mod nis;
+pub mod panels;
 pub mod polar;
+pub mod runs;
+pub mod states;
 pub mod style;
 pub mod surge;
 pub mod sweep;
@@ -53,6 +57,11 @@ pub struct FigureMeta {
     pub caption: String,
     /// Where it goes in the report.
     pub section: Section,
+    /// What it shows, as keys: the quantities drawn (`yaw`, `stern_planes`, as
+    /// [`Quantity::key`](crate::quantity::Quantity::key)) and the manoeuvre measures marked
+    /// (`advance`, `first_overshoot`, as in results.json); report.html writes them in the
+    /// figure's `data-shows` attribute. Empty for the figures of a stage.
+    pub shows: Vec<String>,
 }
 
 /// A rendered figure.
@@ -147,10 +156,12 @@ pub fn render_all(out: &RunOutput, png_dir: Option<&Path>) -> Result<Vec<Figure>
         jobs.push(job(b));
     }
     if let Some(p) = &r.stages.polar {
-        jobs.push(job(polar::PolarFits::new(p)?));
+        let word = crate::results::data_word(&r.inputs, "polar.").unwrap_or("CFD");
+        jobs.push(job(polar::PolarFits::new(p, word)?));
     }
     if let Some(s) = &r.stages.surge {
-        if let Some(f) = surge::SurgeFit::new(s) {
+        let word = crate::results::data_word(&r.inputs, "surge.").unwrap_or("CFD");
+        if let Some(f) = surge::SurgeFit::new(s, word) {
             jobs.push(job(f));
         }
         if let Some(b) = surge::SurgeBins::new(s, r) {
@@ -170,12 +181,15 @@ pub fn render_all(out: &RunOutput, png_dir: Option<&Path>) -> Result<Vec<Figure>
             jobs.push(job(c));
         }
     }
-    for run in tracks::runs(out) {
+    for run in runs::runs(out) {
         if let Some(t) = tracks::Track::new(run) {
             jobs.push(job(t));
         }
-        if let Some(s) = tracks::States::new(run) {
+        for s in states::States::of(run) {
             jobs.push(job(s));
+        }
+        if let Some(m) = manoeuvre::figure(run, r.vehicle.length) {
+            jobs.push(job(m));
         }
     }
     if let Some(a) = &r.autopilot {

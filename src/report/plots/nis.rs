@@ -108,6 +108,7 @@ impl Plot for NisPlot<'_> {
                 self.verdict()
             ),
             section: Section::Hekf,
+            shows: Vec::new(),
         }
     }
 

@@ -119,11 +119,13 @@ struct Group<'a> {
 pub struct PolarFits<'a> {
     r: &'a PolarResult,
     groups: Vec<Group<'a>>,
+    word: &'static str,
 }
 
 impl<'a> PolarFits<'a> {
     /// The figure of a polar result; an error when a fit has a constant it cannot draw.
-    pub fn new(r: &'a PolarResult) -> crate::Result<Self> {
+    /// `word` says what the points are ("CFD", "measured").
+    pub fn new(r: &'a PolarResult, word: &'static str) -> crate::Result<Self> {
         for c in Channel::ALL {
             if let Some(n) = c.fit(&r.pooled).names.iter().find(|n| power(n).is_none()) {
                 return Err(crate::Error::numerical(
@@ -137,7 +139,7 @@ impl<'a> PolarFits<'a> {
         }
         let groups = if r.per_speed.is_empty() {
             vec![Group {
-                label: "CFD points".into(),
+                label: format!("{word} points"),
                 speed: None,
                 colour: colour::SERIES[0],
                 fit: None,
@@ -154,7 +156,7 @@ impl<'a> PolarFits<'a> {
                 })
                 .collect()
         };
-        Ok(PolarFits { r, groups })
+        Ok(PolarFits { r, groups, word })
     }
 
     /// The group a point belongs to: the nearest speed.
@@ -313,10 +315,11 @@ impl Plot for PolarFits<'_> {
             name: "polar".into(),
             title: "Static polars: C_D, C_L, C_M against drift angle".into(),
             caption: format!(
-                "Body-axis force and moment coefficients of the steady CFD runs against the \
+                "Body-axis force and moment coefficients of the steady {} runs against the \
                  drift angle α = atan(v/u), with the constrained least-squares fit over all \
                  speeds (solid) that gives the coefficients{}; residuals of that fit below. \
                  Reference quantities: {}",
+                self.word,
                 if self.groups.len() > 1 {
                     ", and each speed's own fit (dashed)"
                 } else {
@@ -325,6 +328,7 @@ impl Plot for PolarFits<'_> {
                 self.r.reference.statement
             ),
             section: Section::Polar,
+            shows: Vec::new(),
         }
     }
 

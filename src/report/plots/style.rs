@@ -30,8 +30,10 @@ pub fn ensure_font() -> Result<(), PlotError> {
 /// Okabe-Ito colours (distinguishable with the common colour-vision deficiencies).
 pub mod colour {
     use plotters::style::RGBColor;
-    /// Measured (CFD) data.
+    /// Data points of a stage's fit (polar, surge).
     pub const DATA: RGBColor = RGBColor(40, 40, 40);
+    /// Measured or CFD histories, drawn light under the model and the smoothed estimate.
+    pub const MEASURED: RGBColor = RGBColor(165, 165, 165);
     /// Fitted or estimated quantities.
     pub const BLUE: RGBColor = RGBColor(0, 114, 178);
     /// The model re-simulated open loop.
@@ -44,6 +46,8 @@ pub mod colour {
     pub const PURPLE: RGBColor = RGBColor(204, 121, 167);
     /// A further series.
     pub const SKY: RGBColor = RGBColor(86, 180, 233);
+    /// Limits (the IMO criteria).
+    pub const RED_LIMIT: RGBColor = RGBColor(178, 24, 43);
     /// Grid lines.
     pub const GRID: RGBColor = RGBColor(225, 225, 225);
     /// Annotations and bounds.

@@ -13,15 +13,17 @@ use plotters::prelude::*;
 /// Measured and fitted u(t) of every surge run, residuals below.
 pub struct SurgeFit<'a> {
     r: &'a SurgeResult,
+    word: &'static str,
 }
 
 impl<'a> SurgeFit<'a> {
-    /// The figure, when the stage kept residuals.
-    pub fn new(r: &'a SurgeResult) -> Option<Self> {
+    /// The figure, when the stage kept residuals; `word` says what the data are ("CFD",
+    /// "measured").
+    pub fn new(r: &'a SurgeResult, word: &'static str) -> Option<Self> {
         r.residuals
             .iter()
             .any(|x| !x.time.is_empty())
-            .then_some(SurgeFit { r })
+            .then_some(SurgeFit { r, word })
     }
 }
 
@@ -31,16 +33,18 @@ impl Plot for SurgeFit<'_> {
             name: "surge_fit".into(),
             title: "Surge run: measured and fitted u(t)".into(),
             caption: format!(
-                "Surge speed of the acceleration run{} (CFD, points) and the fitted model \
+                "Surge speed of the acceleration run{} ({}, points) and the fitted model \
                  (line): {}. Residuals u − û below, in mm/s; a pattern in them rather than \
                  noise means the model misses something (lag-1 autocorrelation {}).",
                 if self.r.residuals.len() > 1 { "s" } else { "" },
+                self.word,
                 self.r.method,
                 self.r
                     .residual_lag1
                     .map_or_else(|| "not computed".into(), |v| format!("{v:.2}"))
             ),
             section: Section::Surge,
+            shows: Vec::new(),
         }
     }
 
@@ -57,7 +61,10 @@ impl Plot for SurgeFit<'_> {
                 colour::BLUE
             }
         };
-        let mut keys = vec![Key::new(Mark::Dot(colour::DATA), "CFD u(t)")];
+        let mut keys = vec![Key::new(
+            Mark::Dot(colour::DATA),
+            format!("{} u(t)", self.word),
+        )];
         for (i, run) in self.r.residuals.iter().enumerate() {
             let what = "fitted (m − X_udot) du/dt = X_uu u|u| + X_prop";
             keys.push(Key::new(
@@ -186,6 +193,7 @@ impl Plot for SurgeBins<'_> {
                 spread.unwrap_or_default()
             ),
             section: Section::Surge,
+            shows: Vec::new(),
         }
     }
 

@@ -73,6 +73,7 @@ impl Plot for SweepPlot<'_> {
                           lengths (x forward on the original course, y to starboard)."
                     .into(),
                 section: Section::Resim,
+                shows: Vec::new(),
             },
             SweepPlot::Diameters { varies, .. } => FigureMeta {
                 name: format!("diameter_vs_{}", word(*varies)),
@@ -81,6 +82,7 @@ impl Plot for SweepPlot<'_> {
                           turning diameter, in ship lengths, for each side."
                     .into(),
                 section: Section::Resim,
+                shows: Vec::new(),
             },
         }
     }
