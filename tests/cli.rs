@@ -32,6 +32,30 @@ fn help_and_usage_errors() {
         let h = hydroid(&[cmd, "--help"]);
         assert_eq!(h.status.code(), Some(0), "{cmd} --help");
     }
+    // the texts that name the models name every registered one
+    for args in [
+        &["--help"][..],
+        &["coefficients", "--help"],
+        &["init", "--help"],
+    ] {
+        let o = hydroid(args);
+        assert_eq!(o.status.code(), Some(0), "{args:?}");
+        let help = text(&o.stdout);
+        for model in hydroid::models::ModelName::NAMES {
+            assert!(
+                help.contains(model),
+                "{args:?} does not name {model}:\n{help}"
+            );
+        }
+    }
+    let help = text(&hydroid(&["--help"]).stdout);
+    for kind in [
+        "Surface ships",
+        "Course keeping in waves",
+        "six degrees of freedom",
+    ] {
+        assert!(help.contains(kind), "--help says nothing of {kind}");
+    }
     let o = hydroid(&["frobnicate"]);
     assert_eq!(o.status.code(), Some(2));
     assert!(o.stdout.is_empty());

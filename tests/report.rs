@@ -173,7 +173,11 @@ fn figures_say_what_they_show() {
         "states_fit_1",
         &["heading ψ (deg)", "yaw rate r (deg/s)", "smoothed estimate"],
     );
-    has("states_validation_1", &["surge u (m/s)", "sway v (m/s)"]);
+    // the thrust the validation run steps is drawn under the surge speed it drives
+    has(
+        "states_validation_1",
+        &["surge u (m/s)", "sway v (m/s)", "thrust T (N)", "CFD"],
+    );
     has(
         "uncertainty_budget",
         &["from polar", "from hekf", "Nrd (kg m^2)"],
@@ -234,7 +238,7 @@ fn report_html_is_self_contained_and_complete() {
     assert_eq!(html.matches("<svg").count(), EXPECTED.len());
     for name in EXPECTED {
         assert!(
-            html.contains(&format!("<figure id=\"fig-{name}\">")),
+            html.contains(&format!("<figure id=\"fig-{name}\"")),
             "{name}"
         );
     }

@@ -57,9 +57,11 @@ impl ManoeuvreComparison {
         .with_notes(model_notes.map(|r| format!("IMO criteria (identified model): {r}")))
     }
 
-    /// How the model was steered, in words: "35 deg rudder at 15.8 deg/s from t = 5 s".
+    /// How the model was steered, in words: "rudder 35 deg at 15.8 deg/s from t = 5 s, held",
+    /// "stern planes 10 deg ... reversed at 10 deg of pitch change".
     pub fn steering_text(&self) -> String {
         let deg = |a: f64| crate::numfmt::num(a.to_degrees());
+        let surface = self.steering.surface();
         match self.steering {
             Steering::Turn {
                 rudder,
@@ -67,7 +69,8 @@ impl ManoeuvreComparison {
                 execute,
                 ..
             } => format!(
-                "rudder {} deg at {} deg/s from t = {} s, held",
+                "{} {} deg at {} deg/s from t = {} s, held",
+                surface.words(),
                 deg(rudder),
                 deg(rate),
                 crate::numfmt::num(execute)
@@ -79,13 +82,33 @@ impl ManoeuvreComparison {
                 execute,
                 ..
             } => format!(
-                "rudder {} deg at {} deg/s from t = {} s, reversed at {} deg of heading change",
+                "{} {} deg at {} deg/s from t = {} s, reversed at {} deg of {} change",
+                surface.words(),
                 deg(rudder),
                 deg(rate),
                 crate::numfmt::num(execute),
-                deg(heading)
+                deg(heading),
+                surface.watched_words()
             ),
         }
+    }
+
+    /// The manoeuvre in words: "turning circle", "zig-zag", "zig-zag on the stern planes".
+    pub fn kind(&self) -> String {
+        match self.steering.surface() {
+            Surface::Rudder => self.measured.kind().to_string(),
+            s => format!("{} on the {}", self.measured.kind(), s.words()),
+        }
+    }
+}
+
+/// Where a run goes with its surface put over, in words: "turns to starboard" (heading
+/// increasing), "pitches bow up" (pitch increasing).
+fn goes(side: manoeuvre::Side, surface: Surface) -> String {
+    match (surface, side) {
+        (Surface::Rudder, side) => format!("turns to {side}"),
+        (Surface::SternPlanes, manoeuvre::Side::Starboard) => "pitches bow up".to_string(),
+        (Surface::SternPlanes, manoeuvre::Side::Port) => "pitches bow down".to_string(),
     }
 }
 
@@ -102,8 +125,10 @@ pub struct RunSettings {
 }
 
 /// The run's measures and the model's on the same manoeuvre, or None when the run is not a
-/// standard manoeuvre of a steered model (no rudder input or heading state, no rudder or
-/// heading in the run, or no turn that the measures recognise).
+/// standard manoeuvre of a steered model: a turning circle or zig-zag on the rudder (a
+/// rudder input and a heading state, the run's rudder and heading), else a zig-zag on the
+/// stern planes watching the pitch (a stern-plane input and a pitch state; an AUV's vertical
+/// zig-zag), or no turn that the measures recognise.
 pub fn compare<M: Model>(
     model: &M,
     c: &[f64],
@@ -112,18 +137,54 @@ pub fn compare<M: Model>(
     substeps: usize,
     run: RunSettings,
 ) -> Option<ManoeuvreComparison> {
-    let rudder_input = model
+    [Surface::Rudder, Surface::SternPlanes]
+        .into_iter()
+        .find_map(|surface| compare_on(model, c, rec, inputs, substeps, run, surface))
+}
+
+/// The run's history as the measures of a manoeuvre on `surface` read it: on the rudder,
+/// the time, heading, track, velocities and rudder; on the stern planes, the pitch in place
+/// of the heading and the stern planes in place of the rudder, without the track (a dive has
+/// no turning circle). None without the time or the watched angle.
+pub fn history_on(rec: &Record, surface: Surface) -> Option<History> {
+    manoeuvre::history_of(|q| {
+        let column = match (surface, q) {
+            (_, Quantity::Time) => Quantity::Time,
+            (_, Quantity::Yaw) => surface.watched(),
+            (_, Quantity::Rudder) => surface.input(),
+            (Surface::Rudder, q) => q,
+            (Surface::SternPlanes, _) => return None,
+        };
+        rec.channel(column).map(<[f64]>::to_vec)
+    })
+    .ok()?
+}
+
+/// [`compare`] on one control surface.
+fn compare_on<M: Model>(
+    model: &M,
+    c: &[f64],
+    rec: &Record,
+    inputs: &InputSeries,
+    substeps: usize,
+    run: RunSettings,
+    surface: Surface,
+) -> Option<ManoeuvreComparison> {
+    let input = model
         .input_quantities()
         .iter()
-        .position(|q| *q == Quantity::Rudder)?;
-    let yaw = model.state_index(Quantity::Yaw)?;
-    let rudder = rec.channel(Quantity::Rudder)?;
-    let h = manoeuvre::history_of(|q| rec.channel(q).map(<[f64]>::to_vec)).ok()??;
-    let measured = manoeuvre::measure_history(&h, run.length, run.lambda, run.nominal).ok()?;
-    let steering = law_of(&measured, &h)?;
-
+        .position(|q| *q == surface.input())?;
+    model.state_index(surface.watched())?;
+    let deflection = rec.channel(surface.input())?;
+    let h = history_on(rec, surface)?;
+    let mut measured = manoeuvre::measure_history(&h, run.length, run.lambda, run.nominal).ok()?;
+    if !surface.is_rudder() {
+        measured.zigzag.as_ref()?;
+        not_judged_in_pitch(&mut measured);
+    }
+    let steering = law_of(&measured, &h, surface)?;
     let mut steered_inputs = inputs.clone();
-    steered_inputs.inputs[rudder_input] = Input::Held(vec![rudder[0]; h.time().len()]);
+    steered_inputs.inputs[input] = Input::Held(vec![deflection[0]; h.time().len()]);
     let x0: Vec<f64> = model
         .states()
         .iter()
@@ -142,16 +203,21 @@ pub fn compare<M: Model>(
                 })
             }
         };
-    let helm = match &steered_inputs.inputs[rudder_input] {
+    let helm = match &steered_inputs.inputs[input] {
         Input::Held(s) | Input::Series(s) => s.clone(),
         Input::Constant(v) => vec![*v; xs.len()],
     };
-    let history = model_history(model, h.time(), &xs, yaw, helm);
+    let history = model_history(model, h.time(), &xs, surface, helm);
     let (model_measures, failure) =
         match history.as_ref().map_err(Clone::clone).and_then(|mh| {
             manoeuvre::measure_history(mh, run.length, run.lambda, nominal_of(steering))
         }) {
-            Ok(m) => (Some(m), note),
+            Ok(mut m) => {
+                if !surface.is_rudder() {
+                    not_judged_in_pitch(&mut m);
+                }
+                (Some(m), note)
+            }
             Err(e) => (
                 None,
                 Some(format!("the model's manoeuvre cannot be measured: {e}")),
@@ -166,12 +232,22 @@ pub fn compare<M: Model>(
     })
 }
 
+/// The IMO criteria judge a ship's heading: none is judged on a zig-zag of the pitch.
+fn not_judged_in_pitch(m: &mut RunMeasures) {
+    m.checks.clear();
+    m.not_judged = vec![
+        "MSC.137(76) 5.3 judges a ship's heading; a zig-zag of the pitch on the stern planes \
+         is not judged"
+            .to_string(),
+    ];
+}
+
 /// The helm that sailed the run, at the run's nominal angles: a zig-zag's rudder angle and
 /// check angle, or a turn's rudder angle, put over in the direction the run's rudder was
 /// (in the model's sign convention, as the run was read: a rudder column whose sign was
 /// reversed with `scale = -1` already is); the steepest rudder rate of the run; the execute
 /// time the measures found.
-fn law_of(m: &RunMeasures, h: &History) -> Option<Steering> {
+fn law_of(m: &RunMeasures, h: &History, surface: Surface) -> Option<Steering> {
     let rate = manoeuvre::rudder_rate(h.time(), h.rudder()?)?;
     match (&m.zigzag, &m.turning_circle) {
         (Some(z), _) => Some(Steering::ZigZag {
@@ -179,14 +255,14 @@ fn law_of(m: &RunMeasures, h: &History) -> Option<Steering> {
             heading: z.heading_angle,
             rate,
             execute: z.execute_time,
-            surface: Surface::Rudder,
+            surface,
         }),
         (None, Some(t)) => Some(Steering::Turn {
             rudder: t.nominal_rudder_angle.value()?
                 * manoeuvre::rudder_put_over(h, t.execute_time)?,
             rate,
             execute: t.execute_time,
-            surface: Surface::Rudder,
+            surface,
         }),
         (None, None) => None,
     }
@@ -208,14 +284,15 @@ fn nominal_of(law: Steering) -> manoeuvre::Nominal {
     }
 }
 
-/// The model's simulated history in the measures' terms (x, y, heading, u, v from its states;
-/// the rudder the helm moved).
+/// The model's simulated history in the measures' terms, as [`history_on`] reads the run's:
+/// the watched angle (heading or pitch) from its states, the deflection the helm moved, and
+/// on the rudder the track and velocities from its states.
 fn model_history<M: Model>(
     model: &M,
     time: &[f64],
     xs: &[Vec<f64>],
-    yaw: usize,
-    rudder: Vec<f64>,
+    surface: Surface,
+    helm: Vec<f64>,
 ) -> Result<History, HistoryError> {
     let n = xs.len();
     let state = |q: Quantity| {
@@ -225,18 +302,24 @@ fn model_history<M: Model>(
     };
     manoeuvre::history_of(|q| match q {
         Quantity::Time => Some(time[..n].to_vec()),
-        Quantity::Yaw => Some(xs.iter().map(|x| x[yaw]).collect()),
-        Quantity::Rudder => Some(rudder[..n].to_vec()),
-        q => state(q),
+        Quantity::Yaw => state(surface.watched()),
+        Quantity::Rudder => Some(helm[..n].to_vec()),
+        q if surface.is_rudder() => state(q),
+        _ => None,
     })
-    .map(|h| h.expect("time and heading are given"))
+    .and_then(|h| {
+        h.ok_or(HistoryError::Lacks {
+            what: "the steered model's manoeuvre",
+            series: "watched angle",
+        })
+    })
 }
 
 /// Warnings on the model's manoeuvre against the run's: it turns the other way, could not be
 /// steered or measured, or misses the turning diameters by more than
 /// [`POOR_DIAMETER_SHARE`] or an overshoot by more than [`POOR_OVERSHOOT`].
 pub fn warnings(cmp: &ManoeuvreComparison, run: &str) -> Vec<Warning> {
-    let kind = cmp.measured.kind();
+    let kind = cmp.kind();
     let warn = |message: String, meaning: &str| {
         Warning::new("resimulation", message, meaning.to_string()).for_run(run)
     };
@@ -253,14 +336,23 @@ pub fn warnings(cmp: &ManoeuvreComparison, run: &str) -> Vec<Warning> {
     };
     if let (Some(a), Some(b)) = (cmp.measured.side(), model.side()) {
         if a != b {
+            let surface = cmp.steering.surface();
             out.push(warn(
                 format!(
-                    "the identified model turns to {b} where the run turns to {a} with the \
-                     same rudder"
+                    "the identified model {} where the run {} with the same {}",
+                    goes(b, surface),
+                    goes(a, surface),
+                    surface.words()
                 ),
-                "a rudder or yaw coefficient has the wrong sign, or the rudder column's sign \
-                 convention differs from the model's (columns.rudder.scale = -1 reverses it): \
-                 none of its coefficients can be trusted",
+                &format!(
+                    "a {} or {} coefficient has the wrong sign, or the {} column's sign \
+                     convention differs from the model's (columns.{}.scale = -1 reverses it): \
+                     none of its coefficients can be trusted",
+                    surface.words(),
+                    surface.watched_words(),
+                    surface.words(),
+                    surface.input().key()
+                ),
             ));
             return out;
         }

@@ -296,7 +296,11 @@ fn turning<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, s: &Sailed) -> Res
     }
     turn_dimensions(&mut chart, s, &frame, t)?;
     draw_turn_limits(&mut chart, limits, across, along)?;
-    model_turn_points(&mut chart, s)
+    model_turn_points(&mut chart, s)?;
+    match &t.advance {
+        Measure::Missing(why) => axes::note(&chart, &[format!("advance, transfer: {why}")]),
+        Measure::Value(_) => Ok(()),
+    }
 }
 
 /// The model's track in its own course frame.
@@ -331,14 +335,14 @@ fn model_turn_points<DB: DrawingBackend>(
 }
 
 /// The IMO limits of the advance (along) and the tactical diameter (across, on the turn's
-/// side), m, where the run's criteria judge them.
+/// side), m, where the run's criteria judge a measured value.
 fn turn_limits(s: &Sailed, t: &TurningCircle) -> (Option<f64>, Option<f64>) {
     let limit = |c: Criterion| {
         s.cmp
             .measured
             .checks
             .iter()
-            .find(|k| k.criterion == c)
+            .find(|k| k.criterion == c && k.value.value().is_some())
             .map(|k| k.limit)
     };
     (
@@ -625,7 +629,17 @@ fn zigzag<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, s: &Sailed) -> Resu
         axes::hline(&mut chart, t, *v, colour::RED_LIMIT.stroke_width(2), true)?;
         label(&mut chart, (t.hi, *v), text, HPos::Right, VPos::Bottom)?;
     }
-    Ok(())
+    let missing: Vec<String> = [
+        ("first overshoot", &z.first_overshoot),
+        ("second overshoot", &z.second_overshoot),
+    ]
+    .into_iter()
+    .filter_map(|(what, m)| match m {
+        Measure::Missing(why) => Some(format!("{what}: {why}")),
+        Measure::Value(_) => None,
+    })
+    .collect();
+    axes::note(&chart, &missing)
 }
 
 /// How a zig-zag series is drawn.

@@ -79,9 +79,9 @@ pub fn shown(q: Quantity) -> Shown {
         Q::Q => (Vertical, "pitch rate q (deg/s)", DEG, None),
         Q::Roll => (Roll, "roll φ (deg)", DEG, None),
         Q::P => (Roll, "roll rate p (deg/s)", DEG, None),
-        Q::Rudder => (Horizontal, "rudder δ_R (deg)", DEG, Some(Q::Yaw)),
-        Q::SternPlanes => (Vertical, "stern planes δ_S (deg)", DEG, Some(Q::Pitch)),
-        Q::BowPlanes => (Vertical, "bow planes δ_B (deg)", DEG, Some(Q::Pitch)),
+        Q::Rudder => (Horizontal, "rudder δ (deg)", DEG, Some(Q::Yaw)),
+        Q::SternPlanes => (Vertical, "stern planes (deg)", DEG, Some(Q::Pitch)),
+        Q::BowPlanes => (Vertical, "bow planes (deg)", DEG, Some(Q::Pitch)),
         Q::Rpm => (Horizontal, "propeller n (rpm)", 60.0, Some(Q::U)),
         Q::Thrust => (Horizontal, "thrust T (N)", 1.0, Some(Q::U)),
         q => {

@@ -262,8 +262,11 @@ fn difference_panel<DB: DrawingBackend>(
 ) -> Result<(), PlotError> {
     let diff = differences(data, model);
     let values: Vec<f64> = diff.iter().map(|p| p.1).collect();
-    let noise = signal::noise_sigma(&data.iter().map(|p| p.1).collect::<Vec<_>>())
-        .filter(|s| s.is_finite())
+    let raw: Vec<f64> = data.iter().map(|p| p.1).collect();
+    let (lo, hi) = signal::range(raw.iter().copied());
+    // a noise below a part in 10^6 of the signal is the export's rounding: no noise
+    let noise = signal::noise_sigma(&raw)
+        .filter(|s| s.is_finite() && *s > 1e-6 * (hi - lo).abs().max(hi.abs()))
         .unwrap_or(0.0);
     let mean = running_mean(&values, (values.len() / MEAN_SHARE).max(1));
     let drift = mean.iter().fold(0.0f64, |m, v| m.max(v.abs()));
@@ -274,7 +277,7 @@ fn difference_panel<DB: DrawingBackend>(
         1.1 * widest
     };
     let dy = Range::new(-half, half).pad(0.0).headroom(0.35);
-    let desc = format!("model − {} ({unit})", run.word());
+    let desc = format!("difference ({unit})");
     let x_desc = if last { "time t (s)" } else { "" };
     let mut chart = axes::panel(area, &Axes::new(t, dy, x_desc, &desc))?;
     if noise > 0.0 {
