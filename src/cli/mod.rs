@@ -12,6 +12,7 @@ mod progress;
 mod rerun;
 mod run;
 mod simulate;
+mod warnings;
 
 use clap::{Parser, Subcommand};
 use hydroid::Error;

@@ -44,7 +44,9 @@ pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
     for s in staging.swept() {
         say.note(s);
     }
-    let output = pipeline::run(&loaded, &mut progress::Cli::new(say))?;
+    let mut progress = progress::Cli::new(say);
+    let output = pipeline::run(&loaded, &mut progress)?;
+    progress.say_warnings();
     report::write(&staging, &loaded, &output)?;
     let dir = staging.commit()?;
     if let Some(h) = &output.result.stages.hekf {
@@ -108,12 +110,12 @@ pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
         }
         writeln!(out, "\nwrote {}", dir.display())?;
     }
-    // the warnings were said as they arose; a reminder of where they are kept
+    // the warnings were said (grouped) before the results; a reminder of where they are kept
     let n = output.result.warnings.len();
     if n > 0 {
         say.note(&format!(
-            "{n} warning{} above (also in results.json and the report's Warnings section): \
-             read them before using these coefficients",
+            "{n} warning{} above, grouped by kind (each in results.json and the report's \
+             Warnings section): read them before using these coefficients",
             if n == 1 { "" } else { "s" }
         ));
     }

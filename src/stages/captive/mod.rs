@@ -332,6 +332,7 @@ fn coefficient_vector<M: Model>(
         }
         match known.get(n) {
             Some(c) => base[i] = c.value,
+            None if model.is_optional(n) => {}
             None => missing.push(*n),
         }
     }

@@ -205,8 +205,10 @@ mod tests {
                     quantity,
                     sigma: 1e-3,
                     source: "configured".into(),
+                    rounding: None,
                 })
                 .collect(),
+            process_noise: Default::default(),
             nis: summarize(nis, 2),
             innovation_rms: rms,
             warnings: Vec::new(),
