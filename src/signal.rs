@@ -94,12 +94,12 @@ pub fn mean_and_standard_error(y: &[f64]) -> Option<(f64, f64)> {
     Some((mean, (c0 * n as f64 / (n as f64 - 1.0) / n_eff).sqrt()))
 }
 
-/// The smallest measurement standard deviation hydroid uses for a signal: a part in 10^8 of
+/// The smallest measurement standard deviation hydroid uses for a signal: a part in 10^6 of
 /// its largest magnitude (and 1e-12 absolute), so that noise-free synthetic data do not make
 /// the innovation covariance singular.
 pub fn noise_floor(y: &[f64]) -> f64 {
     let peak = y.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-    (1e-8 * peak).max(1e-12)
+    (1e-6 * peak).max(1e-12)
 }
 
 /// The smallest and largest value (infinite, reversed, for no values).

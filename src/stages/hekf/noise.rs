@@ -180,8 +180,14 @@ fn trimmed_sigma(y: &[f64]) -> Option<f64> {
 }
 
 /// The error of channel `q` that a related channel shows, and that channel's name: the yaw
-/// rate against the heading's rate, body velocities against the positions' rates (planar).
+/// rate against the heading's rate, body velocities against the positions' rates; planar
+/// runs only (no roll or pitch channel).
 fn consistency(rec: &Record, q: Quantity, bias: f64) -> Option<(f64, String)> {
+    // planar kinematics only: with roll or pitch, psi_dot = (q sin phi + r cos phi) / cos
+    // theta and the track has a vertical part (Fossen 2011, section 2.2.1)
+    if rec.channel(Quantity::Roll).is_some() || rec.channel(Quantity::Pitch).is_some() {
+        return None;
+    }
     let t = rec.time()?;
     // the regular interval: a gap does not move the median
     let dt = crate::sampling::median_interval(t).filter(|d| *d > 0.0)?;
