@@ -398,8 +398,13 @@ fn surge_balance<M: Model>(
     (out, vec![warning])
 }
 
-/// The warning when halving or doubling the noise model moves an estimate by more than one
-/// of its sigmas (or when the repeated passes failed).
+/// A move (in sigmas from the data) of an estimate by halving or doubling the noise model
+/// above which it is warned: up to it the spread, already in the reported sigma, at most
+/// doubles it (docs/hekf.md, "The noise model").
+const NOISE_MOVE_WARNED: f64 = 2.0;
+
+/// The warning when halving or doubling the noise model moves an estimate by more than
+/// [`NOISE_MOVE_WARNED`] of its sigmas (or when the repeated passes failed).
 fn noise_model_warning(
     names: &[String],
     spread: Option<&sensitivity::NoiseSpread>,
@@ -416,7 +421,7 @@ fn noise_model_warning(
         .moves
         .iter()
         .zip(names)
-        .filter(|(m, _)| **m > 1.0)
+        .filter(|(m, _)| **m > NOISE_MOVE_WARNED)
         .map(|(m, n)| (*m, n))
         .collect();
     if moved.is_empty() {
@@ -433,9 +438,9 @@ fn noise_model_warning(
             "halving or doubling the noise model (every measurement and process noise sigma) \
              moves {}: {}",
             if moved.len() == 1 {
-                "one estimate by more than its sigma"
+                "one estimate by more than twice its sigma"
             } else {
-                "estimates by more than their sigma"
+                "estimates by more than twice their sigma"
             },
             list.join(", ")
         ),
