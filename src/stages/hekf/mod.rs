@@ -181,13 +181,19 @@ fn expectation<M: Model>(
     configured: &dyn Fn(&str) -> Option<f64>,
     vehicle: &crate::models::Vehicle,
 ) -> plausibility::Expectation {
+    // a configured value of an estimated coefficient below a tenth of its typical magnitude
+    // (`Ndr = 0.0` as the start of an estimate) is a placeholder, not a sign
     let given = |n: &str| {
+        let typical = model.typical_magnitude(n);
         let informative = cfg.prior.get(n).and_then(|p| {
             let v = p.initial?;
-            let sigma = p.sigma.unwrap_or_else(|| model.typical_magnitude(n));
+            let sigma = p.sigma.unwrap_or(typical);
             (v.abs() >= sigma).then_some(v)
         });
-        informative.or_else(|| configured(n))
+        let estimated = cfg.estimate.iter().any(|e| e == n);
+        informative.or_else(|| {
+            configured(n).filter(|v| !estimated || v.abs() >= 0.1 * typical || v.is_nan())
+        })
     };
     plausibility::Expectation::new(model, &given, vehicle)
 }
