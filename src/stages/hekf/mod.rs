@@ -187,6 +187,8 @@ fn expectation<M: Model>(
     configured: &dyn Fn(&str) -> Option<f64>,
     vehicle: &crate::models::Vehicle,
 ) -> plausibility::Expectation {
+    // a configured value of an estimated coefficient below a tenth of its typical magnitude
+    // (`Ndr = 0.0` as the start of an estimate) is a placeholder, not a sign
     let given = |n: &str| {
         let typical = model.typical_magnitude(n);
         let informative = cfg.prior.get(n).and_then(|p| {
