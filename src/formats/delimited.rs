@@ -253,7 +253,7 @@ pub(crate) fn key_value(text: &str, delim: Delim) -> Option<(String, String)> {
 /// Widest table handed to polars. polars keeps a schema entry and a series per column, which
 /// for a table of 300,000 columns costs more time and memory than the numbers; the line by
 /// line reader is linear in the cells whatever the shape.
-const POLARS_MAX_COLUMNS: usize = 4096;
+const POLARS_MAX_COLUMNS: usize = 1024;
 
 /// Parses the data lines with polars; on any failure, reads them line by line instead,
 /// which either succeeds or names the offending cell. Very wide tables are read line by line.
@@ -333,12 +333,16 @@ fn polars_parse(
     };
     let mut rows = Rows::new(n);
     rows.lines = layout.data.iter().map(|i| i + 1).collect();
-    for (j, col) in df.columns().iter().enumerate() {
+    // exactly the room the empty cells need: a file of empty cells is the densest there is
+    rows.missing
+        .reserve_exact(df.columns().iter().map(|c| c.null_count()).sum());
+    // each polars column is freed once copied
+    for (j, col) in df.into_columns().into_iter().enumerate() {
         let Ok(ca) = col.f64() else {
             return Ok(None);
         };
         let out = &mut rows.columns[j];
-        out.reserve(layout.data.len());
+        out.reserve_exact(layout.data.len());
         if ca.null_count() == 0 {
             for arr in ca.downcast_iter() {
                 out.extend_from_slice(arr.values());

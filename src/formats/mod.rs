@@ -169,6 +169,7 @@ pub fn read_raw_within(
     let decoded = text::decode(path, bytes)?;
     let mut src = text::Source::new(path, &decoded);
     let titles = src.skip_lines(options.skip_lines)?;
+    text::check_width(&src, limits.max_columns)?;
     let format = match choice {
         FormatChoice::Fixed(f) => f,
         FormatChoice::Auto => detect::detect_source(&src)?,

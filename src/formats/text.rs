@@ -94,6 +94,68 @@ impl<'a> Source<'a> {
     }
 }
 
+/// The cells of `line` under the delimiter that splits it into the most: commas, semicolons,
+/// tabs, or runs of blanks (quotes are not honoured: an upper bound). Returns the count and
+/// the delimiter.
+fn widest_split(line: &str) -> (usize, Delim) {
+    let (mut comma, mut semi, mut tab, mut words) = (0usize, 0usize, 0usize, 0usize);
+    let mut blank = true;
+    for b in line.bytes() {
+        match b {
+            b',' => comma += 1,
+            b';' => semi += 1,
+            b'\t' => tab += 1,
+            _ => {}
+        }
+        let is_blank = b == b' ' || b == b'\t';
+        if blank && !is_blank {
+            words += 1;
+        }
+        blank = is_blank;
+    }
+    // the last of equal counts wins: a single-character delimiter over blanks
+    [
+        (words, Delim::Whitespace),
+        (comma + 1, Delim::Char(b',')),
+        (semi + 1, Delim::Char(b';')),
+        (tab + 1, Delim::Char(b'\t')),
+    ]
+    .into_iter()
+    .max_by_key(|(n, _)| *n)
+    .unwrap_or((0, Delim::Whitespace))
+}
+
+/// Refuses a file with a line of more than `max_columns` cells, before any line is split:
+/// the structures kept per column would take far more memory than the numbers (an absurdly
+/// wide table, or a binary stream that happens to be text). One pass over the bytes.
+pub(crate) fn check_width(src: &Source, max_columns: u64) -> Result<(), InputError> {
+    let max = usize::try_from(max_columns).unwrap_or(usize::MAX);
+    for (i, line) in src.lines.iter().enumerate() {
+        // a line of fewer bytes cannot hold more cells
+        if line.len() < max {
+            continue;
+        }
+        let (n, delim) = widest_split(line);
+        if n > max {
+            use super::input::MAX_COLUMNS_ENV;
+            return Err(InputError::new(
+                src.at(i),
+                format!(
+                    "this line has {n} cells separated by {}, more than the {max} columns \
+                     hydroid reads in a table; set the environment variable {MAX_COLUMNS_ENV} \
+                     to read a wider one (e.g. {MAX_COLUMNS_ENV}={})",
+                    delim.describe(),
+                    n.next_power_of_two()
+                ),
+            )
+            .expected(format!(
+                "a table of at most {max} columns (rows of numbers, one line each)"
+            )));
+        }
+    }
+    Ok(())
+}
+
 /// Decodes file bytes to text: UTF-8 (with or without BOM), else Windows-1252 as older
 /// Windows tools write it (a superset of Latin-1 for printable text: 0x96 is an en dash, 0xB0
 /// a degree sign). Binary files, UTF-16 and empty files are errors.
