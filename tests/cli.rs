@@ -386,7 +386,10 @@ fn rerun_reproduces_and_refuses_changed_inputs() {
     let o = hydroid(&["rerun", out.to_str().unwrap(), "--edited"]);
     let e = text(&o.stderr);
     assert_eq!(o.status.code(), Some(0), "{e}");
-    assert!(e.contains("config.toml was edited") && e.contains("--edited"), "{e}");
+    assert!(
+        e.contains("config.toml was edited") && e.contains("--edited"),
+        "{e}"
+    );
     let r: serde_json::Value =
         serde_json::from_slice(&std::fs::read(out.join("results.json")).unwrap()).unwrap();
     assert!(
@@ -400,7 +403,11 @@ fn rerun_reproduces_and_refuses_changed_inputs() {
     std::fs::write(&rj, t.replacen('{', "{ ", 1)).unwrap();
     let o = hydroid(&["rerun", out.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(2));
-    assert!(text(&o.stderr).contains("rerun.json"), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stderr).contains("rerun.json"),
+        "{}",
+        text(&o.stderr)
+    );
 }
 
 #[test]

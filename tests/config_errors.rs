@@ -304,9 +304,7 @@ fn compare_warns_about_different_vehicles_and_models() {
 #[test]
 fn compare_refuses_other_schemas_bad_sigmas_and_duplicates_and_flags_units() {
     let dir = tempfile::tempdir().unwrap();
-    let coef = |name: &str, sigma: f64, unit: &str| {
-        serde_json::json!({"name": name, "value": 1.5, "sigma": sigma, "unit": unit, "source": "hekf"})
-    };
+    let coef = |name: &str, sigma: f64, unit: &str| serde_json::json!({"name": name, "value": 1.5, "sigma": sigma, "unit": unit, "source": "hekf"});
     let write = |name: &str, schema: Option<&str>, coefficients: Vec<serde_json::Value>| {
         let mut v = serde_json::json!({ "coefficients": coefficients });
         if let Some(s) = schema {
@@ -316,10 +314,18 @@ fn compare_refuses_other_schemas_bad_sigmas_and_duplicates_and_flags_units() {
         std::fs::write(&p, serde_json::to_string_pretty(&v).unwrap()).unwrap();
         p.to_str().unwrap().to_string()
     };
-    let good = write("good.json", Some("hydroid-results/2"), vec![coef("Yvd", 0.1, "kg")]);
+    let good = write(
+        "good.json",
+        Some("hydroid-results/2"),
+        vec![coef("Yvd", 0.1, "kg")],
+    );
     let cases = [
         (
-            write("v1.json", Some("hydroid-results/1"), vec![coef("Yvd", 0.1, "kg")]),
+            write(
+                "v1.json",
+                Some("hydroid-results/1"),
+                vec![coef("Yvd", 0.1, "kg")],
+            ),
             vec!["v1.json", "schema 'hydroid-results/1'", "hydroid-results/2"],
         ),
         (
@@ -353,13 +359,20 @@ fn compare_refuses_other_schemas_bad_sigmas_and_duplicates_and_flags_units() {
             }
         }
     }
-    let grams = write("grams.json", Some("hydroid-results/2"), vec![coef("Yvd", 0.1, "g")]);
+    let grams = write(
+        "grams.json",
+        Some("hydroid-results/2"),
+        vec![coef("Yvd", 0.1, "g")],
+    );
     let o = hydroid(&["compare", &good, &grams]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
     let (e, s) = (text(&o.stderr), text(&o.stdout));
     assert!(e.contains("Yvd is in kg in A and in g in B"), "{e}");
     let row = s.lines().find(|l| l.starts_with("Yvd")).unwrap();
-    assert!(row.contains("kg (A) vs g (B)") && !row.contains("+0"), "{row}");
+    assert!(
+        row.contains("kg (A) vs g (B)") && !row.contains("+0"),
+        "{row}"
+    );
     let o = hydroid(&["compare", &good, &grams, "--json"]);
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("stdout is JSON");
     assert_eq!(v["coefficients"][0]["units_differ"], true);

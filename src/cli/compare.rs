@@ -144,7 +144,9 @@ fn check(file: &Path, text: &str, r: &Results) -> hydroid::Result<()> {
                 format!(
                     "coefficients[{i}] '{}' is listed twice (also coefficients[{j}]{})",
                     c.name,
-                    lines.get(j).map_or_else(String::new, |l| format!(", line {l}"))
+                    lines
+                        .get(j)
+                        .map_or_else(String::new, |l| format!(", line {l}"))
                 ),
                 "each coefficient once".into(),
             );
@@ -172,7 +174,11 @@ fn coefficient_lines(text: &str) -> Vec<usize> {
 
 /// One coefficient of A and B side by side: the JSON entry and the table row. Differing
 /// units make the difference meaningless: it is left out and the unit cell says both.
-fn compare_one(n: &str, ca: Option<&Coefficient>, cb: Option<&Coefficient>) -> (Value, [String; 6]) {
+fn compare_one(
+    n: &str,
+    ca: Option<&Coefficient>,
+    cb: Option<&Coefficient>,
+) -> (Value, [String; 6]) {
     let units_differ = matches!((ca, cb), (Some(x), Some(y)) if x.unit != y.unit);
     // B - A, and in units of the combined sigma (when either has one)
     let (d, z) = match (ca, cb) {
@@ -231,7 +237,11 @@ fn warnings(ra: &Results, rb: &Results) -> Vec<String> {
         w.extend(differ.iter().map(|d| format!("  {d}")));
     }
     for x in &ra.coefficients {
-        if let Some(y) = rb.coefficients.iter().find(|y| y.name == x.name && y.unit != x.unit) {
+        if let Some(y) = rb
+            .coefficients
+            .iter()
+            .find(|y| y.name == x.name && y.unit != x.unit)
+        {
             w.push(format!(
                 "{} is in {} in A and in {} in B: not compared (the difference would mix units)",
                 x.name, x.unit, y.unit

@@ -79,7 +79,11 @@ fn check_edits(dir: &Path, accept: bool) -> hydroid::Result<()> {
          the one {} records):\n  - {}\na rerun runs exactly what made the output; use \
          --edited to run the edited configuration, or `hydroid run {} --out NEW`",
         dir.display(),
-        if list.len() == 1 { "this file was" } else { "these files were" },
+        if list.len() == 1 {
+            "this file was"
+        } else {
+            "these files were"
+        },
         if list.len() == 1 { "it" } else { "them" },
         hydroid::output::marker::MARKER,
         list.join("\n  - "),

@@ -94,7 +94,11 @@ impl Coefficient {
     /// sigma of 0 would read as exactly measured) and its note says so ([`HELD`]).
     pub fn held(mut self, why: &str) -> Self {
         self.sigma = None;
-        let note = self.note.take().map(|n| format!("{n}; ")).unwrap_or_default();
+        let note = self
+            .note
+            .take()
+            .map(|n| format!("{n}; "))
+            .unwrap_or_default();
         self.note = Some(format!("{note}{HELD}: {why}"));
         self
     }
