@@ -187,7 +187,9 @@ pub fn read_raw_within(
     };
     let mut table = table;
     table.meta.splice(0..0, titles);
-    text::check_cut_off(&src, table.lines.last().copied())?;
+    if let Some(w) = text::check_cut_off(&src, &table.lines)? {
+        table.warnings.push(w);
+    }
     if table.rows() == 0 {
         return Err(InputError::new(
             Place::file(path),
