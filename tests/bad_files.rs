@@ -353,7 +353,10 @@ const CASES: &[Case] = &[
         case(
             "cut_after_delimiter.csv",
             Some(4),
-            &["ends in ',' with no value after it", "cut off while being written"],
+            &[
+                "ends in ',' with no value after it",
+                "cut off while being written",
+            ],
         ),
         "a complete last line",
     ),
@@ -481,16 +484,28 @@ fn the_binary_reports_bad_files_on_stderr_with_exit_code_1() {
 fn a_last_row_cut_inside_its_last_value_is_read_with_a_warning() {
     let dir = tempfile::tempdir().unwrap();
     let cut = [
-        ("cut.csv", "t,u\n0.00,1.2345e+01\n0.10,1.2350e+01\n0.20,1.2", 4),
+        (
+            "cut.csv",
+            "t,u\n0.00,1.2345e+01\n0.10,1.2350e+01\n0.20,1.2",
+            4,
+        ),
         ("cut_semi.csv", "t;u\n0,00;1,250\n0,10;1,275\n0,20;1,2", 4),
-        ("cut.dat", "# t u v\n0.000 1.000 2.000\n0.100 1.100 2.100\n0.200 1.200 2.1", 4),
+        (
+            "cut.dat",
+            "# t u v\n0.000 1.000 2.000\n0.100 1.100 2.100\n0.200 1.200 2.1",
+            4,
+        ),
         (
             "forceCoeffs.dat",
             "# Time Cm Cd Cl\n0.1 1.000e-02 2.000e-01 3.000e-01\n0.2 1.000e-02 2.000e-01 3.0\
              00e-01\n0.3 1.000e-02 2.000e-01 3.000e-0",
             4,
         ),
-        ("cut_exponent_digits.csv", "t,u\n0,1.5e+01\n1,1.6e+01\n2,1.7e+0", 4),
+        (
+            "cut_exponent_digits.csv",
+            "t,u\n0,1.5e+01\n1,1.6e+01\n2,1.7e+0",
+            4,
+        ),
     ];
     for (name, text, line) in cut {
         let p = dir.path().join(name);

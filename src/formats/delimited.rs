@@ -82,6 +82,17 @@ pub(crate) fn read(
             layout.ncols / 2
         ));
     }
+    if let Some((i, m)) = layout.unfit_header {
+        warnings.push(format!(
+            "line {} ('{}') reads like a header of {m} names, but the rows below have {} \
+             values: it is kept as a title and the columns are named col1 to col{}; name them \
+             in the configuration (`names = [...]`) or correct the header",
+            i + 1,
+            super::layout::shorten(src.lines[i].trim(), 60),
+            layout.ncols,
+            layout.ncols
+        ));
+    }
     let meta = preamble_meta(src, &layout.preamble, layout.delim);
     Ok(assemble(
         src.path,

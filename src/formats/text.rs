@@ -241,7 +241,10 @@ fn last_token(line: &str) -> String {
 fn number_shape(token: &str) -> Option<(usize, Option<usize>)> {
     token.parse::<f64>().ok()?;
     let (mantissa, exponent) = match token.find(['e', 'E']) {
-        Some(k) => (&token[..k], Some(token[k + 1..].trim_start_matches(['+', '-']).len())),
+        Some(k) => (
+            &token[..k],
+            Some(token[k + 1..].trim_start_matches(['+', '-']).len()),
+        ),
         None => (token, None),
     };
     let decimals = mantissa.split_once('.').map_or(0, |(_, d)| d.len());
@@ -281,7 +284,11 @@ pub(crate) fn check_cut_off(src: &Source, rows: &[usize]) -> Result<Option<Strin
         .take(10)
         .map(|&l| trim(src.lines[l - 1]))
         .collect();
-    if let Some(d) = line.chars().last().filter(|c| matches!(c, ',' | ';' | '\t')) {
+    if let Some(d) = line
+        .chars()
+        .last()
+        .filter(|c| matches!(c, ',' | ';' | '\t'))
+    {
         if above.first().is_some_and(|a| !a.ends_with(d)) {
             return Err(cut_error(
                 src,
