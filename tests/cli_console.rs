@@ -313,7 +313,8 @@ fn compare_json_gives_the_differences() {
         let p = dir.path().join(name);
         std::fs::write(
             &p,
-            serde_json::json!({ "coefficients": coefficients }).to_string(),
+            serde_json::json!({ "schema": "hydroid-results/2", "coefficients": coefficients })
+                .to_string(),
         )
         .unwrap();
         p.to_str().unwrap().to_string()

@@ -297,7 +297,7 @@ impl HekfConfig {
         }
         for (q, c) in &self.noise {
             let key = format!("hekf.noise.{q}");
-            match c.expect_dim(q.dim()) {
+            match c.expect_quantity(*q) {
                 Ok(()) => p.positive(&key, c.si, q.si_symbol()),
                 Err(m) => p.add(&key, m),
             }
