@@ -320,3 +320,47 @@ fn a_pmm_programme_with_mistakes_names_every_key() {
         &["manoeuvre.speeds: is not used by a pmm manoeuvre"],
     );
 }
+
+/// Stage conflicts (docs/stages.md): the spheroid's lift-only polar read as the total yaw
+/// moment gives a Nuv the PMM runs contradict by hundreds of sigma; the run warns with both
+/// values and names `polar.moment.part`. Read as it is, no conflict is warned.
+#[test]
+fn a_polar_read_with_the_wrong_moment_part_conflicts_with_the_pmm_runs() {
+    let config = common::root().join("configs/spheroid_joint.toml");
+    let list = "[\"Xud\", \"Yvd\", \"Yrd\", \"Nrd\", \"Nvv\", \"Nrr\", \"Yrr\", \"Yuvl\", \
+                \"Nuv\", \"Xuu\", \"Xuv\", \"Xvv\", \"Yvv\"]";
+    let captive = format!("captive.estimate={list}");
+    let dir = tempfile::tempdir().unwrap();
+    let (r, console) = run_ok(
+        &config,
+        &dir.path().join("wrong"),
+        &[
+            &captive,
+            "polar.moment.part=\"total\"",
+            "hekf.enabled=false",
+        ],
+    );
+    let said = console
+        .lines()
+        .find(|l| l.contains("disagree on Nuv"))
+        .unwrap_or_else(|| panic!("no conflict warned:\n{console}"));
+    assert!(said.contains("captive gives -9.053 ± 0.02480"), "{said}");
+    assert!(
+        said.contains("the polar stage gave 13.39 ± 0.03397"),
+        "{said}"
+    );
+    assert!(said.contains("533.7 sigma apart"), "{said}");
+    assert!(
+        console.contains("`polar.moment.part` is \"total\""),
+        "{console}"
+    );
+    let warned = r["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|w| w["message"].as_str().unwrap().contains("disagree on Nuv"));
+    assert!(warned, "{}", r["warnings"]);
+    // the bundled configuration (polar lift-only, captive Nuvl): nothing to warn
+    let (_, console) = run_ok(&config, &dir.path().join("right"), &["hekf.enabled=false"]);
+    assert!(!console.contains("disagree"), "{console}");
+}

@@ -5,8 +5,11 @@
 //! Names are SNAME symbols written in ASCII: `Xud` = X_udot, `Nrr` = N_r|r|,
 //! `Yuvl` = lift part of Y_uv, `Nuva` = Munk (added-mass) part of N_uv.
 
+mod conflict;
 mod relations;
 mod uncertainty;
+
+pub use conflict::Conflict;
 
 pub use relations::{CompiledRelations, Relation, YawMoment, AXISYMMETRY, SYMMETRY};
 pub use uncertainty::{directions_of, Correlation, Direction};
