@@ -23,11 +23,13 @@ const SIMULATED: [&str; 5] = [
 const SEEDS: u64 = 30;
 
 /// One seed's outcome in one mode: per coefficient, its z = (value - truth) / sigma, its
-/// sigma, and whether the run flagged it as not determined.
+/// sigma, whether the run flagged it as not determined, and (joint mode) whether the run
+/// warned that halving or doubling the noise model moves it.
 struct Outcome {
     z: Vec<f64>,
     sigma: Vec<f64>,
     flagged: Vec<bool>,
+    noise_warned: Vec<bool>,
 }
 
 /// The twin identified in joint mode, with consider mode run beside it (`stages.hekf.modes`).
@@ -37,11 +39,20 @@ fn identify(example: &Path) -> (Outcome, Outcome) {
     assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
     let r = common::json(&out.join("results.json"));
     let rows = &r["stages"]["hekf"]["modes"]["rows"];
+    let noise_warning = r["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|w| w["message"].as_str())
+        .find(|m| m.starts_with("halving or doubling the noise model"))
+        .map(|m| m.split_once(": ").map_or("", |p| p.1).to_string())
+        .unwrap_or_default();
     let mode = |key: &str| {
         let mut outcome = Outcome {
             z: Vec::new(),
             sigma: Vec::new(),
             flagged: Vec::new(),
+            noise_warned: Vec::new(),
         };
         for (name, truth) in common::spheroid_joint_truth() {
             let row = common::named(rows, name);
@@ -51,6 +62,12 @@ fn identify(example: &Path) -> (Outcome, Outcome) {
             outcome
                 .flagged
                 .push(key == "consider" && row["undetermined_by_runs"] == true);
+            outcome.noise_warned.push(
+                key == "joint"
+                    && noise_warning
+                        .split(", ")
+                        .any(|part| part.starts_with(&format!("{name} "))),
+            );
         }
         outcome
     };
@@ -137,15 +154,16 @@ fn joint_mode_covers_the_truth_over_30_seeds() {
         (0.90..=0.98).contains(&consider_determined),
         "consider, determined coefficients: {consider_determined}"
     );
-    // joint mode: no sigma more than 20 % above consider mode's. The data's information
-    // only adds, but each mode's sigma also holds its own noise-model direction (docs/hekf.md,
-    // "The noise model"), which in joint mode carries the weighting of the captive estimates
-    // against the runs: measured up to 12 % above (Yvd, seed 25)
+    // joint mode: no sigma more than 20 % above consider mode's unless the run warns that the
+    // noise model moves it. The data's information only adds, but each mode's sigma also
+    // holds its own noise-model direction and process noise (docs/hekf.md, "The noise
+    // model"), which in joint mode carry the weighting of the captive estimates against the
+    // runs
     for (k, (j, c)) in outcomes.iter().enumerate() {
         for (i, (name, _)) in truths.iter().enumerate() {
             assert!(
-                j.sigma[i] <= c.sigma[i] * 1.2,
-                "seed {k}: {name} joint sigma {} > consider {}",
+                j.sigma[i] <= c.sigma[i] * 1.2 || j.noise_warned[i],
+                "seed {k}: {name} joint sigma {} > consider {}, no noise-model warning",
                 j.sigma[i],
                 c.sigma[i]
             );

@@ -323,7 +323,8 @@ fn a_pmm_programme_with_mistakes_names_every_key() {
 
 /// Stage conflicts (docs/stages.md): the spheroid's lift-only polar read as the total yaw
 /// moment gives a Nuv the PMM runs contradict by hundreds of sigma; the run warns with both
-/// values and names `polar.moment.part`. Read as it is, no conflict is warned.
+/// values and names `polar.moment.part`, and `--strict` exits with status 3. Read as it is,
+/// no conflict is warned.
 #[test]
 fn a_polar_read_with_the_wrong_moment_part_conflicts_with_the_pmm_runs() {
     let config = common::root().join("configs/spheroid_joint.toml");
@@ -360,7 +361,48 @@ fn a_polar_read_with_the_wrong_moment_part_conflicts_with_the_pmm_runs() {
         .iter()
         .any(|w| w["message"].as_str().unwrap().contains("disagree on Nuv"));
     assert!(warned, "{}", r["warnings"]);
-    // the bundled configuration (polar lift-only, captive Nuvl): nothing to warn
-    let (_, console) = run_ok(&config, &dir.path().join("right"), &["hekf.enabled=false"]);
-    assert!(!console.contains("disagree"), "{console}");
+    let conflict = r["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|w| w["message"].as_str().unwrap().contains("disagree on Nuv"))
+        .unwrap();
+    assert_eq!(conflict["failed_test"], "stage_conflict");
+    // --strict: the same run exits with status 3 and names the test, the output written
+    let strict = dir.path().join("strict");
+    let o = common::hydroid(&[
+        "run",
+        config.to_str().unwrap(),
+        "--out",
+        strict.to_str().unwrap(),
+        "--strict",
+        "--set",
+        &captive,
+        "--set",
+        "polar.moment.part=\"total\"",
+        "--set",
+        "hekf.enabled=false",
+    ]);
+    let err = common::text(&o.stderr);
+    assert_eq!(o.status.code(), Some(3), "{err}");
+    assert!(
+        err.contains("consistency tests failed (stage conflict)"),
+        "{err}"
+    );
+    assert!(strict.join("results.json").is_file());
+    // the bundled configuration (polar lift-only, captive Nuvl): nothing to warn, and
+    // --strict exits with 0
+    let right = dir.path().join("right");
+    let o = common::hydroid(&[
+        "run",
+        config.to_str().unwrap(),
+        "--out",
+        right.to_str().unwrap(),
+        "--strict",
+        "--set",
+        "hekf.enabled=false",
+    ]);
+    let err = common::text(&o.stderr);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    assert!(!err.contains("disagree"), "{err}");
 }

@@ -28,6 +28,11 @@ pub struct Args {
     /// edited or removed there are lost). A folder hydroid did not write is never replaced.
     #[arg(long)]
     force: bool,
+    /// Exit with status 3 when a consistency test failed (the innovations, a stage conflict,
+    /// the noise-model sensitivity, a re-simulation: the warnings say which), for scripts and
+    /// CI pipelines. The output folder is written as without it.
+    #[arg(long)]
+    strict: bool,
 }
 
 fn read_json<T: serde::de::DeserializeOwned>(path: &Path) -> hydroid::Result<T> {
@@ -181,5 +186,8 @@ pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
         manifest.config.display(),
         written.display()
     )?;
-    Ok(0)
+    Ok(super::warnings::exit_status(
+        args.strict,
+        &output.result.warnings,
+    ))
 }

@@ -25,6 +25,11 @@ pub struct Args {
     /// table; every other message goes to stderr.
     #[arg(long)]
     json: bool,
+    /// Exit with status 3 when a consistency test failed (the innovations, a stage conflict,
+    /// the noise-model sensitivity, a re-simulation: the warnings say which), for scripts and
+    /// CI pipelines. The output folder is written as without it.
+    #[arg(long)]
+    strict: bool,
 }
 
 /// Runs the command.
@@ -119,5 +124,8 @@ pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
             if n == 1 { "" } else { "s" }
         ));
     }
-    Ok(0)
+    Ok(super::warnings::exit_status(
+        args.strict,
+        &output.result.warnings,
+    ))
 }

@@ -3,7 +3,27 @@
 //! re-simulation's), the notes on how the inputs were read last. results.json and the report
 //! keep every warning as it was raised.
 
-use hydroid::warning::Warning;
+use hydroid::warning::{Test, Warning};
+use std::collections::BTreeSet;
+
+/// Exit status of `run --strict` when a warning reports a failed consistency test.
+pub const STRICT_FAILED: i32 = 3;
+
+/// The exit status of a run that wrote its output: [`STRICT_FAILED`] under `--strict` when
+/// a warning reports a failed consistency test (said on the console, naming the tests), else 0.
+pub fn exit_status(strict: bool, warnings: &[Warning]) -> i32 {
+    let failed: BTreeSet<Test> = warnings.iter().filter_map(|w| w.failed_test).collect();
+    if !strict || failed.is_empty() {
+        return 0;
+    }
+    let names: Vec<&str> = failed.iter().map(|t| t.name()).collect();
+    super::warning(&format!(
+        "--strict: consistency tests failed ({}): exit status {STRICT_FAILED}, the output \
+         folder written as without it",
+        names.join(", ")
+    ));
+    STRICT_FAILED
+}
 
 /// Stages in the order their warnings are shown: what bears on the estimates first.
 const ORDER: [&str; 9] = [

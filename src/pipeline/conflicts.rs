@@ -47,6 +47,7 @@ fn warning(c: &Conflict, stage: &str, cfg: &Config) -> Warning {
         ),
         causes(&l.name, cfg),
     )
+    .failed(crate::warning::Test::StageConflict)
 }
 
 /// The likely causes of a conflict on `name`, in the user's settings.

@@ -434,23 +434,26 @@ fn noise_model_warning(
         .iter()
         .map(|(m, n)| format!("{n} {} sigma", crate::numfmt::num(*m)))
         .collect();
-    Some(Warning::new(
-        STAGE,
-        format!(
-            "halving or doubling the noise model (every measurement and process noise sigma) \
+    Some(
+        Warning::new(
+            STAGE,
+            format!(
+                "halving or doubling the noise model (every measurement and process noise sigma) \
              moves {}: {}",
-            if moved.len() == 1 {
-                "one estimate by more than twice its sigma"
-            } else {
-                "estimates by more than twice their sigma"
-            },
-            list.join(", ")
-        ),
-        "the estimates depend on how noisy the data are taken to be, as much as on the data: \
+                if moved.len() == 1 {
+                    "one estimate by more than twice its sigma"
+                } else {
+                    "estimates by more than twice their sigma"
+                },
+                list.join(", ")
+            ),
+            "the estimates depend on how noisy the data are taken to be, as much as on the data: \
          that spread is in the reported sigmas (uncertainty budget, row \"noise model\"), \
          but look for the misfit behind it (the runs' innovation tests, a coefficient held \
          at a value the data contradict)",
-    ))
+        )
+        .failed(crate::warning::Test::NoiseModel),
+    )
 }
 
 /// The identifiability advice for the estimates of `result` ([`identifiability::advise`]).
