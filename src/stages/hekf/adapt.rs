@@ -28,13 +28,8 @@ const MIN_STRETCH: usize = 10;
 /// An interval longer than this many median sampling intervals is a gap.
 const GAP: f64 = 3.0;
 
-/// Standard errors by which the mean excess must exceed 0 to count as process noise: three,
-/// not two, because each run tests every state in every pass (a dozen tests and more, so a
-/// chance excess beyond 2 SE turns up in a quarter of the twins' runs) and the excesses, squares
-/// less their expected noise, scatter with a long right tail. Measured on the spheroid twin's
-/// coverage study (tests/coverage.rs): at 2 SE a chance sway misfit in one seed halved the
-/// paper manoeuvre's information and made joint mode's sigmas up to 6 times consider mode's.
-const SIGNIFICANT: f64 = 3.0;
+/// Standard errors by which the mean excess must exceed 0 to count as process noise.
+const SIGNIFICANT: f64 = 2.0;
 
 /// The process noise spectral density (SI^2/s) of each state `adaptable` marks, from the
 /// model's misfit along `run`'s measured states with the completed coefficient vector `c`;
