@@ -328,12 +328,12 @@ fn the_papers_linear_model_on_mmg_runs_is_reported_as_a_mismatch() {
     }
     assert!(said("predicts the zig-zag poorly", "20/20 zig-zag"));
     // the numbers docs/models/ships.md and docs/validation.md give: the filter holds the runs
-    // (mean NIS 4.4, conservative) ...
+    // (mean NIS 4.3 and 4.4, conservative) ...
     let runs = r["stages"]["hekf"]["runs"].as_array().unwrap();
     for run in runs {
         let nis = run["nis"]["mean"].as_f64().unwrap();
         assert!(
-            (4.35..4.45).contains(&nis),
+            (4.25..4.45).contains(&nis),
             "{}: mean NIS {nis}",
             run["name"]
         );
