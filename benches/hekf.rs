@@ -50,6 +50,7 @@ fn run_data(m: &Spheroid3, c: &[f64]) -> RunData {
         x0: y[..6].to_vec(),
         y,
         r,
+        rounding: Vec::new(),
         inputs,
         p0,
         lines: Vec::new(),

@@ -7,7 +7,8 @@
 //! `cargo bench --bench ingest`; numbers are recorded in docs/performance.md.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use hydroid::formats::{read, FormatChoice, ReadOptions};
+use hydroid::formats::input::Limits;
+use hydroid::formats::{read, read_within, FormatChoice, ReadOptions};
 use std::fmt::Write as _;
 use std::hint::black_box;
 use std::path::Path;
@@ -81,6 +82,11 @@ fn bench(c: &mut Criterion) {
 
     let mut g = c.benchmark_group("ingest_shapes");
     g.sample_size(10);
+    // wider than the default column limit (HYDROID_MAX_COLUMNS), raised here
+    let limits = Limits {
+        max_columns: 300_000,
+        ..Limits::default()
+    };
     for (name, rows, cols) in [
         ("one_line_100k_cells", 1, 100_000),
         ("one_line_300k_cells", 1, 300_000),
@@ -91,7 +97,8 @@ fn bench(c: &mut Criterion) {
         g.throughput(Throughput::Elements((rows * cols) as u64));
         g.bench_function(name, |b| {
             b.iter(|| {
-                let t = read(&p, FormatChoice::Auto, &ReadOptions::default()).expect("readable");
+                let t = read_within(&p, FormatChoice::Auto, &ReadOptions::default(), &limits)
+                    .expect("readable");
                 assert_eq!((t.rows(), t.columns.len()), (rows, cols));
                 black_box(t)
             })

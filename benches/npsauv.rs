@@ -60,6 +60,7 @@ fn bench(c: &mut Criterion) {
         x0: ex.state.clone(),
         y,
         r,
+        rounding: Vec::new(),
         inputs,
         p0,
         lines: Vec::new(),

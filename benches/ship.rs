@@ -55,6 +55,7 @@ fn bench(c: &mut Criterion) {
         x0: y[..6].to_vec(),
         y,
         r,
+        rounding: Vec::new(),
         inputs,
         p0,
         lines: Vec::new(),

@@ -59,6 +59,7 @@ fn main() {
         measured: (0..6).collect(),
         y: y.clone(),
         r,
+        rounding: Vec::new(),
         inputs,
         x0: y[..6].to_vec(),
         p0,
@@ -97,6 +98,9 @@ fn main() {
         gate_from_pass: 1,
         repeat_prior_factor: Some(100.0),
         filter: Default::default(),
+        adaptable: Vec::new(),
+        run_q: Vec::new(),
+        noise_scale: 1.0,
     };
     let t0 = std::time::Instant::now();
     let id = identify(&model, &setup, &[run], &mut Silent).unwrap_or_else(|e| panic!("{:?}", e));

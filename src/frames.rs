@@ -70,6 +70,48 @@ pub fn rotate_to_body(
     Ok(())
 }
 
+/// The print resolution of earth-frame velocities carried into the body frame with them
+/// (before [`rotate_to_body`] turns the channels): rounding errors of variance d^2 / 12 in
+/// the earth components and the heading add up as u_b = c u_e + s v_e, v_b = -s u_e + c v_e
+/// do (first order, in the heading only: d u_b / d psi = v_b, d v_b / d psi = -u_b), kept as
+/// the resolution with the same variance. Roll and pitch are taken as small here.
+pub fn rotate_resolution(
+    ch: &BTreeMap<Quantity, Vec<f64>>,
+    constants: &BTreeMap<Quantity, f64>,
+    resolution: &mut BTreeMap<Quantity, Vec<f64>>,
+    groups: Groups,
+) {
+    for (qs, wanted) in [
+        ([Quantity::U, Quantity::V], groups.linear),
+        ([Quantity::P, Quantity::Q], groups.angular),
+    ] {
+        let involved = [qs[0], qs[1], Quantity::Yaw];
+        if !wanted || !involved.iter().any(|q| resolution.contains_key(q)) {
+            continue;
+        }
+        let (Some(a), Some(b)) = (ch.get(&qs[0]), ch.get(&qs[1])) else {
+            continue;
+        };
+        let var = |q: Quantity, i: usize| resolution.get(&q).map_or(0.0, |r| r[i] * r[i]);
+        let n = a.len();
+        let (mut ra, mut rb) = (vec![0.0; n], vec![0.0; n]);
+        for i in 0..n {
+            let psi = ch
+                .get(&Quantity::Yaw)
+                .map(|v| v[i])
+                .or_else(|| constants.get(&Quantity::Yaw).copied())
+                .unwrap_or(0.0);
+            let (s, c) = psi.sin_cos();
+            let (ab, bb) = (c * a[i] + s * b[i], -s * a[i] + c * b[i]);
+            let (va, vb, vp) = (var(qs[0], i), var(qs[1], i), var(Quantity::Yaw, i));
+            ra[i] = (c * c * va + s * s * vb + bb * bb * vp).sqrt();
+            rb[i] = (s * s * va + c * c * vb + ab * ab * vp).sqrt();
+        }
+        resolution.insert(qs[0], ra);
+        resolution.insert(qs[1], rb);
+    }
+}
+
 /// Body-to-earth rotation matrix R(phi, theta, psi), zyx convention (Fossen 2011, eq. 2.18).
 pub fn rotation_zyx(phi: f64, theta: f64, psi: f64) -> [[f64; 3]; 3] {
     let (sf, cf) = phi.sin_cos();

@@ -62,6 +62,7 @@ pub mod numfmt;
 pub mod ode;
 pub mod output;
 pub mod pipeline;
+pub mod printed;
 pub mod progress;
 pub mod quantity;
 pub mod record;

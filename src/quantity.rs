@@ -307,6 +307,33 @@ impl Quantity {
     pub fn is_euler_angle(self) -> bool {
         matches!(self, Quantity::Roll | Quantity::Pitch | Quantity::Yaw)
     }
+
+    /// The largest magnitude a value of this quantity written by hand (an initial state, an
+    /// input, a constant, a step, a noise level) can plausibly have, in SI, with what the
+    /// bound stands for: beyond it the value is a unit or typing mistake (`1e300`, km for
+    /// m), whatever the vehicle. `None` for time, which has no such bound.
+    pub fn plausible_bound(self) -> Option<(f64, &'static str)> {
+        use Quantity as Q;
+        Some(match self {
+            Q::Time | Q::WaveYawIntegral => return None,
+            Q::X | Q::Y | Q::Z => (2e7, "2e7 m, half the Earth's circumference"),
+            Q::Roll | Q::Pitch | Q::Yaw | Q::WaveYaw => (200.0 * PI, "628 rad, 100 turns"),
+            Q::Alpha | Q::Drift => (PI, "3.142 rad, 180 deg"),
+            Q::Rudder | Q::SternPlanes | Q::BowPlanes => (PI / 2.0, "1.571 rad, 90 deg"),
+            Q::U | Q::V | Q::W | Q::Speed => (200.0, "200 m/s, 390 kn, faster than any vessel"),
+            Q::P | Q::Q | Q::R => (20.0, "20 rad/s, three turns a second"),
+            Q::Rpm => (2000.0 * PI, "1000 rev/s, 60,000 rpm"),
+            Q::UDot => (100.0, "100 m/s^2, 10 g"),
+            Q::Fx | Q::Fy | Q::Fz | Q::Thrust => (1e10, "1e10 N, the weight of a million tonnes"),
+            Q::Mx | Q::My | Q::Mz => (1e13, "1e13 N m, 1e10 N at 1000 m"),
+            Q::Cd | Q::Cl | Q::Cm | Q::Cs => (1e3, "1000"),
+            Q::QuatW | Q::QuatX | Q::QuatY | Q::QuatZ => {
+                (1.001, "1.001, a part of a unit quaternion")
+            }
+            Q::RPrime => (100.0, "100"),
+            Q::XPrime | Q::YPrime | Q::NPrime => (1e3, "1000"),
+        })
+    }
 }
 
 impl fmt::Display for Quantity {

@@ -34,6 +34,10 @@ pub struct Record {
     pub meta: Vec<(String, String)>,
     /// Things fixed or noticed while reading.
     pub warnings: Vec<String>,
+    /// The print resolution of each sample (SI) of the channels printed with so few digits
+    /// that their rounding is part of the measurement noise (`crate::printed`); absent for a
+    /// channel printed finely enough or made in memory.
+    pub resolution: BTreeMap<Quantity, Vec<f64>>,
 }
 
 /// Where a channel of a record came from.
@@ -85,6 +89,7 @@ impl Record {
             lines: (2..rows + 2).collect(),
             meta: Vec::new(),
             warnings: Vec::new(),
+            resolution: BTreeMap::new(),
         }
     }
 
@@ -227,8 +232,16 @@ pub fn from_table(mut table: Table, spec: &InputSpec, needs: &Needs) -> Result<R
     let mut channels = BTreeMap::new();
     let mut units = BTreeMap::new();
     let mut columns = BTreeMap::new();
+    let mut resolution = BTreeMap::new();
     for (q, idx, unit, scale) in &picks {
         if *q != Quantity::Time {
+            // the digits as printed, before any conversion
+            if let Some(res) = crate::printed::coarse_resolutions(&table.columns[*idx].values) {
+                let header = table.columns[*idx].unit.as_ref().map_or(1.0, |u| u.factor);
+                let f = unit.as_ref().map_or(header, |u| u.factor) / q.internal_unit().factor
+                    * scale.abs();
+                resolution.insert(*q, res.into_iter().map(|r| r * f).collect::<Vec<f64>>());
+            }
             if let Some(u) = unit {
                 rescale_column(&mut table, *idx, u);
             }
@@ -315,6 +328,10 @@ pub fn from_table(mut table: Table, spec: &InputSpec, needs: &Needs) -> Result<R
         for (q, v) in &mut constants {
             *v *= froude.factor(*q);
         }
+        for (q, values) in &mut resolution {
+            let f = froude.factor(*q).abs();
+            values.iter_mut().for_each(|v: &mut f64| *v *= f);
+        }
         warnings.push(froude.describe());
     }
     let groups = crate::frames::Groups {
@@ -322,6 +339,7 @@ pub fn from_table(mut table: Table, spec: &InputSpec, needs: &Needs) -> Result<R
         angular: spec.rate_frame.unwrap_or(spec.velocity_frame) == VelocityFrame::Earth,
     };
     if groups.linear || groups.angular {
+        crate::frames::rotate_resolution(&channels, &constants, &mut resolution, groups);
         crate::frames::rotate_to_body(&mut channels, &constants, &table.source, groups)?;
         warnings.push(
             match (groups.linear, groups.angular) {
@@ -347,6 +365,7 @@ pub fn from_table(mut table: Table, spec: &InputSpec, needs: &Needs) -> Result<R
         lines: table.lines.clone(),
         meta: table.meta.clone(),
         warnings,
+        resolution,
     })
 }
 

@@ -94,12 +94,12 @@ pub fn mean_and_standard_error(y: &[f64]) -> Option<(f64, f64)> {
     Some((mean, (c0 * n as f64 / (n as f64 - 1.0) / n_eff).sqrt()))
 }
 
-/// The smallest measurement standard deviation hydroid uses for a signal: a part in 10^8 of
+/// The smallest measurement standard deviation hydroid uses for a signal: a part in 10^6 of
 /// its largest magnitude (and 1e-12 absolute), so that noise-free synthetic data do not make
 /// the innovation covariance singular.
 pub fn noise_floor(y: &[f64]) -> f64 {
     let peak = y.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-    (1e-8 * peak).max(1e-12)
+    (1e-6 * peak).max(1e-12)
 }
 
 /// The smallest and largest value (infinite, reversed, for no values).
@@ -129,6 +129,14 @@ pub struct Outlier {
 
 /// The gross outliers of `y`.
 pub fn outliers(y: &[f64]) -> Vec<Outlier> {
+    outliers_beyond(y, None)
+}
+
+/// The gross outliers of `y`, where a sample within its printed resolution `resolution[k]`
+/// (the step of its last printed digit) of its neighbourhood's median is never one: a
+/// quantised signal's constant neighbourhoods have no spread, and one printed step is no
+/// outlier.
+pub fn outliers_beyond(y: &[f64], resolution: Option<&[f64]>) -> Vec<Outlier> {
     let noise = noise_sigma(y).unwrap_or(0.0);
     let n = y.len();
     if n < 2 * HALF_WINDOW + 1 {
@@ -146,7 +154,8 @@ pub fn outliers(y: &[f64]) -> Vec<Outlier> {
         dev.clear();
         dev.extend(window.iter().map(|v| (v - median).abs()));
         let mad = median_of(&mut dev);
-        let scale = (1.4826 * mad).max(noise);
+        let step = resolution.and_then(|r| r.get(k)).copied().unwrap_or(0.0);
+        let scale = (1.4826 * mad).max(noise).max(step);
         let d = (y[k] - median).abs();
         // a non-finite sample is always an outlier; a zero scale (a constant neighbourhood)
         // makes any departure one

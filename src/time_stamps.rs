@@ -301,40 +301,6 @@ enum Misfit {
     TooMany { count: usize },
 }
 
-/// The print resolution of each stamp: the larger of a fixed number of decimals (the most any
-/// stamp shows) and a fixed number of significant digits (the most any stamp shows).
-fn resolutions(time: &[f64]) -> Vec<f64> {
-    let decimals = |v: f64| {
-        let s = format!("{}", v.abs());
-        s.split('.').nth(1).map_or(0, str::len) as i32
-    };
-    // `{:e}` writes the shortest mantissa that reads back: 1.35e-1, 1e1.
-    let sig_exp = |v: f64| {
-        let s = format!("{:e}", v.abs());
-        let (m, e) = s.split_once('e').unwrap_or((&s, "0"));
-        let digits = m.chars().filter(char::is_ascii_digit).count() as i32;
-        (digits, e.parse::<i32>().unwrap_or(0))
-    };
-    let d = time.iter().map(|&v| decimals(v)).max().unwrap_or(0).min(17);
-    let s = time
-        .iter()
-        .filter(|v| **v != 0.0)
-        .map(|&v| sig_exp(v).0)
-        .max()
-        .unwrap_or(1)
-        .min(17);
-    time.iter()
-        .map(|&v| {
-            let fixed = 10f64.powi(-d);
-            if v == 0.0 {
-                fixed
-            } else {
-                fixed.max(10f64.powi(sig_exp(v).1 - s + 1))
-            }
-        })
-        .collect()
-}
-
 /// The uniform sampling `a + k dt` whose rounding gives the stamps, if there is one: `dt`
 /// when given, else the interval that fits best. Every stamp must lie within half its print
 /// resolution of the rebuilt time, except at most [`max_off`] rows that may be one printed
@@ -344,7 +310,7 @@ fn rebuild(time: &[f64], dt: Option<f64>) -> Result<Rebuilt, Option<Misfit>> {
     if n < 2 || time.iter().any(|v| !v.is_finite()) {
         return Err(None);
     }
-    let res = resolutions(time);
+    let res = crate::printed::resolutions(time);
     // tolerance of a stamp printed right (half a resolution) and one printed digit off
     let slack =
         |k: usize, half: f64| half * res[k] * (1.0 + 1e-9) + 4.0 * f64::EPSILON * time[k].abs();

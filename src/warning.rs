@@ -19,6 +19,36 @@ pub struct Warning {
     pub message: String,
     /// What it means for the numbers (and, where there is one, what to do).
     pub meaning: String,
+    /// The consistency test it reports as failed, when it reports one (`hydroid run
+    /// --strict` exits with status 3 on these).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub failed_test: Option<Test>,
+}
+
+/// A consistency test whose failure a warning reports.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Test {
+    /// The filter's innovations against its noise model (NIS; Bar-Shalom et al. 2001, 5.4).
+    Innovations,
+    /// Two stages' estimates of one coefficient (docs/stages.md, "Stage conflicts").
+    StageConflict,
+    /// The estimates' dependence on the noise model (docs/hekf.md, "The noise model").
+    NoiseModel,
+    /// The identified model re-simulated against a run, or steered through its manoeuvre.
+    Resimulation,
+}
+
+impl Test {
+    /// The test in words: `innovations`, `stage conflict` ...
+    pub fn name(self) -> &'static str {
+        match self {
+            Test::Innovations => "innovations (NIS)",
+            Test::StageConflict => "stage conflict",
+            Test::NoiseModel => "noise model",
+            Test::Resimulation => "re-simulation",
+        }
+    }
 }
 
 impl Warning {
@@ -29,7 +59,14 @@ impl Warning {
             run: None,
             message: message.into(),
             meaning: meaning.into(),
+            failed_test: None,
         }
+    }
+
+    /// The same warning, reporting a failed consistency test.
+    pub fn failed(mut self, test: Test) -> Self {
+        self.failed_test = Some(test);
+        self
     }
 
     /// The same warning, about run `name`.

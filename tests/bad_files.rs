@@ -351,6 +351,17 @@ const CASES: &[Case] = &[
     ),
     expecting(
         case(
+            "cut_after_delimiter.csv",
+            Some(4),
+            &[
+                "ends in ',' with no value after it",
+                "cut off while being written",
+            ],
+        ),
+        "a complete last line",
+    ),
+    expecting(
+        case(
             "deeply_nested_brackets.dat",
             Some(4),
             &["nests brackets more than 16 deep"],
@@ -463,5 +474,66 @@ fn the_binary_reports_bad_files_on_stderr_with_exit_code_1() {
         assert!(stderr.starts_with("error: "), "{stderr}");
         assert!(stderr.contains(says), "{file}: {stderr}");
         assert!(!stderr.contains("panicked"), "{stderr}");
+    }
+}
+
+/// A last row cut inside its last value still parses (`1.2` of `1.2345e+01`): read with a
+/// warning naming the line when the value is written with other digits than the rows above,
+/// in every layout; a complete file, with or without a last line end, has no such warning.
+#[test]
+fn a_last_row_cut_inside_its_last_value_is_read_with_a_warning() {
+    let dir = tempfile::tempdir().unwrap();
+    let cut = [
+        (
+            "cut.csv",
+            "t,u\n0.00,1.2345e+01\n0.10,1.2350e+01\n0.20,1.2",
+            4,
+        ),
+        ("cut_semi.csv", "t;u\n0,00;1,250\n0,10;1,275\n0,20;1,2", 4),
+        (
+            "cut.dat",
+            "# t u v\n0.000 1.000 2.000\n0.100 1.100 2.100\n0.200 1.200 2.1",
+            4,
+        ),
+        (
+            "forceCoeffs.dat",
+            "# Time Cm Cd Cl\n0.1 1.000e-02 2.000e-01 3.000e-01\n0.2 1.000e-02 2.000e-01 3.0\
+             00e-01\n0.3 1.000e-02 2.000e-01 3.000e-0",
+            4,
+        ),
+        (
+            "cut_exponent_digits.csv",
+            "t,u\n0,1.5e+01\n1,1.6e+01\n2,1.7e+0",
+            4,
+        ),
+    ];
+    for (name, text, line) in cut {
+        let p = dir.path().join(name);
+        std::fs::write(&p, text).unwrap();
+        let t = formats::read(&p, FormatChoice::Auto, &ReadOptions::default())
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let w = t.warnings.join("\n");
+        assert!(
+            w.contains(&format!("line {line} (the last) has no line end"))
+                && w.contains("cut off while being written"),
+            "{name}: {w}"
+        );
+    }
+    let complete = [
+        ("no_end.csv", "t,u\n0.00,1.25\n0.10,1.50\n0.20,1.75"),
+        ("with_end.csv", "t,u\n0.00,1.25\n0.10,1.50\n0.20,1.7\n"),
+        ("general.csv", "t,u\n0,1.25\n0.1,1.5\n0.2,2"),
+        ("integers.dat", "1 2\n3 4\n5 10"),
+    ];
+    for (name, text) in complete {
+        let p = dir.path().join(name);
+        std::fs::write(&p, text).unwrap();
+        let t = formats::read(&p, FormatChoice::Auto, &ReadOptions::default())
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert!(
+            !t.warnings.iter().any(|w| w.contains("cut off")),
+            "{name}: {:?}",
+            t.warnings
+        );
     }
 }

@@ -388,6 +388,50 @@ fn rerun_reproduces_and_refuses_changed_inputs() {
     );
     let o = hydroid(&["rerun", out.to_str().unwrap(), "--allow-changed-inputs"]);
     assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+
+    // an edited config.toml (or rerun.json, inputs.json) of the output folder is refused,
+    // naming it, unless --edited accepts it
+    let after = std::fs::read(out.join("results.json")).unwrap();
+    let cfg = out.join("config.toml");
+    let t = std::fs::read_to_string(&cfg).unwrap();
+    std::fs::write(&cfg, t.replacen("title = \"", "title = \"edited: ", 1)).unwrap();
+    for extra in [&[][..], &["--force"][..], &["--allow-changed-inputs"][..]] {
+        let mut args = vec!["rerun", out.to_str().unwrap()];
+        args.extend(extra);
+        let o = hydroid(&args);
+        let e = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{extra:?}: {e}");
+        assert!(
+            e.contains(&format!("{}", cfg.display())) && e.contains("--edited"),
+            "{extra:?}: {e}"
+        );
+        assert_eq!(std::fs::read(out.join("results.json")).unwrap(), after);
+    }
+    let o = hydroid(&["rerun", out.to_str().unwrap(), "--edited"]);
+    let e = text(&o.stderr);
+    assert_eq!(o.status.code(), Some(0), "{e}");
+    assert!(
+        e.contains("config.toml was edited") && e.contains("--edited"),
+        "{e}"
+    );
+    let r: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("results.json")).unwrap()).unwrap();
+    assert!(
+        r["title"].as_str().unwrap().starts_with("edited: "),
+        "the edited configuration ran: {}",
+        r["title"]
+    );
+    // a rerun.json edited by hand is refused the same way
+    let rj = out.join("rerun.json");
+    let t = std::fs::read_to_string(&rj).unwrap();
+    std::fs::write(&rj, t.replacen('{', "{ ", 1)).unwrap();
+    let o = hydroid(&["rerun", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        text(&o.stderr).contains("rerun.json"),
+        "{}",
+        text(&o.stderr)
+    );
 }
 
 #[test]

@@ -26,17 +26,20 @@ fn quiet_prints_only_warnings_and_keeps_the_table() {
     let o = &run.output;
     assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
     let stderr = text(&o.stderr);
-    // warnings (each with its meaning) and nothing else
+    // warnings (each with its meaning), grouped by kind with the notes on how the inputs
+    // were read last, and nothing else
     assert!(
-        stderr.starts_with(
-            "warning: input, run 'surge run': velocities rotated from the earth \
+        stderr.trim_end().ends_with(
+            "note: input, run 'surge run': velocities rotated from the earth \
                             frame into the body frame"
         ),
         "{stderr}"
     );
     for line in stderr.lines() {
         assert!(
-            line.starts_with("warning: ") || line.starts_with("  meaning: "),
+            line.starts_with("warning: ")
+                || line.starts_with("  meaning: ")
+                || line.starts_with("note: "),
             "{line}"
         );
     }
@@ -310,7 +313,8 @@ fn compare_json_gives_the_differences() {
         let p = dir.path().join(name);
         std::fs::write(
             &p,
-            serde_json::json!({ "coefficients": coefficients }).to_string(),
+            serde_json::json!({ "schema": "hydroid-results/2", "coefficients": coefficients })
+                .to_string(),
         )
         .unwrap();
         p.to_str().unwrap().to_string()

@@ -54,9 +54,16 @@ fn a_run_without_rudder_or_a_bad_scale_is_refused_with_the_reason() {
         err.contains("needs the rudder angle (or an execute time)"),
         "{err}"
     );
-    let o = hydroid(&["manoeuvre", LOGS, "--scale", "0.5"]);
-    assert_eq!(o.status.code(), Some(2));
-    assert!(text(&o.stderr).contains("--scale must be a scale ratio of at least 1"));
+    // below full scale, absurdly large, not finite: refused with the range expected
+    for bad in ["0.5", "1e300", "1001", "inf", "NaN"] {
+        let o = hydroid(&["manoeuvre", LOGS, "--scale", bad]);
+        let e = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{bad}: {e}");
+        assert!(
+            e.contains("--scale") && e.contains("expected a number from 1 (full scale) to 1000"),
+            "{bad}: {e}"
+        );
+    }
 }
 
 /// The chain for a ship: `hydroid simulate` steers the KVLCC2 model (mmg3) through a 35 deg

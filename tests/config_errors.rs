@@ -267,7 +267,7 @@ fn set_messages_name_the_override_in_words() {
 fn results(dir: &Path, name: &str, mass: f64, model: &str) -> PathBuf {
     let p = dir.join(format!("{name}.json"));
     let json = format!(
-        r#"{{"coefficients": [], "vehicle": {{"name": "sub", "mass": {mass}, "length": 1.2,
+        r#"{{"schema": "hydroid-results/2", "coefficients": [], "vehicle": {{"name": "sub", "mass": {mass}, "length": 1.2,
             "q": 16.1}}, "configuration": {{"hekf": {{"model": "{model}"}}}}}}"#
     );
     std::fs::write(&p, json).unwrap();
@@ -297,4 +297,84 @@ fn compare_warns_about_different_vehicles_and_models() {
         "{}",
         text(&o.stderr)
     );
+}
+
+/// What would make a comparison wrong without a word is refused (another schema version, a
+/// negative sigma, a coefficient listed twice) or flagged (the same coefficient in two units).
+#[test]
+fn compare_refuses_other_schemas_bad_sigmas_and_duplicates_and_flags_units() {
+    let dir = tempfile::tempdir().unwrap();
+    let coef = |name: &str, sigma: f64, unit: &str| serde_json::json!({"name": name, "value": 1.5, "sigma": sigma, "unit": unit, "source": "hekf"});
+    let write = |name: &str, schema: Option<&str>, coefficients: Vec<serde_json::Value>| {
+        let mut v = serde_json::json!({ "coefficients": coefficients });
+        if let Some(s) = schema {
+            v["schema"] = s.into();
+        }
+        let p = dir.path().join(name);
+        std::fs::write(&p, serde_json::to_string_pretty(&v).unwrap()).unwrap();
+        p.to_str().unwrap().to_string()
+    };
+    let good = write(
+        "good.json",
+        Some("hydroid-results/2"),
+        vec![coef("Yvd", 0.1, "kg")],
+    );
+    let cases = [
+        (
+            write(
+                "v1.json",
+                Some("hydroid-results/1"),
+                vec![coef("Yvd", 0.1, "kg")],
+            ),
+            vec!["v1.json", "schema 'hydroid-results/1'", "hydroid-results/2"],
+        ),
+        (
+            write("none.json", None, vec![coef("Yvd", 0.1, "kg")]),
+            vec!["none.json", "no `schema`"],
+        ),
+        (
+            write(
+                "negative.json",
+                Some("hydroid-results/2"),
+                vec![coef("Nrd", 0.1, "kg m^2"), coef("Yvd", -0.2, "kg")],
+            ),
+            vec!["negative.json:10", "'Yvd': sigma -0.2 is negative"],
+        ),
+        (
+            write(
+                "twice.json",
+                Some("hydroid-results/2"),
+                vec![coef("Yvd", 0.1, "kg"), coef("Yvd", 0.2, "kg")],
+            ),
+            vec!["twice.json:10", "'Yvd' is listed twice", "line 3"],
+        ),
+    ];
+    for (bad, says) in cases {
+        for args in [[&good, &bad], [&bad, &good]] {
+            let o = hydroid(&["compare", args[0], args[1]]);
+            let e = text(&o.stderr);
+            assert_eq!(o.status.code(), Some(1), "{e}");
+            for s in &says {
+                assert!(e.contains(s), "{s}: {e}");
+            }
+        }
+    }
+    let grams = write(
+        "grams.json",
+        Some("hydroid-results/2"),
+        vec![coef("Yvd", 0.1, "g")],
+    );
+    let o = hydroid(&["compare", &good, &grams]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let (e, s) = (text(&o.stderr), text(&o.stdout));
+    assert!(e.contains("Yvd is in kg in A and in g in B"), "{e}");
+    let row = s.lines().find(|l| l.starts_with("Yvd")).unwrap();
+    assert!(
+        row.contains("kg (A) vs g (B)") && !row.contains("+0"),
+        "{row}"
+    );
+    let o = hydroid(&["compare", &good, &grams, "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("stdout is JSON");
+    assert_eq!(v["coefficients"][0]["units_differ"], true);
+    assert!(v["coefficients"][0]["difference"].is_null());
 }

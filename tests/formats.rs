@@ -567,3 +567,53 @@ fn every_fixture_is_covered() {
         );
     }
 }
+
+/// A blank-separated header whose units the blanks split off (`time (s)  u (m/s)`, `u [ m
+/// s^-1 ]`) is the header, with its units, not a title; a line above the data that reads
+/// like a header but does not fit the rows is kept as a title with a warning naming it.
+#[test]
+fn a_blank_separated_header_with_spaced_units_is_the_header() {
+    let dir = tempfile::tempdir().unwrap();
+    let rows = "0.0 1.0 0.5\n0.1 1.1 0.6\n0.2 1.2 0.7\n";
+    for (name, head) in [
+        ("round.txt", "time (s)  u (m/s)  r (deg/s)"),
+        ("square.txt", "time [ s ]  u [ m s^-1 ]  r [ deg s^-1 ]"),
+        (
+            "commented.txt",
+            "# time [ s ]  u [ m s^-1 ]  r [ deg s^-1 ]",
+        ),
+        ("mixed.txt", "time (s)\tu\tr (deg/s)"),
+        ("one_unit.txt", "time   u (m/s)   r"),
+    ] {
+        let p = dir.path().join(name);
+        std::fs::write(&p, format!("{head}\n{rows}")).unwrap();
+        let t = formats::read(&p, FormatChoice::Auto, &ReadOptions::default())
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(t.names(), ["time", "u", "r"], "{name}");
+        assert_eq!(t.time, Some(0), "{name}");
+        assert!(t.warnings.is_empty(), "{name}: {:?}", t.warnings);
+        if name != "one_unit.txt" {
+            let r = col(&t, "r");
+            assert!((r[0] - 0.5f64.to_radians()).abs() < 1e-12, "{name}: {r:?}");
+        }
+    }
+    for (name, head) in [
+        ("four_for_three.txt", "t u v w"),
+        (
+            "units_four_for_three.txt",
+            "time (s)  u (m/s)  r (deg/s)  x (m)",
+        ),
+    ] {
+        let p = dir.path().join(name);
+        std::fs::write(&p, format!("{head}\n{rows}")).unwrap();
+        let t = formats::read(&p, FormatChoice::Auto, &ReadOptions::default()).unwrap();
+        assert_eq!(t.names(), ["col1", "col2", "col3"], "{name}");
+        let w = t.warnings.join("\n");
+        assert!(
+            w.contains("line 1")
+                && w.contains("reads like a header of 4 names")
+                && w.contains("have 3 values"),
+            "{name}: {w}"
+        );
+    }
+}

@@ -584,7 +584,10 @@ fn rerun_works_from_any_folder_and_quotes_the_recorded_configuration() {
     let t = std::fs::read_to_string(&cfg).unwrap();
     let line = 1 + t.lines().position(|l| l.starts_with("mass = ")).unwrap();
     std::fs::write(&cfg, t.replacen("mass = 50.0", "mass = -50.0", 1)).unwrap();
-    let o = ex.hydroid_in("../elsewhere", &["rerun", "../proj/results/deep/out"]);
+    let o = ex.hydroid_in(
+        "../elsewhere",
+        &["rerun", "../proj/results/deep/out", "--edited"],
+    );
     let e = text(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "{e}");
     assert!(

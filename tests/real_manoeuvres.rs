@@ -19,21 +19,9 @@ mod common;
 
 use common::{hydroid, text};
 use serde_json::Value;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-/// The folder of the real logs; panics with what to do when it is absent.
-fn data_dir() -> PathBuf {
-    let dir = std::env::var_os("HYDROID_REAL_DATA")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/real"));
-    assert!(
-        dir.join("marin").is_dir() && dir.join("hsva").is_dir(),
-        "the real KVLCC2 logs are not at {}: set HYDROID_REAL_DATA to the folder that holds \
-         marin/ and hsva/ (../shared/data/real/README.md)",
-        dir.display()
-    );
-    dir
-}
+use common::real_data_dir as data_dir;
 
 /// hydroid's measures (`hydroid manoeuvre --json`) of the runs of the configuration
 /// tests/fixtures/real/`name`, its file paths set to the data folder, with its `manoeuvre`

@@ -164,7 +164,7 @@ fn figures_say_what_they_show() {
         ],
     );
     has("nis_fit_1", &["95 % bounds", "running mean of NIS (-)"]);
-    has("hekf_correlation", &["Yvd", "Nvv", "\u{2212}0.99"]);
+    has("hekf_correlation", &["Yvd", "Nvv", "\u{2212}1.00"]);
     has(
         "track_validation_1",
         &["east y (m)", "north x (m)", "final position error"],

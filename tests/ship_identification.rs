@@ -327,17 +327,73 @@ fn the_papers_linear_model_on_mmg_runs_is_reported_as_a_mismatch() {
         assert!(said("inconsistent with the noise model", run), "{run}");
     }
     assert!(said("predicts the zig-zag poorly", "20/20 zig-zag"));
-    // the turns it was fitted to: tactical diameter within 10 %
-    for m in &r["resimulation"].as_array().unwrap()[..2] {
-        let c = &m["manoeuvre"];
-        let got = c["model"]["turning_circle"]["tactical_diameter"]["value"]
-            .as_f64()
-            .unwrap();
-        let want = c["measured"]["turning_circle"]["tactical_diameter"]["value"]
-            .as_f64()
-            .unwrap();
-        assert!(((got - want) / want).abs() < 0.1, "{got} against {want}");
+    // the numbers docs/models/ships.md and docs/validation.md give: the filter holds the runs
+    // (mean NIS 4.3 and 4.4, conservative) ...
+    let runs = r["stages"]["hekf"]["runs"].as_array().unwrap();
+    for run in runs {
+        let nis = run["nis"]["mean"].as_f64().unwrap();
+        assert!(
+            (4.25..4.45).contains(&nis),
+            "{}: mean NIS {nis}",
+            run["name"]
+        );
     }
+    // ... the model misses the turns it was fitted to (tactical diameter 25.5 m against
+    // 21.8 m, +17 %) and the zig-zag's second overshoot (9.8 deg against 16.0 deg)
+    let resim = r["resimulation"].as_array().unwrap();
+    let measure = |i: usize, which: &str, kind: &str, key: &str| {
+        resim[i]["manoeuvre"][which][kind][key]["value"]
+            .as_f64()
+            .unwrap()
+    };
+    let (got, want) = (
+        measure(0, "model", "turning_circle", "tactical_diameter"),
+        measure(0, "measured", "turning_circle", "tactical_diameter"),
+    );
+    assert!((25.45..25.55).contains(&got) && (21.75..21.85).contains(&want));
+    assert_eq!(
+        (100.0 * (got / want - 1.0)).round(),
+        17.0,
+        "{got} against {want}"
+    );
+    assert!(said(
+        "predicts the turning circle poorly",
+        "35 deg starboard turn"
+    ));
+    let (got, want) = (
+        measure(2, "model", "zigzag", "second_overshoot").to_degrees(),
+        measure(2, "measured", "zigzag", "second_overshoot").to_degrees(),
+    );
+    assert!((9.75..9.85).contains(&got) && (15.95..16.05).contains(&want));
+    // halving or doubling the noise model moves c2 by 17 sigma; 12 of 16 not determined
+    let warned = |what: &str| {
+        r["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|w| w["message"].as_str().unwrap().contains(what))
+            .map(|w| w["message"].as_str().unwrap().to_string())
+            .unwrap_or_default()
+    };
+    assert!(
+        warned("halving or doubling").contains("c2 17."),
+        "{}",
+        r["warnings"]
+    );
+    let undetermined = warned("not determined by these runs");
+    assert_eq!(
+        undetermined.matches(" (sigma is").count(),
+        12,
+        "{undetermined}"
+    );
+    // Nomoto's indices: course-stable (K = 0.110 1/s, T = 5.4 s)
+    let s = &r["steering"];
+    let (k, t) = (s["k"].as_f64().unwrap(), s["t"].as_f64().unwrap());
+    assert!(
+        (0.1095..0.1105).contains(&k) && (5.35..5.45).contains(&t),
+        "{s}"
+    );
+    assert_eq!(s["course_stable"], true);
 }
 
 /// The bundled vehicle files load with their model: each, with a fluid and a run of the

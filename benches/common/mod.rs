@@ -40,6 +40,9 @@ pub fn one_pass<M: Model>(m: &M, truth: &[f64], estimated: &[&str], max_step: f6
         gate_from_pass: 1,
         repeat_prior_factor: Some(100.0),
         filter: Default::default(),
+        adaptable: Vec::new(),
+        run_q: Vec::new(),
+        noise_scale: 1.0,
     }
 }
 

@@ -49,12 +49,7 @@ struct RunMeasures {
 /// Runs the command.
 pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
     if let Some(l) = args.scale {
-        if !(l.is_finite() && l >= 1.0) {
-            return Err(Error::Usage(format!(
-                "--scale must be a scale ratio of at least 1 (1 for full scale), got {l}"
-            ))
-            .into());
-        }
+        config::check_scale(l).map_err(|m| Error::Usage(format!("--scale {l}: {m}")))?;
     }
     let given = Nominal {
         rudder: nominal_option("--rudder", args.rudder)?,

@@ -13,6 +13,7 @@ mod progress;
 mod rerun;
 mod run;
 mod simulate;
+mod warnings;
 
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use hydroid::Error;

@@ -21,6 +21,8 @@ pub struct Cli {
     bar: Option<ProgressBar>,
     terminal: bool,
     lines: Lines,
+    /// Warnings raised so far, said grouped when the run ends ([`super::warnings`]).
+    held: Vec<hydroid::warning::Warning>,
 }
 
 impl Cli {
@@ -31,6 +33,15 @@ impl Cli {
             bar: None,
             terminal: std::io::stderr().is_terminal(),
             lines: Lines::default(),
+            held: Vec::new(),
+        }
+    }
+
+    /// Says the warnings raised so far, grouped by kind (once: a second call says nothing).
+    pub fn say_warnings(&mut self) {
+        self.finish_bar();
+        for line in super::warnings::render(&std::mem::take(&mut self.held)) {
+            super::note(&line);
         }
     }
 
@@ -55,16 +66,22 @@ impl Cli {
     }
 }
 
+impl Drop for Cli {
+    /// A run that fails says the warnings raised before it, ahead of its error.
+    fn drop(&mut self) {
+        self.say_warnings();
+    }
+}
+
 impl Progress for Cli {
     fn stage(&mut self, line: &str) {
         self.finish_bar();
         self.say.note(line);
     }
 
-    /// Said as soon as it arises, whatever the verbosity.
+    /// Kept, and said grouped by kind when the run ends or fails, whatever the verbosity.
     fn warning(&mut self, w: &hydroid::warning::Warning) {
-        self.finish_bar();
-        super::warning(&w.to_string());
+        self.held.push(w.clone());
     }
 
     fn filter(&mut self, pass: usize, passes: usize, done: usize, total: usize) {
@@ -76,12 +93,6 @@ impl Progress for Cli {
         } else if let Some(line) = self.lines.update(pass, passes, done, total, Instant::now()) {
             self.say.note(&line);
         }
-    }
-}
-
-impl Drop for Cli {
-    fn drop(&mut self) {
-        self.finish_bar();
     }
 }
 

@@ -20,10 +20,19 @@ pub struct Args {
     /// Run even if input files changed since the recorded run.
     #[arg(long)]
     allow_changed_inputs: bool,
+    /// Run the output folder's config.toml (or rerun.json, inputs.json) although it was
+    /// edited since hydroid wrote it; without it an edited file is refused, naming it.
+    #[arg(long)]
+    edited: bool,
     /// Replace the output folder even if it changed since hydroid wrote it (files added,
     /// edited or removed there are lost). A folder hydroid did not write is never replaced.
     #[arg(long)]
     force: bool,
+    /// Exit with status 3 when a consistency test failed (the innovations, a stage conflict,
+    /// the noise-model sensitivity, a re-simulation: the warnings say which), for scripts and
+    /// CI pipelines. The output folder is written as without it.
+    #[arg(long)]
+    strict: bool,
 }
 
 fn read_json<T: serde::de::DeserializeOwned>(path: &Path) -> hydroid::Result<T> {
@@ -48,10 +57,50 @@ struct Recorded {
     sha256: String,
 }
 
+/// The files of an output folder a rerun reads: what it runs is what they record.
+const RECORDS: &[&str] = &[report::CONFIG_TOML, report::RERUN_JSON, report::INPUTS_JSON];
+
+/// Refuses an output folder whose recorded files were edited since hydroid wrote them (their
+/// SHA-256 differs from the marker's), unless `--edited` accepts the edits; then says so.
+fn check_edits(dir: &Path, accept: bool) -> hydroid::Result<()> {
+    let edited = hydroid::output::marker::edited(dir, RECORDS)?;
+    if edited.is_empty() {
+        return Ok(());
+    }
+    let list: Vec<String> = edited
+        .iter()
+        .map(|f| dir.join(f).display().to_string())
+        .collect();
+    if accept {
+        for f in &list {
+            warning(&format!(
+                "{f} was edited since hydroid wrote it; running it as edited (--edited)"
+            ));
+        }
+        return Ok(());
+    }
+    Err(Error::Usage(format!(
+        "refusing to rerun {}: {} edited since hydroid wrote {} (the SHA-256 differs from \
+         the one {} records):\n  - {}\na rerun runs exactly what made the output; use \
+         --edited to run the edited configuration, or `hydroid run {} --out NEW`",
+        dir.display(),
+        if list.len() == 1 {
+            "this file was"
+        } else {
+            "these files were"
+        },
+        if list.len() == 1 { "it" } else { "them" },
+        hydroid::output::marker::MARKER,
+        list.join("\n  - "),
+        dir.join(report::CONFIG_TOML).display()
+    )))
+}
+
 /// Runs the command.
 pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
     hydroid::output::clean_up_on_signals()?;
     let dir = &args.outdir;
+    check_edits(dir, args.edited)?;
     let manifest: RerunManifest = read_json(&dir.join(report::RERUN_JSON))?;
     let inputs: Vec<Recorded> = read_json(&dir.join(report::INPUTS_JSON))?;
     let config_path = dir.join(report::CONFIG_TOML);
@@ -117,7 +166,12 @@ pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
     if let Some(name) = manifest.config.file_name() {
         protected.config(&manifest.base_dir.join(name));
     }
-    let staging = Staging::guarded(&target, &protected, Replace::forced(args.force))?;
+    // the accepted edits of the recorded files do not stop their folder's replacement
+    let replace = match Replace::forced(args.force) {
+        Replace::IfUnchanged if args.edited && args.out.is_none() => Replace::IfOnlyEdited(RECORDS),
+        r => r,
+    };
+    let staging = Staging::guarded(&target, &protected, replace)?;
     for s in staging.swept() {
         say.note(s);
     }
@@ -132,5 +186,8 @@ pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
         manifest.config.display(),
         written.display()
     )?;
-    Ok(0)
+    Ok(super::warnings::exit_status(
+        args.strict,
+        &output.result.warnings,
+    ))
 }

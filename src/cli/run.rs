@@ -25,6 +25,11 @@ pub struct Args {
     /// table; every other message goes to stderr.
     #[arg(long)]
     json: bool,
+    /// Exit with status 3 when a consistency test failed (the innovations, a stage conflict,
+    /// the noise-model sensitivity, a re-simulation: the warnings say which), for scripts and
+    /// CI pipelines. The output folder is written as without it.
+    #[arg(long)]
+    strict: bool,
 }
 
 /// Runs the command.
@@ -44,7 +49,9 @@ pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
     for s in staging.swept() {
         say.note(s);
     }
-    let output = pipeline::run(&loaded, &mut progress::Cli::new(say))?;
+    let mut progress = progress::Cli::new(say);
+    let output = pipeline::run(&loaded, &mut progress)?;
+    progress.say_warnings();
     report::write(&staging, &loaded, &output)?;
     let dir = staging.commit()?;
     if let Some(h) = &output.result.stages.hekf {
@@ -108,14 +115,17 @@ pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
         }
         writeln!(out, "\nwrote {}", dir.display())?;
     }
-    // the warnings were said as they arose; a reminder of where they are kept
+    // the warnings were said (grouped) before the results; a reminder of where they are kept
     let n = output.result.warnings.len();
     if n > 0 {
         say.note(&format!(
-            "{n} warning{} above (also in results.json and the report's Warnings section): \
-             read them before using these coefficients",
+            "{n} warning{} above, grouped by kind (each in results.json and the report's \
+             Warnings section): read them before using these coefficients",
             if n == 1 { "" } else { "s" }
         ));
     }
-    Ok(0)
+    Ok(super::warnings::exit_status(
+        args.strict,
+        &output.result.warnings,
+    ))
 }

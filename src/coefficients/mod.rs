@@ -5,8 +5,11 @@
 //! Names are SNAME symbols written in ASCII: `Xud` = X_udot, `Nrr` = N_r|r|,
 //! `Yuvl` = lift part of Y_uv, `Nuva` = Munk (added-mass) part of N_uv.
 
+mod conflict;
 mod relations;
 mod uncertainty;
+
+pub use conflict::Conflict;
 
 pub use relations::{CompiledRelations, Relation, YawMoment, AXISYMMETRY, SYMMETRY};
 pub use uncertainty::{directions_of, Correlation, Direction};
@@ -88,7 +91,30 @@ impl Coefficient {
         self.note = Some(note.into());
         self
     }
+
+    /// Marks the coefficient as held by a constraint of its fit (`why`, e.g. `b = 0
+    /// (polar.drag.symmetric)`): its value is imposed, not estimated, so it has no sigma (a
+    /// sigma of 0 would read as exactly measured) and its note says so ([`HELD`]).
+    pub fn held(mut self, why: &str) -> Self {
+        self.sigma = None;
+        let note = self
+            .note
+            .take()
+            .map(|n| format!("{n}; "))
+            .unwrap_or_default();
+        self.note = Some(format!("{note}{HELD}: {why}"));
+        self
+    }
+
+    /// True for a coefficient a constraint of its fit holds ([`Coefficient::held`]).
+    pub fn is_held(&self) -> bool {
+        self.sigma.is_none() && self.note.as_deref().is_some_and(|n| n.contains(HELD))
+    }
 }
+
+/// The words that mark a coefficient held by a constraint, not estimated
+/// ([`Coefficient::held`]); the comparison table shows such a value as `0 (held)`.
+pub const HELD: &str = "held by a constraint, not estimated";
 
 /// The coefficients known so far, each with value, sigma, unit and source.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]

@@ -120,33 +120,102 @@ fn default_seed() -> u64 {
 }
 
 impl AutopilotConfig {
-    /// Adds every problem to `p` (keys `autopilot.*`).
+    /// Adds every problem to `p` (keys `autopilot.*`): every value within the range a heading
+    /// autopilot of a real vessel can have, so that a typing or unit mistake (`omega_n =
+    /// 1e9`) is refused rather than tuned into nonsense gains.
     pub fn validate(&self, p: &mut Problems) {
-        for (key, v, unit) in [
-            ("omega_n", self.omega_n, "rad/s"),
-            ("zeta", self.zeta, "-"),
-            ("reference_omega", self.reference_omega, "rad/s"),
-            ("reference_zeta", self.reference_zeta, "-"),
-            ("duration", self.duration, "s"),
-            ("dt", self.dt, "s"),
-            ("rudder_limit", self.rudder_limit, "rad"),
-            ("rudder_rate", self.rudder_rate, "rad/s"),
-            ("compass_noise", self.compass_noise, "rad"),
-            ("gyro_noise", self.gyro_noise, "rad/s"),
+        use std::f64::consts::PI;
+        let deg = PI / 180.0;
+        let bandwidth = "a closed heading loop of a vessel: periods from 3 s to 17 hours";
+        for (key, v, range, unit, why) in [
+            ("omega_n", self.omega_n, (1e-4, 2.0), "rad/s", bandwidth),
+            ("zeta", self.zeta, (0.05, 10.0), "-", "a relative damping"),
+            (
+                "reference_omega",
+                self.reference_omega,
+                (1e-4, 2.0),
+                "rad/s",
+                bandwidth,
+            ),
+            (
+                "reference_zeta",
+                self.reference_zeta,
+                (0.05, 10.0),
+                "-",
+                "a relative damping",
+            ),
+            (
+                "dt",
+                self.dt,
+                (1e-3, 10.0),
+                "s",
+                "a compass sampling interval",
+            ),
+            (
+                "rudder_limit",
+                self.rudder_limit,
+                (deg, PI / 2.0),
+                "rad",
+                "1 to 90 deg",
+            ),
+            (
+                "rudder_rate",
+                self.rudder_rate,
+                (0.1 * deg, PI / 2.0),
+                "rad/s",
+                "0.1 to 90 deg/s",
+            ),
+            (
+                "compass_noise",
+                self.compass_noise,
+                (1e-9, 10.0 * deg),
+                "rad",
+                "up to 10 deg",
+            ),
+            (
+                "gyro_noise",
+                self.gyro_noise,
+                (1e-12, 10.0 * deg),
+                "rad/s",
+                "up to 10 deg/s",
+            ),
+            (
+                "course_change",
+                self.course_change.abs(),
+                (0.0, PI),
+                "rad",
+                "at most 180 deg",
+            ),
+            (
+                "rate_noise",
+                self.rate_noise,
+                (0.0, 1.0),
+                "rad^2/s^3",
+                "a process noise intensity",
+            ),
         ] {
-            p.positive(&format!("autopilot.{key}"), v, unit);
+            p.in_range(&format!("autopilot.{key}"), v, range, unit, why);
         }
-        p.finite("autopilot.course_change", self.course_change);
-        if !(self.rate_noise.is_finite() && self.rate_noise >= 0.0) {
-            p.add(
-                "autopilot.rate_noise",
-                "a process noise intensity, 0 or more",
-            );
-        }
+        p.positive("autopilot.duration", self.duration, "s");
         if self.dt > 0.0 && self.duration / self.dt > 1e6 {
             p.add(
                 "autopilot.duration",
                 "at most a million samples per closed-loop run (duration / dt)",
+            );
+        }
+        // ten samples per period of the closed loop at least, or the sampled PID is not the
+        // one placed
+        let placed = (1e-4..=2.0).contains(&self.omega_n) && (1e-3..=10.0).contains(&self.dt);
+        if placed && self.omega_n * self.dt > 0.6 {
+            p.add(
+                "autopilot.omega_n",
+                format!(
+                    "{} rad/s is too fast for the compass sampled every {} s: at most 0.6 / dt \
+                     = {} rad/s (ten samples per period of the loop)",
+                    self.omega_n,
+                    self.dt,
+                    crate::numfmt::num(0.6 / self.dt)
+                ),
             );
         }
         if self.change_at < 0.0 || self.change_at > self.duration {

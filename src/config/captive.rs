@@ -177,7 +177,7 @@ impl CaptiveConfig {
                 let k = format!("{key}.amplitude.{q}");
                 if !crate::quantity::Quantity::MOTION[..6].contains(q) {
                     p.add(&k, "an oscillation moves a velocity: u, v, w, p, q or r");
-                } else if let Err(m) = c.expect_dim(q.dim()) {
+                } else if let Err(m) = c.expect_quantity(*q) {
                     p.add(&k, m);
                 }
             }

@@ -73,6 +73,25 @@ impl Outliers {
     }
 }
 
+/// What the stage does when a run's approach is not an equilibrium of the model's surge
+/// equation (the logged propeller against the resistance the configuration holds).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Balance {
+    /// Estimate the coefficient that sets the balance (the model's `surge_balance`, R'_0
+    /// for mmg3) with the others, and say so.
+    #[default]
+    Estimate,
+    /// Keep it as configured; warn with the unbalanced force.
+    Hold,
+}
+
+impl Balance {
+    fn is_default(&self) -> bool {
+        *self == Balance::default()
+    }
+}
+
 /// What a failed plausibility check does.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -158,6 +177,15 @@ pub struct HekfConfig {
     /// overrides the preset.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub process_noise: BTreeMap<String, f64>,
+    /// Match the process noise of the measured velocity states to the innovations, run by
+    /// run (default true with the hydroid preset, false with the paper's); a state given in
+    /// `process_noise` keeps its value.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub adapt_noise: Option<bool>,
+    /// A run whose approach the model's surge equation does not hold steady: estimate the
+    /// coefficient that sets the balance (`estimate`, the default) or keep it (`hold`).
+    #[serde(default, skip_serializing_if = "Balance::is_default")]
+    pub balance: Balance,
     /// Innovation gate in standard deviations: a measurement whose innovation exceeds this
     /// many standard deviations of its predicted spread is rejected and reported with its
     /// file line (default [`DEFAULT_GATE`]; 0 switches the gate off).
@@ -269,7 +297,7 @@ impl HekfConfig {
         }
         for (q, c) in &self.noise {
             let key = format!("hekf.noise.{q}");
-            match c.expect_dim(q.dim()) {
+            match c.expect_quantity(*q) {
                 Ok(()) => p.positive(&key, c.si, q.si_symbol()),
                 Err(m) => p.add(&key, m),
             }

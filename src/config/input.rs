@@ -190,7 +190,7 @@ impl InputSpec {
             p.add(&format!("{key}.file"), "is empty; name the export to read");
         }
         for (q, c) in &self.constants {
-            if let Err(m) = c.expect_dim(q.dim()) {
+            if let Err(m) = c.expect_quantity(*q) {
                 p.add(&format!("{key}.constants.{q}"), m);
             }
             if self.columns.contains_key(q) {
@@ -198,6 +198,13 @@ impl InputSpec {
                     &format!("{key}.constants.{q}"),
                     format!("{q} is given both as a column (columns.{q}) and as a constant"),
                 );
+            }
+        }
+        for (i, step) in self.steps.iter().enumerate() {
+            for (q, c) in &step.values {
+                if let Err(m) = c.expect_quantity(*q) {
+                    p.add(&format!("{key}.steps[{i}].{q}"), m);
+                }
             }
         }
         for (q, c) in &self.columns {
@@ -565,6 +572,27 @@ impl Constant {
             si,
             unit,
         })
+    }
+
+    /// [`Constant::expect_dim`] for the dimension of `q`, and a magnitude within
+    /// [`Quantity::plausible_bound`]: `"1e300 m/s"` for a speed is an error that says what
+    /// the bound is, not a run that overflows later.
+    pub fn expect_quantity(&self, q: Quantity) -> Result<(), String> {
+        self.expect_dim(q.dim())?;
+        match q.plausible_bound() {
+            Some((bound, what)) if self.si.abs() > bound => {
+                // a bare number's text is its full decimal expansion: shown short
+                let shown = match self.unit {
+                    Some(_) => self.text.clone(),
+                    None => super::problems::short(self.si),
+                };
+                Err(format!(
+                    "{shown} is beyond any plausible {q}: at most {what} in magnitude; a unit or \
+                     typing mistake?"
+                ))
+            }
+            _ => Ok(()),
+        }
     }
 
     /// Checks that the value is finite and that its unit measures `dim` (a bare number is

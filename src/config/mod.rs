@@ -330,14 +330,8 @@ impl VehicleConfig {
             );
         }
         if let Some(lambda) = self.scale {
-            if !(lambda.is_finite() && (1.0..=1000.0).contains(&lambda)) {
-                p.add(
-                    "vehicle.scale",
-                    format!(
-                        "{lambda} is not a scale ratio L_ship / L_model: expected a number from \
-                         1 (full scale) to 1000"
-                    ),
-                );
+            if let Err(m) = check_scale(lambda) {
+                p.add("vehicle.scale", m);
             }
         }
         if let Some(bg) = self.bg {
@@ -526,6 +520,23 @@ impl Config {
             v.extend(s.inputs());
         }
         v
+    }
+}
+
+/// The scale ratios lambda = L_ship / L_model hydroid accepts (`vehicle.scale`, `hydroid
+/// manoeuvre --scale`): 1 (full scale) to 1000.
+pub const SCALE_RANGE: (f64, f64) = (1.0, 1000.0);
+
+/// Checks a scale ratio against [`SCALE_RANGE`]; the error says what was expected.
+pub fn check_scale(lambda: f64) -> std::result::Result<(), String> {
+    let (lo, hi) = SCALE_RANGE;
+    if lambda.is_finite() && (lo..=hi).contains(&lambda) {
+        Ok(())
+    } else {
+        Err(format!(
+            "{lambda} is not a scale ratio L_ship / L_model: expected a number from {lo} (full \
+             scale) to {hi}"
+        ))
     }
 }
 

@@ -114,6 +114,22 @@ impl Problems {
         }
     }
 
+    /// Requires a finite value within `lo ..= hi` (in `unit`); `why` says what the range
+    /// stands for.
+    pub fn in_range(&mut self, key: &str, value: f64, (lo, hi): (f64, f64), unit: &str, why: &str) {
+        if !(value.is_finite() && value >= lo && value <= hi) {
+            self.add(
+                key,
+                format!(
+                    "must be from {} to {} {unit} ({why}), got {}",
+                    brief(lo),
+                    brief(hi),
+                    brief(value)
+                ),
+            );
+        }
+    }
+
     /// Requires a finite value.
     pub fn finite(&mut self, key: &str, value: f64) {
         if !value.is_finite() {
@@ -303,6 +319,17 @@ impl Problems {
 pub const MAX_COEFFICIENT: f64 = 1e15;
 
 /// A number written short: `0.5`, `-50`, `2000`, `1e-6`, `1e9`, `NaN`.
+/// [`short`] cut to four significant digits when that is shorter (`3.142` for pi).
+fn brief(v: f64) -> String {
+    let s = short(v);
+    let n = crate::numfmt::num(v);
+    if n.len() < s.len() {
+        n
+    } else {
+        s
+    }
+}
+
 pub(crate) fn short(v: f64) -> String {
     if v == 0.0 || !v.is_finite() || (1e-3..1e6).contains(&v.abs()) {
         format!("{v}")

@@ -82,6 +82,17 @@ pub(crate) fn read(
             layout.ncols / 2
         ));
     }
+    if let Some((i, m)) = layout.unfit_header {
+        warnings.push(format!(
+            "line {} ('{}') reads like a header of {m} names, but the rows below have {} \
+             values: it is kept as a title and the columns are named col1 to col{}; name them \
+             in the configuration (`names = [...]`) or correct the header",
+            i + 1,
+            super::layout::shorten(src.lines[i].trim(), 60),
+            layout.ncols,
+            layout.ncols
+        ));
+    }
     let meta = preamble_meta(src, &layout.preamble, layout.delim);
     Ok(assemble(
         src.path,
@@ -253,7 +264,7 @@ pub(crate) fn key_value(text: &str, delim: Delim) -> Option<(String, String)> {
 /// Widest table handed to polars. polars keeps a schema entry and a series per column, which
 /// for a table of 300,000 columns costs more time and memory than the numbers; the line by
 /// line reader is linear in the cells whatever the shape.
-const POLARS_MAX_COLUMNS: usize = 4096;
+const POLARS_MAX_COLUMNS: usize = 1024;
 
 /// Parses the data lines with polars; on any failure, reads them line by line instead,
 /// which either succeeds or names the offending cell. Very wide tables are read line by line.
@@ -333,12 +344,16 @@ fn polars_parse(
     };
     let mut rows = Rows::new(n);
     rows.lines = layout.data.iter().map(|i| i + 1).collect();
-    for (j, col) in df.columns().iter().enumerate() {
+    // exactly the room the empty cells need: a file of empty cells is the densest there is
+    rows.missing
+        .reserve_exact(df.columns().iter().map(|c| c.null_count()).sum());
+    // each polars column is freed once copied
+    for (j, col) in df.into_columns().into_iter().enumerate() {
         let Ok(ca) = col.f64() else {
             return Ok(None);
         };
         let out = &mut rows.columns[j];
-        out.reserve(layout.data.len());
+        out.reserve_exact(layout.data.len());
         if ca.null_count() == 0 {
             for arr in ca.downcast_iter() {
                 out.extend_from_slice(arr.values());

@@ -22,9 +22,12 @@ use std::path::Path;
 /// Detects the layout of the file at `path` (a regular file within the environment's
 /// [`input::Limits`]).
 pub fn detect(path: &Path) -> Result<Format, InputError> {
-    let bytes = input::read_bytes(path, &input::Limits::for_file(path)?)?;
+    let limits = input::Limits::for_file(path)?;
+    let bytes = input::read_bytes(path, &limits)?;
     let text = decode(path, bytes)?;
-    detect_source(&Source::new(path, &text))
+    let src = Source::new(path, &text);
+    super::text::check_width(&src, limits.max_columns)?;
+    detect_source(&src)
 }
 
 /// Detects the layout of decoded text.

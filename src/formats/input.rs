@@ -9,8 +9,10 @@
 //! Reads are bounded: a file larger than [`Limits::max_bytes`] is refused from its size
 //! before reading, and the bound is enforced again while reading because a file can grow
 //! (a solver still writing it). A line longer than [`Limits::max_line_bytes`] stops the read
-//! with the line's number. Both bounds can be raised with environment variables
-//! ([`MAX_SIZE_ENV`], [`MAX_LINE_ENV`]).
+//! with the line's number. A table wider than [`Limits::max_columns`] is refused by the
+//! readers before any line is split into cells (`formats::text::check_width`). The bounds can
+//! be raised with environment variables ([`MAX_SIZE_ENV`], [`MAX_LINE_ENV`],
+//! [`MAX_COLUMNS_ENV`]).
 
 use crate::error::{InputError, Place};
 use std::fs::{self, File};
@@ -21,6 +23,8 @@ use std::path::{Path, PathBuf};
 pub const MAX_SIZE_ENV: &str = "HYDROID_MAX_INPUT_SIZE";
 /// The environment variable that sets the longest line hydroid reads (`256M`).
 pub const MAX_LINE_ENV: &str = "HYDROID_MAX_LINE_LENGTH";
+/// The environment variable that sets the widest table hydroid reads (`100000`).
+pub const MAX_COLUMNS_ENV: &str = "HYDROID_MAX_COLUMNS";
 
 /// How much of one file hydroid reads at most.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -29,31 +33,44 @@ pub struct Limits {
     pub max_bytes: u64,
     /// The longest line, in bytes (terminator excluded).
     pub max_line_bytes: u64,
+    /// The most cells on one line of a table (its columns).
+    pub max_columns: u64,
 }
 
 impl Limits {
-    /// 2 GiB: reading a table needs about three times the file in memory (the text, the copy
-    /// the CSV parser reads, the numbers), so 6 GiB at this size. The largest CFD histories
+    /// 2 GiB. Reading a table takes memory in proportion to its cells (the text, the line
+    /// index, the copy the CSV parser reads, the numbers): some 20 times the file, up to 50
+    /// times for a file of empty cells (tests/memory_bound.rs). The largest CFD histories
     /// seen (10^7 rows of 10 channels) are about 1.5 GB.
     pub const DEFAULT_MAX_BYTES: u64 = 2 << 30;
-    /// 64 MiB: a row of five million cells; a 300,000-cell row is about 4 MB.
+    /// 64 MiB: the column limit bounds the cells of a line; this bounds its bytes.
     pub const DEFAULT_MAX_LINE_BYTES: u64 = 64 << 20;
+    /// 10,000 columns: far more than any CFD export or test log has (a few hundred monitors
+    /// at most), and few enough that the structures kept per column stay small beside the
+    /// numbers: a table of any shape then takes memory in proportion to its cells (docs/formats.md).
+    pub const DEFAULT_MAX_COLUMNS: u64 = 10_000;
 
-    /// The defaults, overridden by [`MAX_SIZE_ENV`] and [`MAX_LINE_ENV`] when they are set.
-    /// A value that is not a size is an error naming the variable.
+    /// The defaults, overridden by [`MAX_SIZE_ENV`], [`MAX_LINE_ENV`] and [`MAX_COLUMNS_ENV`]
+    /// when they are set. A value that is not a size (a count of columns) is an error naming
+    /// the variable.
     pub fn from_env() -> Result<Limits, String> {
         let mut limits = Limits::default();
-        for (var, slot) in [
-            (MAX_SIZE_ENV, &mut limits.max_bytes),
-            (MAX_LINE_ENV, &mut limits.max_line_bytes),
+        for (var, slot, example) in [
+            (MAX_SIZE_ENV, &mut limits.max_bytes, "8G"),
+            (MAX_LINE_ENV, &mut limits.max_line_bytes, "1G"),
+            (MAX_COLUMNS_ENV, &mut limits.max_columns, "100000"),
         ] {
             if let Some(value) = std::env::var_os(var) {
                 let text = value.to_string_lossy();
+                let what = if var == MAX_COLUMNS_ENV {
+                    "a number of columns (a whole number above 0, K = 1024)"
+                } else {
+                    "a number of bytes with an optional K, M, G or T suffix (powers of 1024)"
+                };
                 *slot = parse_size(&text).ok_or_else(|| {
                     format!(
-                        "the environment variable {var}='{text}' is not a size; write a number \
-                         of bytes with an optional K, M, G or T suffix (powers of 1024), \
-                         e.g. {var}=8G"
+                        "the environment variable {var}='{text}' is not a size; write {what}, \
+                         e.g. {var}={example}"
                     )
                 })?;
             }
@@ -72,6 +89,7 @@ impl Default for Limits {
         Limits {
             max_bytes: Limits::DEFAULT_MAX_BYTES,
             max_line_bytes: Limits::DEFAULT_MAX_LINE_BYTES,
+            max_columns: Limits::DEFAULT_MAX_COLUMNS,
         }
     }
 }
@@ -368,6 +386,7 @@ mod tests {
         let limits = Limits {
             max_bytes: 1000,
             max_line_bytes: 100,
+            ..Limits::default()
         };
         let growing = io::Cursor::new(vec![b'1'; 5000]);
         let mut seen = 0;

@@ -32,6 +32,10 @@ pub(crate) struct Layout {
     /// One name over rows of two integers split by a comma: perhaps `0,5` with a decimal
     /// comma, perhaps a title over two columns. Read as two columns, with a warning.
     pub decimal_comma_suspect: bool,
+    /// A line right above the data that reads like a header (names with units, or one name
+    /// more than the rows have values) but does not fit the rows: kept as a title, with a
+    /// warning. (0-based line, its number of names.)
+    pub unfit_header: Option<(usize, usize)>,
 }
 
 /// The header line of a delimited file.
@@ -88,6 +92,39 @@ fn opens_with_number(fields: &[Field], dc: bool) -> bool {
         .is_some_and(|c| number(&c.text, dc).is_some())
 }
 
+/// The cells of a blank-separated header line with the units that blanks split off joined
+/// back to their names: `time (s) u (m/s)` and `u [ m s^-1 ]` are two names and one, each
+/// with its unit. A cell that opens a bracket takes the cells up to the one that closes it.
+fn join_units(fields: Vec<Field>) -> Vec<Field> {
+    let mut out: Vec<Field> = Vec::with_capacity(fields.len());
+    let mut depth = 0i32;
+    for f in fields {
+        let opens = !f.quoted && f.text.starts_with(['(', '[']);
+        let joined = depth > 0 || opens;
+        depth += f.text.matches(['(', '[']).count() as i32;
+        depth -= f.text.matches([')', ']']).count() as i32;
+        depth = depth.max(0);
+        match out.last_mut() {
+            Some(last) if joined => {
+                last.text.push(' ');
+                last.text.push_str(&f.text);
+            }
+            _ => out.push(f),
+        }
+    }
+    out
+}
+
+/// True when a cell ends in a bracket that parses as a unit (`time (s)`, `u [ m/s ]`).
+fn has_unit(fields: &[Field]) -> bool {
+    use super::columns::{interpret_unit, split_unit_suffix, HeaderUnit};
+    fields.iter().any(|f| {
+        let split = split_unit_suffix(&f.text, '(', ')', true)
+            .or_else(|| split_unit_suffix(&f.text, '[', ']', true));
+        split.is_some_and(|(_, u)| matches!(interpret_unit(u), HeaderUnit::Known(_)))
+    })
+}
+
 /// A `[Section]` line (CFX-Post preamble).
 pub(crate) fn is_section(line: &str) -> bool {
     let t = line.trim();
@@ -142,6 +179,7 @@ pub(crate) fn scan(src: &Source) -> Result<Layout, InputError> {
     // The line right above the data when it is all names but does not fit the data (for the
     // decimal-comma check).
     let mut names_above: Option<(usize, usize)> = None;
+    let mut unfit_header: Option<(usize, usize)> = None;
     let mut nearest = true;
     let mut data_start = cand[k0];
     let mut absorbing = true;
@@ -153,7 +191,10 @@ pub(crate) fn scan(src: &Source) -> Result<Layout, InputError> {
         if let Some(text) = comment(line) {
             if absorbing && commented.is_none() {
                 commented = [delim, Delim::Whitespace].into_iter().find_map(|d| {
-                    let f = split_fields(text, d);
+                    let mut f = split_fields(text, d);
+                    if d == Delim::Whitespace && f.len() != ncols {
+                        f = join_units(f);
+                    }
                     (f.len() == ncols && is_header_like(&f, dc)).then_some(HeaderLine {
                         index: i,
                         fields: f,
@@ -167,7 +208,10 @@ pub(crate) fn scan(src: &Source) -> Result<Layout, InputError> {
             absorbing = false;
             continue;
         }
-        let f = split_fields(line, delim);
+        let mut f = split_fields(line, delim);
+        if delim == Delim::Whitespace && !fits(&f) {
+            f = join_units(f);
+        }
         if fits(&f) {
             header = Some(HeaderLine {
                 index: i,
@@ -178,6 +222,9 @@ pub(crate) fn scan(src: &Source) -> Result<Layout, InputError> {
         }
         if std::mem::take(&mut nearest) && is_header_like(&f, dc) {
             names_above = Some((i, f.len()));
+            if f.len() == ncols + 1 || has_unit(&f) {
+                unfit_header = Some((i, f.len()));
+            }
         }
         if absorbing && commented.is_none() && opens_with_number(&f, dc) {
             data_start = i;
@@ -186,6 +233,10 @@ pub(crate) fn scan(src: &Source) -> Result<Layout, InputError> {
         }
     }
     let mut header = header.or(commented);
+    // a header found after all (a commented one): the line above is no header
+    if header.is_some() {
+        unfit_header = None;
+    }
     // `time,u` over `0,5,1,25`: every number split in two by a comma separator.
     let names = match &header {
         Some(h) => Some((
@@ -269,6 +320,7 @@ pub(crate) fn scan(src: &Source) -> Result<Layout, InputError> {
         data,
         repeated_headers,
         decimal_comma_suspect,
+        unfit_header,
     })
 }
 

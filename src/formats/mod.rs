@@ -169,6 +169,7 @@ pub fn read_raw_within(
     let decoded = text::decode(path, bytes)?;
     let mut src = text::Source::new(path, &decoded);
     let titles = src.skip_lines(options.skip_lines)?;
+    text::check_width(&src, limits.max_columns)?;
     let format = match choice {
         FormatChoice::Fixed(f) => f,
         FormatChoice::Auto => detect::detect_source(&src)?,
@@ -186,7 +187,9 @@ pub fn read_raw_within(
     };
     let mut table = table;
     table.meta.splice(0..0, titles);
-    text::check_cut_off(&src, table.lines.last().copied())?;
+    if let Some(w) = text::check_cut_off(&src, &table.lines)? {
+        table.warnings.push(w);
+    }
     if table.rows() == 0 {
         return Err(InputError::new(
             Place::file(path),

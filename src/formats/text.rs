@@ -94,6 +94,68 @@ impl<'a> Source<'a> {
     }
 }
 
+/// The cells of `line` under the delimiter that splits it into the most: commas, semicolons,
+/// tabs, or runs of blanks (quotes are not honoured: an upper bound). Returns the count and
+/// the delimiter.
+fn widest_split(line: &str) -> (usize, Delim) {
+    let (mut comma, mut semi, mut tab, mut words) = (0usize, 0usize, 0usize, 0usize);
+    let mut blank = true;
+    for b in line.bytes() {
+        match b {
+            b',' => comma += 1,
+            b';' => semi += 1,
+            b'\t' => tab += 1,
+            _ => {}
+        }
+        let is_blank = b == b' ' || b == b'\t';
+        if blank && !is_blank {
+            words += 1;
+        }
+        blank = is_blank;
+    }
+    // the last of equal counts wins: a single-character delimiter over blanks
+    [
+        (words, Delim::Whitespace),
+        (comma + 1, Delim::Char(b',')),
+        (semi + 1, Delim::Char(b';')),
+        (tab + 1, Delim::Char(b'\t')),
+    ]
+    .into_iter()
+    .max_by_key(|(n, _)| *n)
+    .unwrap_or((0, Delim::Whitespace))
+}
+
+/// Refuses a file with a line of more than `max_columns` cells, before any line is split:
+/// the structures kept per column would take far more memory than the numbers (an absurdly
+/// wide table, or a binary stream that happens to be text). One pass over the bytes.
+pub(crate) fn check_width(src: &Source, max_columns: u64) -> Result<(), InputError> {
+    let max = usize::try_from(max_columns).unwrap_or(usize::MAX);
+    for (i, line) in src.lines.iter().enumerate() {
+        // a line of fewer bytes cannot hold more cells
+        if line.len() < max {
+            continue;
+        }
+        let (n, delim) = widest_split(line);
+        if n > max {
+            use super::input::MAX_COLUMNS_ENV;
+            return Err(InputError::new(
+                src.at(i),
+                format!(
+                    "this line has {n} cells separated by {}, more than the {max} columns \
+                     hydroid reads in a table; set the environment variable {MAX_COLUMNS_ENV} \
+                     to read a wider one (e.g. {MAX_COLUMNS_ENV}={})",
+                    delim.describe(),
+                    n.next_power_of_two()
+                ),
+            )
+            .expected(format!(
+                "a table of at most {max} columns (rows of numbers, one line each)"
+            )));
+        }
+    }
+    Ok(())
+}
+
 /// Decodes file bytes to text: UTF-8 (with or without BOM), else Windows-1252 as older
 /// Windows tools write it (a superset of Latin-1 for printable text: 0x96 is an en dash, 0xB0
 /// a degree sign). Binary files, UTF-16 and empty files are errors.
@@ -161,37 +223,107 @@ fn windows_1252(b: u8) -> char {
     }
 }
 
-/// A last line without a line end whose last cell is a number cut short (`0.`, `1.2e`,
-/// `3e-`): the file was probably cut off while being written. `last_row_line` is the 1-based
-/// line of the table's last row; only a cut data line is an error.
-pub(crate) fn check_cut_off(src: &Source, last_row_line: Option<usize>) -> Result<(), InputError> {
-    if !src.unterminated || last_row_line != Some(src.lines.len()) {
-        return Ok(());
+/// The last cell of a line, without quotes or brackets, a decimal comma read as a point
+/// (`-1.25e-3` of `0.1, 2, -1.25e-3`; `1.5` of `0,2;1,5`).
+fn last_token(line: &str) -> String {
+    let seps: &[char] = if line.contains([';', '\t']) {
+        &[';', '\t', ' ']
+    } else {
+        &[',', ' ', '\t']
+    };
+    let cell = line.rsplit(seps).next().unwrap_or("");
+    cell.trim_matches(|c| matches!(c, '"' | '(' | ')'))
+        .replace(',', ".")
+}
+
+/// How a number is written: its decimals and the digits of its exponent (`1.250e-03` is
+/// (3, Some(2))); `None` for a token that is not a plain number.
+fn number_shape(token: &str) -> Option<(usize, Option<usize>)> {
+    token.parse::<f64>().ok()?;
+    let (mantissa, exponent) = match token.find(['e', 'E']) {
+        Some(k) => (
+            &token[..k],
+            Some(token[k + 1..].trim_start_matches(['+', '-']).len()),
+        ),
+        None => (token, None),
+    };
+    let decimals = mantissa.split_once('.').map_or(0, |(_, d)| d.len());
+    Some((decimals, exponent))
+}
+
+/// The error for a last line cut while being written.
+fn cut_error(src: &Source, index: usize, what: String) -> InputError {
+    InputError::new(
+        src.at(index),
+        format!("{what}, and has no line end: was the file cut off while being written?"),
+    )
+    .expected(
+        "a complete last line (if the solver is still writing the file, wait for it to \
+         finish, or cut the file after the last complete line)",
+    )
+}
+
+/// A solver still writing a file leaves its last row cut. For a last line without a line end
+/// that is the table's last row (`rows` are the 1-based lines of the rows): a number cut short
+/// (`0.`, `1.2e`, `3e-`) or a delimiter with nothing after it, where the rows above have a
+/// value, is an error; a last value written with other decimals or exponent digits than the
+/// same column in every row above (`1.2` under `1.2345e+01`) is a warning naming the line,
+/// returned for the table's warnings.
+pub(crate) fn check_cut_off(src: &Source, rows: &[usize]) -> Result<Option<String>, InputError> {
+    match rows.last() {
+        Some(&last) if src.unterminated && last == src.lines.len() => {}
+        _ => return Ok(None),
     }
     let index = src.lines.len() - 1;
-    let line = src.lines[index].trim_end();
-    let token = line
-        .rsplit(|c: char| !(c.is_ascii_alphanumeric() || matches!(c, '.' | '+' | '-')))
-        .next()
-        .unwrap_or("");
+    let trim = |l: &'_ str| l.trim_end_matches([' ', '\r']).to_string();
+    let line = trim(src.lines[index]);
+    let above: Vec<String> = rows
+        .iter()
+        .rev()
+        .skip(1)
+        .take(10)
+        .map(|&l| trim(src.lines[l - 1]))
+        .collect();
+    if let Some(d) = line
+        .chars()
+        .last()
+        .filter(|c| matches!(c, ',' | ';' | '\t'))
+    {
+        if above.first().is_some_and(|a| !a.ends_with(d)) {
+            return Err(cut_error(
+                src,
+                index,
+                format!("the last line ends in '{d}' with no value after it"),
+            ));
+        }
+    }
+    let token = last_token(&line);
+    let token = token.as_str();
     let numeric = token.bytes().any(|b| b.is_ascii_digit())
         && token
             .bytes()
             .all(|b| b.is_ascii_digit() || matches!(b, b'.' | b'e' | b'E' | b'+' | b'-'));
     if numeric && token.ends_with(['.', 'e', 'E', '+', '-']) {
-        return Err(InputError::new(
-            src.at(index),
-            format!(
-                "the last line ends in '{token}', a number cut short, and has no line end: \
-                 was the file cut off while being written?"
-            ),
-        )
-        .expected(
-            "a complete last line (if the solver is still writing the file, wait for it to \
-             finish, or cut the file after the last complete line)",
+        return Err(cut_error(
+            src,
+            index,
+            format!("the last line ends in '{token}', a number cut short"),
         ));
     }
-    Ok(())
+    let shapes: Vec<_> = above.iter().map(|a| number_shape(&last_token(a))).collect();
+    let (Some(Some(shape)), Some(own)) = (shapes.first(), number_shape(token)) else {
+        return Ok(None);
+    };
+    if shapes.len() >= 2 && shapes.iter().all(|s| *s == Some(*shape)) && own != *shape {
+        return Ok(Some(format!(
+            "line {} (the last) has no line end and its last value '{token}' is written with \
+             other digits than the rows above ('{}'): the file may have been cut off while \
+             being written; the row is read as it is",
+            index + 1,
+            last_token(&above[0])
+        )));
+    }
+    Ok(None)
 }
 
 /// The text after a comment marker (`#`, `%`, `//`), or `None` for other lines.

@@ -15,9 +15,18 @@ pub struct CoefDef {
     /// When the model's equations use it non-dimensional, the reference it is made
     /// non-dimensional on (`0.5 rho L^3`); None for a dimensional coefficient.
     pub reference: Option<&'static str>,
+    /// Zero unless given or estimated: an offset or an extension term the model's source
+    /// does not have (a rudder angle offset), which a configuration need not list.
+    pub optional: bool,
 }
 
 impl CoefDef {
+    /// The same coefficient, zero unless given or estimated (see [`CoefDef::optional`]).
+    pub const fn zero_unless_given(mut self) -> Self {
+        self.optional = true;
+        self
+    }
+
     /// A dimensional coefficient whose size follows from its unit in the prime system.
     pub const fn prime(name: &'static str, unit: &'static str, meaning: &'static str) -> Self {
         CoefDef {
@@ -26,6 +35,7 @@ impl CoefDef {
             meaning,
             size: Size::Prime,
             reference: None,
+            optional: false,
         }
     }
 
@@ -44,6 +54,7 @@ impl CoefDef {
             meaning,
             size: Size::Fixed(size),
             reference,
+            optional: false,
         }
     }
 
@@ -60,6 +71,7 @@ impl CoefDef {
             meaning,
             size: Size::AddedMass(of),
             reference: None,
+            optional: false,
         }
     }
 }

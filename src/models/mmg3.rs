@@ -81,6 +81,8 @@ crate::coefficient_table! {
     LR = factor("lR_p", "MMG effective longitudinal rudder position l'_R = l_R / L_pp", 0.7),
     GRP = factor("gammaR_pos", "MMG flow straightening coefficient gamma_R for beta_R > 0", 0.6),
     GRN = factor("gammaR_neg", "MMG flow straightening coefficient gamma_R for beta_R <= 0", 0.4),
+    // extension (not in Y&Y): the rudder's neutral angle, zero unless given or estimated
+    D0 = CoefDef::fixed("delta0", "rad", "rudder bias delta_0 (the rudder angle that holds a straight course)", 0.02, None).zero_unless_given(),
 }
 
 /// The ship data `mmg3` reads from `[vehicle.particulars]` (SI after reading; a number is SI,
@@ -346,7 +348,9 @@ impl Mmg3 {
         let vr = speed * gamma * beta_r;
         // F_N = 0.5 rho A_R U_R^2 f_alpha sin alpha_R, alpha_R = delta - atan(v_R / u_R)
         // (Y&Y eq. 19-22): U_R^2 sin alpha_R = U_R (u_R sin delta - v_R cos delta)
-        let (sd, cd) = delta.sin_cos();
+        // the rudder acts at its angle less the bias that holds a straight course (an
+        // extension: a sensor's zero error or the propeller's swirl)
+        let (sd, cd) = (-c[D0] + delta).sin_cos();
         let ur_total = (ur * ur + vr * vr).sqrt();
         let f_n = (ur * sd - vr * cd) * ur_total * c[FALPHA] * (0.5 * rho * s.rudder_area);
         // rudder forces X_R = -(1 - t_R) F_N sin delta, Y_R = -(1 + a_H) F_N cos delta,
@@ -427,6 +431,11 @@ impl Model for Mmg3 {
         dx[1] = (by * a22 - bn * a12) * inv_det;
         dx[2] = (bn * a11 - by * a12) * inv_det;
         planar_kinematics(uu, v, r, psi, &mut dx[3..6]);
+    }
+
+    fn surge_balance(&self) -> Option<&'static str> {
+        // X_H = -0.5 rho L d U^2 R'_0 in straight motion against X_P (Y&Y eq. 8, 11)
+        Some("R0_p")
     }
 
     fn force_quantities(&self) -> &'static [Quantity] {

@@ -222,6 +222,13 @@ pub trait Model: Send + Sync + Sized {
     /// The measured quantities a re-simulation of a run compares with the model (RMS error).
     fn compared(&self) -> &'static [Quantity];
 
+    /// The coefficient that balances the surge equation in steady straight motion against
+    /// the propulsion (the resistance, R'_0 of the MMG model), which the HEKF estimates when a
+    /// run's approach contradicts it (`hekf.balance`); None when the model has none.
+    fn surge_balance(&self) -> Option<&'static str> {
+        None
+    }
+
     /// A typical magnitude of a coefficient for this vehicle (SI), used to scale priors and
     /// the filter's parameter states.
     fn typical_magnitude(&self, name: &str) -> f64;
@@ -314,6 +321,14 @@ pub trait Model: Send + Sync + Sized {
     /// The quantities of the inputs, in vector order.
     fn input_quantities(&self) -> Vec<Quantity> {
         self.inputs().iter().map(|i| i.quantity).collect()
+    }
+
+    /// Whether a coefficient is zero unless given or estimated (an offset or extension term
+    /// a configuration need not list; [`CoefDef::optional`]).
+    fn is_optional(&self, name: &str) -> bool {
+        self.coefficients()
+            .iter()
+            .any(|d| d.name == name && d.optional)
     }
 
     /// Whether a coefficient is derived by a relation (and so cannot be estimated directly).

@@ -36,7 +36,7 @@ crate::coefficient_table! {
     pub COEFFICIENTS;
     K = c("K", "1/s", "Nomoto gain K: steady yaw rate per rudder angle", 0.1),
     INV_T = c("inv_T", "1/s", "reciprocal 1/T of the Nomoto time constant (the paper's x3)", 0.05),
-    DELTA0 = c("delta0", "rad", "rudder bias delta_0 (the rudder angle that holds a straight course)", 0.02),
+    DELTA0 = c("delta0", "rad", "rudder bias delta_0 (the rudder angle that holds a straight course)", 0.02).zero_unless_given(),
     W0 = c("w0", "rad/s", "wave peak (encounter) frequency w_0 of the wave-yaw model", 0.8),
     ZETA = c("zeta_w", "-", "relative damping of the wave-yaw model", 0.1),
 }

@@ -115,6 +115,29 @@ pub fn inspect(target: &Path) -> Result<Found> {
     })
 }
 
+/// The files among `names` in the hydroid output `dir` whose contents differ from the SHA-256
+/// its marker records (edited since hydroid wrote them). Empty when the folder has no valid
+/// marker (an output of an earlier hydroid: there is nothing to compare with) or the marker
+/// does not list a name.
+pub fn edited(dir: &Path, names: &[&str]) -> Result<Vec<String>> {
+    let Ok(text) = std::fs::read_to_string(dir.join(MARKER)) else {
+        return Ok(Vec::new());
+    };
+    let Ok(marker) = serde_json::from_str::<Marker>(&text) else {
+        return Ok(Vec::new());
+    };
+    let mut out = Vec::new();
+    for name in names {
+        if let Some(sha) = marker.files.get(*name) {
+            let path = dir.join(name);
+            if !path.is_file() || file_sha256(&path)? != *sha {
+                out.push((*name).to_string());
+            }
+        }
+    }
+    Ok(out)
+}
+
 /// What differs between the folder and its marker, one line each.
 fn differences(dir: &Path, marker: &Marker) -> Result<Vec<String>> {
     let mut changes = Vec::new();

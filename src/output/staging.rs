@@ -28,6 +28,9 @@ pub enum Replace {
     IfUnchanged,
     /// Also a hydroid output with files added, changed or removed (`--force`).
     EvenIfChanged,
+    /// Also a hydroid output whose only changes are edits of these files (`rerun --edited`:
+    /// the recorded configuration the rerun has read and accepted).
+    IfOnlyEdited(&'static [&'static str]),
 }
 
 impl Replace {
@@ -216,6 +219,7 @@ fn check_replaceable(target: &Path, replace: Replace) -> Result<()> {
     match inspect(target)? {
         Found::Nothing | Found::Unchanged => Ok(()),
         Found::Changed(_) if replace == Replace::EvenIfChanged => Ok(()),
+        Found::Changed(changes) if only_edits_of(&changes, replace) => Ok(()),
         Found::Changed(changes) => {
             const SHOWN: usize = 20;
             let mut list = changes
@@ -240,6 +244,17 @@ fn check_replaceable(target: &Path, replace: Replace) -> Result<()> {
             target.display()
         ))),
     }
+}
+
+/// True when `replace` accepts edits of some files and `changes` are edits of those only.
+fn only_edits_of(changes: &[String], replace: Replace) -> bool {
+    let Replace::IfOnlyEdited(files) = replace else {
+        return false;
+    };
+    changes.iter().all(|c| {
+        c.strip_prefix("changed: ")
+            .is_some_and(|f| files.contains(&f))
+    })
 }
 
 /// Creates the folder an output goes into (and those above it), with a clear message.

@@ -3,6 +3,7 @@
 //! run's result ([`crate::results`]) is what comes out.
 
 pub mod autopilot;
+mod conflicts;
 mod inputs;
 mod preflight;
 
@@ -220,6 +221,7 @@ fn surge_step(
     let recs = records(inputs);
     known.complete(SYMMETRY, cfg.vehicle.yaw_moment);
     let r = crate::stages::surge::run(sc, &cfg.vehicle, known, &recs)?;
+    log.say(conflicts::warnings(known, &r.coefficients(), "surge", cfg));
     r.merge_into(known);
     log.stage(&format!(
         "surge: Xud from {} {}",
@@ -239,6 +241,7 @@ fn captive_step(
 ) -> Result<crate::stages::captive::CaptiveResult> {
     let recs = records(inputs);
     let r = crate::stages::captive::run(cc, &cfg.vehicle, &cfg.fluid, known, &recs)?;
+    log.say(conflicts::warnings(known, &r.coefficients, "captive", cfg));
     r.merge_into(known);
     let harmonic = r.runs.iter().filter(|x| x.periods.is_some()).count();
     let conditions: usize = r

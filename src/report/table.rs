@@ -69,6 +69,9 @@ fn in_table_order(rows: &[ComparisonRow]) -> Vec<&ComparisonRow> {
 fn value(row: &ComparisonRow) -> String {
     match row.sigma {
         Some(s) => format!("{} ± {}", num(row.value), num(s)),
+        None if row.flags.iter().any(|f| f == crate::coefficients::HELD) => {
+            format!("{} (held)", num(row.value))
+        }
         None => num(row.value),
     }
 }

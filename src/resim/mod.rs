@@ -331,5 +331,8 @@ pub fn warnings(m: &ResimMetrics, rec: &Record) -> Vec<Warning> {
             .for_run(&rec.name),
         );
     }
-    out
+    // each is a failed re-simulation test
+    out.into_iter()
+        .map(|w| w.failed(crate::warning::Test::Resimulation))
+        .collect()
 }

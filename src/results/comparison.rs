@@ -87,6 +87,9 @@ pub fn compare(
             if let Some(s) = c.sigma {
                 flags.extend(uncertain(c.value, s));
             }
+            if c.is_held() {
+                flags.push(crate::coefficients::HELD.to_string());
+            }
             if let Some(corr) = &set.correlation {
                 if let Some(i) = corr.names.iter().position(|n| *n == c.name) {
                     for (j, other) in corr.names.iter().enumerate() {

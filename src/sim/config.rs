@@ -622,14 +622,14 @@ impl ManoeuvreFile {
                 for (q, c) in &initial {
                     let key = format!("manoeuvre.initial.{q}");
                     member(p, &key, *q, &produces.states, "a state", &model_name);
-                    if let Err(m) = c.expect_dim(q.dim()) {
+                    if let Err(m) = c.expect_quantity(*q) {
                         p.add(&key, m);
                     }
                 }
                 for (q, c) in &inputs {
                     let key = format!("manoeuvre.inputs.{q}");
                     member(p, &key, *q, &produces.inputs, "an input", &model_name);
-                    if let Err(m) = c.expect_dim(q.dim()) {
+                    if let Err(m) = c.expect_quantity(*q) {
                         p.add(&key, m);
                     }
                 }
@@ -650,7 +650,7 @@ impl ManoeuvreFile {
                     for (q, c) in &s.values {
                         let k = format!("{key}.{q}");
                         member(p, &k, *q, &produces.inputs, "an input", &model_name);
-                        if let Err(m) = c.expect_dim(q.dim()) {
+                        if let Err(m) = c.expect_quantity(*q) {
                             p.add(&k, m);
                         }
                         if let Some(j) = steps[..i]
@@ -988,7 +988,7 @@ fn check_noise(noise: &NoiseConfig, produces: &Produces, p: &mut Problems) {
                 ),
             );
         }
-        match c.expect_dim(q.dim()) {
+        match c.expect_quantity(*q) {
             Ok(()) if c.si > 0.0 => {}
             Ok(()) => p.add(
                 &key,

@@ -38,7 +38,7 @@ pub fn complete_coefficients<M: Model>(
     for (i, n) in names.iter().enumerate() {
         match set.value(n) {
             Some(v) => c[i] = v,
-            None if model.is_derived(n) => {}
+            None if model.is_derived(n) || model.is_optional(n) => {}
             None => missing.push(n.to_string()),
         }
     }

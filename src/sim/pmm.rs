@@ -140,7 +140,7 @@ pub(super) fn check(
             ok = false;
             continue;
         }
-        if let Err(m) = c.expect_dim(q.dim()) {
+        if let Err(m) = c.expect_quantity(*q) {
             p.add(&key, m);
             ok = false;
             continue;

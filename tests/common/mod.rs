@@ -29,6 +29,7 @@ pub fn record(
         lines: (2..rows + 2).collect(),
         meta: Vec::new(),
         warnings: Vec::new(),
+        resolution: Default::default(),
     }
 }
 
@@ -214,4 +215,19 @@ pub fn spheroid_joint_truth() -> Vec<(&'static str, f64)> {
             (*n, truth.1)
         })
         .collect()
+}
+
+/// The folder of the real basin logs (not in the repository: `$HYDROID_REAL_DATA`, by
+/// default `../shared/data/real` beside it); panics with what to do when it is absent.
+pub fn real_data_dir() -> PathBuf {
+    let dir = std::env::var_os("HYDROID_REAL_DATA")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| root().join("../shared/data/real"));
+    assert!(
+        dir.join("marin").is_dir() && dir.join("hsva").is_dir(),
+        "the real KVLCC2 logs are not at {}: set HYDROID_REAL_DATA to the folder that holds \
+         marin/ and hsva/ (../shared/data/real/README.md)",
+        dir.display()
+    );
+    dir
 }

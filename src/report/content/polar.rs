@@ -13,7 +13,12 @@ fn constants(f: &ChannelFit) -> String {
         .zip(&f.std_errors)
         .zip(&f.units)
         .map(|(((n, v), se), u)| {
-            let se = se.map_or_else(String::new, |s| format!(" ± {}", num(s)));
+            // a constant held by an active constraint has no variance: not "± 0"
+            let se = match se {
+                Some(s) if *s == 0.0 => " (held)".to_string(),
+                Some(s) => format!(" ± {}", num(*s)),
+                None => String::new(),
+            };
             format!("{n} = {}{se} {u}", num(*v))
         })
         .collect::<Vec<_>>()
@@ -26,7 +31,8 @@ pub fn write<'a>(d: &mut Document<'a>, p: &PolarResult, word: &str, figs: &Figur
     d.text(format!(
         "Constrained least squares on the steady {word} points (data as {}, {} axes, {} \
          weights, fitting range {}), each channel separately; standard errors from the \
-         residual variance, zero for a constant held by an active constraint.",
+         residual variance; a constant an active constraint holds is marked (held): it is \
+         imposed, not estimated.",
         serde_name(&rf.data),
         serde_name(&rf.axes),
         serde_name(&rf.weights),

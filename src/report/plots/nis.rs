@@ -242,6 +242,7 @@ mod tests {
             mean_dt: 0.01,
             measured: vec!["u".into(), "v".into(), "r".into()],
             noise: Vec::new(),
+            process_noise: Default::default(),
             nis: summarize(&nis, 3),
             innovation_rms: Vec::new(),
             warnings: Vec::new(),

@@ -245,17 +245,18 @@ impl ModelVisitor for Fit<'_> {
                 );
                 let bound = signs[i] != 0.0 && f.values[i] == 0.0;
                 c.note = Some(format!(
-                    "{} model fitted to the forces of {} captive conditions{}",
+                    "{} model fitted to the forces of {} captive conditions",
                     model.name(),
                     conditions.len(),
-                    if bound {
-                        "; held at its sign bound 0 (captive.signs): the data want the other \
-                         sign"
-                    } else {
-                        ""
-                    }
                 ));
-                c
+                if bound {
+                    c.held(&format!(
+                        "its sign bound 0 (captive.signs.{}): the data want the other sign",
+                        cfg.estimate[i]
+                    ))
+                } else {
+                    c
+                }
             })
             .collect();
         let bounded: Vec<&str> = (0..p)
@@ -332,6 +333,7 @@ fn coefficient_vector<M: Model>(
         }
         match known.get(n) {
             Some(c) => base[i] = c.value,
+            None if model.is_optional(n) => {}
             None => missing.push(*n),
         }
     }

@@ -61,7 +61,8 @@ pub fn nis_warning(run: &RunSummary) -> Option<Warning> {
                     sig3(factor)
                 ),
             )
-            .for_run(&run.name),
+            .for_run(&run.name)
+            .failed(crate::warning::Test::Innovations),
         )
     } else {
         Some(
@@ -71,7 +72,8 @@ pub fn nis_warning(run: &RunSummary) -> Option<Warning> {
                 "the innovations are smaller than the noise model says: the measurement noise \
                  is set larger than the data's, so the sigmas are too large (conservative)",
             )
-            .for_run(&run.name),
+            .for_run(&run.name)
+            .failed(crate::warning::Test::Innovations),
         )
     }
 }
@@ -205,8 +207,10 @@ mod tests {
                     quantity,
                     sigma: 1e-3,
                     source: "configured".into(),
+                    rounding: None,
                 })
                 .collect(),
+            process_noise: Default::default(),
             nis: summarize(nis, 2),
             innovation_rms: rms,
             warnings: Vec::new(),

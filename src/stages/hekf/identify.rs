@@ -29,6 +29,9 @@ pub struct RunData {
     pub y: Vec<f64>,
     /// Measurement noise variance of each measured state.
     pub r: Vec<f64>,
+    /// Rounding variance of each measurement (K x m, row-major), added to `r` at its sample;
+    /// empty when the run is printed finely.
+    pub rounding: Vec<f64>,
     /// Inputs over time.
     pub inputs: InputSeries,
     /// Initial state.
@@ -62,6 +65,9 @@ impl RunData {
         for j in 0..kept {
             self.times[j] = self.times[j * n];
             self.y.copy_within(j * n * m..(j * n + 1) * m, j * m);
+            if !self.rounding.is_empty() {
+                self.rounding.copy_within(j * n * m..(j * n + 1) * m, j * m);
+            }
             if let Some(&line) = self.lines.get(j * n) {
                 self.lines[j] = line;
             }
@@ -72,6 +78,10 @@ impl RunData {
         self.times.shrink_to_fit();
         self.y.truncate(kept * m);
         self.y.shrink_to_fit();
+        if !self.rounding.is_empty() {
+            self.rounding.truncate(kept * m);
+            self.rounding.shrink_to_fit();
+        }
     }
 }
 
@@ -116,7 +126,26 @@ pub struct Setup {
     pub repeat_prior_factor: Option<f64>,
     /// The form of the filter (`hekf.filter`); the continuous form runs without smoother.
     pub filter: FilterKind,
+    /// States (nx) whose process noise is matched to the innovations run by run
+    /// ([`super::adapt`]); none for a preset or configured process noise.
+    pub adaptable: Vec<bool>,
+    /// Per run, the states' process noise densities (nx) to use instead of `q`'s (the
+    /// calibrated noise, for repeated passes); empty: `q` for every run.
+    pub run_q: Vec<Vec<f64>>,
+    /// Factor on every noise variance, measurement and state process noise alike (1; the
+    /// noise-model sensitivity repeats a pass at 1/4 and 4, the sigmas halved and doubled).
+    pub noise_scale: f64,
 }
+
+/// Process noise adding less than this share of a state's measurement variance per sample
+/// is none: the data cannot tell it from none.
+const NEGLIGIBLE: f64 = 0.01;
+
+/// Passes the noise calibration may add to the configured ones.
+pub const MAX_CALIBRATION_PASSES: usize = 6;
+
+/// A calibration that changes no density by more than this factor has converged.
+const CONVERGED_FACTOR: f64 = 2.0;
 
 /// Estimates after one pass.
 #[derive(Debug, Clone, PartialEq)]
@@ -271,6 +300,11 @@ pub struct Identification {
     pub covariance: Vec<f64>,
     /// Per pass, per run: the filter's trace.
     pub traces: Vec<Vec<RunTrace>>,
+    /// Per run, the states' process noise densities of the last pass (calibrated when the
+    /// setup adapts them).
+    pub process_noise: Vec<Vec<f64>>,
+    /// What the noise calibration did, for the report (empty when it did nothing).
+    pub calibration: Vec<String>,
 }
 
 /// A failure, located by run and pass.
@@ -318,6 +352,8 @@ fn passes<M: Model>(
     let nx = model.nx();
     let nb = setup.est.len();
     let mut prior = ScaledPrior::new(setup, nx);
+    let mut cal = Calibration::new(setup, runs, nx);
+    cal.update(model, setup, runs, &setup.initial, 0);
     let mut passes = Vec::new();
     let mut traces = Vec::new();
     let mut covariance = vec![0.0; nb * nb];
@@ -328,8 +364,9 @@ fn passes<M: Model>(
         done: 0,
         total: runs.iter().map(RunData::len).sum(),
     };
-    for pass in 0..setup.passes {
-        let last_pass = pass + 1 == setup.passes;
+    let mut pass = 0;
+    loop {
+        let last_pass = cal.is_last(pass, setup.passes);
         let keep = Keep {
             samples: keep_traces && last_pass,
             history: keep_traces,
@@ -337,49 +374,282 @@ fn passes<M: Model>(
             smooth: setup.smoother && last_pass && setup.filter != FilterKind::Continuous,
         };
         counter.pass = pass + 1;
+        counter.passes = counter.passes.max(pass + 1);
         counter.done = 0;
-        let mut filter: Option<HybridEkf> = None;
-        let mut pass_traces = Vec::new();
-        for run in runs {
-            let fail = |divergence| IdentifyError {
-                run: run.name.clone(),
-                pass: pass + 1,
-                divergence,
-            };
-            let mut sys = ModelSystem::new(
-                model,
-                setup.base.clone(),
-                &setup.est,
-                &setup.scale,
-                &run.inputs,
-                &run.measured,
-            );
-            let f = start_filter(&mut filter, run, &prior, setup.max_step);
-            f.kind = setup.filter;
-            f.gate = if pass >= setup.gate_from_pass {
-                setup.gate
-            } else {
-                0.0
-            };
-            f.ungated = vec![false; run.measured.len()];
-            let (mut tr, checkpoints) =
-                filter_run(f, &mut sys, run, setup, keep, &mut counter).map_err(fail)?;
-            if keep.smooth {
-                tr.smoothed = Some(smooth_run(&mut sys, run, checkpoints).map_err(fail)?);
+        let gate_on = pass >= cal.cold_pass + setup.gate_from_pass;
+        let outcome = one_pass(
+            model,
+            setup,
+            runs,
+            &prior,
+            &cal.q,
+            (keep, gate_on),
+            &mut counter,
+        );
+        let (f, pass_traces) = match outcome {
+            Ok(done) => done,
+            // a noise model too tight for the data: widen it and start again (not a failure
+            // at a run's first sample, before any noise has acted: the model or the priors)
+            Err(e) if !last_pass && after_first_sample(&e, runs) && cal.widen(runs) => {
+                prior = ScaledPrior::new(setup, nx);
+                cal.note_divergence(&e, pass);
+                pass += 1;
+                continue;
             }
-            pass_traces.push(tr);
+            Err(e) => return Err(e),
+        };
+        let summary = pass_summary(&f, setup, &mut prior, &mut covariance);
+        if !last_pass {
+            cal.update(model, setup, runs, &summary.values, pass + 1);
         }
-        let f = filter.expect("at least one run");
-        passes.push(pass_summary(&f, setup, &mut prior, &mut covariance));
+        passes.push(summary);
         if keep_traces {
             traces.push(pass_traces);
         }
+        if last_pass {
+            break;
+        }
+        pass += 1;
     }
     Ok(Identification {
         passes,
         covariance,
         traces,
+        process_noise: cal.q,
+        calibration: cal.notes,
     })
+}
+
+/// One pass over every run with the runs' process noise `q`: the filter after the last run
+/// and each run's trace.
+fn one_pass<M: Model>(
+    model: &M,
+    setup: &Setup,
+    runs: &[RunData],
+    prior: &ScaledPrior,
+    q: &[Vec<f64>],
+    (keep, gate_on): (Keep, bool),
+    counter: &mut PassProgress<'_>,
+) -> Result<(HybridEkf, Vec<RunTrace>), IdentifyError> {
+    let mut filter: Option<HybridEkf> = None;
+    let mut pass_traces = Vec::new();
+    let pass = counter.pass;
+    for (run, q_run) in runs.iter().zip(q) {
+        let fail = |divergence| IdentifyError {
+            run: run.name.clone(),
+            pass,
+            divergence,
+        };
+        let mut sys = ModelSystem::new(
+            model,
+            setup.base.clone(),
+            &setup.est,
+            &setup.scale,
+            &run.inputs,
+            &run.measured,
+        );
+        let f = start_filter(&mut filter, run, prior, setup.max_step);
+        for (fq, q) in f.q.iter_mut().zip(q_run) {
+            *fq = q * setup.noise_scale;
+        }
+        f.kind = setup.filter;
+        f.gate = if gate_on { setup.gate } else { 0.0 };
+        f.ungated = vec![false; run.measured.len()];
+        let (mut tr, checkpoints) =
+            filter_run(f, &mut sys, run, setup, keep, counter).map_err(fail)?;
+        if keep.smooth {
+            tr.smoothed = Some(smooth_run(&mut sys, run, checkpoints).map_err(fail)?);
+        }
+        pass_traces.push(tr);
+    }
+    Ok((filter.expect("at least one run"), pass_traces))
+}
+
+/// The noise calibration across passes: each run's process noise from the model's misfit
+/// along its measured states ([`super::adapt`]), before the first pass (with the initial
+/// coefficients) and after every pass but the last, until it settles; the pass after it has
+/// settled is the last.
+struct Calibration {
+    /// Per run, the states' process noise densities.
+    q: Vec<Vec<f64>>,
+    /// Per run, per measured quantity: the state whose noise it calibrates.
+    adaptable: Vec<Vec<Option<usize>>>,
+    /// Whether the noise has settled (always, when nothing is adapted).
+    settled: bool,
+    /// The pass the estimate last started from the prior.
+    cold_pass: usize,
+    /// Divergences met and widened past.
+    widened: usize,
+
+    /// What was done, for the report.
+    notes: Vec<String>,
+}
+
+impl Calibration {
+    fn new(setup: &Setup, runs: &[RunData], nx: usize) -> Self {
+        let q: Vec<Vec<f64>> = (0..runs.len())
+            .map(|i| {
+                setup
+                    .run_q
+                    .get(i)
+                    .cloned()
+                    .unwrap_or_else(|| setup.q[..nx].to_vec())
+            })
+            .collect();
+        let adaptable: Vec<Vec<Option<usize>>> = runs
+            .iter()
+            .map(|r| {
+                r.measured
+                    .iter()
+                    .map(|&j| {
+                        setup
+                            .adaptable
+                            .get(j)
+                            .copied()
+                            .unwrap_or(false)
+                            .then_some(j)
+                    })
+                    .collect()
+            })
+            .collect();
+        let any = adaptable.iter().flatten().any(Option::is_some);
+        Calibration {
+            q,
+            adaptable,
+            settled: !any,
+            cold_pass: 0,
+            widened: 0,
+            notes: Vec::new(),
+        }
+    }
+
+    /// Whether pass `pass` (0-based) is the last: the configured passes are done, the noise
+    /// has settled and the estimate has had a pass to converge since it last started cold;
+    /// or the calibration has used all its passes.
+    fn is_last(&self, pass: usize, configured: usize) -> bool {
+        let done = pass + 1 >= configured && self.settled && pass > self.cold_pass;
+        done || pass + 1 >= configured + MAX_CALIBRATION_PASSES || configured == 1
+    }
+
+    /// The process noise of every run from the model's misfit along its measured states
+    /// with the coefficients `values` (the estimated ones, SI) after `passes` passes
+    /// ([`super::adapt::from_misfit`]); the noise has settled when no density moved by more
+    /// than [`CONVERGED_FACTOR`] (and a tenth of the largest).
+    fn update<M: Model>(
+        &mut self,
+        model: &M,
+        setup: &Setup,
+        runs: &[RunData],
+        values: &[f64],
+        passes: usize,
+    ) {
+        if self.adaptable.iter().flatten().all(Option::is_none) {
+            return;
+        }
+        let mut c = setup.base.clone();
+        for (&i, v) in setup.est.iter().zip(values) {
+            c[i] = *v;
+        }
+        model.relations().apply(&mut c);
+        let mut largest: f64 = 1.0;
+        for (i, run) in runs.iter().enumerate() {
+            let Some(q) = super::adapt::from_misfit(model, &c, run, &setup.adaptable) else {
+                continue;
+            };
+            let dt = mean_interval(&run.times);
+            for (j, new) in q.into_iter().enumerate() {
+                let Some(a) = run.measured.iter().position(|&s| s == j) else {
+                    continue;
+                };
+                if !setup.adaptable[j] {
+                    continue;
+                }
+                // a density that adds less than NEGLIGIBLE of the measurement variance per
+                // sample changes nothing the data can tell: none
+                let floor = NEGLIGIBLE * run.r[a] / dt;
+                let new = if new > floor { new } else { 0.0 };
+                let old = self.q[i][j];
+                let (a_, b_) = (old.max(floor), new.max(floor));
+                largest = largest.max((a_ / b_).max(b_ / a_));
+                self.q[i][j] = new.max(setup.q[j]);
+            }
+        }
+        self.settled = largest <= CONVERGED_FACTOR;
+        if passes > 0 && !self.settled {
+            self.notes.push(format!(
+                "after pass {passes}: process noise from the model's misfit along the measured \
+                 states (changed up to {})",
+                if largest.is_finite() {
+                    format!("{largest:.3} times")
+                } else {
+                    "from none".to_string()
+                }
+            ));
+        }
+    }
+
+    /// After a divergence in a pass before the last: raises the adaptable states' process
+    /// noise to what the measured velocities' sample-to-sample changes allow (the filter
+    /// then follows the measurements as an equation-error fit would) and starts again; at
+    /// most twice. False when there is nothing to widen.
+    fn widen(&mut self, runs: &[RunData]) -> bool {
+        if self.widened >= 2 || self.adaptable.iter().flatten().all(Option::is_none) {
+            return false;
+        }
+        self.widened += 1;
+        for (i, run) in runs.iter().enumerate() {
+            let m = run.measured.len();
+            let dt = mean_interval(&run.times);
+            for (a, state) in self.adaptable[i].iter().enumerate() {
+                let Some(j) = *state else { continue };
+                let steps = run
+                    .y
+                    .chunks_exact(m)
+                    .map(|row| row[a])
+                    .collect::<Vec<f64>>();
+                let var = steps
+                    .windows(2)
+                    .map(|w| w[1] - w[0])
+                    .filter(|d| d.is_finite())
+                    .map(|d| d * d)
+                    .sum::<f64>()
+                    / steps.len().max(2) as f64;
+                self.q[i][j] = (self.q[i][j] * 100.0).max(var / dt);
+            }
+        }
+        self.settled = false;
+        true
+    }
+
+    /// Records a divergence widened past.
+    fn note_divergence(&mut self, e: &IdentifyError, pass: usize) {
+        self.cold_pass = pass + 1;
+        self.notes.push(format!(
+            "pass {} diverged in run '{}' at t = {} s ({}): process noise widened to follow \
+             the measured velocities, the estimate starts again from the prior",
+            pass + 1,
+            e.run,
+            crate::numfmt::num(e.divergence.time),
+            e.divergence.reason
+        ));
+    }
+}
+
+/// Whether the divergence `e` came after the first sample of its run.
+fn after_first_sample(e: &IdentifyError, runs: &[RunData]) -> bool {
+    runs.iter()
+        .find(|r| r.name == e.run)
+        .and_then(|r| r.times.first())
+        .is_some_and(|t0| e.divergence.time > *t0)
+}
+
+/// Mean sampling interval of a run (1 s for fewer than two samples).
+fn mean_interval(times: &[f64]) -> f64 {
+    let n = times.len();
+    if n < 2 || times[n - 1] <= times[0] {
+        return 1.0;
+    }
+    (times[n - 1] - times[0]) / (n - 1) as f64
 }
 
 /// The estimated coefficients as the filter sees them, divided by their scale
@@ -505,6 +775,8 @@ fn start_filter<'a>(
 /// every segment of `segment` samples (none when the smoother is off).
 struct Checkpoints {
     segment: usize,
+    /// The factor on the measurement noise the forward pass used (`Setup::noise_scale`).
+    r_scale: f64,
     saved: Vec<(HybridEkf, GateTracker)>,
 }
 
@@ -541,6 +813,7 @@ fn filter_run<M: Model>(
     let mut row_sigmas = vec![0.0; nb];
     let mut checkpoints = Checkpoints {
         segment: rts::segment_length(k_len),
+        r_scale: setup.noise_scale,
         saved: Vec::new(),
     };
     let mut phi = vec![0.0; n * n];
@@ -549,7 +822,16 @@ fn filter_run<M: Model>(
             checkpoints.saved.push((f.clone(), gate.clone()));
         }
         let mut gating = (&mut gate, &mut gate_log);
-        let nis = filter_sample(f, sys, run, k, &mut gating, None, &mut phi)?;
+        let nis = filter_sample(
+            f,
+            sys,
+            run,
+            k,
+            &mut gating,
+            None,
+            &mut phi,
+            setup.noise_scale,
+        )?;
         if let Some(h) = history.as_mut() {
             for j in 0..nb {
                 row_values[j] = f.x[nx + j] * setup.scale[j];
@@ -592,6 +874,7 @@ fn smooth_run<M: Model>(
     let nx = run.x0.len();
     let k_len = run.len();
     let segment = checkpoints.segment;
+    let r_scale = checkpoints.r_scale;
     let mut states = vec![0.0; k_len * nx];
     let mut phi = vec![0.0; n * n];
     rts::smooth_segments(
@@ -606,7 +889,16 @@ fn smooth_run<M: Model>(
             let mut scratch = GateLog::default();
             let mut gating = (&mut gt, &mut scratch);
             for k in start..end {
-                filter_sample(&mut g, sys, run, k, &mut gating, Some(trace), &mut phi)?;
+                filter_sample(
+                    &mut g,
+                    sys,
+                    run,
+                    k,
+                    &mut gating,
+                    Some(trace),
+                    &mut phi,
+                    r_scale,
+                )?;
             }
             Ok(())
         },
@@ -678,6 +970,7 @@ fn pass_summary(
 /// exempt a quantity from the gate for the samples after. The forward pass and the
 /// smoother's re-run both go through here, so that the re-run repeats the forward pass's
 /// numbers exactly.
+#[allow(clippy::too_many_arguments)]
 fn filter_sample<M: Model>(
     f: &mut HybridEkf,
     sys: &mut ModelSystem<M>,
@@ -686,6 +979,7 @@ fn filter_sample<M: Model>(
     gating: &mut (&mut GateTracker, &mut GateLog),
     mut trace: Option<&mut Trace>,
     phi: &mut [f64],
+    r_scale: f64,
 ) -> Result<f64, Divergence> {
     let m = run.measured.len();
     let t = run.times[k];
@@ -696,7 +990,15 @@ fn filter_sample<M: Model>(
     if let Some(tr) = trace.as_deref_mut() {
         tr.push_prior(&f.x, &f.p, (k > 0).then_some(&*phi));
     }
-    let nis = f.update(sys, t, &run.y[k * m..(k + 1) * m], &run.r)?;
+    let y = &run.y[k * m..(k + 1) * m];
+    let nis = if run.rounding.is_empty() && r_scale == 1.0 {
+        f.update(sys, t, y, &run.r)?
+    } else {
+        let r: Vec<f64> = (0..m)
+            .map(|a| r_scale * (run.r[a] + run.rounding.get(k * m + a).copied().unwrap_or(0.0)))
+            .collect();
+        f.update(sys, t, y, &r)?
+    };
     if !f.beyond_gate().is_empty() || gating.0.open.iter().any(Option::is_some) {
         let events = f.beyond_gate().to_vec();
         gating.0.step(k, &events, &mut f.ungated, gating.1);
@@ -746,6 +1048,7 @@ mod tests {
             x0: y[..6].to_vec(),
             y,
             r,
+            rounding: Vec::new(),
             inputs,
             p0,
             lines: (2..k + 2).collect(),
@@ -781,6 +1084,9 @@ mod tests {
             gate_from_pass: 1,
             repeat_prior_factor: Some(100.0),
             filter: Default::default(),
+            adaptable: Vec::new(),
+            run_q: Vec::new(),
+            noise_scale: 1.0,
         }
     }
 

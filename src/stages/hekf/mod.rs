@@ -2,12 +2,15 @@
 //! a vehicle model and estimated from CFD motion histories, the rest held fixed.
 
 use crate::config::hekf as config;
+mod adapt;
+mod balance;
 mod consistency;
 pub mod history;
 pub mod identifiability;
 pub mod identify;
 pub mod memory;
 pub mod modes;
+mod noise;
 mod prepare;
 mod result;
 mod sensitivity;
@@ -174,20 +177,29 @@ pub fn preflight(
 
 /// What the model expects of the runs: its coefficients at the priors' initial values that
 /// say something (at least one prior sigma from zero: `initial = 1e-4, sigma = 0.3` is a
-/// placeholder, not a sign), else the `configured` values, else its example's.
+/// placeholder, not a sign), else the `configured` values, else its example's. A configured
+/// value of an estimated coefficient counts only when it says something too (a tenth of the
+/// coefficient's typical magnitude: `Ndr = 0.0` as the starting point of an estimate is a
+/// placeholder, and judging the rudder's sign by it would refuse a sound run).
 fn expectation<M: Model>(
     model: &M,
     cfg: &HekfConfig,
     configured: &dyn Fn(&str) -> Option<f64>,
     vehicle: &crate::models::Vehicle,
 ) -> plausibility::Expectation {
+    // a configured value of an estimated coefficient below a tenth of its typical magnitude
+    // (`Ndr = 0.0` as the start of an estimate) is a placeholder, not a sign
     let given = |n: &str| {
+        let typical = model.typical_magnitude(n);
         let informative = cfg.prior.get(n).and_then(|p| {
             let v = p.initial?;
-            let sigma = p.sigma.unwrap_or_else(|| model.typical_magnitude(n));
+            let sigma = p.sigma.unwrap_or(typical);
             (v.abs() >= sigma).then_some(v)
         });
-        informative.or_else(|| configured(n))
+        let estimated = cfg.estimate.iter().any(|e| e == n);
+        informative.or_else(|| {
+            configured(n).filter(|v| !estimated || v.abs() >= 0.1 * typical || v.is_nan())
+        })
     };
     plausibility::Expectation::new(model, &given, vehicle)
 }
@@ -203,6 +215,8 @@ impl ModelVisitor for Identify<'_> {
 
     fn visit<M: Model>(self, model: &M) -> Result<HekfResult> {
         let (cfg, inputs) = (self.cfg, self.inputs);
+        let (balanced, balance_warnings) = surge_balance(model, cfg, inputs);
+        let cfg = &balanced;
         let tuning = tuning::Resolved::from_config(cfg);
         let plan = prepare::plan(model, cfg, &tuning, inputs.known, inputs.runs)?;
         // the model's expectation as preflight judged it: configured coefficients only
@@ -255,15 +269,23 @@ impl ModelVisitor for Identify<'_> {
             })
             .unwrap_or_default();
         let last = id.passes.last().cloned().expect("at least one pass");
-        let (upstream, failed) = sensitivity::upstream(
-            model,
-            &setup,
-            &runs,
-            &last.values,
-            &last.sigmas,
-            &plan.est_names,
-            inputs.known,
-        );
+        // the repeated passes keep the noise as calibrated
+        let calibrated = identify::Setup {
+            run_q: id.process_noise.clone(),
+            ..setup.clone()
+        };
+        let converged = sensitivity::Converged {
+            setup: &calibrated,
+            runs: &runs,
+            estimate: &last.values,
+            sigma: &last.sigmas,
+            est_names: &plan.est_names,
+        };
+        let (mut upstream, failed) = sensitivity::upstream(model, converged, inputs.known);
+        let spread = sensitivity::noise_model(model, converged);
+        if let Some(s) = &spread {
+            upstream.push(s.direction.clone());
+        }
         let mut result = result::build(
             model,
             cfg,
@@ -277,6 +299,10 @@ impl ModelVisitor for Identify<'_> {
                 failed,
             },
         );
+        result
+            .warnings
+            .extend(noise_model_warning(&plan.est_names, spread.as_ref()));
+        result.warnings.extend(balance_warnings);
         result.identifiability = advise(model, &plan, &runs, &result);
         result
             .warnings
@@ -293,6 +319,141 @@ impl ModelVisitor for Identify<'_> {
         }
         Ok(result)
     }
+}
+
+/// The configuration the stage runs: `cfg`, with the model's surge-balance coefficient added
+/// to the estimated ones when a run's approach contradicts its held value
+/// ([`balance::approach`]; `hekf.balance = "estimate"`), and the warnings that say so.
+fn surge_balance<M: Model>(
+    model: &M,
+    cfg: &HekfConfig,
+    inputs: &StageInputs,
+) -> (HekfConfig, Vec<Warning>) {
+    let mut out = cfg.clone();
+    let Some(name) = model.surge_balance() else {
+        return (out, Vec::new());
+    };
+    let Some(held) = inputs.known.value(name) else {
+        return (out, Vec::new());
+    };
+    if cfg.estimate.iter().any(|e| e == name) {
+        return (out, Vec::new());
+    }
+    let pairs: Vec<(&str, f64)> = model
+        .coefficient_names()
+        .iter()
+        .filter_map(|n| inputs.known.value(n).map(|v| (*n, v)))
+        .collect();
+    let c = model.coefficient_vector(&pairs);
+    let found: Vec<balance::Imbalance> = inputs
+        .runs
+        .iter()
+        .filter_map(|rec| balance::approach(model, &c, rec))
+        .collect();
+    let Some(worst) = found.iter().max_by(|a, b| {
+        (a.measured - a.model)
+            .abs()
+            .total_cmp(&(b.measured - b.model).abs())
+    }) else {
+        return (out, Vec::new());
+    };
+    let num = crate::numfmt::num;
+    let runs: Vec<&str> = found.iter().map(|i| i.run.as_str()).collect();
+    let seen = format!(
+        "the approach is not an equilibrium of the model's surge equation in {} run{} ({}): in \
+         run '{}' the ship holds {} m/s (surge acceleration {} m/s^2 over the first {} s) where \
+         the model with the logged propeller and {name} = {} accelerates at {} m/s^2, a surge \
+         force of {} N it lacks",
+        found.len(),
+        if found.len() == 1 { "" } else { "s" },
+        runs.join(", "),
+        worst.run,
+        num(worst.speed),
+        num(worst.measured),
+        num(worst.until),
+        num(held),
+        num(worst.model),
+        num(worst.force(inputs.vehicle.mass))
+    );
+    let warning = match cfg.balance {
+        config::Balance::Estimate => {
+            out.estimate.push(name.to_string());
+            Warning::new(
+                STAGE,
+                format!("{seen}; {name} is estimated with the other coefficients"),
+                format!(
+                    "basins run the propeller at the model's self-propulsion point, not where \
+                     a published resistance balances it; held, {name} would leave every \
+                     estimate absorbing the missing force (hekf.balance = \"hold\" keeps it)"
+                ),
+            )
+        }
+        config::Balance::Hold => Warning::new(
+            STAGE,
+            format!("{seen}; {name} is held as configured (hekf.balance = \"hold\")"),
+            format!(
+                "the estimates absorb the missing surge force: estimate {name} (the default, \
+                 hekf.balance = \"estimate\") or give the propeller speed that balances it"
+            ),
+        ),
+    };
+    (out, vec![warning])
+}
+
+/// A move (in sigmas from the data) of an estimate by halving or doubling the noise model
+/// above which it is warned: up to it the spread, already in the reported sigma, at most
+/// doubles it (docs/hekf.md, "The noise model").
+const NOISE_MOVE_WARNED: f64 = 2.0;
+
+/// The warning when halving or doubling the noise model moves an estimate by more than
+/// [`NOISE_MOVE_WARNED`] of its sigmas (or when the repeated passes failed).
+fn noise_model_warning(
+    names: &[String],
+    spread: Option<&sensitivity::NoiseSpread>,
+) -> Option<Warning> {
+    let Some(spread) = spread else {
+        return Some(Warning::new(
+            STAGE,
+            "the estimates' dependence on the noise model could not be computed (a pass with \
+             the noise halved or doubled failed)",
+            "the sigmas leave the choice of noise model out",
+        ));
+    };
+    let mut moved: Vec<(f64, &String)> = spread
+        .moves
+        .iter()
+        .zip(names)
+        .filter(|(m, _)| **m > NOISE_MOVE_WARNED)
+        .map(|(m, n)| (*m, n))
+        .collect();
+    if moved.is_empty() {
+        return None;
+    }
+    moved.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let list: Vec<String> = moved
+        .iter()
+        .map(|(m, n)| format!("{n} {} sigma", crate::numfmt::num(*m)))
+        .collect();
+    Some(
+        Warning::new(
+            STAGE,
+            format!(
+                "halving or doubling the noise model (every measurement and process noise sigma) \
+             moves {}: {}",
+                if moved.len() == 1 {
+                    "one estimate by more than twice its sigma"
+                } else {
+                    "estimates by more than twice their sigma"
+                },
+                list.join(", ")
+            ),
+            "the estimates depend on how noisy the data are taken to be, as much as on the data: \
+         that spread is in the reported sigmas (uncertainty budget, row \"noise model\"), \
+         but look for the misfit behind it (the runs' innovation tests, a coefficient held \
+         at a value the data contradict)",
+        )
+        .failed(crate::warning::Test::NoiseModel),
+    )
 }
 
 /// The identifiability advice for the estimates of `result` ([`identifiability::advise`]).

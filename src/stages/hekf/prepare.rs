@@ -4,6 +4,7 @@
 use super::config::HekfConfig;
 use super::config::{FilterKind, Outliers};
 use super::identify::{RunData, Setup};
+use super::noise;
 use super::result::RunSummary;
 use super::tuning::{NoiseChoice, Resolved};
 use super::STAGE;
@@ -13,7 +14,7 @@ use crate::models::Model;
 use crate::quantity::Quantity;
 use crate::record::Record;
 use crate::sampling::median_interval;
-use crate::signal::{self, noise_floor, noise_sigma};
+use crate::signal::{self, noise_floor};
 use crate::sim::inputs::InputSeries;
 use crate::warning::Warning;
 
@@ -56,7 +57,7 @@ pub fn plan<M: Model>(
     let mut base = vec![0.0; names.len()];
     let mut fixed = Vec::new();
     for (i, n) in names.iter().enumerate() {
-        if est.contains(&i) || model.is_derived(n) {
+        if est.contains(&i) || model.is_derived(n) || (model.is_optional(n) && !known.contains(n)) {
             continue;
         }
         let c = known.get(n).expect("checked by coefficient_problems");
@@ -204,7 +205,9 @@ pub fn coefficient_problems<M: Model>(
     let missing: Vec<&str> = names
         .iter()
         .enumerate()
-        .filter(|(i, n)| !est.contains(i) && !model.is_derived(n) && !known(n))
+        .filter(|(i, n)| {
+            !est.contains(i) && !model.is_derived(n) && !model.is_optional(n) && !known(n)
+        })
         .map(|(_, n)| *n)
         .collect();
     if !missing.is_empty() {
@@ -252,7 +255,8 @@ pub fn run_data<M: Model>(
         .collect();
     let mut y = measurements(rec, &measured_q, times.len());
     let mut warnings = Vec::new();
-    let (noise, r) = measurement_noise(cfg, tuning, rec, &measured_q, &mut y, &mut warnings);
+    let (noise, r, rounding) =
+        measurement_noise(cfg, tuning, rec, &measured_q, &mut y, &mut warnings);
     let inputs = InputSeries::from_record(model.inputs(), rec).map_err(|q| {
         run_error(
             rec,
@@ -272,6 +276,7 @@ pub fn run_data<M: Model>(
         mean_dt: mean_interval(&times),
         measured: measured_q.iter().map(|q| q.key().to_string()).collect(),
         noise,
+        process_noise: Default::default(),
         nis: None,
         innovation_rms: Vec::new(),
         warnings,
@@ -283,6 +288,7 @@ pub fn run_data<M: Model>(
             measured,
             y,
             r,
+            rounding,
             inputs,
             x0,
             p0,
@@ -396,8 +402,10 @@ const HELD_SIGMA: f64 = 1e-4;
 pub(super) const HELD_SOURCE: &str = "held constant by the run (constants)";
 
 /// The measurement noise of each measured quantity (its choice and its variance), from the
-/// data without their gross outliers. The outliers are left out of the filter: they become
-/// NaN in `y`, a missing measurement the update skips, and a warning naming their lines.
+/// data without their gross outliers, and the rounding variance of each sample (K x m,
+/// row-major; empty when no channel is printed coarsely). The outliers are left out of the
+/// filter: they become NaN in `y`, a missing measurement the update skips, and a warning
+/// naming their lines.
 fn measurement_noise(
     cfg: &HekfConfig,
     tuning: &Resolved,
@@ -405,10 +413,15 @@ fn measurement_noise(
     measured_q: &[Quantity],
     y: &mut [f64],
     warnings: &mut Vec<Warning>,
-) -> (Vec<NoiseChoice>, Vec<f64>) {
+) -> (Vec<NoiseChoice>, Vec<f64>, Vec<f64>) {
     let m = measured_q.len();
     let mut noise = Vec::new();
     let mut r = Vec::new();
+    let mut rounding = Vec::new();
+    let rate_bias = noise::rate_bias(rec);
+    if let Some((b, drift)) = rate_bias.filter(|_| measured_q.contains(&Quantity::R)) {
+        warnings.push(rate_bias_warning(rec, b, drift));
+    }
     for (a, q) in measured_q.iter().enumerate() {
         let Some(raw) = rec.channel(*q) else {
             // a held state (a run's constant): configured noise, else HELD_SIGMA
@@ -418,37 +431,87 @@ fn measurement_noise(
                 quantity: *q,
                 sigma,
                 source: HELD_SOURCE.to_string(),
+                rounding: None,
             });
             continue;
         };
+        let steps = rec.resolution.get(q).map(Vec::as_slice);
         let spikes = match cfg.outliers {
-            Outliers::Exclude => signal::outliers(raw),
+            Outliers::Exclude => signal::outliers_beyond(raw, steps),
             Outliers::Keep => Vec::new(),
         };
-        let values = signal::cleaned(raw, &spikes);
-        let floor = noise_floor(&values);
-        let (sigma, source) = match (tuning.fixed_r, cfg.noise.get(q)) {
-            (Some(rv), _) => (rv.sqrt(), "paper preset".to_string()),
-            (None, Some(c)) => (c.si, "configured".to_string()),
-            (None, None) => match noise_sigma(&values) {
-                Some(s) if s >= floor => (s, "estimated from the data".to_string()),
-                _ => (floor, "floor (the data look noise-free)".to_string()),
+        let mut values = signal::cleaned(raw, &spikes);
+        let bias = match (*q, tuning.fixed_r, cfg.noise.get(q)) {
+            (Quantity::R, None, None) => rate_bias.map_or(0.0, |(b, _)| b),
+            _ => 0.0,
+        };
+        if bias != 0.0 {
+            values.iter_mut().for_each(|v| *v -= bias);
+            for k in 0..y.len() / m {
+                y[k * m + a] -= bias;
+            }
+        }
+        let (sigma, source, rounds) = match (tuning.fixed_r, cfg.noise.get(q)) {
+            (Some(rv), _) => (rv.sqrt(), "paper preset".to_string(), None),
+            (None, Some(c)) => (c.si, "configured".to_string(), None),
+            (None, None) => match noise::estimate(rec, *q, &values, bias) {
+                Some(n) => (n.sigma, n.source, steps.map(|s| (n.rounding, s))),
+                None => (
+                    noise_floor(&values),
+                    "floor (the data look noise-free)".to_string(),
+                    None,
+                ),
             },
         };
+        // the rounding of each sample adds its own variance (estimated noise only: a
+        // configured or preset noise is what the user says the whole error is)
+        if let Some((_, s)) = rounds {
+            if rounding.is_empty() {
+                rounding = vec![0.0; y.len()];
+            }
+            for (k, step) in s.iter().enumerate() {
+                let var = step * step / 12.0;
+                rounding[k * m + a] = if var.is_finite() { var } else { 0.0 };
+            }
+        }
         r.push(sigma * sigma);
         noise.push(NoiseChoice {
             quantity: *q,
             sigma,
             source,
+            rounding: rounds.and_then(|(rms, _)| rms),
         });
         if !spikes.is_empty() {
             for o in &spikes {
                 y[o.index * m + a] = f64::NAN;
+                // a sample left out adds no rounding either (an outlier's print step is huge)
+                if let Some(v) = rounding.get_mut(o.index * m + a) {
+                    *v = 0.0;
+                }
             }
             warnings.push(outlier_warning(*q, &spikes, rec).for_run(&rec.name));
         }
     }
-    (noise, r)
+    (noise, r, rounding)
+}
+
+/// The note for a yaw rate taken off its bias against the heading.
+fn rate_bias_warning(rec: &Record, bias: f64, drift: f64) -> Warning {
+    Warning::new(
+        STAGE,
+        format!(
+            "the yaw rate reads {} deg/s {} the heading's rate over the whole run (integrated, \
+             it drifts {} deg from the heading): taken off as a constant bias of the rate \
+             sensor",
+            sig(bias.abs().to_degrees()),
+            if bias > 0.0 { "above" } else { "below" },
+            sig(drift.to_degrees())
+        ),
+        "left in, a rate sensor's bias reads as a steady turn that the model's yaw \
+         derivatives would have to explain; the heading (from the track or a compass) is \
+         taken as the reference, and the rate is judged against it",
+    )
+    .for_run(&rec.name)
 }
 
 /// The initial state and its covariance: the first measurement (that is not an outlier)
@@ -676,6 +739,24 @@ fn out_of_plane_warnings<M: Model>(model: &M, rec: &Record) -> Vec<Warning> {
     w
 }
 
+/// The states whose process noise the filter matches to the innovations
+/// ([`super::adapt`]): every state of a model measured through its states (a measured state
+/// the model does not follow gets the noise its misfit needs: velocities for forces the model
+/// lacks, positions and angles for velocities or rates that their measured derivatives do
+/// not match), unless the preset fixes the noise (`adapt_noise`) or the configuration gives
+/// it for that state.
+fn adaptable_states<M: Model>(model: &M, cfg: &HekfConfig, tuning: &Resolved) -> Vec<bool> {
+    model
+        .states()
+        .iter()
+        .map(|s| {
+            tuning.adapt_noise
+                && model.outputs().is_empty()
+                && !cfg.process_noise.contains_key(s.name)
+        })
+        .collect()
+}
+
 /// The filter set-up from the plan, the tuning and the runs; `hekf.process_noise` entries
 /// (by state or coefficient name) override the preset.
 pub fn setup<M: Model>(
@@ -757,5 +838,8 @@ pub fn setup<M: Model>(
         gate_from_pass: 1,
         repeat_prior_factor: tuning.repeat_prior_factor,
         filter: cfg.filter,
+        adaptable: adaptable_states(model, cfg, tuning),
+        run_q: Vec::new(),
+        noise_scale: 1.0,
     })
 }

@@ -11,6 +11,7 @@ use crate::estimation::nis::{summarize, NisSummary};
 use crate::models::Model;
 use crate::warning::Warning;
 use serde::Serialize;
+use std::collections::BTreeMap;
 
 /// The estimate after one pass.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -40,6 +41,11 @@ pub struct RunSummary {
     pub measured: Vec<String>,
     /// Measurement noise used per quantity, and where it came from.
     pub noise: Vec<NoiseChoice>,
+    /// Process noise density (SI^2/s) of each state calibrated from the model's misfit along
+    /// this run (`hekf.adapt_noise`, docs/hekf.md "The noise model"), by state name; empty
+    /// when the noise was not calibrated.
+    #[serde(skip_serializing_if = "BTreeMap::is_empty")]
+    pub process_noise: BTreeMap<String, f64>,
     /// Innovation consistency in the last pass.
     pub nis: Option<NisSummary>,
     /// RMS of the innovations in the last pass, per measured quantity (SI).
@@ -254,8 +260,8 @@ pub fn build<M: Model>(
             Coefficient::new(n, last.values[j], Some(sigma), Source::Hekf).with_note(format!(
                 "{} model, {} pass{}; {from}",
                 model.name(),
-                setup.passes,
-                if setup.passes == 1 { "" } else { "es" },
+                id.passes.len(),
+                if id.passes.len() == 1 { "" } else { "es" },
             ))
         })
         .collect();
@@ -279,6 +285,8 @@ pub fn build<M: Model>(
     }
     let correlation =
         Correlation::from_covariance(plan.est_names.clone(), |a, b| id.covariance[a * nb + b]);
+    let pass_count = id.passes.len();
+    let calibration = id.calibration.clone();
     let mut passes = id.traces;
     let last_traces = passes.pop().unwrap_or_default();
     let mut traces = Vec::new();
@@ -295,6 +303,14 @@ pub fn build<M: Model>(
             .filter(|n| n.source == super::prepare::HELD_SOURCE)
             .count();
         let m = runs[r].measured.len() - held;
+        let states = model.states();
+        summary.process_noise = setup
+            .adaptable
+            .iter()
+            .enumerate()
+            .filter(|(j, a)| **a && id.process_noise[r][*j] > 0.0)
+            .map(|(j, _)| (states[j].name.to_string(), id.process_noise[r][j]))
+            .collect();
         summary.nis = summarize(&tr.nis, m);
         summary.innovation_rms = tr
             .innovation_squares
@@ -323,10 +339,14 @@ pub fn build<M: Model>(
         correlation,
         passes: id_passes,
         fixed: plan.fixed.clone(),
-        tuning: tuning_notes(plan, setup, cfg),
+        tuning: {
+            let mut notes = tuning_notes(plan, setup, cfg);
+            notes.extend(calibration);
+            notes
+        },
         settings: Settings {
             filter: setup.filter,
-            passes: setup.passes,
+            passes: pass_count,
             substeps: setup.substeps,
             smoother: setup.smoother,
             decimate: cfg.decimate.unwrap_or(1).max(1),

@@ -37,6 +37,9 @@ pub struct Resolved {
     pub repeat_prior_factor: Option<f64>,
     /// Innovation gate in standard deviations (0: none).
     pub gate: f64,
+    /// Match the process noise of the measured velocities to the innovations
+    /// (`hekf.adapt_noise`; [`super::adapt`]).
+    pub adapt_noise: bool,
 }
 
 impl Resolved {
@@ -56,6 +59,7 @@ impl Resolved {
                 q_coefficients: 0.0,
                 repeat_prior_factor: Some(100.0),
                 gate: super::config::DEFAULT_GATE,
+                adapt_noise: true,
             },
             // Rasekh & Mahdi 2020, section 4: Q = 1e-4 I, R = 1e-6 I, P0 = 0 for the measured
             // states (1e-12 here, so that P is positive definite) and 1 for the coefficients.
@@ -73,6 +77,7 @@ impl Resolved {
                 repeat_prior_factor: None,
                 // the paper gates nothing
                 gate: 0.0,
+                adapt_noise: false,
             },
         };
         if let Some(p) = c.passes {
@@ -89,6 +94,9 @@ impl Resolved {
         }
         if let Some(v) = c.state_variance {
             r.p0_states = Some(v);
+        }
+        if let Some(a) = c.adapt_noise {
+            r.adapt_noise = a;
         }
         r
     }
@@ -110,8 +118,14 @@ pub struct NoiseChoice {
     pub quantity: Quantity,
     /// Standard deviation used, SI.
     pub sigma: f64,
-    /// `configured`, `estimated from the data`, `floor` or `paper preset`.
+    /// `configured`, `estimated from the data`, `floor`, `paper preset`, or the related
+    /// channel it was judged against.
     pub source: String,
+    /// RMS rounding error of the printed values (print step / sqrt 12), SI, added to each
+    /// sample's variance at its own step, when the channel is printed with so few digits
+    /// that it matters.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rounding: Option<f64>,
 }
 
 #[cfg(test)]
@@ -133,6 +147,7 @@ mod tests {
             q_coefficients: 0.0,
             repeat_prior_factor: None,
             gate: 0.0,
+            adapt_noise: false,
         };
         assert_eq!(r.substeps_for(0.01), 1);
         assert_eq!(r.substeps_for(0.05), 5);

@@ -179,7 +179,14 @@ pub fn coefficients(
             } else {
                 format!("{}, q = 0.5 rho A_ref = {q:.6} kg/m", m.relation)
             };
-            Coefficient::new(m.name, value + 0.0, sigma, Source::Polar).with_note(note)
+            let c = Coefficient::new(m.name, value + 0.0, sigma, Source::Polar).with_note(note);
+            // no variance at all: the constants it comes from are held by constraints
+            match sigma {
+                Some(s) if s == 0.0 && !fit.active_constraints.is_empty() => {
+                    c.held(&fit.active_constraints.join("; "))
+                }
+                _ => c,
+            }
         })
         .collect()
 }
@@ -293,5 +300,29 @@ mod tests {
         let total = coefficients(&drag, &lift, &moment, q, l_ref, YawMoment::Total);
         let note = total.iter().find(|c| c.name == "Nuv").unwrap().note.clone();
         assert!(note.unwrap().contains("Munk moment included"));
+    }
+
+    /// A constant an active constraint holds has no variance: the coefficients it alone
+    /// gives are held, without a sigma (not "0 ± 0"), and their note names the constraint.
+    #[test]
+    fn a_constant_held_by_a_constraint_gives_held_coefficients_not_zero_sigmas() {
+        let mut drag = fit("drag", &["a", "b", "c"], &[0.293, 0.0, 0.0826], 1e-3);
+        if let Some(cov) = drag.covariance.as_mut() {
+            cov[1][1] = 0.0;
+        }
+        drag.active_constraints = vec!["b = 0 (polar.drag.symmetric)".into()];
+        let lift = fit("lift", &["intercept", "slope"], &[0.0, -1.013], 1e-2);
+        let moment = fit("moment", &["intercept", "slope"], &[0.0, -0.56], 0.02);
+        let cs = coefficients(&drag, &lift, &moment, 16.1, 1.2, YawMoment::LiftOnly);
+        for name in ["Xuv", "Yvv"] {
+            let c = cs.iter().find(|c| c.name == name).expect(name);
+            assert!(c.is_held() && c.sigma.is_none(), "{name}: {c:?}");
+            assert!(
+                c.note.as_deref().unwrap().contains("polar.drag.symmetric"),
+                "{c:?}"
+            );
+        }
+        let xuu = cs.iter().find(|c| c.name == "Xuu").unwrap();
+        assert!(!xuu.is_held() && xuu.sigma.is_some_and(|s| s > 0.0));
     }
 }
