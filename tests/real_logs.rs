@@ -35,7 +35,23 @@ fn identify(name: &str, edit: &dyn Fn(String) -> String) -> (Value, String) {
     let o = run_config(&path, &out, &[]);
     let said = text(&o.stderr);
     assert_eq!(o.status.code(), Some(0), "{said}");
+    says_measured(&out.join("report.md"));
     (json(&out.join("results.json")), said)
+}
+
+/// The report of basin logs calls the data measured, never CFD (issue 27).
+fn says_measured(report: &Path) {
+    let md = std::fs::read_to_string(report).unwrap();
+    assert!(md.contains("measured"), "{md}");
+    for cfd in [
+        "CFD export",
+        "CFD data",
+        "model − CFD",
+        "CFD points",
+        "| CFD |",
+    ] {
+        assert!(!md.contains(cfd), "'{cfd}' in the report of basin logs");
+    }
 }
 
 /// Only R0_p estimated: the published hull derivatives, with the surge balance the runs need.

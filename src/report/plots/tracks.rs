@@ -18,11 +18,13 @@ pub struct Track<'a> {
 }
 
 impl<'a> Track<'a> {
-    /// The track figure, when the run has positions; with the vertical plane when it has a
-    /// depth (measured or a state of the model).
+    /// The track figure, when the run has positions (measured, re-simulated or smoothed);
+    /// with the vertical plane when it has a depth.
     pub fn new(run: RunView<'a>) -> Option<Self> {
-        let has = |q| run.measured(q).is_some();
-        let vertical = has(Quantity::Z) || run.simulated(Quantity::Z).is_some();
+        let has = |q| {
+            run.measured(q).is_some() || run.simulated(q).is_some() || run.smoothed(q).is_some()
+        };
+        let vertical = has(Quantity::Z);
         (has(Quantity::X) && has(Quantity::Y)).then_some(Track { run, vertical })
     }
 
