@@ -119,7 +119,9 @@ pub fn compare<M: Model>(
     let steering = law_of(&measured, &h)?;
 
     let mut steered_inputs = inputs.clone();
-    steered_inputs.inputs[rudder_input] = Input::Held(vec![rudder[0]; h.time().len()]);
+    // the helm moves the surface continuously: linear between samples, as `hydroid simulate`
+    // steers and as `between = "auto"` reads a logged moving rudder
+    steered_inputs.inputs[rudder_input] = Input::Series(vec![rudder[0]; h.time().len()]);
     let x0: Vec<f64> = model
         .states()
         .iter()
