@@ -38,6 +38,9 @@ pub struct Record {
     /// that their rounding is part of the measurement noise (`crate::printed`); absent for a
     /// channel printed finely enough or made in memory.
     pub resolution: BTreeMap<Quantity, Vec<f64>>,
+    /// How an input is read between its samples, where the configuration says
+    /// (`between`); `auto` for the others.
+    pub between: BTreeMap<Quantity, crate::config::Between>,
 }
 
 /// Where a channel of a record came from.
@@ -90,6 +93,7 @@ impl Record {
             meta: Vec::new(),
             warnings: Vec::new(),
             resolution: BTreeMap::new(),
+            between: BTreeMap::new(),
         }
     }
 
@@ -366,6 +370,7 @@ pub fn from_table(mut table: Table, spec: &InputSpec, needs: &Needs) -> Result<R
         meta: table.meta.clone(),
         warnings,
         resolution,
+        between: spec.between.clone(),
     })
 }
 
@@ -560,6 +565,7 @@ mod tests {
             columns: cols.iter().cloned().collect(),
             constants: BTreeMap::new(),
             steps: Vec::new(),
+            between: BTreeMap::new(),
             velocity_frame: VelocityFrame::Body,
             rate_frame: None,
             manoeuvre: None,

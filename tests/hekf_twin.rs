@@ -152,6 +152,7 @@ fn simulate(man: Man) -> Record {
         meta: Vec::new(),
         warnings: Vec::new(),
         resolution: Default::default(),
+        between: Default::default(),
     }
 }
 

@@ -114,7 +114,11 @@ fn write_case(dir: &Path, ship: &Kvlcc2, hz: f64, fit: &[&str], held: bool) -> s
         };
         writeln!(
             c,
-            "[[{table}]]\nname = \"{name}\"\nfile = \"{name}.csv\"\n[{table}.columns]\n{COLUMNS}"
+            "[[{table}]]\nname = \"{name}\"\nfile = \"{name}.csv\"\n{between}[{table}.columns]\n\
+             {COLUMNS}",
+            // a rudder the generator holds at each logged sample is read held; a moving one as
+            // hydroid reads any log (`auto`: the logged ramp interpolated)
+            between = if held { "between = { rudder = \"hold\" }\n" } else { "" }
         )
         .unwrap();
     }

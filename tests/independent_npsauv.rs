@@ -77,14 +77,21 @@ fn write_case(dir: &Path, auv: &NpsAuv) -> std::path::PathBuf {
         u = \"u\"\nv = \"v\"\nw = \"w\"\np = \"p\"\nq = \"q\"\nr = \"r\"\nroll = \"Roll\"\n\
         pitch = \"Pitch\"\nyaw = \"Heading\"\nrudder = \"Rudder\"\n\
         stern_planes = \"Stern Planes\"\nbow_planes = \"Bow Planes\"\nrpm = \"Propeller Speed\"\n";
+    // fins held at each logged sample by the generator are read held (`between`); moving
+    // fins are read as hydroid reads any log (`auto`: the logged ramps interpolated)
+    let between = if npsauv::HOLD_FINS.with(|h| h.get()) {
+        "between = { rudder = \"hold\", stern_planes = \"hold\", bow_planes = \"hold\" }\n"
+    } else {
+        ""
+    };
     write!(
         c,
         "[hekf]\nmodel = \"npsauv\"\nestimate = {estimated:?}\n\
          noise = {{ x = \"0.01 m\", y = \"0.01 m\", z = \"0.01 m\", u = \"0.01 m/s\", \
          v = \"0.01 m/s\", w = \"0.01 m/s\", p = \"0.1 deg/s\", q = \"0.1 deg/s\", \
          r = \"0.1 deg/s\", roll = \"0.05 deg\", pitch = \"0.05 deg\", yaw = \"0.05 deg\" }}\n\
-         [[hekf.runs]]\nname = \"helix\"\nfile = \"helix.csv\"\n{columns}\
-         [[hekf.runs]]\nname = \"zig-zag\"\nfile = \"zigzag.csv\"\n{columns}"
+         [[hekf.runs]]\nname = \"helix\"\nfile = \"helix.csv\"\n{between}{columns}\
+         [[hekf.runs]]\nname = \"zig-zag\"\nfile = \"zigzag.csv\"\n{between}{columns}"
     )
     .unwrap();
     let path = dir.join("npsauv.toml");

@@ -66,6 +66,10 @@ pub struct InputSpec {
         deserialize_with = "increasing_steps"
     )]
     pub steps: Vec<Step>,
+    /// How each sampled input is read between its samples (docs/hekf.md, "Inputs between
+    /// samples"): `between = { rudder = "linear" }`; an input not listed is `auto`.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub between: BTreeMap<Quantity, Between>,
     /// Frame of the velocity columns: `body` (default) or `earth`.
     #[serde(default)]
     pub velocity_frame: VelocityFrame,
@@ -305,6 +309,21 @@ impl InputSpec {
             )
         })
     }
+}
+
+/// How an input is read between its samples.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Between {
+    /// From the samples: `linear` when the signal moves through intermediate values between
+    /// its levels (a sampled continuous signal: a rudder moving at its rate), else the model's
+    /// own rule (a step log).
+    #[default]
+    Auto,
+    /// Each sample held until the next (a commanded step; a digital controller's output).
+    Hold,
+    /// Interpolated linearly between samples (a sampled continuous signal).
+    Linear,
 }
 
 /// The frame in which a file gives linear and angular velocities.

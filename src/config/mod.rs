@@ -21,7 +21,8 @@ pub(crate) mod words;
 pub(crate) use collect::read_collecting;
 pub(crate) use input::quantity_key;
 pub use input::{
-    ColumnSpec, Constant, DataSource, FormatSetting, InputSpec, ManoeuvreSpec, Step, VelocityFrame,
+    Between, ColumnSpec, Constant, DataSource, FormatSetting, InputSpec, ManoeuvreSpec, Step,
+    VelocityFrame,
 };
 pub use load::{load, load_lenient, load_str, read, LoadedConfig};
 pub use problems::Problems;

@@ -184,7 +184,9 @@ fn compare_on<M: Model>(
     }
     let steering = law_of(&measured, &h, surface)?;
     let mut steered_inputs = inputs.clone();
-    steered_inputs.inputs[input] = Input::Held(vec![deflection[0]; h.time().len()]);
+    // the helm moves the surface continuously: linear between samples, as `hydroid simulate`
+    // steers and as `between = "auto"` reads a logged moving rudder
+    steered_inputs.inputs[input] = Input::Series(vec![deflection[0]; h.time().len()]);
     let x0: Vec<f64> = model
         .states()
         .iter()

@@ -1,7 +1,7 @@
 //! Model inputs (thrust, rudder, rpm ...) over time: constants or sampled series, linearly
 //! interpolated between samples and held beyond the ends; inputs given as steps, sampled.
 
-use crate::config::{Constant, InputSpec, Step};
+use crate::config::{Between, Constant, InputSpec, Step};
 use crate::models::{InputDef, InputRule};
 use crate::quantity::Quantity;
 
@@ -132,6 +132,49 @@ pub fn constant_inputs(
         .collect()
 }
 
+/// Whether a sampled input is held between its samples: as the configuration's `between`
+/// says, else (`auto`) by the model's rule unless the samples move continuously
+/// ([`moves_continuously`]), which a held step log does not.
+fn held(between: Option<Between>, rule: InputRule, v: &[f64]) -> bool {
+    match between.unwrap_or_default() {
+        Between::Hold => true,
+        Between::Linear => false,
+        Between::Auto => rule == InputRule::Hold && !moves_continuously(v),
+    }
+}
+
+/// Whether a sampled signal moves through intermediate values between its levels, as a
+/// sampled continuous signal does (a rudder moving at its rate, a measured deflection with its
+/// noise), rather than jumping from one level to the next within one interval and holding
+/// it (a step log). Each interval where the signal changes is part of a ramp when a
+/// neighbouring interval changes it in the same direction, else a jump; the signal moves
+/// continuously when ramps outnumber jumps. A constant signal does not.
+pub fn moves_continuously(v: &[f64]) -> bool {
+    let (lo, hi) = v
+        .iter()
+        .filter(|x| x.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &x| (l.min(x), h.max(x)));
+    let tol = 1e-9 * (hi - lo);
+    if !(tol > 0.0) {
+        return false;
+    }
+    let d: Vec<f64> = v.windows(2).map(|w| w[1] - w[0]).collect();
+    let moves = |i: usize, sign: f64| d.get(i).is_some_and(|x| x.abs() > tol && x.signum() == sign);
+    let (mut ramps, mut jumps) = (0usize, 0usize);
+    for (i, x) in d.iter().enumerate() {
+        if !(x.abs() > tol) {
+            continue;
+        }
+        let sign = x.signum();
+        if (i > 0 && moves(i - 1, sign)) || moves(i + 1, sign) {
+            ramps += 1;
+        } else {
+            jumps += 1;
+        }
+    }
+    ramps > jumps
+}
+
 /// The inputs of a model over time.
 #[derive(Debug, Clone, PartialEq)]
 pub struct InputSeries {
@@ -163,7 +206,9 @@ impl InputSeries {
         let mut inputs = Vec::new();
         for InputDef { quantity: q, rule } in wanted {
             let input = match (rec.channel(*q), rec.constants.get(q)) {
-                (Some(v), _) if *rule == InputRule::Hold => Input::Held(v.to_vec()),
+                (Some(v), _) if held(rec.between.get(q).copied(), *rule, v) => {
+                    Input::Held(v.to_vec())
+                }
                 (Some(v), _) => Input::Series(v.to_vec()),
                 (None, Some(c)) => Input::Constant(*c),
                 (None, None) => return Err(*q),
@@ -335,5 +380,42 @@ mod tests {
         assert_eq!(o[0], 0.0);
         s.at(9.0, &mut o);
         assert_eq!(o[0], 20.0);
+    }
+
+    /// A rudder moving at 2.32 deg/s sampled at 10 Hz ramps; the same zig-zag logged as
+    /// commanded steps jumps; a measured deflection with noise moves continuously; a constant
+    /// does not move.
+    #[test]
+    fn continuous_signals_are_told_from_step_logs() {
+        let t: Vec<f64> = (0..600).map(|k| k as f64 * 0.1).collect();
+        let ramp = rate_limited(0.0, &[(5.0, 0.35), (25.0, -0.35)], &t, 0.0405);
+        assert!(moves_continuously(&ramp));
+        let steps = stepped(0.0, &[(5.0, 0.35), (25.0, -0.35), (45.0, 0.0)], &t);
+        assert!(!moves_continuously(&steps));
+        // white noise: an interval is a jump only between two opposite local extrema
+        // (10 of the 24 orders of four samples), so ramps are ~58 % of the changes
+        use rand::{rngs::StdRng, Rng, SeedableRng};
+        let mut rng = StdRng::seed_from_u64(7);
+        let noisy: Vec<f64> = steps
+            .iter()
+            .map(|v| v + 1e-3 * rng.random_range(-1.0..1.0))
+            .collect();
+        assert!(moves_continuously(&noisy));
+        assert!(!moves_continuously(&[0.1; 50]));
+        assert!(!moves_continuously(&[]));
+    }
+
+    /// `between` overrides the model's rule; `auto` holds a step log under a holding model
+    /// and interpolates a ramp.
+    #[test]
+    fn between_chooses_hold_or_linear() {
+        let t: Vec<f64> = (0..100).map(|k| k as f64 * 0.1).collect();
+        let ramp = rate_limited(0.0, &[(1.0, 0.35)], &t, 0.0405);
+        let steps = stepped(0.0, &[(1.0, 0.35)], &t);
+        assert!(!held(None, InputRule::Hold, &ramp));
+        assert!(held(None, InputRule::Hold, &steps));
+        assert!(!held(None, InputRule::Interpolate, &steps));
+        assert!(held(Some(Between::Hold), InputRule::Interpolate, &ramp));
+        assert!(!held(Some(Between::Linear), InputRule::Hold, &steps));
     }
 }

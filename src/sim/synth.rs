@@ -150,19 +150,18 @@ impl ModelVisitor for History<'_> {
                     None => stepped(start, &changes, &times),
                 };
                 let samples: Vec<f64> = si.into_iter().map(|v| v / factor).collect();
-                match def.rule {
-                    InputRule::Interpolate => Input::Series(samples),
-                    InputRule::Hold => Input::Held(samples),
-                }
+                let moved = rates.contains_key(q) || steering.is_some_and(|l| l.surface().input() == *q);
+                between_samples(def.rule, moved, samples)
             })
             .collect();
         let mut input_series = InputSeries {
             t: times,
             inputs: series,
         };
-        // inputs are read between samples by the model's rule, as the filter and
-        // re-simulation read them: an interpolated step at a sample time ramps over the
-        // interval before it
+        // inputs are read between samples as the filter and re-simulation read them
+        // (`between = "auto"`): a surface moving at its rate or by the helm linearly, a step
+        // by the model's rule (an interpolated step at a sample time ramps over the interval
+        // before it)
         // process noise (waves, gusts): a Gaussian increment of variance q dt on each forced
         // state after every sample interval (Euler-Maruyama on dx = f dt + sqrt(q) dW), from
         // its own seed so that the measurement noise does not change the motion
@@ -234,10 +233,20 @@ impl ModelVisitor for History<'_> {
     }
 }
 
+/// An input of the simulated run as the samples are read between sample times: linear for a
+/// surface that moves continuously (at its rate, or by the helm), as a real one does and as
+/// `between = "auto"` reads its logged samples; a step by the model's rule.
+fn between_samples(rule: InputRule, moved: bool, samples: Vec<f64>) -> Input {
+    match (rule, moved) {
+        (InputRule::Interpolate, _) | (_, true) => Input::Series(samples),
+        (InputRule::Hold, false) => Input::Held(samples),
+    }
+}
+
 /// Integrates sample by sample with the helm of `law` moving its surface: at each sample the
 /// helm sees the watched angle (heading, pitch) and sets the surface of the next sample
-/// (written into the surface's series, which the interval's integration then reads by the
-/// model's rule).
+/// (written into the surface's series, which the interval's integration then reads as it
+/// is read between samples: linearly for a surface the helm moves).
 pub(crate) fn steered<M: Model>(
     model: &M,
     c: &[f64],

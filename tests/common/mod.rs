@@ -30,6 +30,7 @@ pub fn record(
         meta: Vec::new(),
         warnings: Vec::new(),
         resolution: Default::default(),
+        between: Default::default(),
     }
 }
 
