@@ -63,12 +63,12 @@ fn against_truth(r: &serde_json::Value) -> (usize, String) {
 }
 
 /// configs/npsauv_joint.toml: the helix and a horizontal zig-zag identified jointly put all
-/// 17 within 2 sigma of the truth (measured: within 1) and determine 15 of them, each with a
-/// sigma under 2 % and within 2 % of the truth (the rule: every coefficient with a
-/// sigma under 5 % within 2 %); Np and Yp stay loose (the zig-zag's yaw misfit booked as
-/// process noise on r, docs/models/npsauv.md) and the identifiability advice names them.
+/// 17 within 1 sigma of the truth and determine all 17 (sigma under 5 %), each within 0.6 %
+/// of the truth (the rule: every coefficient with a sigma under 5 % within 2 %),
+/// with sigmas under 2 % but for Np (2.0 %) and Yp (3.5 %), docs/models/npsauv.md; the
+/// identifiability advice names none of the 15 under 2 %.
 #[test]
-fn the_helix_and_a_horizontal_zigzag_jointly_determine_15_of_17() {
+fn the_helix_and_a_horizontal_zigzag_jointly_determine_all_17() {
     let dir = tempfile::tempdir().unwrap();
     let o = run("configs/npsauv_joint.toml", dir.path(), &[]);
     assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
@@ -86,20 +86,28 @@ fn the_helix_and_a_horizontal_zigzag_jointly_determine_15_of_17() {
         );
         if s < 0.05 * v.abs() {
             determined += 1;
-            assert!(s < 0.02 * v.abs(), "{name}: sigma {s} of {v}\n{lines}");
+            let limit = match *name {
+                "Np" => 0.021,
+                "Yp" => 0.036,
+                _ => 0.02,
+            };
+            assert!(s < limit * v.abs(), "{name}: sigma {s} of {v}\n{lines}");
             assert!(
                 (v - truth).abs() < 0.006 * truth.abs(),
                 "{name}: {v} against {truth}\n{lines}"
             );
         }
     }
-    assert_eq!(determined, 15, "{lines}");
+    assert_eq!(determined, 17, "{lines}");
     let advice = r["stages"]["hekf"]["identifiability"].as_array().unwrap();
     let named: Vec<&str> = advice
         .iter()
         .map(|a| a["coefficient"].as_str().unwrap())
         .collect();
-    assert_eq!(named, ["Np", "Yp"], "{advice:?}");
+    assert!(
+        named.iter().all(|n| ["Np", "Yp"].contains(n)),
+        "{advice:?}"
+    );
 }
 
 /// The helix alone: the roll terms are not determined, and the advice names the quantity

@@ -338,8 +338,8 @@ fn the_papers_linear_model_on_mmg_runs_is_reported_as_a_mismatch() {
             run["name"]
         );
     }
-    // ... the model misses the turns it was fitted to (tactical diameter 25.5 m against
-    // 21.8 m, +17 %) and the zig-zag's second overshoot (9.8 deg against 16.0 deg)
+    // ... the model misses the turns it was fitted to (tactical diameter 25.6 m against
+    // 21.8 m, +17 %) and the zig-zag's second overshoot (9.8 deg against 15.8 deg)
     let resim = r["resimulation"].as_array().unwrap();
     let measure = |i: usize, which: &str, kind: &str, key: &str| {
         resim[i]["manoeuvre"][which][kind][key]["value"]
@@ -350,7 +350,10 @@ fn the_papers_linear_model_on_mmg_runs_is_reported_as_a_mismatch() {
         measure(0, "model", "turning_circle", "tactical_diameter"),
         measure(0, "measured", "turning_circle", "tactical_diameter"),
     );
-    assert!((25.45..25.55).contains(&got) && (21.75..21.85).contains(&want));
+    assert!(
+        (25.55..25.65).contains(&got) && (21.75..21.85).contains(&want),
+        "{got} against {want}"
+    );
     assert_eq!(
         (100.0 * (got / want - 1.0)).round(),
         17.0,
@@ -364,7 +367,10 @@ fn the_papers_linear_model_on_mmg_runs_is_reported_as_a_mismatch() {
         measure(2, "model", "zigzag", "second_overshoot").to_degrees(),
         measure(2, "measured", "zigzag", "second_overshoot").to_degrees(),
     );
-    assert!((9.75..9.85).contains(&got) && (15.95..16.05).contains(&want));
+    assert!(
+        (9.75..9.85).contains(&got) && (15.75..15.85).contains(&want),
+        "{got} against {want}"
+    );
     // halving or doubling the noise model moves c2 by 17 sigma; 12 of 16 not determined
     let warned = |what: &str| {
         r["warnings"]

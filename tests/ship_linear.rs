@@ -81,7 +81,8 @@ fn turn(m: &ShipLinear, truth: &[f64], t: &Turn) -> Record {
         .collect();
     let inputs = InputSeries {
         t: times.clone(),
-        inputs: vec![Input::Held(rudder.clone()), Input::Series(rate.clone())],
+        // the rudder moves continuously at its rate, as a real one does (read linearly)
+        inputs: vec![Input::Series(rudder.clone()), Input::Series(rate.clone())],
     };
     let x0 = [approach_speed(truth, m, t.rates.0), 0.0, 0.0, 0.0, 0.0, 0.0];
     let xs = simulate(m, truth, &x0, &inputs, &times, 10).expect("the turn simulates");
