@@ -21,6 +21,10 @@ pub struct Args {
     /// Override a configuration key, e.g. `--set hekf.passes=3` (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     set: Vec<String>,
+    /// The output folder `run --out DIR` would write, checked as run checks it (default:
+    /// `output.dir` of the configuration).
+    #[arg(long)]
+    out: Option<PathBuf>,
     /// Print machine-readable JSON on stdout: what would run, every input, and the problems
     /// as {file, line, column, key, message}; the exit code is the same.
     #[arg(long)]
@@ -142,9 +146,30 @@ pub fn run(args: Args, stdout: &mut impl Write) -> CmdResult {
     let mut warnings = Vec::new();
     if let Some(l) = loaded.as_ref().filter(|l| l.unusable.is_empty()) {
         let found = pipeline::preflight(l, &usable);
-        config_problems.extend(found.problems);
+        // what the configuration's own checks said already is said once
+        for p in found.problems {
+            if !config_problems.iter().any(|q| q.message == p.message) {
+                config_problems.push(p);
+            }
+        }
+        for e in found.refusals {
+            // named by the key of the input it is in, else by the stage
+            let key = match &e {
+                Error::Input(i) => usable.iter().find(|u| u.record.source == i.place.file),
+                _ => None,
+            }
+            .map_or_else(|| stage_of(&e), |u| u.key.clone());
+            input_problems.push((key, e));
+        }
         warnings.extend(found.fit_warnings);
         warnings.extend(found.validation_warnings);
+    }
+    if let Some(l) = &loaded {
+        match output_check(l, args.out.as_deref()) {
+            Ok(None) => {}
+            Ok(Some(w)) => warnings.push(w),
+            Err(p) => config_problems.push(p),
+        }
     }
     let ok = config_problems.is_empty() && input_problems.is_empty();
     let code = if ok {
@@ -206,6 +231,39 @@ pub fn run(args: Args, stdout: &mut impl Write) -> CmdResult {
         eprintln!("  - {e}");
     }
     Ok(code)
+}
+
+/// The checks `run` makes of the output folder before it starts, without writing: a place
+/// never written to is a problem (key `output.dir`), a hydroid output changed since it was
+/// written a warning (a run replaces it only with `--force`).
+fn output_check(
+    l: &hydroid::config::LoadedConfig,
+    out: Option<&std::path::Path>,
+) -> Result<Option<hydroid::warning::Warning>, hydroid::error::ConfigProblem> {
+    use hydroid::output::{Protected, Staging};
+    let dir = out.map_or_else(|| l.resolve(&l.config.output.dir), PathBuf::from);
+    match Staging::preview(&dir, &Protected::for_config(l)) {
+        Ok(None) => Ok(None),
+        Ok(Some(why)) => Ok(Some(hydroid::warning::Warning::new(
+            "output",
+            why,
+            "`hydroid run` would refuse to replace the output folder without --force",
+        ))),
+        Err(e) => Err(hydroid::error::ConfigProblem {
+            file: l.path.clone(),
+            line: None,
+            key: Some(if out.is_some() { "--out" } else { "output.dir" }.to_string()),
+            message: e.to_string(),
+        }),
+    }
+}
+
+/// The stage an error comes from, as a key for `--json`'s problems.
+fn stage_of(e: &Error) -> String {
+    match e {
+        Error::Numerical { stage, .. } => stage.clone(),
+        _ => "inputs".into(),
+    }
 }
 
 /// The plausibility checks' warnings, under `warnings:`, each with its meaning indented.

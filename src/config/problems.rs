@@ -52,12 +52,16 @@ impl Problems {
             message = format!("(from --set {spec}) {message}");
             line = None;
         }
-        self.list.push(ConfigProblem {
+        let problem = ConfigProblem {
             file: self.file.clone(),
             line,
             key: Some(key.to_string()),
             message,
-        });
+        };
+        // two stages of one model find the same problem with the vehicle: said once
+        if !self.list.contains(&problem) {
+            self.list.push(problem);
+        }
     }
 
     /// Adds a problem that belongs to no key (TOML syntax, a malformed `--set`).

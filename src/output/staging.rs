@@ -70,24 +70,30 @@ impl Staging {
         Self::guarded(target, &Protected::new(), Replace::IfUnchanged)
     }
 
+    /// The checks [`Staging::guarded`] makes of `target` before a run, without writing
+    /// anything (for `hydroid check`): an error when the target may never be written (a
+    /// protected place, a folder hydroid did not write, a file), `Some(why)` when it is a
+    /// hydroid output that changed since (a run replaces it only with `--force`).
+    pub fn preview(target: &Path, protected: &Protected) -> Result<Option<String>> {
+        let (target, _, _) = placed(target, protected)?;
+        match check_replaceable(&target, Replace::IfUnchanged) {
+            Ok(()) => Ok(None),
+            Err(e) if matches!(inspect(&target)?, Found::Changed(_)) => Ok(Some(e.to_string())),
+            Err(e) => Err(e),
+        }
+    }
+
     /// Starts assembling `target` after checking that it may be written: not a protected
     /// place, and nothing there but an unchanged hydroid output (or a changed one with
     /// [`Replace::EvenIfChanged`]). Abandoned staging folders beside it are swept first.
     pub fn guarded(target: &Path, protected: &Protected, replace: Replace) -> Result<Self> {
-        let target = protected.check_path(target)?;
-        let (Some(parent), Some(name)) = (target.parent(), target.file_name()) else {
-            return Err(Error::Usage(format!(
-                "{}: not a folder an output can be written to",
-                target.display()
-            )));
-        };
-        let name = name.to_string_lossy().into_owned();
-        create_parent(parent)?;
+        let (target, parent, name) = placed(target, protected)?;
+        create_parent(&parent)?;
         // first, as it may put back an output a killed run had moved aside
-        let swept = sweep(parent);
+        let swept = sweep(&parent);
         check_replaceable(&target, replace)?;
         let pid = std::process::id();
-        let root = staging_path(parent, &name, pid);
+        let root = staging_path(&parent, &name, pid);
         // created and registered under the registry's lock: a signal between the two would
         // otherwise leave the folder behind (the handler takes the same lock)
         let created = {
@@ -212,6 +218,20 @@ impl Drop for Staging {
             signals::forget(&self.root);
         }
     }
+}
+
+/// The checks of an output's place that read nothing in it: not a protected place, and a
+/// name in a folder. The resolved target, its folder and its name.
+fn placed(target: &Path, protected: &Protected) -> Result<(PathBuf, PathBuf, String)> {
+    let target = protected.check_path(target)?;
+    let (Some(parent), Some(name)) = (target.parent(), target.file_name()) else {
+        return Err(Error::Usage(format!(
+            "{}: not a folder an output can be written to",
+            target.display()
+        )));
+    };
+    let (parent, name) = (parent.to_path_buf(), name.to_string_lossy().into_owned());
+    Ok((target, parent, name))
 }
 
 /// Refuses a target that holds anything but a hydroid output that may be replaced.
