@@ -253,7 +253,10 @@ fn set_messages_name_the_override_in_words() {
     let e = text(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "{e}");
     assert!(
-        e.contains("--set vehicle.mass[0]=1: 'mass' is not a list that [0] can index"),
+        e.contains(
+            "--set 'vehicle.mass[0]=1': vehicle.mass is the value 50.0, not a list: [0] cannot \
+             follow it; set it whole, vehicle.mass=VALUE"
+        ),
         "{e}"
     );
     assert!(
@@ -261,6 +264,86 @@ fn set_messages_name_the_override_in_words() {
         "{e}"
     );
     assert_words("--set", &e);
+}
+
+/// Issue 24, item 5: `--set` takes TOML's key syntax (quoted keys, single or double quotes,
+/// list positions) and TOML values, and its errors say what was expected: the syntax, the
+/// nearest keys of an unknown one, the entries of a list indexed past its end.
+#[test]
+fn set_takes_toml_keys_and_values_and_says_what_was_expected() {
+    let check = |config: &str, sets: &[&str]| {
+        let mut args = vec!["check", config];
+        for s in sets {
+            args.extend(["--set", s]);
+        }
+        let o = hydroid(&args);
+        (o.status.code(), text(&o.stdout) + &text(&o.stderr))
+    };
+    let joint = "configs/spheroid_joint.toml";
+    // quoted keys reach the oscillation of a named run, and TOML values of every kind parse
+    let (code, all) = check(
+        joint,
+        &[
+            "captive.oscillations.\"pure sway\".amplitude={ v = \"0.2 m/s\" }",
+            "captive.oscillations.'pure yaw'.frequency=\"0.5 Hz\"",
+            "hekf.runs[0].columns.yaw.scale=1",
+            "hekf.estimate[0]=Xud",
+            "hekf.smoother=true",
+            "output.plots=false",
+        ],
+    );
+    assert_eq!(code, Some(0), "{all}");
+    let (code, all) = check(joint, &["captive.oscillations.\"pure sway\".frequency=-1"]);
+    assert_eq!(code, Some(2), "{all}");
+    assert!(
+        all.contains(
+            "captive.oscillations.\"pure sway\".frequency: (from --set \
+             captive.oscillations.\"pure sway\".frequency=-1)"
+        ),
+        "{all}"
+    );
+    let (_, all) = check(joint, &["captive.oscillations.'pure swey'.frequency=1"]);
+    assert!(all.contains("did you mean 'pure sway'?"), "{all}");
+    // the errors
+    let base = "configs/spheroid.toml";
+    for (set, says) in [
+        (
+            "a.b",
+            "--set 'a.b': expected KEY=VALUE with a TOML key (a.b.\"quoted key\", runs[0].file) \
+             and a TOML value",
+        ),
+        ("hekf.passes=[1,", "`[1,` is not a TOML value"),
+        (
+            "captive.oscillations.\"pure sway.frequency=1",
+            "an unclosed quote",
+        ),
+        (
+            "hekf.runs[3].file=x.csv",
+            "hekf.runs has 1 entry, so [3] does not exist (the only position is [0])",
+        ),
+        (
+            "hekf.runs.file=x.csv",
+            "hekf.runs is a list of 1 entry: give a position, e.g. hekf.runs[0].file",
+        ),
+        (
+            "hekff.passes=3",
+            "hekff: (from --set hekff.passes=3) unknown key `hekff`; did you mean `hekf`?",
+        ),
+        (
+            "hekf.runs[0].colums.yaw=x",
+            "(from --set hekf.runs[0].colums.yaw=x) unknown key `colums`; did you mean \
+             `columns`?",
+        ),
+        (
+            "hekf.passes=many",
+            "hekf.passes: (from --set hekf.passes=many) expected a whole number",
+        ),
+    ] {
+        let (code, all) = check(base, &[set]);
+        assert_eq!(code, Some(2), "{set}: {all}");
+        assert!(all.contains(says), "{set}: expected '{says}' in\n{all}");
+        assert_words(set, &all);
+    }
 }
 
 /// A minimal results.json of a run of `vehicle` with `model`.

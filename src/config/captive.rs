@@ -211,12 +211,13 @@ impl CaptiveConfig {
         }
         let names: Vec<String> = self.runs.iter().map(InputSpec::display_name).collect();
         for (run, o) in &self.oscillations {
-            let key = format!("captive.oscillations.\"{run}\"");
+            let key = format!("captive.oscillations.{}", super::paths::key_text(run));
             if !names.contains(run) {
                 p.add(
                     &key,
                     format!(
-                        "names no run of captive.runs (they are: {})",
+                        "names no run of captive.runs{} (they are: {})",
+                        crate::suggest::did_you_mean(run, names.iter().map(String::as_str)),
                         names.join(", ")
                     ),
                 );

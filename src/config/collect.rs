@@ -37,8 +37,14 @@ pub fn read_collecting<T: DeserializeOwned>(
     };
     for o in overrides {
         match overrides::apply(&mut doc, o) {
-            Ok(path) => p.overridden(&path, o),
-            Err(m) => p.add_unplaced(None, format!("--set {o}: {m}")),
+            Ok(applied) => {
+                p.overridden(&applied.path, o);
+                // an unknown key the override added is its problem too
+                if let Some(created) = applied.created {
+                    p.overridden(&created, o);
+                }
+            }
+            Err(m) => p.add_unplaced(None, format!("--set '{o}': {m}")),
         }
     }
     repair_unusable_values(p, &mut doc);
