@@ -28,7 +28,7 @@ pub struct Args {
     /// Print machine-readable JSON on stdout: what would run, every input, and the problems
     /// as {file, line, column, key, message}; the exit code is the same.
     #[arg(long)]
-    json: bool,
+    pub(super) json: bool,
 }
 
 /// Runs the command.
