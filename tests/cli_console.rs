@@ -473,3 +473,96 @@ fn steps_give_a_time_varying_input_the_file_has_no_column_for() {
         "{stderr}"
     );
 }
+
+/// Values a user would give the particulars a template writes as zeros to replace, for the
+/// template's 1.2 m vehicle (mmg3: a ship model of that length).
+const PARTICULARS: &[(&str, &str)] = &[
+    ("draught", "0.08"),
+    ("x_g", "0.01"),
+    ("propeller_diameter", "0.04"),
+    ("propeller_x", "-0.55"),
+    ("rudder_area", "0.002"),
+    ("rudder_height", "0.06"),
+    ("rudder_x", "-0.6"),
+    ("wake_c1", "2.0"),
+    ("wake_c2_pos", "1.6"),
+    ("wake_c2_neg", "1.1"),
+];
+
+/// Issue 24, item 7: every `init --model M --stages S` that hydroid accepts writes a
+/// template that `check` accepts once filled in: as written, every problem `check` names is
+/// a FILL-IN file or a particular written as a zero to replace; with the files (synthetic
+/// tables with the template's columns) and the particulars filled in, `check` passes. A
+/// combination hydroid refuses names the stages the model supports.
+#[test]
+fn every_init_combination_hydroid_accepts_gives_a_template_check_accepts() {
+    let dir = tempfile::tempdir().unwrap();
+    let subsets = [
+        "polar",
+        "surge",
+        "hekf",
+        "polar,surge",
+        "polar,hekf",
+        "surge,hekf",
+        "polar,surge,hekf",
+    ];
+    let (mut written, mut refused) = (0, 0);
+    for model in hydroid::stages::hekf::ModelName::NAMES {
+        for stages in subsets {
+            let config = dir
+                .path()
+                .join(format!("{model}-{}.toml", stages.replace(',', "-")));
+            let c = config.to_str().unwrap();
+            let o = hydroid(&["init", c, "--model", model, "--stages", stages]);
+            let err = text(&o.stderr);
+            if o.status.code() == Some(2) {
+                assert!(
+                    err.contains("its template has the hekf stage only (--stages hekf"),
+                    "{model} {stages}: {err}"
+                );
+                assert!(!config.exists());
+                refused += 1;
+                continue;
+            }
+            assert_eq!(o.status.code(), Some(0), "{model} {stages}: {err}");
+            written += 1;
+            let template = std::fs::read_to_string(&config).unwrap();
+            let o = hydroid(&["check", c]);
+            let said = text(&o.stderr);
+            for p in said.lines().filter_map(|l| l.strip_prefix("  - ")) {
+                let placeholder = PARTICULARS.iter().any(|(k, _)| {
+                    p.contains(&format!(": vehicle.particulars.{k}: "))
+                        && template.contains(&format!("\n{k} = 0.0\n"))
+                });
+                assert!(
+                    p.contains("FILL-IN") || placeholder,
+                    "{model} {stages}: not a placeholder to fill in: {p}"
+                );
+            }
+            let mut filled = template.clone();
+            for (k, v) in PARTICULARS {
+                filled = filled.replace(&format!("\n{k} = 0.0\n"), &format!("\n{k} = {v}\n"));
+            }
+            std::fs::write(&config, filled).unwrap();
+            fill_in(&config);
+            // the synthetic tables are no manoeuvre: the plausibility checks of the HEKF's
+            // runs (a rudder of 66 deg, an advance ratio of 38) only warn about them
+            let mut args = vec!["check", c];
+            if stages.contains("hekf") {
+                args.extend(["--set", "hekf.checks=\"warn\""]);
+            }
+            let o = hydroid(&args);
+            assert_eq!(
+                o.status.code(),
+                Some(0),
+                "{model} {stages}: {}{}",
+                text(&o.stdout),
+                text(&o.stderr)
+            );
+        }
+    }
+    assert!(
+        written >= 20 && refused >= 16,
+        "{written} written, {refused} refused"
+    );
+}

@@ -353,6 +353,36 @@ fn a_hydroid_output_is_replaced_when_unchanged_and_only_forced_when_changed() {
     assert_eq!(names, ["spheroid"]);
 }
 
+/// A device given as the output is named as what it is, not "a folder" or "a file", and
+/// never written (issue 24, item 7).
+#[test]
+#[cfg(target_os = "linux")]
+fn a_device_as_the_output_is_named_as_a_device() {
+    let ex = Example::new();
+    let before = ex.snapshot();
+    let device = "is a character device (such as /dev/null, /dev/full or a terminal)";
+    for args in [
+        vec!["run", "configs/spheroid.toml", "--out", "/dev/full"],
+        vec!["check", "configs/spheroid.toml", "--out", "/dev/full"],
+        vec![
+            "simulate",
+            "configs/simulate/surge_run.toml",
+            "--out",
+            "/dev/full",
+        ],
+        vec!["init", "/dev/full"],
+        vec!["init", "/dev/full/hydroid.toml"],
+    ] {
+        let o = ex.hydroid(&args);
+        refused(&ex, &before, &o, &[device, "/dev/full"]);
+        let e = text(&o.stderr);
+        assert!(
+            !e.contains("a folder, not a file") && !e.contains("os error"),
+            "{e}"
+        );
+    }
+}
+
 #[test]
 fn simulate_never_overwrites_a_file_it_did_not_write() {
     let ex = Example::new();

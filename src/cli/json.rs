@@ -45,7 +45,13 @@ fn input_problem_at(key: Option<&str>, e: &Error) -> Value {
                 None => i.message.clone(),
             },
         ),
-        Error::Io { path, source } => (Some(path.clone()), None, None, None, source.to_string()),
+        Error::Io { path, source } | Error::Write { path, source } => (
+            Some(path.clone()),
+            None,
+            None,
+            None,
+            hydroid::error::io_reason(source),
+        ),
         Error::Numerical { message, .. } => (None, None, None, None, message.clone()),
         other => (None, None, None, None, other.to_string()),
     };
@@ -88,7 +94,7 @@ pub fn error(e: &Error) -> Value {
         Error::Config(_) => ("config", None),
         Error::Input(_) => ("input", None),
         Error::Numerical { stage, .. } => ("numerical", Some(stage.as_str())),
-        Error::Io { .. } => ("io", None),
+        Error::Io { .. } | Error::Write { .. } => ("io", None),
         Error::Usage(_) => ("usage", None),
     };
     json!({
