@@ -307,48 +307,8 @@ impl ModelVisitor for Fit<'_> {
                  here, or in a joint HEKF, removes the bias",
             ));
         }
-        let p = est.len();
-        let sigma = |i: usize| f.covariance[i][i].max(0.0).sqrt();
-        let coefficients: Vec<Coefficient> = (0..p)
-            .map(|i| {
-                let mut c = Coefficient::new(
-                    &cfg.estimate[i],
-                    f.values[i],
-                    Some(sigma(i)),
-                    Source::Captive,
-                );
-                let bound = signs[i] != 0.0 && f.values[i] == 0.0;
-                c.note = Some(format!(
-                    "{} model fitted to the forces of {} captive conditions",
-                    model.name(),
-                    conditions.len(),
-                ));
-                if bound {
-                    c.held(&format!(
-                        "its sign bound 0 (captive.signs.{}): the data want the other sign",
-                        cfg.estimate[i]
-                    ))
-                } else {
-                    c
-                }
-            })
-            .collect();
-        let bounded: Vec<&str> = (0..p)
-            .filter(|&i| signs[i] != 0.0 && f.values[i] == 0.0)
-            .map(|i| cfg.estimate[i].as_str())
-            .collect();
-        if !bounded.is_empty() {
-            warnings.push(Warning::new(
-                STAGE,
-                format!(
-                    "held at their sign bound 0 (captive.signs): {}",
-                    bounded.join(", ")
-                ),
-                "the forces pull these coefficients across the sign you gave; they are held at \
-                 0 without variance and the others are fitted with them there. A coefficient \
-                 whose sign the runs cannot tell is better left free or given a known value",
-            ));
-        }
+        let (coefficients, bound) = fitted(model.name(), cfg, &f, &signs, conditions.len());
+        warnings.extend(bound);
         let runs = residual_summaries(model, &base, &est, &f.values, &conditions, &sizes);
         Ok(CaptiveResult {
             model: model.name().to_string(),
@@ -369,6 +329,58 @@ impl ModelVisitor for Fit<'_> {
             covariance: f.covariance,
         })
     }
+}
+
+/// The fitted coefficients with their sigmas (one that ends on its sign bound held at 0
+/// without a sigma), and the warning naming those held.
+fn fitted(
+    model: &str,
+    cfg: &CaptiveConfig,
+    f: &fit::Fit,
+    signs: &[f64],
+    n_conditions: usize,
+) -> (Vec<Coefficient>, Option<Warning>) {
+    let p = cfg.estimate.len();
+    let sigma = |i: usize| f.covariance[i][i].max(0.0).sqrt();
+    let at_bound = |i: usize| signs[i] != 0.0 && f.values[i] == 0.0;
+    let coefficients: Vec<Coefficient> = (0..p)
+        .map(|i| {
+            let mut c = Coefficient::new(
+                &cfg.estimate[i],
+                f.values[i],
+                Some(sigma(i)),
+                Source::Captive,
+            );
+            c.note = Some(format!(
+                "{model} model fitted to the forces of {n_conditions} captive conditions"
+            ));
+            if at_bound(i) {
+                c.held(&format!(
+                    "its sign bound 0 (captive.signs.{}): the data want the other sign",
+                    cfg.estimate[i]
+                ))
+            } else {
+                c
+            }
+        })
+        .collect();
+    let bounded: Vec<&str> = (0..p)
+        .filter(|&i| at_bound(i))
+        .map(|i| cfg.estimate[i].as_str())
+        .collect();
+    let warning = (!bounded.is_empty()).then(|| {
+        Warning::new(
+            STAGE,
+            format!(
+                "held at their sign bound 0 (captive.signs): {}",
+                bounded.join(", ")
+            ),
+            "the forces pull these coefficients across the sign you gave; they are held at \
+             0 without variance and the others are fitted with them there. A coefficient \
+             whose sign the runs cannot tell is better left free or given a known value",
+        )
+    });
+    (coefficients, warning)
 }
 
 /// The model's coefficient vector with the known values, and the indices of the estimated.
