@@ -148,10 +148,19 @@ pub enum Error {
         /// What happened, and when (simulation time) if it applies.
         message: String,
     },
-    /// Reading or writing a file failed at the operating-system level.
-    #[error("{}: {source}", path.display())]
+    /// Reading a file, or looking at one, failed at the operating-system level.
+    #[error("{}: {}", path.display(), io_reason(source))]
     Io {
         /// The file.
+        path: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// Writing a file or creating a folder failed at the operating-system level (a full
+    /// disk, no permission).
+    #[error("cannot write {}: {}", path.display(), io_reason(source))]
+    Write {
+        /// The file or folder.
         path: PathBuf,
         /// The cause.
         source: std::io::Error,
@@ -159,6 +168,16 @@ pub enum Error {
     /// A usage error on the command line that clap could not catch.
     #[error("{0}")]
     Usage(String),
+}
+
+/// What the operating system said, in words and without its error number: "No space left on
+/// device", not "No space left on device (os error 28)".
+pub fn io_reason(e: &std::io::Error) -> String {
+    let text = e.to_string();
+    match text.rfind(" (os error ") {
+        Some(i) if text.ends_with(')') => text[..i].to_string(),
+        _ => text,
+    }
 }
 
 fn list_problems(problems: &[ConfigProblem]) -> String {
@@ -204,6 +223,14 @@ impl Error {
     /// An I/O failure on `path`.
     pub fn io(path: &Path, source: std::io::Error) -> Self {
         Error::Io {
+            path: path.to_path_buf(),
+            source,
+        }
+    }
+
+    /// A failure to write `path` (a file, or a folder being created).
+    pub fn write(path: &Path, source: std::io::Error) -> Self {
+        Error::Write {
             path: path.to_path_buf(),
             source,
         }

@@ -93,10 +93,10 @@ fn run_json_prints_results_json_and_only_that() {
     for detail in ["hekf settings:", "hekf prior:", "hekf noise of"] {
         assert!(!stderr.contains(detail), "{stderr}");
     }
-    // a failed run: the same exit code as without --json, nothing on stdout
+    // a failed run: the same exit code as without --json, the error as JSON on stdout
     let o = hydroid(&["run", "configs/missing.toml", "--json"]);
     assert_eq!(o.status.code(), Some(2));
-    assert!(o.stdout.is_empty());
+    json_error(&o, "config");
 }
 
 #[test]
@@ -334,13 +334,99 @@ fn compare_json_gives_the_differences() {
     assert_eq!(yvd["b"]["sigma"], 0.4);
     let nvv = named(&v["coefficients"], "Nvv");
     assert!(nvv["b"].is_null() && nvv["difference"].is_null());
-    // a failure keeps its exit code and leaves stdout empty
+    // a failure keeps its exit code and gives the error as JSON on stdout
     let missing = dir.path().join("none.json");
     let o = hydroid(&["compare", &a, missing.to_str().unwrap(), "--json"]);
     let plain = hydroid(&["compare", &a, missing.to_str().unwrap()]);
     assert_eq!(o.status.code(), plain.status.code());
     assert_ne!(o.status.code(), Some(0));
-    assert!(o.stdout.is_empty());
+    assert!(plain.stdout.is_empty());
+    json_error(&o, "config");
+}
+
+/// The JSON error object a failed `--json` command printed on stdout (issue 24, item 6):
+/// one object, `error.kind` as expected, the exit code the process exited with, the human
+/// message on stderr as well.
+#[track_caller]
+fn json_error(o: &std::process::Output, kind: &str) -> serde_json::Value {
+    let out = text(&o.stdout);
+    let err = text(&o.stderr);
+    let v: serde_json::Value = serde_json::from_str(&out)
+        .unwrap_or_else(|e| panic!("stdout is not one JSON object ({e}):\n{out}\nstderr: {err}"));
+    let code = o.status.code().expect("an exit code");
+    assert_ne!(code, 0, "{err}");
+    assert_eq!(v["exit_code"], code, "{out}");
+    assert_eq!(v["error"]["kind"], kind, "{out}");
+    let message = v["error"]["message"].as_str().expect("a message");
+    assert!(!message.is_empty());
+    let problems = v["error"]["problems"]
+        .as_array()
+        .expect("a list of problems");
+    assert!(!problems.is_empty(), "{out}");
+    for p in problems {
+        for field in ["file", "line", "column", "column_name", "key", "message"] {
+            assert!(p.get(field).is_some(), "{field} in {p}");
+        }
+    }
+    assert!(
+        err.starts_with("error: "),
+        "the human message on stderr: {err}"
+    );
+    let first = message.lines().next().unwrap_or_default();
+    assert!(err.contains(first), "{first} on stderr: {err}");
+    v
+}
+
+/// Every command with `--json` gives a failure as one JSON error object on stdout with the
+/// exit code it has without `--json` (issue 24, item 6).
+#[test]
+fn every_json_command_gives_its_error_as_json_with_the_same_exit_code() {
+    let dir = tempfile::tempdir().unwrap();
+    let cut = "tests/fixtures/bad/cut_exponent.csv";
+    let no_config = dir.path().join("none.toml");
+    let no_config = no_config.to_str().unwrap();
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (vec!["run", no_config], "config"),
+        (
+            vec!["run", "configs/spheroid.toml", "--set", "hekf.passes=0"],
+            "config",
+        ),
+        (vec!["check", no_config], "config"),
+        (vec!["inspect", cut], "input"),
+        (vec!["inspect", cut, "--format", "cfxx"], "usage"),
+        (vec!["manoeuvre", no_config], "config"),
+        (
+            vec!["manoeuvre", "configs/spheroid.toml", "--scale", "1e300"],
+            "usage",
+        ),
+        (vec!["compare", cut, cut], "input"),
+        (vec!["coefficients", "spheroid9"], "usage"),
+        (
+            vec!["analytic", "spheroid", "--length", "1", "--diameter", "2"],
+            "usage",
+        ),
+        (
+            vec!["run", "configs/spheroid.toml", "--no-such-flag"],
+            "usage",
+        ),
+    ];
+    for (args, kind) in cases {
+        let mut with_json = args.clone();
+        with_json.push("--json");
+        let o = hydroid(&with_json);
+        let plain = hydroid(&args);
+        assert_eq!(o.status.code(), plain.status.code(), "{args:?}");
+        let v = json_error(&o, kind);
+        assert_eq!(v["error"]["stage"], serde_json::Value::Null, "{args:?}");
+        if args[0] == "inspect" && kind == "input" {
+            // the place of the problem: the file and its line
+            assert!(v["error"]["file"]
+                .as_str()
+                .unwrap()
+                .ends_with("cut_exponent.csv"));
+            assert!(v["error"]["line"].as_u64().is_some(), "{v}");
+        }
+    }
 }
 
 /// The bundled configuration in a temporary folder, with its validation run's thrust given by
@@ -385,5 +471,98 @@ fn steps_give_a_time_varying_input_the_file_has_no_column_for() {
     assert!(
         stderr.contains(&format!("steps.toml:{line}: hekf.validation[0].steps[0]: the step at 10 s gives thrust = \"30 deg\": unit 'deg' is an angle")),
         "{stderr}"
+    );
+}
+
+/// Values a user would give the particulars a template writes as zeros to replace, for the
+/// template's 1.2 m vehicle (mmg3: a ship model of that length).
+const PARTICULARS: &[(&str, &str)] = &[
+    ("draught", "0.08"),
+    ("x_g", "0.01"),
+    ("propeller_diameter", "0.04"),
+    ("propeller_x", "-0.55"),
+    ("rudder_area", "0.002"),
+    ("rudder_height", "0.06"),
+    ("rudder_x", "-0.6"),
+    ("wake_c1", "2.0"),
+    ("wake_c2_pos", "1.6"),
+    ("wake_c2_neg", "1.1"),
+];
+
+/// Issue 24, item 7: every `init --model M --stages S` that hydroid accepts writes a
+/// template that `check` accepts once filled in: as written, every problem `check` names is
+/// a FILL-IN file or a particular written as a zero to replace; with the files (synthetic
+/// tables with the template's columns) and the particulars filled in, `check` passes. A
+/// combination hydroid refuses names the stages the model supports.
+#[test]
+fn every_init_combination_hydroid_accepts_gives_a_template_check_accepts() {
+    let dir = tempfile::tempdir().unwrap();
+    let subsets = [
+        "polar",
+        "surge",
+        "hekf",
+        "polar,surge",
+        "polar,hekf",
+        "surge,hekf",
+        "polar,surge,hekf",
+    ];
+    let (mut written, mut refused) = (0, 0);
+    for model in hydroid::stages::hekf::ModelName::NAMES {
+        for stages in subsets {
+            let config = dir
+                .path()
+                .join(format!("{model}-{}.toml", stages.replace(',', "-")));
+            let c = config.to_str().unwrap();
+            let o = hydroid(&["init", c, "--model", model, "--stages", stages]);
+            let err = text(&o.stderr);
+            if o.status.code() == Some(2) {
+                assert!(
+                    err.contains("its template has the hekf stage only (--stages hekf"),
+                    "{model} {stages}: {err}"
+                );
+                assert!(!config.exists());
+                refused += 1;
+                continue;
+            }
+            assert_eq!(o.status.code(), Some(0), "{model} {stages}: {err}");
+            written += 1;
+            let template = std::fs::read_to_string(&config).unwrap();
+            let o = hydroid(&["check", c]);
+            let said = text(&o.stderr);
+            for p in said.lines().filter_map(|l| l.strip_prefix("  - ")) {
+                let placeholder = PARTICULARS.iter().any(|(k, _)| {
+                    p.contains(&format!(": vehicle.particulars.{k}: "))
+                        && template.contains(&format!("\n{k} = 0.0\n"))
+                });
+                assert!(
+                    p.contains("FILL-IN") || placeholder,
+                    "{model} {stages}: not a placeholder to fill in: {p}"
+                );
+            }
+            let mut filled = template.clone();
+            for (k, v) in PARTICULARS {
+                filled = filled.replace(&format!("\n{k} = 0.0\n"), &format!("\n{k} = {v}\n"));
+            }
+            std::fs::write(&config, filled).unwrap();
+            fill_in(&config);
+            // the synthetic tables are no manoeuvre: the plausibility checks of the HEKF's
+            // runs (a rudder of 66 deg, an advance ratio of 38) only warn about them
+            let mut args = vec!["check", c];
+            if stages.contains("hekf") {
+                args.extend(["--set", "hekf.checks=\"warn\""]);
+            }
+            let o = hydroid(&args);
+            assert_eq!(
+                o.status.code(),
+                Some(0),
+                "{model} {stages}: {}{}",
+                text(&o.stdout),
+                text(&o.stderr)
+            );
+        }
+    }
+    assert!(
+        written >= 20 && refused >= 16,
+        "{written} written, {refused} refused"
     );
 }

@@ -253,7 +253,10 @@ fn set_messages_name_the_override_in_words() {
     let e = text(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "{e}");
     assert!(
-        e.contains("--set vehicle.mass[0]=1: 'mass' is not a list that [0] can index"),
+        e.contains(
+            "--set 'vehicle.mass[0]=1': vehicle.mass is the value 50.0, not a list: [0] cannot \
+             follow it; set it whole, vehicle.mass=VALUE"
+        ),
         "{e}"
     );
     assert!(
@@ -261,6 +264,86 @@ fn set_messages_name_the_override_in_words() {
         "{e}"
     );
     assert_words("--set", &e);
+}
+
+/// Issue 24, item 5: `--set` takes TOML's key syntax (quoted keys, single or double quotes,
+/// list positions) and TOML values, and its errors say what was expected: the syntax, the
+/// nearest keys of an unknown one, the entries of a list indexed past its end.
+#[test]
+fn set_takes_toml_keys_and_values_and_says_what_was_expected() {
+    let check = |config: &str, sets: &[&str]| {
+        let mut args = vec!["check", config];
+        for s in sets {
+            args.extend(["--set", s]);
+        }
+        let o = hydroid(&args);
+        (o.status.code(), text(&o.stdout) + &text(&o.stderr))
+    };
+    let joint = "configs/spheroid_joint.toml";
+    // quoted keys reach the oscillation of a named run, and TOML values of every kind parse
+    let (code, all) = check(
+        joint,
+        &[
+            "captive.oscillations.\"pure sway\".amplitude={ v = \"0.2 m/s\" }",
+            "captive.oscillations.'pure yaw'.frequency=\"0.5 Hz\"",
+            "hekf.runs[0].columns.yaw.scale=1",
+            "hekf.estimate[0]=Xud",
+            "hekf.smoother=true",
+            "output.plots=false",
+        ],
+    );
+    assert_eq!(code, Some(0), "{all}");
+    let (code, all) = check(joint, &["captive.oscillations.\"pure sway\".frequency=-1"]);
+    assert_eq!(code, Some(2), "{all}");
+    assert!(
+        all.contains(
+            "captive.oscillations.\"pure sway\".frequency: (from --set \
+             captive.oscillations.\"pure sway\".frequency=-1)"
+        ),
+        "{all}"
+    );
+    let (_, all) = check(joint, &["captive.oscillations.'pure swey'.frequency=1"]);
+    assert!(all.contains("did you mean 'pure sway'?"), "{all}");
+    // the errors
+    let base = "configs/spheroid.toml";
+    for (set, says) in [
+        (
+            "a.b",
+            "--set 'a.b': expected KEY=VALUE with a TOML key (a.b.\"quoted key\", runs[0].file) \
+             and a TOML value",
+        ),
+        ("hekf.passes=[1,", "`[1,` is not a TOML value"),
+        (
+            "captive.oscillations.\"pure sway.frequency=1",
+            "an unclosed quote",
+        ),
+        (
+            "hekf.runs[3].file=x.csv",
+            "hekf.runs has 1 entry, so [3] does not exist (the only position is [0])",
+        ),
+        (
+            "hekf.runs.file=x.csv",
+            "hekf.runs is a list of 1 entry: give a position, e.g. hekf.runs[0].file",
+        ),
+        (
+            "hekff.passes=3",
+            "hekff: (from --set hekff.passes=3) unknown key `hekff`; did you mean `hekf`?",
+        ),
+        (
+            "hekf.runs[0].colums.yaw=x",
+            "(from --set hekf.runs[0].colums.yaw=x) unknown key `colums`; did you mean \
+             `columns`?",
+        ),
+        (
+            "hekf.passes=many",
+            "hekf.passes: (from --set hekf.passes=many) expected a whole number",
+        ),
+    ] {
+        let (code, all) = check(base, &[set]);
+        assert_eq!(code, Some(2), "{set}: {all}");
+        assert!(all.contains(says), "{set}: expected '{says}' in\n{all}");
+        assert_words(set, &all);
+    }
 }
 
 /// A minimal results.json of a run of `vehicle` with `model`.
@@ -377,4 +460,181 @@ fn compare_refuses_other_schemas_bad_sigmas_and_duplicates_and_flags_units() {
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("stdout is JSON");
     assert_eq!(v["coefficients"][0]["units_differ"], true);
     assert!(v["coefficients"][0]["difference"].is_null());
+}
+
+/// The first line of each error `hydroid run` or `hydroid check` printed on stderr (the
+/// problems of a list, or the one error), and whether a stage had finished before it.
+fn stated_errors(stderr: &str) -> (Vec<String>, bool) {
+    let mut found = Vec::new();
+    let mut after_work = false;
+    for l in stderr.lines() {
+        if let Some(p) = l.strip_prefix("  - ") {
+            found.push(p.to_string());
+        } else if let Some(e) = l.strip_prefix("error: ") {
+            if !e.contains(" in the configuration:") {
+                found.push(e.to_string());
+            }
+        } else if ["polar: ", "surge: ", "captive: ", "hekf: "]
+            .iter()
+            .any(|s| l.starts_with(s))
+            && found.is_empty()
+        {
+            after_work = true;
+        }
+    }
+    (found, after_work)
+}
+
+/// Mutations of a `[vehicle.particulars]` block: each key removed, then given each of
+/// `values` (wrong signs, zero, NaN-like, wrong types and units), then an unknown key and
+/// the block of another type.
+fn particulars_mutations(text: &str) -> Vec<(String, String)> {
+    let start = text
+        .find("[vehicle.particulars]")
+        .expect("a particulars block");
+    let end = start + text[start..].find("\n\n").expect("a blank line after it");
+    let block = &text[start..end];
+    let values = [
+        "-1.0",
+        "0.0",
+        "nan",
+        "-inf",
+        "\"nan m\"",
+        "\"-0.5 m\"",
+        "\"1 kg\"",
+        "\"abc\"",
+        "\"\"",
+        "true",
+        "[1, 2]",
+        "{ a = 1 }",
+        "1e300",
+    ];
+    let mut out = Vec::new();
+    for line in block.lines().skip(1) {
+        let Some((key, _)) = line.split_once('=') else {
+            continue;
+        };
+        let key = key.trim();
+        let edit = |new: &str| {
+            let b = block.replacen(line, new, 1);
+            text.replacen(block, &b, 1)
+        };
+        out.push((format!("{key} removed"), edit("")));
+        for v in values {
+            out.push((format!("{key} = {v}"), edit(&format!("{key} = {v}"))));
+        }
+    }
+    out.push((
+        "unknown key".into(),
+        text.replacen(block, &format!("{block}\nbeam_typo = 1.0"), 1),
+    ));
+    out.push((
+        "particulars a number".into(),
+        text.replacen(block, "[vehicle.particulars_gone]", 1)
+            .replacen("[vehicle]\n", "[vehicle]\nparticulars = 3\n", 1),
+    ));
+    out
+}
+
+/// Mutations of the captive stage of configs/ship_captive.toml: each held coefficient left
+/// without a value, an estimated name the model lacks, a model that gives no forces, a run
+/// that does not read into conditions, a window with nothing in it.
+fn captive_mutations(text: &str) -> Vec<(String, String)> {
+    let mut out: Vec<(String, String)> = text
+        .lines()
+        .filter(|l| l.starts_with("R0_p =") || l.starts_with("k1 =") || l.starts_with("tR ="))
+        .map(|l| (format!("no {l}"), text.replacen(l, "", 1)))
+        .collect();
+    let swap = |what: &str, from: &str, to: &str| {
+        assert!(text.contains(from), "{from}");
+        (what.to_string(), text.replacen(from, to, 1))
+    };
+    out.extend([
+        swap("estimate Yvd", "estimate = [\"Yv_p\"", "estimate = [\"Yvd\", \"Yv_p\""),
+        swap("estimate R0_p twice", "estimate = [\"Yv_p\"", "estimate = [\"R0_p\", \"R0_p\", \"Yv_p\""),
+        swap("ship_linear", "model = \"mmg3\"", "model = \"ship_linear\""),
+        swap("surge1", "model = \"mmg3\"", "model = \"surge1\""),
+        swap("no Fy column", "fy = \"Fy\"", "fy = \"Side force\""),
+        swap("rudder a constant", "rudder = \"rudder\"\n", ""),
+        swap("prime columns", "fy = \"Fy\"", "y_prime = \"Fy\""),
+        swap("averaged after the end", "[captive]\n", "[captive]\naverage_after = \"1e6 s\"\n"),
+        swap("oscillation of a steady table", "[captive]\n", "[captive]\noscillations.\"captive programme, 1.179 m/s\" = { amplitude = { v = \"0.1 m/s\" }, frequency = \"0.5 Hz\" }\n"),
+        swap("captive disabled", "[captive]\n", "[captive]\nenabled = false\n"),
+    ]);
+    out
+}
+
+/// Issue 24, item 4: for every mutation of the bundled captive configuration (its ship's
+/// particulars and its captive stage), `hydroid check` fails exactly when `hydroid run` fails
+/// before its work starts, with the same exit code and the same problems.
+#[test]
+fn check_fails_exactly_when_run_fails_before_its_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let exports = root().join("cfd_exports").display().to_string() + "/";
+    let base = std::fs::read_to_string(root().join("configs/ship_captive.toml"))
+        .unwrap()
+        .replace("../cfd_exports/", &exports);
+    let mut mutations = particulars_mutations(&base);
+    mutations.extend(captive_mutations(&base));
+    let (mut refused, mut passed) = (0, 0);
+    for (i, (what, mutated)) in mutations.iter().enumerate() {
+        let config = dir.path().join(format!("m{i}.toml"));
+        std::fs::write(&config, mutated).unwrap();
+        let out = dir.path().join(format!("out{i}"));
+        let (c, o) = (config.to_str().unwrap(), out.to_str().unwrap());
+        let check = hydroid(&["check", c, "--out", o]);
+        let run = hydroid(&["run", c, "--out", o, "--set", "output.plots=false"]);
+        let (check_err, run_err) = (text(&check.stderr), text(&run.stderr));
+        let context = format!("{what}:\ncheck: {check_err}\nrun: {run_err}");
+        let (run_says, after_work) = stated_errors(&run_err);
+        if run.status.success() || after_work {
+            assert_eq!(check.status.code(), Some(0), "{context}");
+            passed += 1;
+            continue;
+        }
+        refused += 1;
+        assert!(!out.exists(), "{context}: run wrote an output");
+        assert_eq!(check.status.code(), run.status.code(), "{context}");
+        let (check_says, _) = stated_errors(&check_err);
+        assert!(!run_says.is_empty(), "{context}");
+        for said in &run_says {
+            assert!(
+                check_says.contains(said),
+                "{said} not said by check\n{context}"
+            );
+        }
+    }
+    // the mutations are not all of one kind
+    assert!(
+        refused > 100 && passed >= 3,
+        "{refused} refused, {passed} passed"
+    );
+}
+
+/// Issue 24, item 4: what the polar or surge stage would refuse in its runs is said by
+/// `check` (the same message and exit code) and by `run` before any stage runs.
+#[test]
+fn check_and_run_say_what_a_stage_would_refuse_before_any_stage_runs() {
+    for (set, says) in [
+        (
+            "surge.t_start=1000",
+            "only 0 samples between t_start and t_end",
+        ),
+        (
+            "polar.alpha_max_deg=0.001",
+            "which determine only 1 of the 3 free constants",
+        ),
+    ] {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("out");
+        let c = hydroid(&["check", "configs/spheroid.toml", "--set", set]);
+        let r = common::run_config(Path::new("configs/spheroid.toml"), &out, &[set]);
+        let (ce, re) = (text(&c.stderr), text(&r.stderr));
+        assert_eq!(c.status.code(), Some(1), "{set}: {ce}");
+        assert_eq!(r.status.code(), Some(1), "{set}: {re}");
+        assert!(ce.contains(says) && re.contains(says), "{set}:\n{ce}\n{re}");
+        let ran = re.lines().any(|l| l.starts_with("polar: "));
+        assert!(!ran, "{set}: a stage ran first: {re}");
+        assert!(!out.exists());
+    }
 }

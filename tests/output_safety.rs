@@ -300,6 +300,9 @@ fn a_folder_hydroid_did_not_write_a_file_or_a_link_is_never_replaced() {
             let o = ex.hydroid(&a);
             refused(&ex, &before, &o, &[says]);
         }
+        // `check --out` refuses it as run would (issue 24, item 4)
+        let o = ex.hydroid(&["check", "configs/spheroid.toml", "--out", out]);
+        refused(&ex, &before, &o, &["configs/spheroid.toml: --out: ", says]);
     }
 }
 
@@ -320,6 +323,14 @@ fn a_hydroid_output_is_replaced_when_unchanged_and_only_forced_when_changed() {
     a.extend_from_slice(&QUICK);
     let o = ex.hydroid(&a);
     refused(&ex, &before, &o, &["added: notes.txt", "--force"]);
+    // check warns that run would refuse it (issue 24, item 4)
+    let c = ex.hydroid(&["check", "configs/spheroid.toml"]);
+    assert_eq!(c.status.code(), Some(0), "{}", text(&c.stderr));
+    let says = text(&c.stdout);
+    assert!(
+        says.contains("added: notes.txt") && says.contains("without --force"),
+        "{says}"
+    );
     std::fs::remove_file(out.join("notes.txt")).unwrap();
     // a file edited inside it: the same
     std::fs::write(out.join("coefficients.csv"), "edited").unwrap();
@@ -340,6 +351,36 @@ fn a_hydroid_output_is_replaced_when_unchanged_and_only_forced_when_changed() {
         .map(|e| e.unwrap().file_name())
         .collect();
     assert_eq!(names, ["spheroid"]);
+}
+
+/// A device given as the output is named as what it is, not "a folder" or "a file", and
+/// never written (issue 24, item 7).
+#[test]
+#[cfg(target_os = "linux")]
+fn a_device_as_the_output_is_named_as_a_device() {
+    let ex = Example::new();
+    let before = ex.snapshot();
+    let device = "is a character device (such as /dev/null, /dev/full or a terminal)";
+    for args in [
+        vec!["run", "configs/spheroid.toml", "--out", "/dev/full"],
+        vec!["check", "configs/spheroid.toml", "--out", "/dev/full"],
+        vec![
+            "simulate",
+            "configs/simulate/surge_run.toml",
+            "--out",
+            "/dev/full",
+        ],
+        vec!["init", "/dev/full"],
+        vec!["init", "/dev/full/hydroid.toml"],
+    ] {
+        let o = ex.hydroid(&args);
+        refused(&ex, &before, &o, &[device, "/dev/full"]);
+        let e = text(&o.stderr);
+        assert!(
+            !e.contains("a folder, not a file") && !e.contains("os error"),
+            "{e}"
+        );
+    }
 }
 
 #[test]

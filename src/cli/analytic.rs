@@ -38,6 +38,15 @@ struct SpheroidArgs {
     json: bool,
 }
 
+impl Args {
+    /// Whether JSON was asked for (`--json`).
+    pub(super) fn json(&self) -> bool {
+        match &self.shape {
+            Shape::Spheroid(a) => a.json,
+        }
+    }
+}
+
 /// Runs the command.
 pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
     match args.shape {

@@ -14,7 +14,7 @@ pub struct Args {
     model: Option<String>,
     /// Print machine-readable JSON instead of text.
     #[arg(long)]
-    json: bool,
+    pub(super) json: bool,
 }
 
 /// Runs the command.

@@ -20,7 +20,7 @@ pub struct Args {
     /// Print machine-readable JSON: every coefficient with its value in A and B, the
     /// difference B - A and that difference in units of the combined sigma.
     #[arg(long)]
-    json: bool,
+    pub(super) json: bool,
 }
 
 #[derive(serde::Deserialize)]

@@ -51,6 +51,7 @@ pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
             vec![Stage::Hekf]
         }
     });
+    check_stages(model, &stages)?;
     let has = |s: Stage| stages.contains(&s);
     let file = if args.path.extension().is_some_and(|e| e == "toml") {
         args.path.clone()
@@ -160,6 +161,40 @@ fn template(polar: bool, surge: bool, hekf: bool, model: ModelName) -> String {
         s.push_str(&hekf_section(model));
     }
     s
+}
+
+/// Refuses stages a template for `model` could never run usefully: the polar and surge stages
+/// give coefficients only some models use, and a template of those stages alone for another
+/// model would leave its particulars read by no stage (a configuration `check` never
+/// accepts). The error names the stages the model supports and the models that use the
+/// polar and surge stages.
+fn check_stages(model: ModelName, stages: &[Stage]) -> Result<(), Error> {
+    if uses_stage_coefficients(model) {
+        return Ok(());
+    }
+    let unused: Vec<&str> = stages
+        .iter()
+        .filter_map(|s| match s {
+            Stage::Polar => Some("polar"),
+            Stage::Surge => Some("surge"),
+            Stage::Hekf => None,
+        })
+        .collect();
+    if unused.is_empty() {
+        return Ok(());
+    }
+    let with_them: Vec<&str> = ModelName::ALL
+        .iter()
+        .filter(|m| uses_stage_coefficients(**m))
+        .map(|m| m.as_str())
+        .collect();
+    Err(Error::Usage(format!(
+        "--stages {}: the {model} model uses no coefficient the polar or surge stage gives, so \
+         its template has the hekf stage only (--stages hekf, the default for it); the polar \
+         and surge stages are for the models that use their coefficients: {}",
+        unused.join(","),
+        with_them.join(", ")
+    )))
 }
 
 /// Whether the model uses a coefficient that the polar or the surge stage gives (then those

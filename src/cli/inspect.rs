@@ -18,7 +18,7 @@ pub struct Args {
     format: String,
     /// Print machine-readable JSON instead of text.
     #[arg(long)]
-    json: bool,
+    pub(super) json: bool,
 }
 
 /// Runs the command.

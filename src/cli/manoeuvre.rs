@@ -34,7 +34,7 @@ pub struct Args {
     check: Option<f64>,
     /// Print machine-readable JSON instead of text.
     #[arg(long)]
-    json: bool,
+    pub(super) json: bool,
 }
 
 /// What one run gave.

@@ -62,10 +62,17 @@ pub fn main() -> i32 {
         Err(e) => {
             let code = if e.use_stderr() { 2 } else { 0 };
             let _ = e.print();
+            if code != 0 && std::env::args_os().any(|a| a == "--json") {
+                // a script that asked for JSON gets its error as JSON too
+                let message = e.to_string();
+                let message = message.trim().trim_start_matches("error: ");
+                let _ = json::write(&mut std::io::stdout(), &json::usage_error(message));
+            }
             return code;
         }
     };
     let say = Say::new(cli.verbose, cli.quiet);
+    let wants_json = cli.command.json();
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
     let result = match cli.command {
@@ -86,7 +93,29 @@ pub fn main() -> i32 {
         Err(CliError::BrokenPipe) => 0,
         Err(CliError::Hydroid(e)) => {
             eprintln!("error: {e}");
+            if wants_json {
+                // one JSON object on stdout, the exit code unchanged (docs/results.md)
+                let _ = json::write(&mut out, &json::error(&e));
+                let _ = out.flush();
+            }
             e.exit_code()
+        }
+    }
+}
+
+impl Command {
+    /// Whether the command was asked for JSON on stdout (`--json`): then an error is printed
+    /// there as a JSON object too.
+    fn json(&self) -> bool {
+        match self {
+            Command::Run(a) => a.json,
+            Command::Check(a) => a.json,
+            Command::Inspect(a) => a.json,
+            Command::Analytic(a) => a.json(),
+            Command::Compare(a) => a.json,
+            Command::Coefficients(a) => a.json,
+            Command::Manoeuvre(a) => a.json,
+            Command::Simulate(_) | Command::Rerun(_) | Command::Init(_) => false,
         }
     }
 }

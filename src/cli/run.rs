@@ -24,7 +24,7 @@ pub struct Args {
     /// Print results.json (the file written to the output folder) on stdout instead of the
     /// table; every other message goes to stderr.
     #[arg(long)]
-    json: bool,
+    pub(super) json: bool,
     /// Exit with status 3 when a consistency test failed (the innovations, a stage conflict,
     /// the noise-model sensitivity, a re-simulation: the warnings say which), for scripts and
     /// CI pipelines. The output folder is written as without it.

@@ -94,9 +94,68 @@ pub struct Oscillation {
     pub phase: f64,
 }
 
+/// What the captive stage's model says of the configuration: (key, problem) pairs.
+struct ModelCheck<'a> {
+    estimate: &'a [String],
+}
+
+impl crate::models::ModelVisitor for ModelCheck<'_> {
+    type Output = Vec<(String, String)>;
+
+    fn visit<M: crate::models::Model>(self, model: &M) -> Self::Output {
+        let mut out = Vec::new();
+        if model.force_quantities().is_empty() {
+            out.push((
+                "captive.model".to_string(),
+                format!(
+                    "the {} model gives no forces for a prescribed motion, so captive runs \
+                     cannot be fitted with it (mmg3 does)",
+                    model.name()
+                ),
+            ));
+        }
+        for (i, n) in self.estimate.iter().enumerate() {
+            let known = crate::models::registry::coefficient(n).is_some();
+            let message = match model.coefficient_index(n) {
+                // an unknown name is reported by its catalogue check
+                None if known => format!("the {} model has no coefficient {n}", model.name()),
+                Some(_) if model.is_derived(n) => format!(
+                    "{n} is derived by a relation of the {} model and cannot be fitted",
+                    model.name()
+                ),
+                _ => continue,
+            };
+            out.push((format!("captive.estimate[{i}]"), message));
+        }
+        out
+    }
+}
+
 impl CaptiveConfig {
+    /// The model's checks, as the stage makes them before it fits: what it needs of the
+    /// vehicle (`[vehicle.particulars]`), forces to fit, the estimated coefficients its own.
+    fn validate_model(&self, config: &Config, p: &mut Problems) {
+        let vehicle = config.vehicle.for_model(&config.fluid);
+        let check = ModelCheck {
+            estimate: &self.estimate,
+        };
+        match crate::models::with_model(self.model, &vehicle, check) {
+            Ok(found) => {
+                for (key, message) in found {
+                    p.add(&key, message);
+                }
+            }
+            Err(problems) => {
+                for vp in problems {
+                    p.add(&vp.key, vp.message);
+                }
+            }
+        }
+    }
+
     /// Adds every problem with this section to `p`.
-    pub fn validate(&self, _config: &Config, p: &mut Problems) {
+    pub fn validate(&self, config: &Config, p: &mut Problems) {
+        self.validate_model(config, p);
         if self.estimate.is_empty() {
             p.add("captive.estimate", "lists no coefficient to fit");
         }
@@ -152,12 +211,13 @@ impl CaptiveConfig {
         }
         let names: Vec<String> = self.runs.iter().map(InputSpec::display_name).collect();
         for (run, o) in &self.oscillations {
-            let key = format!("captive.oscillations.\"{run}\"");
+            let key = format!("captive.oscillations.{}", super::paths::key_text(run));
             if !names.contains(run) {
                 p.add(
                     &key,
                     format!(
-                        "names no run of captive.runs (they are: {})",
+                        "names no run of captive.runs{} (they are: {})",
+                        crate::suggest::did_you_mean(run, names.iter().map(String::as_str)),
                         names.join(", ")
                     ),
                 );

@@ -17,6 +17,22 @@ use toml_edit::{DocumentMut, Value};
 /// the first ones and a note.
 const MAX_ROUNDS: usize = 500;
 
+/// Applies each `--set` to the document, recording where it put its value (and the first key
+/// it added, whose problems are the override's too), or why it could not.
+fn apply_overrides(p: &mut Problems, doc: &mut DocumentMut, list: &[String]) {
+    for o in list {
+        match overrides::apply(doc, o) {
+            Ok(applied) => {
+                p.overridden(&applied.path, o);
+                if let Some(created) = applied.created {
+                    p.overridden(&created, o);
+                }
+            }
+            Err(m) => p.add_unplaced(None, format!("--set '{o}': {m}")),
+        }
+    }
+}
+
 /// Deserializes `text` (with `--set` `overrides` applied) into `T`, adding every problem to
 /// `p`. Returns a value whenever the repairs let it deserialize; it is only fit for
 /// validation and `check` when `p` records poisoned keys.
@@ -35,12 +51,7 @@ pub fn read_collecting<T: DeserializeOwned>(
             return None;
         }
     };
-    for o in overrides {
-        match overrides::apply(&mut doc, o) {
-            Ok(path) => p.overridden(&path, o),
-            Err(m) => p.add_unplaced(None, format!("--set {o}: {m}")),
-        }
-    }
+    apply_overrides(p, &mut doc, overrides);
     repair_unusable_values(p, &mut doc);
     let mut placeholders: Vec<(String, usize)> = Vec::new();
     let mut guessed_names: Vec<String> = Vec::new();

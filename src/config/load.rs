@@ -104,12 +104,13 @@ pub fn load_lenient(
     let Some(config) = read_collecting::<Config>(&mut p, text, overrides) else {
         return (None, p.in_file_order());
     };
-    config.validate(&mut p);
     let mut config = config;
+    // first: the models the validation builds read the yaw moment as the run will
     match config.yaw_moment() {
         Ok(reading) => config.vehicle.yaw_moment = reading,
         Err((key, message)) => p.add(&key, message),
     }
+    config.validate(&mut p);
     let base_dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
     let unusable = p.poisoned().to_vec();
     (

@@ -1,87 +1,252 @@
-//! `--set KEY=VALUE`: a dotted key path with list indices, and a TOML value (or a bare word,
-//! taken as text).
+//! `--set KEY=VALUE`: a TOML key path (dotted keys, bare or quoted, with list positions
+//! `[N]`: `captive.oscillations."pure sway".amplitude.v`, `hekf.runs[0].columns.rudder.scale`)
+//! and a TOML value (`3`, `true`, `"text"`, `[1, 2]`, `{ column = "x", scale = -1 }`); a bare
+//! word (`other.csv`, `50 kg`) is taken as text, which the key then accepts only where it
+//! expects text.
 
-use super::paths::Seg;
+use super::paths::{parse_path, Seg};
 use toml_edit::{DocumentMut, Item, TableLike, Value};
 
-/// Applies one `KEY=VALUE` to the document; returns the key path it set.
-pub fn apply(doc: &mut DocumentMut, spec: &str) -> Result<String, String> {
-    let (key, value) = spec
-        .split_once('=')
-        .ok_or("expected KEY=VALUE, e.g. hekf.passes=3")?;
-    let key = key.trim();
-    let value = value.trim();
-    // A value that is not TOML (a bare word) is taken as text.
-    let parsed: Value = value.parse().unwrap_or_else(|_| Value::from(value));
-    let mut segs: Vec<(String, Option<usize>)> = Vec::new();
-    for part in key.split('.') {
-        let (name, idx) = match part.find('[') {
-            Some(i) => {
-                let n: usize = part[i + 1..].trim_end_matches(']').parse().map_err(|_| {
-                    format!("bad list position in '{part}' (expected e.g. runs[0])")
-                })?;
-                (part[..i].to_string(), Some(n))
-            }
-            None => (part.to_string(), None),
-        };
-        if name.is_empty() {
-            return Err(format!("empty key segment in '{key}'"));
-        }
-        segs.push((name, idx));
-    }
-    set_path(doc.as_table_mut(), &segs, parsed)?;
-    let path: Vec<Seg> = segs
-        .into_iter()
-        .flat_map(|(k, i)| std::iter::once(Seg::Key(k)).chain(i.map(Seg::Index)))
-        .collect();
-    Ok(Seg::join(&path))
+/// What the syntax of an override is, for its errors.
+const SYNTAX: &str = "expected KEY=VALUE with a TOML key (a.b.\"quoted key\", runs[0].file) and \
+                      a TOML value (3, true, \"text\", [1, 2], { a = 1 }; a bare word is text)";
+
+/// What one `--set` did.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Applied {
+    /// The key path it set, in the form messages use.
+    pub path: String,
+    /// The first key it added that was not in the configuration (a table or key of its
+    /// path), if any: a problem found there comes from the override too.
+    pub created: Option<String>,
 }
 
-fn set_path(
+/// Applies one `KEY=VALUE` to the document. The error says what was expected.
+pub fn apply(doc: &mut DocumentMut, spec: &str) -> Result<Applied, String> {
+    let (segs, rest) = parse_path(spec).map_err(|m| format!("{m}; {SYNTAX}"))?;
+    let Some(value) = rest.trim_start().strip_prefix('=') else {
+        return Err(SYNTAX.to_string());
+    };
+    let value = parse_value(value)?;
+    let mut place = Place {
+        done: Vec::new(),
+        created: None,
+    };
+    set_in_table(doc.as_table_mut(), &segs, value, &mut place)?;
+    Ok(Applied {
+        path: Seg::join(&segs),
+        created: place.created.map(|p| Seg::join(&p)),
+    })
+}
+
+/// The value of an override: TOML, or a bare word taken as text.
+fn parse_value(text: &str) -> Result<Value, String> {
+    let t = text.trim();
+    if t.is_empty() {
+        return Err(format!("no value after '='; {SYNTAX}"));
+    }
+    match t.parse::<Value>() {
+        Ok(v) => Ok(v),
+        Err(_) if bare_word(t) => Ok(Value::from(t)),
+        Err(e) => Err(format!(
+            "`{t}` is not a TOML value ({}); {SYNTAX}",
+            e.message().trim().replace('\n', "; ")
+        )),
+    }
+}
+
+/// Text that is meant as text: nothing TOML would read as the start of a string, list or
+/// table (a file name, `50 kg`, `3 deg/s`), and no stray quote or bracket.
+fn bare_word(t: &str) -> bool {
+    !t.contains(['"', '\'', '[', ']', '{', '}', '=', '\n'])
+}
+
+/// Where the walk along the path is: the segments passed, and the first one it added.
+struct Place {
+    done: Vec<Seg>,
+    created: Option<Vec<Seg>>,
+}
+
+impl Place {
+    /// The path so far, for messages.
+    fn shown(&self) -> String {
+        Seg::join(&self.done)
+    }
+
+    fn enter(&mut self, seg: &Seg) {
+        self.done.push(seg.clone());
+    }
+
+    fn created_here(&mut self) {
+        if self.created.is_none() {
+            self.created = Some(self.done.clone());
+        }
+    }
+}
+
+/// Sets `segs` (starting with a key) under the table `table`.
+fn set_in_table(
     table: &mut dyn TableLike,
-    segs: &[(String, Option<usize>)],
+    segs: &[Seg],
     value: Value,
+    place: &mut Place,
 ) -> Result<(), String> {
-    let ((name, idx), rest) = segs.split_first().ok_or("empty key")?;
-    if rest.is_empty() && idx.is_none() {
+    let (first, rest) = segs.split_first().ok_or("no key")?;
+    let Seg::Key(name) = first else {
+        return Err(format!(
+            "{} is a table, not a list: a position [N] cannot follow it",
+            place.shown()
+        ));
+    };
+    place.enter(first);
+    if rest.is_empty() {
+        if table.get(name).is_none() {
+            place.created_here();
+        }
         table.insert(name, Item::Value(value));
         return Ok(());
     }
     if table.get(name).is_none() {
-        if idx.is_some() {
-            return Err(format!("there is no list '{name}' to index"));
+        if let Some(Seg::Index(i)) = rest.first() {
+            return Err(format!(
+                "{} is not in the configuration, so [{i}] does not exist: add the list to the \
+                 file first",
+                place.shown()
+            ));
         }
+        place.created_here();
         table.insert(name, Item::Table(toml_edit::Table::new()));
     }
-    let Some(child) = table.get_mut(name) else {
-        return Err(format!("'{name}' cannot be set"));
-    };
-    match (idx, child) {
-        (None, item) => {
-            let t = item
-                .as_table_like_mut()
-                .ok_or_else(|| format!("'{name}' is a value, not a table"))?;
-            set_path(t, rest, value)
-        }
-        (Some(i), Item::ArrayOfTables(a)) => {
+    let child = table
+        .get_mut(name)
+        .ok_or_else(|| format!("{} cannot be set", place.shown()))?;
+    set_in_item(child, rest, value, place)
+}
+
+/// Sets `segs` (not empty) below the item `item` at `place`.
+fn set_in_item(
+    item: &mut Item,
+    segs: &[Seg],
+    value: Value,
+    place: &mut Place,
+) -> Result<(), String> {
+    match item {
+        Item::Value(v) => set_in_value(v, segs, value, place),
+        Item::Table(t) => set_in_table(t, segs, value, place),
+        Item::ArrayOfTables(a) => {
             let n = a.len();
-            let t = a
-                .get_mut(*i)
-                .ok_or_else(|| format!("'{name}' has {n} entries, so [{i}] does not exist"))?;
-            if rest.is_empty() {
-                return Err(format!("cannot replace the whole table {name}[{i}]"));
+            let Some(Seg::Index(i)) = segs.first() else {
+                return Err(format!(
+                    "{} is a list of {}: give a position, e.g. {}[0]{}",
+                    place.shown(),
+                    entries(n),
+                    place.shown(),
+                    rest_text(segs)
+                ));
+            };
+            place.enter(&segs[0]);
+            let shown = place.shown();
+            let t = a.get_mut(*i).ok_or_else(|| out_of_range(&shown, *i, n))?;
+            if segs.len() == 1 {
+                return Err(format!(
+                    "{shown} is a table of the list: set one of its keys, {shown}.KEY=VALUE"
+                ));
             }
-            set_path(t, rest, value)
+            set_in_table(t, &segs[1..], value, place)
         }
-        (Some(i), Item::Value(Value::Array(arr))) if rest.is_empty() => {
+        Item::None => Err(format!("{} cannot be set", place.shown())),
+    }
+}
+
+/// Sets `segs` (not empty) below the value `v` at `place`: in an inline table, in a list, or
+/// in a column given by name (`yaw = "Heading"` becomes `yaw = { column = "Heading" }`, so
+/// that `columns.yaw.scale=-1` works).
+fn set_in_value(
+    v: &mut Value,
+    segs: &[Seg],
+    value: Value,
+    place: &mut Place,
+) -> Result<(), String> {
+    let in_columns = place.done.len() >= 2
+        && matches!(&place.done[place.done.len() - 2], Seg::Key(k) if k == "columns");
+    if let (Value::String(s), Some(Seg::Key(_)), true) = (&*v, segs.first(), in_columns) {
+        let mut t = toml_edit::InlineTable::new();
+        t.insert("column", Value::from(s.value().as_str()));
+        *v = Value::InlineTable(t);
+    }
+    match (v, &segs[0]) {
+        (Value::InlineTable(t), Seg::Key(_)) => set_in_table(t, segs, value, place),
+        (Value::Array(arr), Seg::Index(i)) => {
             let n = arr.len();
+            place.enter(&segs[0]);
+            let shown = place.shown();
             if *i >= n {
-                return Err(format!("'{name}' has {n} entries, so [{i}] does not exist"));
+                return Err(out_of_range(&shown, *i, n));
             }
-            arr.replace(*i, value);
-            Ok(())
+            if segs.len() == 1 {
+                arr.replace(*i, value);
+                return Ok(());
+            }
+            let Some(element) = arr.get_mut(*i) else {
+                return Err(out_of_range(&shown, *i, n));
+            };
+            set_in_value(element, &segs[1..], value, place)
         }
-        (Some(i), _) => Err(format!("'{name}' is not a list that [{i}] can index")),
+        (Value::Array(arr), Seg::Key(_)) => Err(format!(
+            "{} is a list of {}: give a position, e.g. {}[0]{}",
+            place.shown(),
+            entries(arr.len()),
+            place.shown(),
+            rest_text(segs)
+        )),
+        (other, seg) => Err(format!(
+            "{} is the value {}, not a {}: {} cannot follow it; set it whole, {}=VALUE",
+            place.shown(),
+            other.to_string().trim(),
+            if matches!(seg, Seg::Index(_)) {
+                "list"
+            } else {
+                "table"
+            },
+            match seg {
+                Seg::Index(i) => format!("[{i}]"),
+                Seg::Key(k) => format!("'.{k}'"),
+            },
+            place.shown()
+        )),
+    }
+}
+
+/// "1 entry", "3 entries".
+fn entries(n: usize) -> String {
+    if n == 1 {
+        "1 entry".into()
+    } else {
+        format!("{n} entries")
+    }
+}
+
+/// A list position past the end, with how many there are.
+fn out_of_range(shown: &str, i: usize, n: usize) -> String {
+    let list = shown.rsplit_once('[').map_or(shown, |(l, _)| l);
+    let valid = match n {
+        0 => "it is empty".to_string(),
+        1 => "the only position is [0]".to_string(),
+        n => format!("positions are [0] to [{}]", n - 1),
+    };
+    format!(
+        "{list} has {}, so [{i}] does not exist ({valid})",
+        entries(n)
+    )
+}
+
+/// The rest of a path after a list that needs a position, as text (`.file`).
+fn rest_text(segs: &[Seg]) -> String {
+    let joined = Seg::join(segs);
+    if joined.starts_with('[') {
+        joined
+    } else {
+        format!(".{joined}")
     }
 }
 
@@ -89,24 +254,99 @@ fn set_path(
 mod tests {
     use super::*;
 
+    fn doc() -> DocumentMut {
+        "[hekf]\npasses = 1\nestimate = [\"Yvd\", \"Nrd\"]\n[[hekf.runs]]\nfile = \"a\"\n\
+         [hekf.runs.columns]\nyaw = \"Heading\"\n[hekf.runs.constants]\nthrust = \"22 N\"\n\
+         [captive.oscillations.\"pure sway\"]\nfrequency = 0.5\n\
+         amplitude = { v = \"0.25 m/s\" }\n"
+            .parse()
+            .unwrap()
+    }
+
     #[test]
     fn sets_nested_keys() {
-        let mut doc: DocumentMut = "[hekf]\npasses = 1\n[[hekf.runs]]\nfile = \"a\"\n"
-            .parse()
-            .unwrap();
-        assert_eq!(apply(&mut doc, "hekf.passes=3").unwrap(), "hekf.passes");
+        let mut doc = doc();
         assert_eq!(
-            apply(&mut doc, "hekf.runs[0].file=b.csv").unwrap(),
-            "hekf.runs[0].file"
+            apply(&mut doc, "hekf.passes=3").unwrap().path,
+            "hekf.passes"
         );
-        apply(&mut doc, "output.dir=\"x\"").unwrap();
+        let a = apply(&mut doc, "hekf.runs[0].file=b.csv").unwrap();
+        assert_eq!(a.path, "hekf.runs[0].file");
+        assert_eq!(a.created, None);
+        let a = apply(&mut doc, "output.dir=\"x\"").unwrap();
+        assert_eq!(a.created.as_deref(), Some("output"));
         let s = doc.to_string();
         assert!(s.contains("passes = 3"), "{s}");
         assert!(s.contains("file = \"b.csv\""), "{s}");
         assert!(s.contains("dir = \"x\""), "{s}");
-        assert!(apply(&mut doc, "hekf.runs[4].file=c").is_err());
-        assert!(apply(&mut doc, "nonsense").is_err());
-        let e = apply(&mut doc, "hekf.passes[0]=1").unwrap_err();
-        assert_eq!(e, "'passes' is not a list that [0] can index");
+    }
+
+    #[test]
+    fn quoted_keys_lists_and_toml_values() {
+        let mut doc = doc();
+        for spec in [
+            "captive.oscillations.\"pure sway\".amplitude.v=\"0.1 m/s\"",
+            "captive . oscillations . 'pure sway' . frequency = 0.25",
+            "hekf.runs[0].columns.yaw.scale=-1",
+            "hekf.estimate[1]=Yrd",
+            "hekf.prior={ Yvd = { initial = -20.0, sigma = 5.0 } }",
+            "hekf.measure=[\"u\", \"v\"]",
+            "hekf.smoother=false",
+            "vehicle.mass=50 kg",
+        ] {
+            apply(&mut doc, spec).unwrap_or_else(|e| panic!("{spec}: {e}"));
+        }
+        let s = doc.to_string();
+        for has in [
+            "v = \"0.1 m/s\"",
+            "frequency = 0.25",
+            "yaw = { column = \"Heading\", scale = -1 }",
+            "estimate = [\"Yvd\", \"Yrd\"]",
+            "sigma = 5.0",
+            "measure = [\"u\", \"v\"]",
+            "smoother = false",
+            "mass = \"50 kg\"",
+        ] {
+            assert!(s.contains(has), "{has} in\n{s}");
+        }
+        let a = apply(&mut doc, "captive.oscillations.\"pure sway\".phase=1").unwrap();
+        assert_eq!(a.path, "captive.oscillations.\"pure sway\".phase");
+    }
+
+    #[test]
+    fn errors_say_what_was_expected() {
+        let doc = doc();
+        let err = |spec: &str| apply(&mut doc.clone(), spec).unwrap_err();
+        assert!(err("a.b").starts_with("expected KEY=VALUE with a TOML key (a.b.\"quoted key\""));
+        assert!(
+            err("a.\"b=1").contains("an unclosed quote"),
+            "{}",
+            err("a.\"b=1")
+        );
+        assert!(
+            err("a..b=1").contains("no key at '.b=1'"),
+            "{}",
+            err("a..b=1")
+        );
+        assert!(err("hekf.runs[x].file=1").contains("'[x]' is not a list position"));
+        assert!(err("hekf.passes=[1,").contains("`[1,` is not a TOML value"));
+        assert!(err("hekf.passes=").contains("no value after '='"));
+        assert_eq!(
+            err("hekf.runs[4].file=c"),
+            "hekf.runs has 1 entry, so [4] does not exist (the only position is [0])"
+        );
+        assert_eq!(
+            err("hekf.estimate[2]=Yrd"),
+            "hekf.estimate has 2 entries, so [2] does not exist (positions are [0] to [1])"
+        );
+        assert_eq!(
+            err("hekf.runs.file=c"),
+            "hekf.runs is a list of 1 entry: give a position, e.g. hekf.runs[0].file"
+        );
+        assert!(err("hekf.passes[0]=1").starts_with("hekf.passes is the value 1, not a list"));
+        assert!(err("hekf.runs[0].constants.thrust.unit=1")
+            .starts_with("hekf.runs[0].constants.thrust is the value \"22 N\", not a table"));
+        assert!(err("polar.runs[0].file=x").starts_with("polar.runs is not in the configuration"));
+        assert!(err("nonsense").starts_with("expected KEY=VALUE"));
     }
 }

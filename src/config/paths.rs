@@ -14,7 +14,8 @@ pub enum Seg {
 }
 
 impl Seg {
-    /// The dotted form, `a.b[0].c`.
+    /// The dotted form, `a.b[0].c`, with a key that is not a bare TOML key quoted
+    /// (`captive.oscillations."pure sway".amplitude`), so that [`parse_path`] reads it back.
     pub fn join(path: &[Seg]) -> String {
         let mut s = String::new();
         for seg in path {
@@ -23,13 +24,118 @@ impl Seg {
                     if !s.is_empty() {
                         s.push('.');
                     }
-                    s.push_str(k);
+                    s.push_str(&key_text(k));
                 }
                 Seg::Index(i) => s.push_str(&format!("[{i}]")),
             }
         }
         s
     }
+}
+
+/// A key as TOML writes it in a dotted key: bare when it may be (letters, digits, `_`, `-`),
+/// else a basic string in double quotes.
+pub fn key_text(key: &str) -> String {
+    if is_bare(key) {
+        return key.to_string();
+    }
+    let mut s = String::from("\"");
+    for c in key.chars() {
+        match c {
+            '"' => s.push_str("\\\""),
+            '\\' => s.push_str("\\\\"),
+            c if c.is_control() => s.push_str(&format!("\\u{:04X}", c as u32)),
+            c => s.push(c),
+        }
+    }
+    s.push('"');
+    s
+}
+
+/// A bare TOML key: one or more ASCII letters, digits, `_` or `-`.
+fn is_bare(key: &str) -> bool {
+    !key.is_empty()
+        && key
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+}
+
+/// Reads a key path as `--set` and messages write it: TOML's dotted keys (bare keys,
+/// "basic" keys with escapes, 'literal' keys, whitespace around the dots), each followed by
+/// any number of list positions `[N]` (0-based). Returns the segments and the text after
+/// the path (after `KEY` in `KEY=VALUE`: the `=` and the value). The error says what was
+/// expected where the path stops making sense.
+pub fn parse_path(text: &str) -> Result<(Vec<Seg>, &str), String> {
+    let mut segs = Vec::new();
+    let mut s = text.trim_start();
+    loop {
+        let (key, rest) = one_key(s)?;
+        segs.push(Seg::Key(key));
+        s = rest.trim_start();
+        while let Some(inner) = s.strip_prefix('[') {
+            let close = inner.find(']').ok_or_else(|| {
+                format!("'[{inner}': a list position ends with ']', e.g. runs[0]")
+            })?;
+            let n = inner[..close].trim();
+            let i: usize = n.parse().map_err(|_| {
+                format!(
+                    "'[{n}]' is not a list position: expected a whole number from 0, e.g. runs[0]"
+                )
+            })?;
+            segs.push(Seg::Index(i));
+            s = inner[close + 1..].trim_start();
+        }
+        match s.strip_prefix('.') {
+            Some(rest) => s = rest.trim_start(),
+            None => return Ok((segs, s)),
+        }
+    }
+}
+
+/// One key at the start of `s` (bare, "basic" or 'literal'), and the text after it.
+fn one_key(s: &str) -> Result<(String, &str), String> {
+    let stop = |what: &str| {
+        let shown: String = s.chars().take(20).collect();
+        Err(format!(
+            "{what} at '{shown}': a key is a bare word (letters, digits, _ and -) or a quoted \
+             string (\"pure sway\" or 'pure sway')"
+        ))
+    };
+    if let Some(inner) = s.strip_prefix('\'') {
+        return match inner.find('\'') {
+            Some(end) => Ok((inner[..end].to_string(), &inner[end + 1..])),
+            None => stop("an unclosed quote"),
+        };
+    }
+    if let Some(inner) = s.strip_prefix('"') {
+        // the closing quote is the first one not escaped by a backslash
+        let mut escaped = false;
+        let end = inner.char_indices().find_map(|(i, c)| {
+            let close = c == '"' && !escaped;
+            escaped = c == '\\' && !escaped;
+            close.then_some(i)
+        });
+        let Some(end) = end else {
+            return stop("an unclosed quote");
+        };
+        let quoted = &s[..end + 2];
+        // TOML's own reading of the escapes
+        let key = format!("{quoted} = 0")
+            .parse::<toml_edit::DocumentMut>()
+            .ok()
+            .and_then(|d| d.iter().next().map(|(k, _)| k.to_string()));
+        return match key {
+            Some(k) => Ok((k, &inner[end + 1..])),
+            None => stop("a quoted key with a bad escape"),
+        };
+    }
+    let end = s
+        .find(|c: char| !(c.is_ascii_alphanumeric() || c == '_' || c == '-'))
+        .unwrap_or(s.len());
+    if end == 0 {
+        return stop("no key");
+    }
+    Ok((s[..end].to_string(), &s[end..]))
 }
 
 /// A node of the document with its place.

@@ -1,5 +1,6 @@
 //! Collects every problem found in a configuration, each with its key path and line.
 
+use super::paths::Seg;
 use crate::error::ConfigProblem;
 use std::path::{Path, PathBuf};
 
@@ -52,12 +53,16 @@ impl Problems {
             message = format!("(from --set {spec}) {message}");
             line = None;
         }
-        self.list.push(ConfigProblem {
+        let problem = ConfigProblem {
             file: self.file.clone(),
             line,
             key: Some(key.to_string()),
             message,
-        });
+        };
+        // two stages of one model find the same problem with the vehicle: said once
+        if !self.list.contains(&problem) {
+            self.list.push(problem);
+        }
     }
 
     /// Adds a problem that belongs to no key (TOML syntax, a malformed `--set`).
@@ -295,10 +300,11 @@ impl Problems {
         let doc = self.doc.as_ref()?;
         let mut item: &toml_edit::Item = doc.as_item();
         let mut last_span = None;
-        for seg in split_key(key) {
+        let (segs, _) = super::paths::parse_path(key).ok()?;
+        for seg in &segs {
             let next = match seg {
-                Seg::Key(k) => item.get(k),
-                Seg::Index(i) => item.get(i),
+                Seg::Key(k) => item.get(k.as_str()),
+                Seg::Index(i) => item.get(*i),
             };
             match next {
                 Some(n) => {
@@ -353,30 +359,6 @@ fn span_of(item: &toml_edit::Item) -> Option<std::ops::Range<usize>> {
         toml_edit::Item::Table(t) => t.span(),
         other => other.span(),
     }
-}
-
-enum Seg<'a> {
-    Key(&'a str),
-    Index(usize),
-}
-
-fn split_key(key: &str) -> Vec<Seg<'_>> {
-    let mut out = Vec::new();
-    for part in key.split('.') {
-        let (name, rest) = match part.find('[') {
-            Some(i) => (&part[..i], &part[i..]),
-            None => (part, ""),
-        };
-        if !name.is_empty() {
-            out.push(Seg::Key(name));
-        }
-        for idx in rest.split('[').filter(|s| !s.is_empty()) {
-            if let Ok(i) = idx.trim_end_matches(']').parse() {
-                out.push(Seg::Index(i));
-            }
-        }
-    }
-    out
 }
 
 #[cfg(test)]

@@ -215,6 +215,9 @@ impl ShipParticulars {
                 });
             }
         }
+        if problems.is_empty() {
+            problems.extend(s.implausible(model));
+        }
         if s.izz.partial_cmp(&(s.mass * s.x_g * s.x_g)) != Some(std::cmp::Ordering::Greater) {
             problems.push(VehicleProblem {
                 key: "vehicle.izz".into(),
@@ -230,6 +233,45 @@ impl ShipParticulars {
         } else {
             Err(problems)
         }
+    }
+
+    /// The particulars no ship of length L_pp has (a unit or typing mistake: a draught in mm,
+    /// 1e300): each with its plausible range, relative to L_pp and the draught d. A position
+    /// (`signed`) is judged by its distance from midship, the others from 0 up.
+    fn implausible(&self, model: &str) -> Vec<VehicleProblem> {
+        let (l, d) = (self.lpp, self.draught);
+        let ranges = [
+            ("draught", self.draught, false, 0.5 * l, "half the length L_pp"),
+            ("x_g", self.x_g, true, 0.5 * l, "half the length L_pp from midship"),
+            ("propeller_diameter", self.propeller_diameter, false, 2.0 * d, "twice the draught"),
+            ("propeller_x", self.propeller_x, true, l, "the length L_pp from midship"),
+            ("rudder_area", self.rudder_area, false, 0.2 * l * d, "a fifth of L_pp d"),
+            ("rudder_height", self.rudder_height, false, 2.0 * d, "twice the draught"),
+            ("rudder_x", self.rudder_x, true, l, "the length L_pp from midship"),
+            ("wake_c1", self.wake_c1, false, 20.0, "Y&Y 2015: 2.0"),
+            ("wake_c2_pos", self.wake_c2_pos, true, 20.0, "in size; Y&Y 2015: 1.6"),
+            ("wake_c2_neg", self.wake_c2_neg, true, 20.0, "in size; Y&Y 2015: 1.1"),
+        ];
+        ranges
+            .iter()
+            .filter(|(_, v, signed, hi, _)| {
+                let m = if *signed { v.abs() } else { *v };
+                !(m.is_finite() && (0.0..=*hi).contains(&m))
+            })
+            .map(|(key, v, signed, hi, limit)| VehicleProblem {
+                key: format!("vehicle.particulars.{key}"),
+                message: format!(
+                    "the {model} model: {v} is not a plausible {key}: expected {}{} ({limit}); \
+                     a value outside is a unit or typing mistake",
+                    if *signed { "-" } else { "0 to " },
+                    if *signed {
+                        format!("{h} to {h}", h = crate::numfmt::num(*hi))
+                    } else {
+                        crate::numfmt::num(*hi)
+                    }
+                ),
+            })
+            .collect()
     }
 
     /// The speed below which the low-speed guard acts: a Froude number of 0.001,

@@ -56,12 +56,7 @@ pub fn write_export(
             return Err(refuse("it is the simulation's configuration"));
         }
     }
-    std::fs::create_dir_all(dir).map_err(|e| {
-        Error::Usage(format!(
-            "cannot create the folder {} for the export: {e}",
-            dir.display()
-        ))
-    })?;
+    super::create_folder(dir, "the export")?;
     // one writer of the record at a time (several simulations into one folder)
     let _lock = lock_folder(dir);
     let record_path = dir.join(EXPORTS_RECORD);
@@ -74,7 +69,12 @@ pub fn write_export(
                 "it is a symbolic link (hydroid never writes through one); choose another --out",
             ))
         }
-        Ok(m) if !m.is_file() => return Err(refuse("it is a folder, not a file")),
+        Ok(m) if !m.is_file() => {
+            return Err(refuse(&format!(
+                "it is {}, not a file; give the path of a file to write",
+                super::what_is(&m)
+            )))
+        }
         Ok(_) => match record.files.get(&name) {
             None => {
                 return Err(refuse(&format!(

@@ -50,7 +50,7 @@ impl Marker {
     pub fn write(&self, dir: &Path) -> Result<()> {
         let path = dir.join(MARKER);
         let text = crate::output::to_json(self)?;
-        std::fs::write(&path, text).map_err(|e| Error::io(&path, e))
+        std::fs::write(&path, text).map_err(|e| Error::write(&path, e))
     }
 }
 
@@ -78,7 +78,10 @@ pub fn inspect(target: &Path) -> Result<Found> {
         return Ok(Found::Foreign("it is a symbolic link".into()));
     }
     if !meta.is_dir() {
-        return Ok(Found::Foreign("it is a file, not a folder".into()));
+        return Ok(Found::Foreign(format!(
+            "it is {}, not a folder",
+            super::what_is(&meta)
+        )));
     }
     let marker_path = target.join(MARKER);
     let marker = match std::fs::symlink_metadata(&marker_path) {

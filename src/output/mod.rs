@@ -40,23 +40,86 @@ pub fn to_json<T: serde::Serialize>(value: &T) -> Result<Vec<u8>> {
     Ok(v)
 }
 
+/// What is at a place, in words, for a message: "a file", "a folder", "a character device
+/// (such as /dev/null or /dev/full)" ...
+pub fn what_is(meta: &std::fs::Metadata) -> &'static str {
+    let t = meta.file_type();
+    if t.is_symlink() {
+        return "a symbolic link";
+    }
+    if t.is_dir() {
+        return "a folder";
+    }
+    if t.is_file() {
+        return "a file";
+    }
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if t.is_char_device() {
+            return "a character device (such as /dev/null, /dev/full or a terminal)";
+        }
+        if t.is_block_device() {
+            return "a block device (a disk)";
+        }
+        if t.is_fifo() {
+            return "a named pipe (FIFO)";
+        }
+        if t.is_socket() {
+            return "a socket";
+        }
+    }
+    "neither a file nor a folder"
+}
+
+/// Creates the folder `dir` (and those above it) for `what`; the error names the folder and
+/// says what is in the way (a file or a device where a folder was expected) or what the
+/// system said, without its error number.
+pub fn create_folder(dir: &Path, what: &str) -> Result<()> {
+    match std::fs::create_dir_all(dir) {
+        Ok(()) => Ok(()),
+        Err(e) => {
+            // the first place on the path that exists and is not a folder
+            let blocking = dir.ancestors().find_map(|a| {
+                std::fs::metadata(a)
+                    .ok()
+                    .filter(|m| !m.is_dir())
+                    .map(|m| (a, what_is(&m)))
+            });
+            Err(Error::Usage(match blocking {
+                Some((at, kind)) => format!(
+                    "cannot create the folder {} for {what}: {} is {kind}, not a folder",
+                    dir.display(),
+                    at.display()
+                ),
+                None => format!(
+                    "cannot create the folder {} for {what}: {}",
+                    dir.display(),
+                    crate::error::io_reason(&e)
+                ),
+            }))
+        }
+    }
+}
+
 /// Writes `bytes` to `path` atomically (temporary file in the same folder, then rename). The
 /// temporary file is removed if a signal ends the process meanwhile. The caller decides
-/// whether `path` may be replaced ([`write_export`] does for exports).
+/// whether `path` may be replaced ([`write_export`] does for exports). An error names
+/// `path`, never the temporary file.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     let dir = path
         .parent()
         .filter(|d| !d.as_os_str().is_empty())
         .unwrap_or(Path::new("."));
-    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    create_folder(dir, &path.display().to_string())?;
     let name = path
         .file_name()
         .map_or_else(|| "out".into(), |n| n.to_string_lossy().into_owned());
     let tmp = dir.join(format!(".{name}.tmp-{}", std::process::id()));
     signals::register(&tmp);
     let written = std::fs::write(&tmp, bytes)
-        .map_err(|e| Error::io(&tmp, e))
-        .and_then(|()| std::fs::rename(&tmp, path).map_err(|e| Error::io(path, e)));
+        .and_then(|()| std::fs::rename(&tmp, path))
+        .map_err(|e| Error::write(path, e));
     if written.is_err() {
         signals::remove(&tmp);
     }
@@ -71,25 +134,33 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
 pub fn write_new(path: &Path, bytes: &[u8]) -> Result<()> {
     use std::io::Write;
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+        create_folder(dir, &path.display().to_string())?;
     }
     let mut file = match std::fs::File::create_new(path) {
         Ok(f) => f,
         Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
+            let what = std::fs::symlink_metadata(path).map_or("something", |m| what_is(&m));
             return Err(Error::Usage(format!(
-                "refusing to write {}: it already exists (hydroid never overwrites it); choose \
-                 another name or move it away first",
+                "refusing to write {}: it already exists ({what}; hydroid never overwrites \
+                 anything there); choose another name or move it away first",
                 path.display()
+            )));
+        }
+        Err(e) => {
+            return Err(Error::Usage(format!(
+                "cannot create the file {}: {} (expected a folder where a new file can be \
+                 written)",
+                path.display(),
+                crate::error::io_reason(&e)
             )))
         }
-        Err(e) => return Err(Error::io(path, e)),
     };
     // registered only once created: a signal must never remove what was there before
     signals::register(path);
     let written = file
         .write_all(bytes)
         .and_then(|()| file.sync_all())
-        .map_err(|e| Error::io(path, e));
+        .map_err(|e| Error::write(path, e));
     if written.is_err() {
         signals::remove(path);
     }
@@ -100,6 +171,34 @@ pub fn write_new(path: &Path, bytes: &[u8]) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    #[cfg(target_os = "linux")]
+    fn a_failed_write_names_the_target_not_the_temporary_file() {
+        let root = tempfile::tempdir().unwrap();
+        let target = root.path().join("turn.csv");
+        let tmp = root
+            .path()
+            .join(format!(".turn.csv.tmp-{}", std::process::id()));
+        // the temporary file is on a full disk
+        std::os::unix::fs::symlink("/dev/full", &tmp).unwrap();
+        let e = write_atomic(&target, b"t,u\n").unwrap_err().to_string();
+        assert_eq!(
+            e,
+            format!("cannot write {}: No space left on device", target.display())
+        );
+        assert!(!target.exists());
+        // a device where a folder is expected is named as what it is
+        let e = write_new(Path::new("/dev/full/hydroid.toml"), b"x")
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            "cannot create the folder /dev/full for /dev/full/hydroid.toml: /dev/full is a \
+             character device (such as /dev/null, /dev/full or a terminal), not a folder"
+        );
+        assert!(!e.contains("os error"), "{e}");
+    }
 
     #[test]
     fn a_new_file_never_replaces_anything() {

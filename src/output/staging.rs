@@ -70,24 +70,30 @@ impl Staging {
         Self::guarded(target, &Protected::new(), Replace::IfUnchanged)
     }
 
+    /// The checks [`Staging::guarded`] makes of `target` before a run, without writing
+    /// anything (for `hydroid check`): an error when the target may never be written (a
+    /// protected place, a folder hydroid did not write, a file), `Some(why)` when it is a
+    /// hydroid output that changed since (a run replaces it only with `--force`).
+    pub fn preview(target: &Path, protected: &Protected) -> Result<Option<String>> {
+        let (target, _, _) = placed(target, protected)?;
+        match check_replaceable(&target, Replace::IfUnchanged) {
+            Ok(()) => Ok(None),
+            Err(e) if matches!(inspect(&target)?, Found::Changed(_)) => Ok(Some(e.to_string())),
+            Err(e) => Err(e),
+        }
+    }
+
     /// Starts assembling `target` after checking that it may be written: not a protected
     /// place, and nothing there but an unchanged hydroid output (or a changed one with
     /// [`Replace::EvenIfChanged`]). Abandoned staging folders beside it are swept first.
     pub fn guarded(target: &Path, protected: &Protected, replace: Replace) -> Result<Self> {
-        let target = protected.check_path(target)?;
-        let (Some(parent), Some(name)) = (target.parent(), target.file_name()) else {
-            return Err(Error::Usage(format!(
-                "{}: not a folder an output can be written to",
-                target.display()
-            )));
-        };
-        let name = name.to_string_lossy().into_owned();
-        create_parent(parent)?;
+        let (target, parent, name) = placed(target, protected)?;
+        create_parent(&parent)?;
         // first, as it may put back an output a killed run had moved aside
-        let swept = sweep(parent);
+        let swept = sweep(&parent);
         check_replaceable(&target, replace)?;
         let pid = std::process::id();
-        let root = staging_path(parent, &name, pid);
+        let root = staging_path(&parent, &name, pid);
         // created and registered under the registry's lock: a signal between the two would
         // otherwise leave the folder behind (the handler takes the same lock)
         let created = {
@@ -107,8 +113,9 @@ impl Staging {
                 ))
             } else {
                 Error::Usage(format!(
-                    "cannot write in {}: {e} (the output goes to {})",
+                    "cannot write in {}: {} (the output goes to {})",
                     parent.display(),
+                    crate::error::io_reason(&e),
                     target.display()
                 ))
             }
@@ -130,7 +137,7 @@ impl Staging {
             _lock: lock,
             done: false,
         };
-        std::fs::create_dir(&s.out).map_err(|e| Error::io(&s.out, e))?;
+        std::fs::create_dir(&s.out).map_err(|e| Error::write(&s.out, e))?;
         Ok(s)
     }
 
@@ -150,6 +157,27 @@ impl Staging {
         &self.target
     }
 
+    /// An error about a file being written in the staging folder, said of the file it will
+    /// be in the output (`out/results.json`, not `.out.partial-PID/out/results.json`): the
+    /// staging folder is hydroid's business, the target is the user's.
+    pub fn as_target(&self, e: Error) -> Error {
+        let moved = |p: PathBuf| match p.strip_prefix(&self.out) {
+            Ok(rel) => self.target.join(rel),
+            Err(_) => p,
+        };
+        match e {
+            Error::Write { path, source } => Error::Write {
+                path: moved(path),
+                source,
+            },
+            Error::Io { path, source } => Error::Io {
+                path: moved(path),
+                source,
+            },
+            e => e,
+        }
+    }
+
     /// Creates a sub-folder (path relative to the output) and returns it. Only folders below
     /// the staging folder are created: if it was removed (a signal), this fails.
     pub fn create_dir(&self, rel: &str) -> Result<PathBuf> {
@@ -164,7 +192,7 @@ impl Staging {
             match std::fs::create_dir(&path) {
                 Ok(()) => {}
                 Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists && path.is_dir() => {}
-                Err(e) => return Err(Error::io(&path, e)),
+                Err(e) => return Err(self.as_target(Error::write(&path, e))),
             }
         }
         Ok(path)
@@ -183,7 +211,7 @@ impl Staging {
             )));
         }
         let path = dir.join(name);
-        std::fs::write(&path, bytes).map_err(|e| Error::io(&path, e))
+        std::fs::write(&path, bytes).map_err(|e| self.as_target(Error::write(&path, e)))
     }
 
     /// Puts the staged folder in place of the target (checked again: it may have changed
@@ -194,7 +222,9 @@ impl Staging {
             // a signal now waits until the folders are where they belong
             let _moving = signals::lock();
             check_replaceable(&self.target, self.replace)?;
-            Marker::of_folder(&self.out)?.write(&self.out)?;
+            Marker::of_folder(&self.out)?
+                .write(&self.out)
+                .map_err(|e| self.as_target(e))?;
             super::swap::replace(&self.out, &self.target, &self.root.join(ASIDE))?;
             self.done = true;
         }
@@ -212,6 +242,20 @@ impl Drop for Staging {
             signals::forget(&self.root);
         }
     }
+}
+
+/// The checks of an output's place that read nothing in it: not a protected place, and a
+/// name in a folder. The resolved target, its folder and its name.
+fn placed(target: &Path, protected: &Protected) -> Result<(PathBuf, PathBuf, String)> {
+    let target = protected.check_path(target)?;
+    let (Some(parent), Some(name)) = (target.parent(), target.file_name()) else {
+        return Err(Error::Usage(format!(
+            "{}: not a folder an output can be written to",
+            target.display()
+        )));
+    };
+    let (parent, name) = (parent.to_path_buf(), name.to_string_lossy().into_owned());
+    Ok((target, parent, name))
 }
 
 /// Refuses a target that holds anything but a hydroid output that may be replaced.
@@ -259,19 +303,14 @@ fn only_edits_of(changes: &[String], replace: Replace) -> bool {
 
 /// Creates the folder an output goes into (and those above it), with a clear message.
 fn create_parent(parent: &Path) -> Result<()> {
-    std::fs::create_dir_all(parent).map_err(|e| {
-        Error::Usage(format!(
-            "cannot create the folder {} for the output: {e}",
-            parent.display()
-        ))
-    })
+    super::create_folder(parent, "the output")
 }
 
 /// Creates the staging marker, locks it, then says what it is (in that order: a sweep never
 /// sees a valid marker unlocked).
 fn lock_staging(root: &Path, name: &str, pid: u32) -> Result<File> {
     let path = root.join(STAGING_MARKER);
-    let mut f = File::create_new(&path).map_err(|e| Error::io(&path, e))?;
+    let mut f = File::create_new(&path).map_err(|e| Error::write(&path, e))?;
     f.lock().map_err(|e| Error::io(&path, e))?;
     let m = StagingMarker {
         format: STAGING_FORMAT.into(),
@@ -279,7 +318,7 @@ fn lock_staging(root: &Path, name: &str, pid: u32) -> Result<File> {
         pid,
     };
     let text = serde_json::to_vec(&m).map_err(|e| Error::Usage(e.to_string()))?;
-    f.write_all(&text).map_err(|e| Error::io(&path, e))?;
+    f.write_all(&text).map_err(|e| Error::write(&path, e))?;
     Ok(f)
 }
 
@@ -312,6 +351,25 @@ mod tests {
         assert!(target.join("plots/a.svg").exists());
         assert!(target.join(MARKER).exists());
         assert_eq!(entries(root.path()), 1);
+    }
+
+    #[test]
+    #[cfg(target_os = "linux")]
+    fn a_full_disk_names_the_file_in_the_output_not_the_staging_folder() {
+        let root = tempfile::tempdir().unwrap();
+        let target = root.path().join("out");
+        let s = Staging::new(&target).unwrap();
+        // every write to /dev/full fails as on a full disk
+        std::os::unix::fs::symlink("/dev/full", s.dir().join("results.json")).unwrap();
+        let e = s.write("results.json", b"{}").unwrap_err().to_string();
+        let resolved = std::fs::canonicalize(root.path()).unwrap().join("out");
+        assert_eq!(
+            e,
+            format!(
+                "cannot write {}: No space left on device",
+                resolved.join("results.json").display()
+            )
+        );
     }
 
     #[test]

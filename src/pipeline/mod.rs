@@ -12,7 +12,7 @@ pub use preflight::{available_coefficients, preflight, Preflight};
 
 use crate::coefficients::{Coefficient, CoefficientSet, Source, YawMoment, SYMMETRY};
 use crate::config::{Config, LoadedConfig};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::progress::Progress;
 use crate::quantity::Quantity;
 use crate::record::Record;
@@ -43,9 +43,10 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutp
     let cfg = &loaded.config;
     // every input first: a bad file stops the run before any stage has run
     let inputs = load_inputs(loaded, stage_inputs(cfg))?;
-    let found = preflight(loaded, &inputs);
-    if !found.problems.is_empty() {
-        return Err(Error::Config(found.problems));
+    let mut found = preflight(loaded, &inputs);
+    let validation_warnings = std::mem::take(&mut found.validation_warnings);
+    if let Some(e) = found.into_error() {
+        return Err(e);
     }
     let mut log = Log {
         progress,
@@ -53,7 +54,7 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutp
     };
     log.say(input_warnings(&inputs));
     // the fit runs' findings come with the HEKF stage's result
-    log.say(found.validation_warnings);
+    log.say(validation_warnings);
     let mut known = configured_coefficients(cfg);
     let analytic = analytic_added_mass(loaded)?;
     let mut stages = StageResults::default();

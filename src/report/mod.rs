@@ -68,7 +68,7 @@ pub fn write_reports(staging: &Staging, out: &RunOutput, plots: bool) -> Result<
     let figures = if plots {
         // created inside the staging folder only (never re-created after a signal removed it)
         let dir = staging.create_dir(plots::PLOTS_DIR)?;
-        let figures = plots::render_all(out, Some(&dir))?;
+        let figures = plots::render_all(out, Some(&dir)).map_err(|e| staging.as_target(e))?;
         for f in &figures {
             staging.write(&f.svg_path(), f.svg.as_bytes())?;
         }

@@ -430,7 +430,8 @@ pub fn write_sweep(
     staging.write("sweep.csv", table_csv(result).as_bytes())?;
     staging.write("sweep.md", table_markdown(loaded, result).as_bytes())?;
     for plot in crate::report::plots::sweep::figures(result) {
-        let fig = crate::report::plots::render(&plot, Some(staging.dir()))?;
+        let fig = crate::report::plots::render(&plot, Some(staging.dir()))
+            .map_err(|e| staging.as_target(e))?;
         staging.write(&format!("{}.svg", fig.meta.name), fig.svg.as_bytes())?;
     }
     staging.commit()

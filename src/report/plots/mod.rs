@@ -133,12 +133,32 @@ pub fn render<P: Plot>(plot: &P, png_dir: Option<&Path>) -> Result<Figure> {
         root.present().map_err(|e| fail(e.into()))?;
     }
     if let Some(dir) = png_dir {
+        let (w, h) = plot.size();
+        let mut pixels = vec![0u8; w as usize * h as usize * 3];
+        {
+            let root = BitMapBackend::with_buffer(&mut pixels, (w, h)).into_drawing_area();
+            plot.draw(&root).map_err(fail)?;
+            root.present().map_err(|e| fail(e.into()))?;
+        }
         let path = dir.join(format!("{}.png", meta.name));
-        let root = BitMapBackend::new(&path, plot.size()).into_drawing_area();
-        plot.draw(&root).map_err(fail)?;
-        root.present().map_err(|e| fail(e.into()))?;
+        let png = encode_png(&pixels, (w, h)).map_err(fail)?;
+        // written here, so that a full disk is said in words with the file's name
+        std::fs::write(&path, png).map_err(|e| Error::write(&path, e))?;
     }
     Ok(Figure { meta, svg })
+}
+
+/// An RGB image (8 bits a channel, rows top down) as a PNG file's bytes.
+fn encode_png(rgb: &[u8], (w, h): (u32, u32)) -> Result<Vec<u8>, PlotError> {
+    let mut bytes = Vec::new();
+    let mut encoder = png::Encoder::new(&mut bytes, w, h);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    encoder
+        .write_header()
+        .and_then(|mut writer| writer.write_image_data(rgb))
+        .map_err(|e| PlotError(format!("cannot encode the PNG image: {e}")))?;
+    Ok(bytes)
 }
 
 type Job<'a> = Box<dyn Fn(Option<&Path>) -> Result<Figure> + Send + Sync + 'a>;
@@ -199,4 +219,55 @@ pub fn render_all(out: &RunOutput, png_dir: Option<&Path>) -> Result<Vec<Figure>
     let mut figures: Vec<Figure> = jobs.par_iter().map(|j| j(png_dir)).collect::<Result<_>>()?;
     figures.sort_by_key(|f| f.meta.section);
     Ok(figures)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A white square.
+    struct Blank;
+
+    impl Plot for Blank {
+        fn meta(&self) -> FigureMeta {
+            FigureMeta {
+                name: "blank".into(),
+                title: "blank".into(),
+                caption: String::new(),
+                section: Section::Budget,
+            }
+        }
+        fn size(&self) -> (u32, u32) {
+            (20, 10)
+        }
+        fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
+            root.fill(&WHITE)?;
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn the_png_is_written_and_a_full_disk_is_said_in_words() {
+        let dir = tempfile::tempdir().unwrap();
+        render(&Blank, Some(dir.path())).unwrap();
+        let bytes = std::fs::read(dir.path().join("blank.png")).unwrap();
+        let info = png::Decoder::new(std::io::Cursor::new(bytes))
+            .read_info()
+            .unwrap()
+            .info()
+            .clone();
+        assert_eq!((info.width, info.height), (20, 10));
+        // a full disk: the file is /dev/full, where every write fails with ENOSPC
+        #[cfg(target_os = "linux")]
+        {
+            let full = tempfile::tempdir().unwrap();
+            std::os::unix::fs::symlink("/dev/full", full.path().join("blank.png")).unwrap();
+            let e = render(&Blank, Some(full.path())).unwrap_err().to_string();
+            let path = full.path().join("blank.png");
+            assert_eq!(
+                e,
+                format!("cannot write {}: No space left on device", path.display())
+            );
+        }
+    }
 }

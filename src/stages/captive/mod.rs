@@ -155,48 +155,122 @@ fn prime_of(force: Quantity) -> Option<(Quantity, bool)> {
     }
 }
 
+/// What the stage has read before it fits: the model's coefficient vector with the known
+/// values and the indices of the estimated ones, the conditions of every run, each run's
+/// size, and what the reading noticed.
+struct Prepared {
+    base: Vec<f64>,
+    est: Vec<usize>,
+    conditions: Vec<Condition>,
+    sizes: Vec<(String, usize, Option<harmonic::Periods>)>,
+    warnings: Vec<Warning>,
+}
+
+/// Everything the stage checks before it fits (the model gives forces, the estimated
+/// coefficients are the model's own, every held one has a value from `known`, every run reads
+/// into conditions), shared by the fit and [`preflight`].
+fn prepare<M: Model>(
+    model: &M,
+    cfg: &CaptiveConfig,
+    runs: &[&Record],
+    (rho, length): (f64, f64),
+    known: &dyn Fn(&str) -> Option<f64>,
+) -> Result<Prepared> {
+    let forces = model.force_quantities();
+    if forces.is_empty() {
+        return Err(Error::numerical(
+            STAGE,
+            format!(
+                "the {} model gives no forces for a prescribed motion, so captive runs cannot be \
+                 fitted with it",
+                model.name()
+            ),
+        ));
+    }
+    let (base, est) = coefficient_vector(model, cfg, known)?;
+    let frame = Frame {
+        prime: cfg.prime,
+        rho,
+    };
+    let mut prepared = Prepared {
+        base,
+        est,
+        conditions: Vec::new(),
+        sizes: Vec::new(),
+        warnings: Vec::new(),
+    };
+    for rec in runs {
+        let oscillation = cfg.oscillations.get(&rec.name);
+        let mut c = conditions_of(model, rec, &frame, oscillation)?;
+        let mut periods = None;
+        if let Some(after) = cfg.average_after {
+            let held = Held {
+                forces,
+                velocities: velocity_kinds(model),
+                length,
+            };
+            let (one, w, p) = history(rec, c, after, &held)?;
+            prepared.warnings.extend(w);
+            periods = p;
+            c = vec![one];
+        }
+        prepared.sizes.push((rec.name.clone(), c.len(), periods));
+        prepared.conditions.extend(c);
+    }
+    Ok(prepared)
+}
+
+/// The checks of the stage that need the runs but no fit ([`prepare`]), for `hydroid check`
+/// and `hydroid run` before any stage runs: the first problem, if any. `available` names the
+/// coefficients the configuration and the stages before this one will provide (the fit holds
+/// every coefficient it does not estimate at one of those).
+pub fn preflight(
+    cfg: &CaptiveConfig,
+    vehicle: &VehicleConfig,
+    fluid: &FluidConfig,
+    available: &[String],
+    runs: &[&Record],
+) -> Option<Error> {
+    struct Check<'a> {
+        cfg: &'a CaptiveConfig,
+        runs: &'a [&'a Record],
+        frame: (f64, f64),
+        available: &'a [String],
+    }
+    impl ModelVisitor for Check<'_> {
+        type Output = Option<Error>;
+        fn visit<M: Model>(self, model: &M) -> Option<Error> {
+            // only whether a value exists matters before the fit
+            let known = |n: &str| self.available.iter().any(|a| a == n).then_some(0.0);
+            prepare(model, self.cfg, self.runs, self.frame, &known).err()
+        }
+    }
+    let check = Check {
+        cfg,
+        runs,
+        frame: (fluid.rho, vehicle.length),
+        available,
+    };
+    // a model the vehicle cannot build is the configuration's problem, reported by its
+    // validation ([`CaptiveConfig::validate`])
+    with_model(cfg.model, &vehicle.for_model(fluid), check).unwrap_or(None)
+}
+
 impl ModelVisitor for Fit<'_> {
     type Output = Result<CaptiveResult>;
 
     fn visit<M: Model>(self, model: &M) -> Result<CaptiveResult> {
         let cfg = self.cfg;
         let forces = model.force_quantities();
-        if forces.is_empty() {
-            return Err(Error::numerical(
-                STAGE,
-                format!(
-                    "the {} model gives no forces for a prescribed motion, so captive runs \
-                     cannot be fitted with it",
-                    model.name()
-                ),
-            ));
-        }
-        let (base, est) = coefficient_vector(model, cfg, self.known)?;
-        let mut conditions = Vec::new();
-        let mut sizes = Vec::new();
-        let frame = Frame {
-            prime: cfg.prime,
-            rho: self.rho,
-        };
-        let mut warnings = Vec::new();
-        for rec in self.runs {
-            let oscillation = cfg.oscillations.get(&rec.name);
-            let mut c = conditions_of(model, rec, &frame, oscillation)?;
-            let mut periods = None;
-            if let Some(after) = cfg.average_after {
-                let held = Held {
-                    forces,
-                    velocities: velocity_kinds(model),
-                    length: self.length,
-                };
-                let (one, w, p) = history(rec, c, after, &held)?;
-                warnings.extend(w);
-                periods = p;
-                c = vec![one];
-            }
-            sizes.push((rec.name.clone(), c.len(), periods));
-            conditions.extend(c);
-        }
+        let runs: Vec<&Record> = self.runs.iter().collect();
+        let known = |n: &str| self.known.get(n).map(|c| c.value);
+        let Prepared {
+            base,
+            est,
+            conditions,
+            sizes,
+            mut warnings,
+        } = prepare(model, cfg, &runs, (self.rho, self.length), &known)?;
         let start: Vec<f64> = cfg
             .estimate
             .iter()
@@ -233,48 +307,8 @@ impl ModelVisitor for Fit<'_> {
                  here, or in a joint HEKF, removes the bias",
             ));
         }
-        let p = est.len();
-        let sigma = |i: usize| f.covariance[i][i].max(0.0).sqrt();
-        let coefficients: Vec<Coefficient> = (0..p)
-            .map(|i| {
-                let mut c = Coefficient::new(
-                    &cfg.estimate[i],
-                    f.values[i],
-                    Some(sigma(i)),
-                    Source::Captive,
-                );
-                let bound = signs[i] != 0.0 && f.values[i] == 0.0;
-                c.note = Some(format!(
-                    "{} model fitted to the forces of {} captive conditions",
-                    model.name(),
-                    conditions.len(),
-                ));
-                if bound {
-                    c.held(&format!(
-                        "its sign bound 0 (captive.signs.{}): the data want the other sign",
-                        cfg.estimate[i]
-                    ))
-                } else {
-                    c
-                }
-            })
-            .collect();
-        let bounded: Vec<&str> = (0..p)
-            .filter(|&i| signs[i] != 0.0 && f.values[i] == 0.0)
-            .map(|i| cfg.estimate[i].as_str())
-            .collect();
-        if !bounded.is_empty() {
-            warnings.push(Warning::new(
-                STAGE,
-                format!(
-                    "held at their sign bound 0 (captive.signs): {}",
-                    bounded.join(", ")
-                ),
-                "the forces pull these coefficients across the sign you gave; they are held at \
-                 0 without variance and the others are fitted with them there. A coefficient \
-                 whose sign the runs cannot tell is better left free or given a known value",
-            ));
-        }
+        let (coefficients, bound) = fitted(model.name(), cfg, &f, &signs, conditions.len());
+        warnings.extend(bound);
         let runs = residual_summaries(model, &base, &est, &f.values, &conditions, &sizes);
         Ok(CaptiveResult {
             model: model.name().to_string(),
@@ -297,11 +331,63 @@ impl ModelVisitor for Fit<'_> {
     }
 }
 
+/// The fitted coefficients with their sigmas (one that ends on its sign bound held at 0
+/// without a sigma), and the warning naming those held.
+fn fitted(
+    model: &str,
+    cfg: &CaptiveConfig,
+    f: &fit::Fit,
+    signs: &[f64],
+    n_conditions: usize,
+) -> (Vec<Coefficient>, Option<Warning>) {
+    let p = cfg.estimate.len();
+    let sigma = |i: usize| f.covariance[i][i].max(0.0).sqrt();
+    let at_bound = |i: usize| signs[i] != 0.0 && f.values[i] == 0.0;
+    let coefficients: Vec<Coefficient> = (0..p)
+        .map(|i| {
+            let mut c = Coefficient::new(
+                &cfg.estimate[i],
+                f.values[i],
+                Some(sigma(i)),
+                Source::Captive,
+            );
+            c.note = Some(format!(
+                "{model} model fitted to the forces of {n_conditions} captive conditions"
+            ));
+            if at_bound(i) {
+                c.held(&format!(
+                    "its sign bound 0 (captive.signs.{}): the data want the other sign",
+                    cfg.estimate[i]
+                ))
+            } else {
+                c
+            }
+        })
+        .collect();
+    let bounded: Vec<&str> = (0..p)
+        .filter(|&i| at_bound(i))
+        .map(|i| cfg.estimate[i].as_str())
+        .collect();
+    let warning = (!bounded.is_empty()).then(|| {
+        Warning::new(
+            STAGE,
+            format!(
+                "held at their sign bound 0 (captive.signs): {}",
+                bounded.join(", ")
+            ),
+            "the forces pull these coefficients across the sign you gave; they are held at \
+             0 without variance and the others are fitted with them there. A coefficient \
+             whose sign the runs cannot tell is better left free or given a known value",
+        )
+    });
+    (coefficients, warning)
+}
+
 /// The model's coefficient vector with the known values, and the indices of the estimated.
 fn coefficient_vector<M: Model>(
     model: &M,
     cfg: &CaptiveConfig,
-    known: &CoefficientSet,
+    known: &dyn Fn(&str) -> Option<f64>,
 ) -> Result<(Vec<f64>, Vec<usize>)> {
     let names = model.coefficient_names();
     let mut est = Vec::new();
@@ -331,8 +417,8 @@ fn coefficient_vector<M: Model>(
         if est.contains(&i) || model.is_derived(n) {
             continue;
         }
-        match known.get(n) {
-            Some(c) => base[i] = c.value,
+        match known(n) {
+            Some(v) => base[i] = v,
             None if model.is_optional(n) => {}
             None => missing.push(*n),
         }

@@ -108,6 +108,24 @@ pub fn run(
     })
 }
 
+/// What the stage would refuse in its runs, for `hydroid check` and `hydroid run` before any
+/// stage runs: runs without steady points, none within the fitting range, too few distinct
+/// angles for a fit, constraints no fit satisfies. A polar is a few dozen points, so this is
+/// the stage itself, run once more: whatever it would stop at, it stops at here. The
+/// problem, if any (none without runs).
+pub fn preflight(
+    config: &PolarConfig,
+    vehicle: &VehicleConfig,
+    fluid: &FluidConfig,
+    records: &[Record],
+) -> Option<Error> {
+    if records.is_empty() {
+        // no run given is the configuration's problem; none read, the inputs'
+        return None;
+    }
+    run(config, vehicle, fluid, records).err()
+}
+
 /// q = 0.5 rho A_ref, kg/m: the force per squared speed and unit coefficient (paper eq. 5,
 /// with A_ref = A_f).
 fn dynamic_pressure_area(vehicle: &VehicleConfig, fluid: &FluidConfig) -> f64 {

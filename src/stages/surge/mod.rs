@@ -144,16 +144,35 @@ pub fn run(
     })
 }
 
+/// The checks of the stage that need its runs but no fit, for `hydroid check` and `hydroid
+/// run` before any stage runs (the fit makes them again): X_uu will be known when the drag
+/// comes from the coefficients (`xuu_available`: the polar stage or `[coefficients]` gives
+/// it), and every run has enough samples between `t_start` and `t_end` (and windows). The
+/// first problem, if any (of the runs only when some were read).
+pub fn preflight(config: &SurgeConfig, records: &[Record], xuu_available: bool) -> Option<Error> {
+    if config.drag_from == DragFrom::Coefficients && !xuu_available {
+        return Some(xuu_unknown());
+    }
+    if records.is_empty() {
+        // no run given is the configuration's problem; none read, the inputs'
+        return None;
+    }
+    stack(config, records).err()
+}
+
+/// Xuu is needed and nothing gives it.
+fn xuu_unknown() -> Error {
+    Error::numerical(
+        STAGE,
+        "Xuu is not known: run the polar stage, give coefficients.Xuu, or set \
+         surge.drag_from = \"force\" to fit it from the exported axial force",
+    )
+}
+
 /// The X_uu the fit takes from the known coefficients (`drag_from = "coefficients"`), with a
 /// warning when it is not negative.
 fn known_xuu(known: &CoefficientSet, warnings: &mut Vec<Warning>) -> Result<XuuUsed> {
-    let c = known.get("Xuu").ok_or_else(|| {
-        Error::numerical(
-            STAGE,
-            "Xuu is not known: run the polar stage, give coefficients.Xuu, or set \
-             surge.drag_from = \"force\" to fit it from the exported axial force",
-        )
-    })?;
+    let c = known.get("Xuu").ok_or_else(xuu_unknown)?;
     if c.value >= 0.0 {
         warnings.push(Warning::new(
             STAGE,
