@@ -235,6 +235,7 @@ mod tests {
                 title: "blank".into(),
                 caption: String::new(),
                 section: Section::Budget,
+                shows: Vec::new(),
             }
         }
         fn size(&self) -> (u32, u32) {
