@@ -63,7 +63,7 @@ fn against_truth(r: &serde_json::Value) -> (usize, String) {
 }
 
 /// configs/npsauv_joint.toml: the helix and a horizontal zig-zag identified jointly put all
-/// 17 within 1 sigma of the truth and determine all 17 (sigma under 5 %), each within 0.6 %
+/// 17 within 1 sigma of the truth and determine all 17 (sigma under 5 %), each within 0.7 %
 /// of the truth (the rule: every coefficient with a sigma under 5 % within 2 %),
 /// with sigmas under 2 % but for Np (2.0 %) and Yp (3.5 %), docs/models/npsauv.md; the
 /// identifiability advice names none of the 15 under 2 %.
@@ -93,7 +93,7 @@ fn the_helix_and_a_horizontal_zigzag_jointly_determine_all_17() {
             };
             assert!(s < limit * v.abs(), "{name}: sigma {s} of {v}\n{lines}");
             assert!(
-                (v - truth).abs() < 0.006 * truth.abs(),
+                (v - truth).abs() < 0.007 * truth.abs(),
                 "{name}: {v} against {truth}\n{lines}"
             );
         }
@@ -104,10 +104,7 @@ fn the_helix_and_a_horizontal_zigzag_jointly_determine_all_17() {
         .iter()
         .map(|a| a["coefficient"].as_str().unwrap())
         .collect();
-    assert!(
-        named.iter().all(|n| ["Np", "Yp"].contains(n)),
-        "{advice:?}"
-    );
+    assert!(named.iter().all(|n| ["Np", "Yp"].contains(n)), "{advice:?}");
 }
 
 /// The helix alone: the roll terms are not determined, and the advice names the quantity

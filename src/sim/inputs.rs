@@ -153,13 +153,18 @@ pub fn moves_continuously(v: &[f64]) -> bool {
     let (lo, hi) = v
         .iter()
         .filter(|x| x.is_finite())
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &x| (l.min(x), h.max(x)));
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &x| {
+            (l.min(x), h.max(x))
+        });
     let tol = 1e-9 * (hi - lo);
     if !(tol > 0.0) {
         return false;
     }
     let d: Vec<f64> = v.windows(2).map(|w| w[1] - w[0]).collect();
-    let moves = |i: usize, sign: f64| d.get(i).is_some_and(|x| x.abs() > tol && x.signum() == sign);
+    let moves = |i: usize, sign: f64| {
+        d.get(i)
+            .is_some_and(|x| x.abs() > tol && x.signum() == sign)
+    };
     let (mut ramps, mut jumps) = (0usize, 0usize);
     for (i, x) in d.iter().enumerate() {
         if !(x.abs() > tol) {

@@ -150,7 +150,8 @@ impl ModelVisitor for History<'_> {
                     None => stepped(start, &changes, &times),
                 };
                 let samples: Vec<f64> = si.into_iter().map(|v| v / factor).collect();
-                let moved = rates.contains_key(q) || steering.is_some_and(|l| l.surface().input() == *q);
+                let moved =
+                    rates.contains_key(q) || steering.is_some_and(|l| l.surface().input() == *q);
                 between_samples(def.rule, moved, samples)
             })
             .collect();
