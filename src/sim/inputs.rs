@@ -157,7 +157,8 @@ pub fn moves_continuously(v: &[f64]) -> bool {
             (l.min(x), h.max(x))
         });
     let tol = 1e-9 * (hi - lo);
-    if !(tol > 0.0) {
+    // NaN or no spread: nothing moves
+    if tol.is_nan() || tol <= 0.0 {
         return false;
     }
     let d: Vec<f64> = v.windows(2).map(|w| w[1] - w[0]).collect();
@@ -167,7 +168,7 @@ pub fn moves_continuously(v: &[f64]) -> bool {
     };
     let (mut ramps, mut jumps) = (0usize, 0usize);
     for (i, x) in d.iter().enumerate() {
-        if !(x.abs() > tol) {
+        if x.is_nan() || x.abs() <= tol {
             continue;
         }
         let sign = x.signum();
