@@ -184,9 +184,13 @@ fn compare_on<M: Model>(
     }
     let steering = law_of(&measured, &h, surface)?;
     let mut steered_inputs = inputs.clone();
-    // the helm moves the surface continuously: linear between samples, as `hydroid simulate`
-    // steers and as `between = "auto"` reads a logged moving rudder
-    steered_inputs.inputs[input] = Input::Series(vec![deflection[0]; h.time().len()]);
+    // the helm's surface is read between samples as the run's own is (`between`): linear for
+    // a moving rudder, as `hydroid simulate` steers, held where the run's rudder is held
+    let helm_start = vec![deflection[0]; h.time().len()];
+    steered_inputs.inputs[input] = match inputs.inputs[input] {
+        Input::Held(_) => Input::Held(helm_start),
+        _ => Input::Series(helm_start),
+    };
     let x0: Vec<f64> = model
         .states()
         .iter()
