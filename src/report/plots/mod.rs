@@ -161,6 +161,9 @@ fn encode_png(rgb: &[u8], (w, h): (u32, u32)) -> Result<Vec<u8>, PlotError> {
     Ok(bytes)
 }
 
+/// Figures drawn at the same time (each on its own thread).
+pub const FIGURES_AT_ONCE: usize = 2;
+
 type Job<'a> = Box<dyn Fn(Option<&Path>) -> Result<Figure> + Send + Sync + 'a>;
 
 fn job<'a, P: Plot + Send + 'a>(plot: P) -> Job<'a> {
@@ -216,7 +219,24 @@ pub fn render_all(out: &RunOutput, png_dir: Option<&Path>) -> Result<Vec<Figure>
         jobs.push(job(autopilot::Histories(a)));
         jobs.push(job(autopilot::Spectrum(a)));
     }
-    let mut figures: Vec<Figure> = jobs.par_iter().map(|j| j(png_dir)).collect::<Result<_>>()?;
+    let draw = || {
+        jobs.par_iter()
+            .map(|j| j(png_dir))
+            .collect::<Result<Vec<_>>>()
+    };
+    // a figure holds scaled copies of its series while it is drawn: at most FIGURES_AT_ONCE
+    // at a time, whatever the number of cores, so that the peak memory is what the estimate
+    // says (stages::hekf::memory)
+    let mut figures = match rayon::ThreadPoolBuilder::new()
+        .num_threads(FIGURES_AT_ONCE)
+        .build()
+    {
+        Ok(pool) => pool.install(draw)?,
+        Err(_) => jobs
+            .iter()
+            .map(|j| j(png_dir))
+            .collect::<Result<Vec<_>>>()?,
+    };
     figures.sort_by_key(|f| f.meta.section);
     Ok(figures)
 }
