@@ -164,19 +164,7 @@ fn the_estimate_is_within_a_factor_1_3_of_the_measured_peak() {
         return; // not Linux: no VmHWM to measure
     }
     let dir = tempfile::tempdir().unwrap();
-    let sim = std::fs::read_to_string(root().join("configs/simulate/turn_paper.toml"))
-        .unwrap()
-        .replace("duration = 20.0", "duration = 1000.0");
-    let sim_path = dir.path().join("sim.toml");
-    std::fs::write(&sim_path, sim).unwrap();
-    let csv = dir.path().join("turn_100k.csv");
-    let o = hydroid(&[
-        "simulate",
-        sim_path.to_str().unwrap(),
-        "--out",
-        csv.to_str().unwrap(),
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let csv = simulated_turn(dir.path(), "1000.0", "turn_100k.csv");
     // the HEKF alone, the polar and surge stages' coefficients given (no consider passes)
     let exports = root().join("cfd_exports/turn_paper.csv");
     let text_in = bundled_config_text().replace(exports.to_str().unwrap(), csv.to_str().unwrap());
@@ -256,19 +244,7 @@ fn the_estimate_is_within_a_factor_1_3_of_the_measured_peak() {
 #[ignore]
 fn a_million_rows_run_in_under_2_gb() {
     let dir = tempfile::tempdir().unwrap();
-    let sim = std::fs::read_to_string(root().join("configs/simulate/turn_paper.toml"))
-        .unwrap()
-        .replace("duration = 20.0", "duration = 10000.0");
-    let sim_path = dir.path().join("sim.toml");
-    std::fs::write(&sim_path, sim).unwrap();
-    let csv = dir.path().join("turn_1m.csv");
-    let o = hydroid(&[
-        "simulate",
-        sim_path.to_str().unwrap(),
-        "--out",
-        csv.to_str().unwrap(),
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let csv = simulated_turn(dir.path(), "10000.0", "turn_1m.csv");
     let exports = root().join("cfd_exports/turn_paper.csv");
     let cfg = bundled_config_text().replace(exports.to_str().unwrap(), csv.to_str().unwrap());
     let cfg_path = dir.path().join("run.toml");
@@ -300,4 +276,23 @@ fn a_million_rows_run_in_under_2_gb() {
         states: 6,
     };
     assert!(demand.bytes(1, true) > peak);
+}
+
+/// The bundled paper turn simulated for `seconds` (as written in the TOML) into `dir/name`
+/// (100 rows per second).
+fn simulated_turn(dir: &std::path::Path, seconds: &str, name: &str) -> std::path::PathBuf {
+    let sim = std::fs::read_to_string(root().join("configs/simulate/turn_paper.toml"))
+        .unwrap()
+        .replace("duration = 20.0", &format!("duration = {seconds}"));
+    let sim_path = dir.join("sim.toml");
+    std::fs::write(&sim_path, sim).unwrap();
+    let csv = dir.join(name);
+    let o = hydroid(&[
+        "simulate",
+        sim_path.to_str().unwrap(),
+        "--out",
+        csv.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    csv
 }
