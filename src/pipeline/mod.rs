@@ -4,6 +4,7 @@
 
 pub mod autopilot;
 mod conflicts;
+mod consider;
 mod inputs;
 mod preflight;
 
@@ -241,9 +242,28 @@ fn captive_step(
     log: &mut Log,
 ) -> Result<crate::stages::captive::CaptiveResult> {
     let recs = records(inputs);
-    let r = crate::stages::captive::run(cc, &cfg.vehicle, &cfg.fluid, known, &recs)?;
+    let fit = |set: &CoefficientSet| {
+        crate::stages::captive::run(cc, &cfg.vehicle, &cfg.fluid, set, &recs)
+    };
+    let mut r = fit(known)?;
+    // the earlier stages' uncertainty of the coefficients the fit holds (consider analysis)
+    let upstream = consider::upstream(known, &r.coefficients, |set| {
+        fit(set).ok().map(|x| x.coefficients)
+    });
+    upstream.widen(&mut r.coefficients);
+    if !upstream.failed.is_empty() {
+        r.warnings.push(Warning::new(
+            "captive",
+            format!(
+                "the sensitivity to {} could not be computed (the fit failed with the fixed \
+                 coefficients moved by one sigma)",
+                upstream.failed.join(", ")
+            ),
+            "the sigmas leave that uncertainty out and are too small",
+        ));
+    }
     log.say(conflicts::warnings(known, &r.coefficients, "captive", cfg));
-    r.merge_into(known);
+    r.merge_into(known, upstream.directions);
     let harmonic = r.runs.iter().filter(|x| x.periods.is_some()).count();
     let conditions: usize = r
         .runs

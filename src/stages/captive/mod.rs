@@ -10,7 +10,9 @@ pub mod harmonic;
 
 pub use crate::config::captive::CaptiveConfig;
 
-use crate::coefficients::{directions_of, Coefficient, CoefficientSet, Correlation, Source};
+use crate::coefficients::{
+    directions_of, Coefficient, CoefficientSet, Correlation, Direction, Source,
+};
 use crate::config::FluidConfig;
 use crate::config::VehicleConfig;
 use crate::error::{Error, Result};
@@ -100,10 +102,12 @@ pub struct CaptiveResult {
 }
 
 impl CaptiveResult {
-    /// Puts the fitted coefficients, and their uncertainty directions, into `set`.
-    pub fn merge_into(&self, set: &mut CoefficientSet) {
+    /// Puts the fitted coefficients into `set` with their uncertainty directions: the fit's
+    /// statistics and the estimates' change along earlier stages' directions (`upstream`).
+    pub fn merge_into(&self, set: &mut CoefficientSet, upstream: Vec<Direction>) {
         let names: Vec<&str> = self.coefficients.iter().map(|c| c.name.as_str()).collect();
-        let directions = directions_of("captive statistics", &names, &self.covariance);
+        let mut directions = directions_of("captive statistics", &names, &self.covariance);
+        directions.extend(upstream);
         set.merge_stage(self.coefficients.clone(), directions);
     }
 }
