@@ -116,6 +116,11 @@ fn coefficients_lists_the_catalogue_and_one_model() {
     assert!(one.contains("psi (column yaw) [rad]"), "{one}");
     assert!(one.contains("inputs: thrust [N]"), "{one}");
     assert!(!one.contains("Kpp"), "{one}");
+    // the admissible ranges the filter keeps (docs/hekf.md, "Admissible ranges")
+    assert!(
+        one.contains("kept in their admissible range by the HEKF: Xud <= 0 kg, Yvd <= 0 kg"),
+        "{one}"
+    );
     let o = hydroid(&["coefficients", "spheroid6", "--json"]);
     assert_eq!(o.status.code(), Some(0));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("stdout is JSON");
@@ -124,6 +129,11 @@ fn coefficients_lists_the_catalogue_and_one_model() {
     let kpp = named(&v["coefficients"], "Kpp");
     assert_eq!(kpp["unit"], "kg m^2");
     assert_eq!(kpp["given_by"][0]["source"], "hekf");
+    assert!(
+        kpp.get("range").is_none(),
+        "a damping term's sign is not bounded"
+    );
+    assert_eq!(named(&v["coefficients"], "Yvd")["range"], "<= 0 kg");
     let o = hydroid(&["coefficients", "--json"]);
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("stdout is JSON");
     assert_eq!(
