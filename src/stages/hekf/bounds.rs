@@ -200,6 +200,29 @@ pub struct BoundSummary {
     pub at_end: bool,
     /// Passes that ended with it at its bound.
     pub passes_at_end: usize,
+    /// Projections over all passes.
+    pub total_hits: usize,
+}
+
+/// A tuning note for each coefficient the filter held at its bound at some samples but that
+/// ended inside its range (`names`, `defs` of the estimated coefficients): the estimate is
+/// the filter's own, the bound only kept it admissible on the way.
+pub fn notes(names: &[&str], defs: &[&CoefDef], summary: &[BoundSummary]) -> Vec<String> {
+    names
+        .iter()
+        .zip(defs)
+        .zip(summary)
+        .filter(|(_, s)| s.total_hits > 0 && !s.at_end)
+        .map(|((n, d), s)| {
+            format!(
+                "{n}: held at the bound of its admissible range ({}) at {} samples over the \
+                 passes ({} in the last), inside it at the end",
+                d.range.describe(d.unit),
+                s.total_hits,
+                s.hits
+            )
+        })
+        .collect()
 }
 
 /// What an estimate at its bound means when the model says nothing more.
@@ -395,6 +418,7 @@ mod tests {
                 samples: 600,
                 at_end: true,
                 passes_at_end: 3,
+                total_hits: 90,
             },
         ];
         let w = warnings(&defs, &summary);

@@ -424,6 +424,17 @@ fn passes<M: Model>(
         }
         pass += 1;
     }
+    if bounds.any() {
+        let all = model.coefficient_names();
+        let names: Vec<&str> = setup.est.iter().map(|&i| all[i]).collect();
+        let defs: Vec<&crate::models::CoefDef> = setup
+            .est
+            .iter()
+            .map(|&i| &model.coefficients()[i])
+            .collect();
+        cal.notes
+            .extend(super::bounds::notes(&names, &defs, &bound_summary));
+    }
     Ok(Identification {
         passes,
         covariance,
@@ -446,6 +457,7 @@ fn summarise_bounds(summary: &mut [BoundSummary], logs: &[BoundLog]) {
         s.samples = logs.iter().map(|l| l.samples).sum();
         s.at_end = logs.last().is_some_and(|l| l.at_end(j));
         s.passes_at_end += usize::from(s.at_end);
+        s.total_hits += s.hits;
     }
 }
 

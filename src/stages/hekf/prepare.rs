@@ -98,17 +98,12 @@ pub fn plan<M: Model>(
                 _ => (0.0, false),
             },
         };
-        let (sigma, why) = match (p.and_then(|p| p.sigma), tuning.prior_sigma) {
-            (Some(s), _) => (s, "configured"),
-            (None, Some(s)) => (s, "paper preset"),
-            // a start the model reads from the runs (w0 from the compass spectrum) places
-            // the coefficient within a factor of about 2: half its magnitude
-            (None, None) if from_data && init != 0.0 => (
-                READ_PRIOR_SHARE * init.abs(),
-                "half the start read from the runs",
-            ),
-            (None, None) => (typical, "the coefficient's expected size"),
-        };
+        let (sigma, why) = prior_sigma_of(
+            p.and_then(|p| p.sigma),
+            tuning,
+            from_data.then_some(init),
+            typical,
+        );
         let unit = crate::models::registry::coefficient(n).map_or("", |c| c.unit);
         let range = M::COEFFICIENTS[i].range;
         let start = start_in_range(n, unit, init, typical, &range, p.and_then(|p| p.initial))?;
@@ -154,6 +149,26 @@ pub fn plan<M: Model>(
 
 /// The prior sigma of a start the model reads from the runs, as a share of its magnitude.
 pub const READ_PRIOR_SHARE: f64 = 0.5;
+
+/// A coefficient's prior sigma and why: the configured one, else the preset's, else half a
+/// start the model read from the runs (`read`: w0 from the compass spectrum places the
+/// coefficient within a factor of about 2), else its expected size `typical`.
+fn prior_sigma_of(
+    configured: Option<f64>,
+    tuning: &Resolved,
+    read: Option<f64>,
+    typical: f64,
+) -> (f64, &'static str) {
+    match (configured, tuning.prior_sigma, read) {
+        (Some(s), _, _) => (s, "configured"),
+        (None, Some(s), _) => (s, "paper preset"),
+        (None, None, Some(v)) if v != 0.0 => (
+            READ_PRIOR_SHARE * v.abs(),
+            "half the start read from the runs",
+        ),
+        _ => (typical, "the coefficient's expected size"),
+    }
+}
 
 /// The start of coefficient `name` inside its admissible range: a configured start
 /// (`configured`) outside it is an error naming the key; a start read from the runs or the
