@@ -17,7 +17,9 @@
 //! than the unconstrained one's (Simon & Chia 2002), so P stays a conservative
 //! bound, and the reduced covariance `P - P D^T (D P D^T)^-1 D P` would be singular along the
 //! bound and keep the coefficient there when later data pull it back inside. Where no bound
-//! is reached the filter is the unconstrained one, to the last bit.
+//! is reached the filter is the unconstrained one, to the last bit. A cold first pass that
+//! more passes follow runs unprojected, as it runs ungated, and only its end is brought into
+//! range ([`Bounds::clamp`]; docs/hekf.md, "The first pass").
 
 use crate::models::{CoefDef, Range};
 use crate::warning::Warning;
@@ -104,6 +106,16 @@ impl Bounds {
             if let Some(d) = self.target(j, x[self.nx + j]) {
                 hit[j] = true;
                 x[self.nx + j] = d;
+            }
+        }
+    }
+
+    /// Brings the scaled coefficients `z` (a pass's start) into their ranges, each to its
+    /// nearest bound.
+    pub fn clamp(&self, z: &mut [f64]) {
+        for (j, v) in z.iter_mut().enumerate() {
+            if let Some(d) = self.target(j, *v) {
+                *v = d;
             }
         }
     }

@@ -365,6 +365,7 @@ fn passes<M: Model>(
     let mut cal = Calibration::new(setup, runs, nx);
     cal.update(model, setup, runs, &setup.initial, 0);
     let bounds = Bounds::new(&setup.ranges, &setup.scale, nx);
+    let unbounded = Bounds::new(&[], &setup.scale, nx);
     let mut bound_summary = vec![BoundSummary::default(); nb];
     let mut passes = Vec::new();
     let mut traces = Vec::new();
@@ -389,11 +390,14 @@ fn passes<M: Model>(
         counter.passes = counter.passes.max(pass + 1);
         counter.done = 0;
         let gate_on = pass >= cal.cold_pass + setup.gate_from_pass;
+        // a cold pass that others follow finds its way from the prior unbounded, as it runs
+        // ungated: only its end is brought into range, where the next pass starts
+        let cold = pass == cal.cold_pass && !last_pass;
         let outcome = one_pass(
             model,
             setup,
             runs,
-            (&prior, &bounds),
+            (&prior, if cold { &unbounded } else { &bounds }),
             &cal.q,
             (keep, gate_on),
             &mut counter,
@@ -411,6 +415,7 @@ fn passes<M: Model>(
             Err(e) => return Err(e),
         };
         let summary = pass_summary(&f, setup, &mut prior, &mut covariance);
+        bounds.clamp(&mut prior.z);
         summarise_bounds(&mut bound_summary, &logs);
         if !last_pass {
             cal.update(model, setup, runs, &summary.values, pass + 1);
@@ -425,15 +430,7 @@ fn passes<M: Model>(
         pass += 1;
     }
     if bounds.any() {
-        let all = model.coefficient_names();
-        let names: Vec<&str> = setup.est.iter().map(|&i| all[i]).collect();
-        let defs: Vec<&crate::models::CoefDef> = setup
-            .est
-            .iter()
-            .map(|&i| &model.coefficients()[i])
-            .collect();
-        cal.notes
-            .extend(super::bounds::notes(&names, &defs, &bound_summary));
+        cal.notes.extend(bound_notes(model, setup, &bound_summary));
     }
     Ok(Identification {
         passes,
@@ -447,6 +444,19 @@ fn passes<M: Model>(
             Vec::new()
         },
     })
+}
+
+/// The tuning notes of the coefficients held at their bounds on the way
+/// ([`super::bounds::notes`]).
+fn bound_notes<M: Model>(model: &M, setup: &Setup, summary: &[BoundSummary]) -> Vec<String> {
+    let all = model.coefficient_names();
+    let names: Vec<&str> = setup.est.iter().map(|&i| all[i]).collect();
+    let defs: Vec<&crate::models::CoefDef> = setup
+        .est
+        .iter()
+        .map(|&i| &model.coefficients()[i])
+        .collect();
+    super::bounds::notes(&names, &defs, summary)
 }
 
 /// Adds one pass's bound logs (one per run) to the summary: the counts are the pass's (the
