@@ -110,12 +110,13 @@ impl Bounds {
         }
     }
 
-    /// Brings the scaled coefficients `z` (a pass's start) into their ranges, each to its
-    /// nearest bound.
-    pub fn clamp(&self, z: &mut [f64]) {
-        for (j, v) in z.iter_mut().enumerate() {
-            if let Some(d) = self.target(j, *v) {
-                *v = d;
+    /// Brings the coefficients `v` (a pass's start) into their ranges, each outside to its
+    /// nearest bound, the others untouched: scaled (z) values, or SI values with `scale`.
+    pub fn clamp(&self, v: &mut [f64], scale: Option<&[f64]>) {
+        for (j, x) in v.iter_mut().enumerate() {
+            let s = scale.map_or(1.0, |s| s[j]);
+            if let Some(d) = self.target(j, *x / s) {
+                *x = d * s;
             }
         }
     }
@@ -397,6 +398,21 @@ mod tests {
         b.project(&mut x, &p, &mut hit);
         assert!(x[0] >= 0.0 && x[1] >= 0.0, "{x:?}");
         assert!(hit[0]);
+    }
+
+    /// A pass's start outside its range goes to the bound; one inside stays to the bit.
+    #[test]
+    fn a_start_outside_is_brought_to_its_bound() {
+        let b = Bounds::new(&[positive(), Range::ANY], &[0.8, 2.0], 4);
+        let mut si = [-0.3, -7.1];
+        b.clamp(&mut si, Some(&[0.8, 2.0]));
+        assert!(
+            (si[0] - OPEN_MARGIN * 0.8).abs() < 1e-15 && si[1] == -7.1,
+            "{si:?}"
+        );
+        let mut z = [0.3 / 0.8, 1.0];
+        b.clamp(&mut z, None);
+        assert_eq!(z, [0.3 / 0.8, 1.0]);
     }
 
     #[test]

@@ -415,10 +415,13 @@ fn passes<M: Model>(
             Err(e) => return Err(e),
         };
         let summary = pass_summary(&f, setup, &mut prior, &mut covariance);
-        bounds.clamp(&mut prior.z);
+        bounds.clamp(&mut prior.z, None);
         summarise_bounds(&mut bound_summary, &logs);
         if !last_pass {
-            cal.update(model, setup, runs, &summary.values, pass + 1);
+            // the noise is calibrated with the estimate the next pass starts from
+            let mut start = summary.values.clone();
+            bounds.clamp(&mut start, Some(&setup.scale));
+            cal.update(model, setup, runs, &start, pass + 1);
         }
         passes.push(summary);
         if keep_traces {
