@@ -87,6 +87,7 @@ fn main() {
         scale: scale.clone(),
         initial: vec![0.0; 6],
         prior_sigma: scale.clone(),
+        ranges: Vec::new(),
         prior_correlation: Vec::new(),
         held_prior: Vec::new(),
         q,

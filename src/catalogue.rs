@@ -41,6 +41,10 @@ pub struct Entry {
     pub given_by: Vec<Provider>,
     /// The relations that define it from other coefficients.
     pub derived_by: Vec<Derivation>,
+    /// The values physics admits, in words (`<= 0 kg`), when the model bounds it: the HEKF
+    /// keeps its estimate there (docs/hekf.md, "Admissible ranges").
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub range: Option<String>,
 }
 
 /// A stage that can give a coefficient.
@@ -81,6 +85,9 @@ pub struct ModelCoefficient {
     pub unit: &'static str,
     /// The relation that derives it inside the model, if any (then it cannot be estimated).
     pub derived_by: Option<&'static str>,
+    /// The values physics admits, in words (`> 0 rad/s`), when the model bounds it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub range: Option<String>,
 }
 
 /// A model: its states, inputs and coefficients in vector order.
@@ -145,9 +152,11 @@ pub fn model(name: ModelName) -> ModelEntry {
                     .collect(),
                 coefficients: names
                     .iter()
-                    .map(|n| ModelCoefficient {
+                    .zip(m.coefficients())
+                    .map(|(n, def)| ModelCoefficient {
                         name: n,
                         unit: crate::models::registry::coefficient(n).map_or("-", |i| i.unit),
+                        range: range_text(def),
                         derived_by: m
                             .is_derived(n)
                             .then(|| relation_in(n, &names))
@@ -275,9 +284,15 @@ pub fn entries() -> Vec<Entry> {
                 unit: info.unit,
                 given_by,
                 derived_by,
+                range: range_text(info),
             }
         })
         .collect()
+}
+
+/// A coefficient's admissible range in words, None when it is not bounded.
+fn range_text(def: &crate::models::CoefDef) -> Option<String> {
+    def.range.is_bounded().then(|| def.range.describe(def.unit))
 }
 
 /// How a derivation reads in a table: the relation, and where it is used.
@@ -311,6 +326,9 @@ pub fn text(entries: &[Entry]) -> String {
         for d in &e.derived_by {
             s.push_str(&format!("{indent}derived: {}\n", derivation_text(d)));
         }
+        if let Some(r) = &e.range {
+            s.push_str(&format!("{indent}admissible: {r}\n"));
+        }
     }
     s
 }
@@ -336,9 +354,15 @@ pub fn model_text(m: &ModelEntry) -> String {
         .map(|c| c.name)
         .collect();
     let derived: Vec<&str> = m.coefficients.iter().filter_map(|c| c.derived_by).collect();
+    let ranges: Vec<String> = m
+        .coefficients
+        .iter()
+        .filter_map(|c| c.range.as_ref().map(|r| format!("{} {r}", c.name)))
+        .collect();
     format!(
         "{}: {}\nstates: {}\ninputs: {}\ncoefficients that can be estimated or given: {}\n\
-         derived inside the model: {}\ncaptive runs ([captive]): {}\n",
+         derived inside the model: {}\nkept in their admissible range by the HEKF: {}\n\
+         captive runs ([captive]): {}\n",
         m.name,
         m.description,
         vars(&m.states),
@@ -348,6 +372,11 @@ pub fn model_text(m: &ModelEntry) -> String {
             "none".to_string()
         } else {
             derived.join("; ")
+        },
+        if ranges.is_empty() {
+            "none".to_string()
+        } else {
+            ranges.join(", ")
         },
         if m.captive_forces.is_empty() {
             "no: the model gives no forces for a prescribed motion".to_string()
@@ -373,8 +402,10 @@ pub fn markdown() -> String {
          be given in `[coefficients]` of the run configuration (docs/config.md). *Derived by* \
          lists the relations that define it from others, and the models whose dynamics apply \
          them; the symmetry relations (paper eq. 4 and 2) also complete every run's reported \
-         set, the axisymmetry ones that of a `spheroid6` run. Paper = Rasekh & Mahdi (2020), \
-         docs/paper.md.\n\n",
+         set, the axisymmetry ones that of a `spheroid6` run. *Admissible* is the range \
+         physics gives a coefficient without doubt (a frequency is positive, a diagonal added \
+         mass has the sign of its convention), which the HEKF keeps its estimate in \
+         (docs/hekf.md, \"Admissible ranges\"). Paper = Rasekh & Mahdi (2020), docs/paper.md.\n\n",
     );
     let entries = entries();
     let rows: Vec<Vec<String>> = entries
@@ -394,10 +425,19 @@ pub fn markdown() -> String {
                     .map(derivation_text)
                     .collect::<Vec<_>>()
                     .join("; "),
+                e.range.clone().unwrap_or_default(),
             ]
         })
         .collect();
-    let header = ["coefficient", "meaning", "unit", "given by", "derived by"].map(String::from);
+    let header = [
+        "coefficient",
+        "meaning",
+        "unit",
+        "given by",
+        "derived by",
+        "admissible",
+    ]
+    .map(String::from);
     s.push_str(&markdown_table(&header, &rows, &[]));
     s.push_str("\n## Models\n");
     for name in ModelName::ALL {
@@ -437,10 +477,11 @@ pub fn markdown() -> String {
                     c.name.into(),
                     c.unit.into(),
                     c.derived_by.unwrap_or("free: estimated or given").into(),
+                    c.range.clone().unwrap_or_default(),
                 ]
             })
             .collect();
-        let header = ["coefficient", "unit", "in the model"].map(String::from);
+        let header = ["coefficient", "unit", "in the model", "admissible"].map(String::from);
         s.push('\n');
         s.push_str(&markdown_table(&header, &rows, &[]));
     }

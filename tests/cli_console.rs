@@ -70,7 +70,17 @@ fn filter_details_with_verbose() {
     let o = run_example(&["--set", "hekf.passes=1", "--verbose"]).output;
     assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
     let verbose = text(&o.stderr);
-    assert_eq!(verbose.matches("hekf prior: ").count(), 6, "{verbose}");
+    let priors = verbose
+        .lines()
+        .filter(|l| l.contains("hekf prior: ") && l.contains(": starts at "))
+        .count();
+    assert_eq!(priors, 6, "{verbose}");
+    // one pass from zero: Nrd swings positive at first and is held at its bound there
+    // (docs/hekf.md, "Admissible ranges"), which the tuning notes say
+    assert!(
+        verbose.contains("Nrd: held at the bound of its admissible range (<= 0 kg m^2)"),
+        "{verbose}"
+    );
     assert_eq!(verbose.matches("hekf noise of ").count(), 6, "{verbose}");
     assert!(verbose.contains("hekf settings: hydroid preset, 1 passes"));
 }
@@ -116,6 +126,11 @@ fn coefficients_lists_the_catalogue_and_one_model() {
     assert!(one.contains("psi (column yaw) [rad]"), "{one}");
     assert!(one.contains("inputs: thrust [N]"), "{one}");
     assert!(!one.contains("Kpp"), "{one}");
+    // the admissible ranges the filter keeps (docs/hekf.md, "Admissible ranges")
+    assert!(
+        one.contains("kept in their admissible range by the HEKF: Xud <= 0 kg, Yvd <= 0 kg"),
+        "{one}"
+    );
     let o = hydroid(&["coefficients", "spheroid6", "--json"]);
     assert_eq!(o.status.code(), Some(0));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("stdout is JSON");
@@ -124,6 +139,11 @@ fn coefficients_lists_the_catalogue_and_one_model() {
     let kpp = named(&v["coefficients"], "Kpp");
     assert_eq!(kpp["unit"], "kg m^2");
     assert_eq!(kpp["given_by"][0]["source"], "hekf");
+    assert!(
+        kpp.get("range").is_none(),
+        "a damping term's sign is not bounded"
+    );
+    assert_eq!(named(&v["coefficients"], "Yvd")["range"], "<= 0 kg");
     let o = hydroid(&["coefficients", "--json"]);
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("stdout is JSON");
     assert_eq!(

@@ -419,7 +419,10 @@ fn six_dof_model_agrees_with_three_dof_on_a_nearly_planar_run() {
 fn a_bad_prior_gives_a_clear_error_not_a_nan() {
     let run = paper_manoeuvre(true, 3);
     let mut cfg = config(Preset::Hydroid, ModelName::Spheroid3);
-    // Yvd = +80 kg makes m - Yvd negative: the mass matrix is no longer positive definite
+    // Yvd = +80 kg would make m - Yvd negative (the mass matrix no longer positive
+    // definite); a sway added mass is negative in Fossen's convention, so the start is
+    // refused before filtering, naming the key and the admissible range (docs/hekf.md,
+    // "Admissible ranges")
     cfg.prior.insert(
         "Yvd".into(),
         Prior {
@@ -428,8 +431,8 @@ fn a_bad_prior_gives_a_clear_error_not_a_nan() {
         },
     );
     let e = identify(&cfg, &[run]).unwrap_err().to_string();
-    assert!(e.contains("hekf") && e.contains("t = "), "{e}");
-    assert!(e.contains("m - Yvd"), "{e}");
+    assert!(e.contains("hekf.prior.Yvd.initial = 80"), "{e}");
+    assert!(e.contains("admissible range (<= 0 kg)"), "{e}");
     assert!(!e.contains("NaN"), "{e}");
 }
 

@@ -4,9 +4,10 @@
 //! white noise; own RK4 at 10 ms; the rudder moving at 2.32 deg/s through the steering
 //! gear; a 600 s 20/20 zig-zag; compass logged at 10 Hz with 0.1 deg of noise), identified by
 //! `hydroid run` (as a library) with a configuration like the bundled configs/nomoto.toml:
-//! K, 1/T and the bias, and the wave frequency w0 too in 5 s and 20 s waves (started from
-//! the compass spectrum, as docs/models/nomoto.md describes), the wave process noise set to
-//! the sea's (q = 4 zeta w0 sigma^2).
+//! K, 1/T and the bias, and the wave frequency w0 too in 5, 8 and 20 s waves and in calm
+//! water (started from the compass spectrum, as docs/models/nomoto.md describes; w0 kept
+//! positive, docs/hekf.md "Admissible ranges"), the wave process noise set to the sea's
+//! (q = 4 zeta w0 sigma^2).
 
 mod independent;
 
@@ -14,9 +15,34 @@ use independent::accuracy::{identify, Outcome};
 use independent::nomoto::{self, NomotoShip};
 use std::fmt::Write as _;
 
+/// How the wave frequency w0 enters a case.
+#[derive(Clone, Copy)]
+enum W0 {
+    /// Known (given in `[coefficients]`).
+    Known,
+    /// Estimated with this prior sigma (rad/s), started from the compass spectrum.
+    Sigma(f64),
+    /// Estimated with hydroid's default prior (half the start read from the compass).
+    Default,
+}
+
 fn run(period: f64, estimate_w0: bool, seed: u64) -> Outcome {
+    let w0 = if estimate_w0 {
+        W0::Sigma(0.5)
+    } else {
+        W0::Known
+    };
+    run_case(period, w0, true, seed)
+}
+
+fn run_case(period: f64, w0: W0, waves: bool, seed: u64) -> Outcome {
     let ship = NomotoShip::frigate(period);
-    let run = nomoto::zigzag_in_waves(&ship, seed);
+    let run = if waves {
+        nomoto::zigzag_in_waves(&ship, seed)
+    } else {
+        nomoto::zigzag_in_calm(&ship, seed)
+    };
+    let estimate_w0 = !matches!(w0, W0::Known);
     let dir = tempfile::tempdir().unwrap();
     run.log.write_csv(dir.path(), "zigzag.csv");
     let mut c = String::new();
@@ -45,8 +71,9 @@ fn run(period: f64, estimate_w0: bool, seed: u64) -> Outcome {
         q = ship.wave_q()
     )
     .unwrap();
-    if estimate_w0 {
-        writeln!(c, "w0 = {{ sigma = 0.5 }}").unwrap();
+    match w0 {
+        W0::Sigma(s) => writeln!(c, "w0 = {{ sigma = {s} }}").unwrap(),
+        W0::Known | W0::Default => {}
     }
     writeln!(
         c,
@@ -118,17 +145,69 @@ fn zigzag_in_5_s_waves_w0_estimated() {
     }
 }
 
-/// 20 s waves (overlapping the zig-zag's own frequencies), w0 estimated, the rudder read by
-/// `between = "auto"`. Measured: all four within 2 sigma: K 0.17552 +- 0.00233 (-2.5 %,
-/// z -1.92), T 26.34 +- 0.48 s (-2.4 %; 1/T z +1.34), bias +6.4 % (z +0.5, flagged), w0
-/// 0.3242 +- 0.0101 (+3.2 %, z +1.0); the sigmas cover the errors (read held, before
-/// `between`: K -2.7 % at z -5.2). Issue 22's 1 % for K and T is not met in waves this long:
-/// asserted within 2 sigma and 3 %.
+/// 8 s waves, w0 estimated with hydroid's default prior (the compass spectrum's peak,
+/// sigma half of it). Measured: K 0.17990 +- 0.00245 (-0.05 %, z -0.04), 1/T +0.07 % (T
+/// 26.98 +- 0.43 s, z +0.05), bias z +0.08; w0 0.7234 +- 0.0197 rad/s (truth 0.7854, -7.9 %,
+/// z -3.15: the wave frequency itself is not within 2 sigma). Asserted: w0 positive and
+/// within 8.5 %, K and T within 2 sigma and 0.1 %.
+#[test]
+fn zigzag_in_8_s_waves_w0_estimated() {
+    let o = run_case(8.0, W0::Default, true, 801);
+    o.assert_undetermined_flagged();
+    let w0 = o.row("w0");
+    assert!(
+        w0.estimate > 0.0 && w0.error_percent().abs() < 8.5,
+        "{}",
+        o.table()
+    );
+    for name in ["K", "inv_T"] {
+        let r = o.row(name);
+        assert!(
+            r.z.abs() < 2.0 && r.error_percent().abs() < 0.1,
+            "{}",
+            o.table()
+        );
+    }
+}
+
+/// 20 s waves (overlapping the zig-zag's own frequencies), w0 estimated with hydroid's
+/// default prior (sigma half the spectral start, 0.16 rad/s), the rudder read by
+/// `between = "auto"`. Measured: all four within 2 sigma: K 0.17870 +- 0.00224 (-0.72 %,
+/// z -0.58), 1/T +1.41 % (T 26.63 +- 0.35 s, -1.39 %, z +1.07), bias +10 % (z +1.93), w0
+/// 0.3142 +- 0.0099 (+0.01 %). With the prior sigma 0.5 rad/s of before: K -2.49 % (z -1.92),
+/// T -2.44 %, w0 +3.2 %. Issue 22's 1 % is met for K, not for T (1.4 %) in waves this long:
+/// asserted within 2 sigma, K within 1 % and 1/T within 1.5 %.
 #[test]
 fn zigzag_in_20_s_waves_w0_estimated() {
-    let o = run(20.0, true, 2001);
+    let o = run_case(20.0, W0::Default, true, 2001);
     check(&o);
+    assert!(o.row("w0").estimate > 0.0, "{}", o.table());
+    assert!(o.row("K").error_percent().abs() < 1.0, "{}", o.table());
+    assert!(o.row("inv_T").error_percent().abs() < 1.5, "{}", o.table());
+}
+
+/// Calm water, w0 estimated: the compass shows no wave yaw, and the filter pulls w0 below
+/// zero; it is held at its bound (0.0008 rad/s, 0.001 of its expected size above zero) and
+/// the run says so in a warning naming w0 and its range. K and T are untouched (measured:
+/// K +0.01 %, T +0.01 %, w0 held at 3243 of 6001 samples of the last pass).
+#[test]
+fn in_calm_water_w0_ends_at_its_bound_with_a_warning() {
+    let o = run_case(8.0, W0::Default, false, 801);
+    let w0 = o.row("w0");
+    assert!(w0.estimate > 0.0 && w0.estimate < 1e-3, "{}", o.table());
+    assert!(
+        o.warnings
+            .iter()
+            .any(|w| w.contains("w0 ended at the bound") && w.contains("> 0 rad/s")),
+        "{:?}",
+        o.warnings
+    );
     for name in ["K", "inv_T"] {
-        assert!(o.row(name).error_percent().abs() < 3.0, "{}", o.table());
+        let r = o.row(name);
+        assert!(
+            r.z.abs() < 2.0 && r.error_percent().abs() < 0.1,
+            "{}",
+            o.table()
+        );
     }
 }

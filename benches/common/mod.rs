@@ -28,6 +28,7 @@ pub fn one_pass<M: Model>(m: &M, truth: &[f64], estimated: &[&str], max_step: f6
         initial: vec![0.0; est.len()],
         est,
         prior_sigma: scale.clone(),
+        ranges: Vec::new(),
         prior_correlation: Vec::new(),
         held_prior: Vec::new(),
         scale,

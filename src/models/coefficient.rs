@@ -18,12 +18,121 @@ pub struct CoefDef {
     /// Zero unless given or estimated: an offset or an extension term the model's source
     /// does not have (a rudder angle offset), which a configuration need not list.
     pub optional: bool,
+    /// The values physics admits (a frequency is positive, a diagonal added mass has the
+    /// sign of its convention); [`Range::ANY`] when the sign can vary. The filter keeps an
+    /// estimate inside it (docs/hekf.md, "Admissible ranges").
+    pub range: Range,
+    /// What an estimate pressed against its range's bound usually means for this
+    /// coefficient (None: the general reasons, docs/hekf.md).
+    pub at_bound: Option<&'static str>,
+}
+
+/// The values a coefficient may take: between `lo` and `hi` (either infinite), the bounds
+/// themselves included unless `open`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Range {
+    /// Lower bound (SI), `-inf` for none.
+    pub lo: f64,
+    /// Upper bound (SI), `inf` for none.
+    pub hi: f64,
+    /// The bounds themselves are excluded (a frequency: `w0 > 0`).
+    pub open: bool,
+}
+
+impl Range {
+    /// Any value.
+    pub const ANY: Range = Range {
+        lo: f64::NEG_INFINITY,
+        hi: f64::INFINITY,
+        open: false,
+    };
+
+    /// Whether the range bounds anything.
+    pub fn is_bounded(&self) -> bool {
+        self.lo > f64::NEG_INFINITY || self.hi < f64::INFINITY
+    }
+
+    /// Whether `v` lies in the range.
+    pub fn contains(&self, v: f64) -> bool {
+        if self.open {
+            v > self.lo && v < self.hi
+        } else {
+            v >= self.lo && v <= self.hi
+        }
+    }
+
+    /// The range in words with the unit: `> 0 rad/s`, `<= 0 kg`, `between 0 and 1 -`.
+    pub fn describe(&self, unit: &str) -> String {
+        let num = crate::numfmt::num;
+        let u = if unit == "-" || unit.is_empty() {
+            String::new()
+        } else {
+            format!(" {unit}")
+        };
+        match (self.lo.is_finite(), self.hi.is_finite(), self.open) {
+            (true, true, false) => format!("between {} and {}{u}", num(self.lo), num(self.hi)),
+            (true, true, true) => {
+                format!("strictly between {} and {}{u}", num(self.lo), num(self.hi))
+            }
+            (true, false, open) => format!("{} {}{u}", if open { ">" } else { ">=" }, num(self.lo)),
+            (false, true, open) => format!("{} {}{u}", if open { "<" } else { "<=" }, num(self.hi)),
+            (false, false, _) => "any".to_string(),
+        }
+    }
 }
 
 impl CoefDef {
     /// The same coefficient, zero unless given or estimated (see [`CoefDef::optional`]).
     pub const fn zero_unless_given(mut self) -> Self {
         self.optional = true;
+        self
+    }
+
+    /// The same coefficient, admissible only above zero (a frequency, a damping ratio).
+    pub const fn positive(mut self) -> Self {
+        self.range = Range {
+            lo: 0.0,
+            hi: f64::INFINITY,
+            open: true,
+        };
+        self
+    }
+
+    /// The same coefficient, admissible only at or below zero (a diagonal added mass in
+    /// Fossen's convention, `m - X_udot`; zero admitted, where a filter may start).
+    pub const fn non_positive(mut self) -> Self {
+        self.range = Range {
+            lo: f64::NEG_INFINITY,
+            hi: 0.0,
+            open: false,
+        };
+        self
+    }
+
+    /// The same coefficient, admissible only at or above zero (an added mass in the MMG
+    /// convention, `m + m_x`; zero admitted, where a filter may start).
+    pub const fn non_negative(mut self) -> Self {
+        self.range = Range {
+            lo: 0.0,
+            hi: f64::INFINITY,
+            open: false,
+        };
+        self
+    }
+
+    /// The same coefficient, with what an estimate at its range's bound usually means.
+    pub const fn at_bound_means(mut self, means: &'static str) -> Self {
+        self.at_bound = Some(means);
+        self
+    }
+
+    /// The same coefficient, admissible only between `lo` and `hi` (SI, included).
+    pub const fn within(mut self, lo: f64, hi: f64) -> Self {
+        self.range = Range {
+            lo,
+            hi,
+            open: false,
+        };
         self
     }
 
@@ -36,6 +145,8 @@ impl CoefDef {
             size: Size::Prime,
             reference: None,
             optional: false,
+            range: Range::ANY,
+            at_bound: None,
         }
     }
 
@@ -55,6 +166,8 @@ impl CoefDef {
             size: Size::Fixed(size),
             reference,
             optional: false,
+            range: Range::ANY,
+            at_bound: None,
         }
     }
 
@@ -72,6 +185,8 @@ impl CoefDef {
             size: Size::AddedMass(of),
             reference: None,
             optional: false,
+            range: Range::ANY,
+            at_bound: None,
         }
     }
 }

@@ -61,10 +61,10 @@ crate::coefficient_table! {
     NVVR = nd("Nvvr_p", "MMG hull yaw derivative N'_vvr", 0.3, MOMENT_REF),
     NVRR = nd("Nvrr_p", "MMG hull yaw derivative N'_vrr", 0.05, MOMENT_REF),
     NRRR = nd("Nrrr_p", "MMG hull yaw derivative N'_rrr", 0.01, MOMENT_REF),
-    // added masses, Y&Y eq. 4
-    MX = nd("mx_p", "MMG surge added mass m'_x", 0.02, "0.5 rho L_pp^2 d"),
-    MY = nd("my_p", "MMG sway added mass m'_y", 0.2, "0.5 rho L_pp^2 d"),
-    JZ = nd("Jz_p", "MMG added yaw moment of inertia J'_z", 0.01, "0.5 rho L_pp^4 d"),
+    // added masses, Y&Y eq. 4: positive in the MMG convention ((m + m_x) u_dot)
+    MX = nd("mx_p", "MMG surge added mass m'_x", 0.02, "0.5 rho L_pp^2 d").non_negative(),
+    MY = nd("my_p", "MMG sway added mass m'_y", 0.2, "0.5 rho L_pp^2 d").non_negative(),
+    JZ = nd("Jz_p", "MMG added yaw moment of inertia J'_z", 0.01, "0.5 rho L_pp^4 d").non_negative(),
     // propeller, Y&Y eq. 11-16
     TP = factor("tP", "MMG thrust deduction factor t_P", 0.2),
     WP0 = factor("wP0", "MMG wake fraction at the propeller in straight motion w_P0", 0.4),

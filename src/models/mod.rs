@@ -20,7 +20,7 @@ use crate::ad::Scalar;
 use crate::coefficients::{CompiledRelations, Relation, YawMoment};
 use crate::quantity::Quantity;
 
-pub use coefficient::{AddedMass, AddedMassTerm, CoefDef, Scales, Size};
+pub use coefficient::{AddedMass, AddedMassTerm, CoefDef, Range, Scales, Size};
 pub use registry::ModelVisitor;
 pub use vehicle::{BuildFrom, RunVehicle, Vehicle, VehicleProblem};
 

@@ -37,8 +37,18 @@ crate::coefficient_table! {
     K = c("K", "1/s", "Nomoto gain K: steady yaw rate per rudder angle", 0.1),
     INV_T = c("inv_T", "1/s", "reciprocal 1/T of the Nomoto time constant (the paper's x3)", 0.05),
     DELTA0 = c("delta0", "rad", "rudder bias delta_0 (the rudder angle that holds a straight course)", 0.02).zero_unless_given(),
-    W0 = c("w0", "rad/s", "wave peak (encounter) frequency w_0 of the wave-yaw model", 0.8),
-    ZETA = c("zeta_w", "-", "relative damping of the wave-yaw model", 0.1),
+    // a frequency and a damping ratio: positive (Fossen 2011, 8.2.1); K's sign follows the
+    // rudder's convention and 1/T is negative for a course-unstable ship: not bounded
+    W0 = c("w0", "rad/s", "wave peak (encounter) frequency w_0 of the wave-yaw model", 0.8)
+        .positive()
+        .at_bound_means("a wave frequency falling to zero: the compass shows no wave yaw the \
+            model can place (no waves in the data, or a heading record too short or sampled \
+            too coarsely for the wave period), or the wave yaw is slower than the ship's own \
+            response; hold w0 at the sea's encounter frequency or estimate it from a longer run"),
+    ZETA = c("zeta_w", "-", "relative damping of the wave-yaw model", 0.1)
+        .positive()
+        .at_bound_means("a wave-yaw damping falling to zero: the wave yaw is narrow-banded \
+            (a swell) or w0 is off; hold zeta_w at a typical 0.05 to 0.2"),
 }
 
 /// Which transfer function the compass sees from the wave states.

@@ -3,12 +3,15 @@
 
 use super::coefficient::{AddedMassTerm, CoefDef};
 
-// added mass (Fossen 1994, section 2.4)
+// added mass (Fossen 1994, section 2.4); the diagonal terms are negative in this convention
+// (the added-mass matrix is M_A = -[X_udot ...], positive definite for a body moving in an
+// ideal fluid: Fossen 2011, section 6.3.1), the couplings of either sign
 /// Surge added mass X_udot.
 pub const XUD: CoefDef =
-    CoefDef::added("Xud", "kg", "surge added mass X_udot", AddedMassTerm::Surge);
+    CoefDef::added("Xud", "kg", "surge added mass X_udot", AddedMassTerm::Surge).non_positive();
 /// Sway added mass Y_vdot.
-pub const YVD: CoefDef = CoefDef::added("Yvd", "kg", "sway added mass Y_vdot", AddedMassTerm::Sway);
+pub const YVD: CoefDef =
+    CoefDef::added("Yvd", "kg", "sway added mass Y_vdot", AddedMassTerm::Sway).non_positive();
 /// Sway force from yaw acceleration Y_rdot.
 pub const YRD: CoefDef = CoefDef::added(
     "Yrd",
@@ -29,10 +32,11 @@ pub const NRD: CoefDef = CoefDef::added(
     "kg m^2",
     "yaw added inertia N_rdot",
     AddedMassTerm::Yaw,
-);
+)
+.non_positive();
 /// Heave added mass Z_wdot.
 pub const ZWD: CoefDef =
-    CoefDef::added("Zwd", "kg", "heave added mass Z_wdot", AddedMassTerm::Sway);
+    CoefDef::added("Zwd", "kg", "heave added mass Z_wdot", AddedMassTerm::Sway).non_positive();
 /// Heave force from pitch acceleration Z_qdot.
 pub const ZQD: CoefDef = CoefDef::added(
     "Zqd",
@@ -53,14 +57,16 @@ pub const MQD: CoefDef = CoefDef::added(
     "kg m^2",
     "pitch added inertia M_qdot",
     AddedMassTerm::Yaw,
-);
+)
+.non_positive();
 /// Roll added inertia K_pdot.
 pub const KPD: CoefDef = CoefDef::added(
     "Kpd",
     "kg m^2",
     "roll added inertia K_pdot",
     AddedMassTerm::Yaw,
-);
+)
+.non_positive();
 // surge (paper eq. 3)
 /// Axial drag X_u|u|.
 pub const XUU: CoefDef = CoefDef::prime("Xuu", "kg/m", "axial drag X_u|u|");

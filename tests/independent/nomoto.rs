@@ -190,6 +190,27 @@ pub fn simulate(
     Run { log, states, times }
 }
 
+/// The 20/20 zig-zag of [`zigzag_in_waves`] in calm water: the compass sees no wave yaw.
+pub fn zigzag_in_calm(ship: &NomotoShip, seed: u64) -> Run {
+    simulate(
+        ship,
+        Helm::ZigZag(ZigZag::new(
+            20f64.to_radians(),
+            20f64.to_radians(),
+            1.0,
+            10.0,
+            0.0,
+        )),
+        steering_gear(),
+        false,
+        600.0,
+        0.01,
+        0.1,
+        0.1f64.to_radians(),
+        seed,
+    )
+}
+
 /// A 20/20 zig-zag in waves of `period` s: 600 s logged at 10 Hz (RK4 at 10 ms), compass
 /// noise 0.1 deg, first rudder order at 10 s.
 pub fn zigzag_in_waves(ship: &NomotoShip, seed: u64) -> Run {

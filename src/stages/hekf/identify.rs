@@ -7,12 +7,13 @@
 //! smoother re-runs the filter from checkpoints instead of keeping its covariances
 //! ([`crate::estimation::rts`]).
 
+use super::bounds::{BoundLog, BoundSummary, Bounds};
 use super::history::{History, HistoryBuilder};
 use super::system::ModelSystem;
 use crate::estimation::hybrid_ekf::GateEvent;
 use crate::estimation::rts::{self, SmoothError, Trace};
 use crate::estimation::{Divergence, FilterKind, HybridEkf};
-use crate::models::Model;
+use crate::models::{Model, Range};
 use crate::progress::{Progress, Silent};
 use crate::sim::InputSeries;
 
@@ -98,6 +99,9 @@ pub struct Setup {
     pub initial: Vec<f64>,
     /// Prior standard deviation of each estimated coefficient (SI).
     pub prior_sigma: Vec<f64>,
+    /// Admissible range of each estimated coefficient (SI), kept by projection
+    /// ([`super::bounds`]); empty: none bounded.
+    pub ranges: Vec<Range>,
     /// Prior correlations of the estimated coefficients (nb x nb, row-major); empty when
     /// they are uncorrelated (every prior but an earlier stage's in `hekf.mode = "joint"`).
     pub prior_correlation: Vec<f64>,
@@ -305,6 +309,8 @@ pub struct Identification {
     pub process_noise: Vec<Vec<f64>>,
     /// What the noise calibration did, for the report (empty when it did nothing).
     pub calibration: Vec<String>,
+    /// Per estimated coefficient, what its admissible range did (empty: none bounded).
+    pub bounds: Vec<BoundSummary>,
 }
 
 /// A failure, located by run and pass.
@@ -316,6 +322,10 @@ pub struct IdentifyError {
     pub pass: usize,
     /// What happened.
     pub divergence: Divergence,
+    /// The estimated coefficients (`Setup::est` order) the filter had held at their bounds
+    /// in this run before it failed, with the number of samples: an estimate that kept
+    /// hitting its admissible range.
+    pub at_bounds: Vec<(usize, usize)>,
 }
 
 /// Runs the passes, keeping the traces the report draws.
@@ -354,6 +364,9 @@ fn passes<M: Model>(
     let mut prior = ScaledPrior::new(setup, nx);
     let mut cal = Calibration::new(setup, runs, nx);
     cal.update(model, setup, runs, &setup.initial, 0);
+    let bounds = Bounds::new(&setup.ranges, &setup.scale, nx);
+    let unbounded = Bounds::new(&[], &setup.scale, nx);
+    let mut bound_summary = vec![BoundSummary::default(); nb];
     let mut passes = Vec::new();
     let mut traces = Vec::new();
     let mut covariance = vec![0.0; nb * nb];
@@ -377,16 +390,19 @@ fn passes<M: Model>(
         counter.passes = counter.passes.max(pass + 1);
         counter.done = 0;
         let gate_on = pass >= cal.cold_pass + setup.gate_from_pass;
+        // a cold pass that others follow finds its way from the prior unbounded, as it runs
+        // ungated: only its end is brought into range, where the next pass starts
+        let cold = pass == cal.cold_pass && !last_pass;
         let outcome = one_pass(
             model,
             setup,
             runs,
-            &prior,
+            (&prior, if cold { &unbounded } else { &bounds }),
             &cal.q,
             (keep, gate_on),
             &mut counter,
         );
-        let (f, pass_traces) = match outcome {
+        let (f, pass_traces, logs) = match outcome {
             Ok(done) => done,
             // a noise model too tight for the data: widen it and start again (not a failure
             // at a run's first sample, before any noise has acted: the model or the priors)
@@ -399,8 +415,13 @@ fn passes<M: Model>(
             Err(e) => return Err(e),
         };
         let summary = pass_summary(&f, setup, &mut prior, &mut covariance);
+        bounds.clamp(&mut prior.z, None);
+        summarise_bounds(&mut bound_summary, &logs);
         if !last_pass {
-            cal.update(model, setup, runs, &summary.values, pass + 1);
+            // the noise is calibrated with the estimate the next pass starts from
+            let mut start = summary.values.clone();
+            bounds.clamp(&mut start, Some(&setup.scale));
+            cal.update(model, setup, runs, &start, pass + 1);
         }
         passes.push(summary);
         if keep_traces {
@@ -411,13 +432,46 @@ fn passes<M: Model>(
         }
         pass += 1;
     }
+    if bounds.any() {
+        cal.notes.extend(bound_notes(model, setup, &bound_summary));
+    }
     Ok(Identification {
         passes,
         covariance,
         traces,
         process_noise: cal.q,
         calibration: cal.notes,
+        bounds: if bounds.any() {
+            bound_summary
+        } else {
+            Vec::new()
+        },
     })
+}
+
+/// The tuning notes of the coefficients held at their bounds on the way
+/// ([`super::bounds::notes`]).
+fn bound_notes<M: Model>(model: &M, setup: &Setup, summary: &[BoundSummary]) -> Vec<String> {
+    let all = model.coefficient_names();
+    let names: Vec<&str> = setup.est.iter().map(|&i| all[i]).collect();
+    let defs: Vec<&crate::models::CoefDef> = setup
+        .est
+        .iter()
+        .map(|&i| &model.coefficients()[i])
+        .collect();
+    super::bounds::notes(&names, &defs, summary)
+}
+
+/// Adds one pass's bound logs (one per run) to the summary: the counts are the pass's (the
+/// last pass's remain), the passes ending at a bound accumulate.
+fn summarise_bounds(summary: &mut [BoundSummary], logs: &[BoundLog]) {
+    for (j, s) in summary.iter_mut().enumerate() {
+        s.hits = logs.iter().map(|l| l.hits[j]).sum();
+        s.samples = logs.iter().map(|l| l.samples).sum();
+        s.at_end = logs.last().is_some_and(|l| l.at_end(j));
+        s.passes_at_end += usize::from(s.at_end);
+        s.total_hits += s.hits;
+    }
 }
 
 /// One pass over every run with the runs' process noise `q`: the filter after the last run
@@ -426,19 +480,25 @@ fn one_pass<M: Model>(
     model: &M,
     setup: &Setup,
     runs: &[RunData],
-    prior: &ScaledPrior,
+    (prior, bounds): (&ScaledPrior, &Bounds),
     q: &[Vec<f64>],
     (keep, gate_on): (Keep, bool),
     counter: &mut PassProgress<'_>,
-) -> Result<(HybridEkf, Vec<RunTrace>), IdentifyError> {
+) -> Result<(HybridEkf, Vec<RunTrace>, Vec<BoundLog>), IdentifyError> {
     let mut filter: Option<HybridEkf> = None;
     let mut pass_traces = Vec::new();
+    let mut logs = Vec::new();
     let pass = counter.pass;
     for (run, q_run) in runs.iter().zip(q) {
-        let fail = |divergence| IdentifyError {
+        let mut log = BoundLog::new(setup.est.len(), run.len());
+        let fail = |divergence, log: &BoundLog| IdentifyError {
             run: run.name.clone(),
             pass,
             divergence,
+            at_bounds: (0..log.hits.len())
+                .filter(|&j| log.hits[j] > 0)
+                .map(|j| (j, log.hits[j]))
+                .collect(),
         };
         let mut sys = ModelSystem::new(
             model,
@@ -456,13 +516,16 @@ fn one_pass<M: Model>(
         f.gate = if gate_on { setup.gate } else { 0.0 };
         f.ungated = vec![false; run.measured.len()];
         let (mut tr, checkpoints) =
-            filter_run(f, &mut sys, run, setup, keep, counter).map_err(fail)?;
+            filter_run(f, &mut sys, run, setup, keep, counter, bounds, &mut log)
+                .map_err(|d| fail(d, &log))?;
         if keep.smooth {
-            tr.smoothed = Some(smooth_run(&mut sys, run, checkpoints).map_err(fail)?);
+            let smoothed = smooth_run(&mut sys, run, checkpoints, bounds);
+            tr.smoothed = Some(smoothed.map_err(|d| fail(d, &log))?);
         }
         pass_traces.push(tr);
+        logs.push(log);
     }
-    Ok((filter.expect("at least one run"), pass_traces))
+    Ok((filter.expect("at least one run"), pass_traces, logs))
 }
 
 /// The noise calibration across passes: each run's process noise from the model's misfit
@@ -782,7 +845,9 @@ struct Checkpoints {
 
 /// The forward pass over one run: every sample through [`filter_sample`], with the innovation
 /// gate's rejections and excursions, what `keep` asks for, and the smoother's checkpoints;
-/// the covariance is checked at the end.
+/// the covariance is checked at the end. The coefficients are kept in their admissible
+/// ranges (`bounds`), each projection recorded in `log`.
+#[allow(clippy::too_many_arguments)]
 fn filter_run<M: Model>(
     f: &mut HybridEkf,
     sys: &mut ModelSystem<M>,
@@ -790,6 +855,8 @@ fn filter_run<M: Model>(
     setup: &Setup,
     keep: Keep,
     counter: &mut PassProgress<'_>,
+    bounds: &Bounds,
+    log: &mut BoundLog,
 ) -> Result<(RunTrace, Checkpoints), Divergence> {
     let n = f.n();
     let nb = setup.est.len();
@@ -828,6 +895,7 @@ fn filter_run<M: Model>(
             run,
             k,
             &mut gating,
+            (bounds, &mut *log),
             None,
             &mut phi,
             setup.noise_scale,
@@ -866,6 +934,7 @@ fn smooth_run<M: Model>(
     sys: &mut ModelSystem<M>,
     run: &RunData,
     mut checkpoints: Checkpoints,
+    bounds: &Bounds,
 ) -> Result<Vec<f64>, Divergence> {
     let Some((first, _)) = checkpoints.saved.first() else {
         return Ok(Vec::new());
@@ -888,6 +957,7 @@ fn smooth_run<M: Model>(
             // the re-run gates as the forward pass did; what it finds was kept then
             let mut scratch = GateLog::default();
             let mut gating = (&mut gt, &mut scratch);
+            let mut held = BoundLog::new(bounds.coefficients(), k_len);
             for k in start..end {
                 filter_sample(
                     &mut g,
@@ -895,6 +965,7 @@ fn smooth_run<M: Model>(
                     run,
                     k,
                     &mut gating,
+                    (bounds, &mut held),
                     Some(trace),
                     &mut phi,
                     r_scale,
@@ -964,8 +1035,9 @@ fn pass_summary(
     PassEstimate { values, sigmas }
 }
 
-/// One sample of a run: the prediction from the sample before (none at the first) and the
-/// update. With `trace`, the prior, the transition matrix (into `phi`) and the posterior are
+/// One sample of a run: the prediction from the sample before (none at the first), the
+/// update and the projection of the coefficients onto their admissible ranges (recorded in
+/// the log). With `trace`, the prior, the transition matrix (into `phi`) and the posterior are
 /// recorded for the smoother. The innovation gate's events go to the tracker, which may
 /// exempt a quantity from the gate for the samples after. The forward pass and the
 /// smoother's re-run both go through here, so that the re-run repeats the forward pass's
@@ -977,6 +1049,7 @@ fn filter_sample<M: Model>(
     run: &RunData,
     k: usize,
     gating: &mut (&mut GateTracker, &mut GateLog),
+    (bounds, log): (&Bounds, &mut BoundLog),
     mut trace: Option<&mut Trace>,
     phi: &mut [f64],
     r_scale: f64,
@@ -999,6 +1072,7 @@ fn filter_sample<M: Model>(
             .collect();
         f.update(sys, t, y, &r)?
     };
+    log.project(bounds, k, &mut f.x, &f.p);
     if !f.beyond_gate().is_empty() || gating.0.open.iter().any(Option::is_some) {
         let events = f.beyond_gate().to_vec();
         gating.0.step(k, &events, &mut f.ungated, gating.1);
@@ -1072,6 +1146,7 @@ mod tests {
             est,
             initial: vec![0.0; 6],
             prior_sigma: scale.clone(),
+            ranges: Vec::new(),
             prior_correlation: Vec::new(),
             held_prior: Vec::new(),
             scale,

@@ -4,6 +4,7 @@
 use crate::config::hekf as config;
 mod adapt;
 mod balance;
+pub mod bounds;
 mod consistency;
 pub mod history;
 pub mod identifiability;
@@ -259,6 +260,9 @@ impl ModelVisitor for Identify<'_> {
         let setup = prepare::setup(model, cfg, &plan, &tuning, &runs)?;
         let id = identify(model, &setup, &runs, self.progress)
             .map_err(|e| divergence_error(model, &plan, &runs, &summaries, e))?;
+        let defs: Vec<&crate::models::CoefDef> =
+            plan.est.iter().map(|&i| &model.coefficients()[i]).collect();
+        let bound_warnings = bounds::warnings(&defs, &id.bounds);
         let gated: Vec<(Vec<identify::Rejection>, Vec<identify::Excursion>)> = id
             .traces
             .last()
@@ -303,6 +307,7 @@ impl ModelVisitor for Identify<'_> {
             .warnings
             .extend(noise_model_warning(&plan.est_names, spread.as_ref()));
         result.warnings.extend(balance_warnings);
+        result.warnings.extend(bound_warnings);
         result.identifiability = advise(model, &plan, &runs, &result);
         result
             .warnings
@@ -566,6 +571,8 @@ fn divergence_error<M: Model>(
     summaries: &[RunSummary],
     e: IdentifyError,
 ) -> Error {
+    let defs: Vec<&crate::models::CoefDef> =
+        plan.est.iter().map(|&i| &model.coefficients()[i]).collect();
     // what was noticed about the run before filtering, and a gap just before the failure
     let mut likely: Vec<String> = summaries
         .iter()
@@ -597,14 +604,15 @@ fn divergence_error<M: Model>(
     Error::numerical(
         "hekf",
         format!(
-            "run '{}', pass {}: {} (estimating {} with the {} model). Check the priors of \
+            "run '{}', pass {}: {} (estimating {} with the {} model).{} Check the priors of \
              the estimated coefficients (hekf.prior), the measurement noise (hekf.noise) and \
              the fixed coefficients.{likely}",
             e.run,
             e.pass,
             e.divergence,
             plan.describe_estimates(),
-            model.name()
+            model.name(),
+            bounds::divergence_note(&defs, &e.at_bounds)
         ),
     )
 }

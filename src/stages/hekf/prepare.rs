@@ -35,6 +35,8 @@ pub struct Plan {
     pub prior_sigma: Vec<f64>,
     /// Internal scales (SI).
     pub scale: Vec<f64>,
+    /// Admissible ranges (SI) the model declares, kept inside the filter.
+    pub ranges: Vec<crate::models::Range>,
     /// Prior correlations (nb x nb; empty: uncorrelated).
     pub prior_correlation: Vec<f64>,
     /// Coefficients whose prior is an earlier stage's estimate (`hekf.mode = "joint"`).
@@ -96,33 +98,43 @@ pub fn plan<M: Model>(
                 _ => (0.0, false),
             },
         };
-        let (sigma, why) = match (p.and_then(|p| p.sigma), tuning.prior_sigma) {
-            (Some(s), _) => (s, "configured"),
-            (None, Some(s)) => (s, "paper preset"),
-            (None, None) => (typical, "the coefficient's expected size"),
-        };
+        let (sigma, why) = prior_sigma_of(
+            p.and_then(|p| p.sigma),
+            tuning,
+            from_data.then_some(init),
+            typical,
+        );
         let unit = crate::models::registry::coefficient(n).map_or("", |c| c.unit);
+        let range = M::COEFFICIENTS[i].range;
+        let start = start_in_range(n, unit, init, typical, &range, p.and_then(|p| p.initial))?;
+        let whence = match (start != init, from_data) {
+            (true, _) => format!(
+                " (moved from {} {unit}, outside its admissible range {})",
+                sig(init),
+                range.describe(unit)
+            ),
+            (false, true) => " (read from the runs by the model)".to_string(),
+            (false, false) => String::new(),
+        };
         notes.push(format!(
-            "{n}: starts at {} {unit}{}, prior sigma {} {unit} ({why})",
-            if from_data {
-                sig(init)
+            "{n}: starts at {} {unit}{whence}, prior sigma {} {unit} ({why})",
+            if from_data || start != init {
+                sig(start)
             } else {
-                init.to_string()
-            },
-            if from_data {
-                " (read from the runs by the model)"
-            } else {
-                ""
+                start.to_string()
             },
             sig(sigma)
         ));
+        let init = start;
         initial.push(init);
         prior_sigma.push(sigma);
         scale.push(typical.max(f64::MIN_POSITIVE));
     }
     let prior_correlation = stage_correlation(known, &cfg.estimate, &held_prior, &prior_sigma);
+    let ranges = est.iter().map(|&i| M::COEFFICIENTS[i].range).collect();
     Ok(Plan {
         est_names: cfg.estimate.clone(),
+        ranges,
         est,
         base,
         fixed,
@@ -133,6 +145,62 @@ pub fn plan<M: Model>(
         held_prior,
         notes,
     })
+}
+
+/// The prior sigma of a start the model reads from the runs, as a share of its magnitude.
+pub const READ_PRIOR_SHARE: f64 = 0.5;
+
+/// A coefficient's prior sigma and why: the configured one, else the preset's, else half a
+/// start the model read from the runs (`read`: w0 from the compass spectrum places the
+/// coefficient within a factor of about 2), else its expected size `typical`.
+fn prior_sigma_of(
+    configured: Option<f64>,
+    tuning: &Resolved,
+    read: Option<f64>,
+    typical: f64,
+) -> (f64, &'static str) {
+    match (configured, tuning.prior_sigma, read) {
+        (Some(s), _, _) => (s, "configured"),
+        (None, Some(s), _) => (s, "paper preset"),
+        (None, None, Some(v)) if v != 0.0 => (
+            READ_PRIOR_SHARE * v.abs(),
+            "half the start read from the runs",
+        ),
+        _ => (typical, "the coefficient's expected size"),
+    }
+}
+
+/// The start of coefficient `name` inside its admissible range: a configured start
+/// (`configured`) outside it is an error naming the key; a start read from the runs or the
+/// default zero outside it becomes the expected size `typical` on the range's side (its
+/// bound's margin inside when that is outside too).
+fn start_in_range(
+    name: &str,
+    unit: &str,
+    init: f64,
+    typical: f64,
+    range: &crate::models::Range,
+    configured: Option<f64>,
+) -> Result<f64> {
+    if range.contains(init) {
+        return Ok(init);
+    }
+    if configured.is_some() {
+        return Err(Error::numerical(
+            "hekf",
+            format!(
+                "hekf.prior.{name}.initial = {init}: outside the coefficient's admissible range \
+                 ({}); start it inside the range",
+                range.describe(unit)
+            ),
+        ));
+    }
+    let side = if range.lo >= 0.0 { typical } else { -typical };
+    if range.contains(side) {
+        return Ok(side);
+    }
+    let m = super::bounds::OPEN_MARGIN * typical;
+    Ok(init.clamp(range.lo + m, range.hi - m))
 }
 
 /// In `hekf.mode = "joint"`, an earlier stage's estimate of `name`: value, sigma and stage.
@@ -823,6 +891,7 @@ pub fn setup<M: Model>(
         base: plan.base.clone(),
         est: plan.est.clone(),
         scale: plan.scale.clone(),
+        ranges: plan.ranges.clone(),
         initial: plan.initial.clone(),
         prior_sigma: plan.prior_sigma.clone(),
         prior_correlation: plan.prior_correlation.clone(),
