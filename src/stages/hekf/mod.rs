@@ -230,33 +230,7 @@ impl ModelVisitor for Identify<'_> {
         };
         let vehicle = inputs.vehicle.vehicle_data(inputs.fluid);
         let expect = expectation(model, cfg, &configured, &vehicle);
-        let mut runs = Vec::new();
-        let mut summaries = Vec::new();
-        for rec in inputs.runs {
-            let (mut data, mut summary) =
-                prepare::run_data(model, cfg, &tuning, rec, inputs.base_dir)?;
-            // blocking findings stopped the run in preflight unless checks = "warn"
-            summary.warnings.extend(
-                plausibility::before_filter(model, rec, &expect)
-                    .into_iter()
-                    .filter(|f| !f.blocking || cfg.checks == Checks::Warn)
-                    .map(|f| f.warning),
-            );
-            let start = plausibility::Start {
-                base: &plan.base,
-                est: &plan.est,
-                scale: &plan.scale,
-                initial: &plan.initial,
-            };
-            summary.warnings.extend(
-                plausibility::constant_inputs(model, rec, &data, &start)
-                    .into_iter()
-                    .map(|f| f.warning),
-            );
-            decimate(&mut data, &mut summary, cfg.decimate.unwrap_or(1));
-            runs.push(data);
-            summaries.push(summary);
-        }
+        let (runs, summaries) = run_data(model, cfg, &tuning, &plan, inputs, &expect)?;
         let setup = prepare::setup(model, cfg, &plan, &tuning, &runs)?;
         let id = identify(model, &setup, &runs, self.progress)
             .map_err(|e| divergence_error(model, &plan, &runs, &summaries, e))?;
@@ -324,6 +298,44 @@ impl ModelVisitor for Identify<'_> {
         }
         Ok(result)
     }
+}
+
+/// Each run's samples for the filter, with its plausibility findings (blocking ones stopped
+/// the run in preflight unless `checks = "warn"`), decimated as configured.
+fn run_data<M: Model>(
+    model: &M,
+    cfg: &HekfConfig,
+    tuning: &tuning::Resolved,
+    plan: &prepare::Plan,
+    inputs: &StageInputs<'_>,
+    expect: &plausibility::Expectation,
+) -> Result<(Vec<identify::RunData>, Vec<RunSummary>)> {
+    let mut runs = Vec::new();
+    let mut summaries = Vec::new();
+    for rec in inputs.runs {
+        let (mut data, mut summary) = prepare::run_data(model, cfg, tuning, rec, inputs.base_dir)?;
+        summary.warnings.extend(
+            plausibility::before_filter(model, rec, expect)
+                .into_iter()
+                .filter(|f| !f.blocking || cfg.checks == Checks::Warn)
+                .map(|f| f.warning),
+        );
+        let start = plausibility::Start {
+            base: &plan.base,
+            est: &plan.est,
+            scale: &plan.scale,
+            initial: &plan.initial,
+        };
+        summary.warnings.extend(
+            plausibility::constant_inputs(model, rec, &data, &start)
+                .into_iter()
+                .map(|f| f.warning),
+        );
+        decimate(&mut data, &mut summary, cfg.decimate.unwrap_or(1));
+        runs.push(data);
+        summaries.push(summary);
+    }
+    Ok((runs, summaries))
 }
 
 /// The configuration the stage runs: `cfg`, with the model's surge-balance coefficient added
