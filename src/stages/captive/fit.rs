@@ -70,7 +70,17 @@ pub struct Fit {
     /// When every value has its own standard error: each component's Birge ratio
     /// sqrt(chi2 / dof), at least 1, by which its errors were widened; else empty.
     pub birge: Vec<f64>,
+    /// Of the rows of steady tables (their noise from the residuals): each component's
+    /// lack-of-fit ratio, residual variance over near-neighbour pure error
+    /// ([`super::plausibility::misfit_ratios`]); above [`MISFIT_RATIO`] its errors are widened
+    /// by its square root. Empty when no row is such.
+    pub misfit: Vec<f64>,
 }
+
+/// Lack-of-fit ratio of a component above which the model misses the steady rows by more
+/// than their noise (the ratio is near 1 for a model that fits: within 0.6 to 1.4 for white
+/// noise on twelve seeds, the unit test of [`super::plausibility`]).
+pub const MISFIT_RATIO: f64 = 2.0;
 
 /// Most Gauss-Newton iterations.
 const MAX_ITERATIONS: usize = 50;
@@ -189,6 +199,7 @@ pub fn fit<M: Model>(
             noise: scale,
             iterations,
             birge: Vec::new(),
+            misfit: Vec::new(),
         });
     }
     if conditions.iter().all(|c| c.sigma.is_some()) {
@@ -216,16 +227,84 @@ pub fn fit<M: Model>(
             noise: scale,
             iterations,
             birge,
+            misfit: Vec::new(),
         });
     }
-    let last = scaled_least_squares(&j, &r, n - pf).ok_or_else(singular)?;
+    let (covariance, factor, misfit) =
+        pooled_covariance(conditions, &scale, &mut r, &mut j).ok_or_else(singular)?;
     Ok(Fit {
         values: theta,
-        covariance: embed(last.covariance, 1.0),
+        covariance: embed(covariance, factor),
         noise: scale,
         iterations,
         birge: Vec::new(),
+        misfit,
     })
+}
+
+/// The covariance of a fit whose noise comes from its residuals: s^2 (J' W J)^-1 as the
+/// scaled covariance and its factor, with the rows of a component that shows a lack of fit
+/// down-weighted ([`widen_by_misfit`]; the unwidened s^2 kept), and the misfit ratios. None
+/// when J' W J is singular.
+fn pooled_covariance(
+    conditions: &[Condition],
+    scale: &[f64],
+    r: &mut DVector<f64>,
+    j: &mut DMatrix<f64>,
+) -> Option<(Vec<Vec<f64>>, f64, Vec<f64>)> {
+    let (n, p) = j.shape();
+    let last = scaled_least_squares(j, r, n - p)?;
+    let misfit = widen_by_misfit(conditions, scale, p, r, j);
+    if !misfit.iter().any(|f| *f > MISFIT_RATIO) {
+        return Some((last.covariance, 1.0, misfit));
+    }
+    let widened = scaled_least_squares(j, r, n - p)?;
+    let factor = last.rss / widened.rss.max(f64::MIN_POSITIVE);
+    Some((widened.covariance, factor, misfit))
+}
+
+/// The lack-of-fit ratio of each component over the rows without their own standard
+/// errors ([`super::plausibility::misfit_ratios`]), and those rows' weighted residuals and
+/// Jacobian divided by its square root where it exceeds [`MISFIT_RATIO`]: a misfit that
+/// varies smoothly over the conditions makes their errors correlated, and the sigmas from
+/// the pooled residuals alone too small (the sigmas grow with the misfit, as the HEKF's
+/// grow with its innovations' NIS).
+fn widen_by_misfit(
+    conditions: &[Condition],
+    scale: &[f64],
+    p: usize,
+    r: &mut DVector<f64>,
+    j: &mut DMatrix<f64>,
+) -> Vec<f64> {
+    let mut rows = Vec::new();
+    let mut pooled = Vec::new();
+    let mut residuals = Vec::new();
+    let mut offset = 0;
+    for c in conditions {
+        if c.sigma.is_none() && c.harmonic.is_none() {
+            pooled.push(c);
+            rows.push(offset);
+            residuals.push((0..c.f.len()).map(|k| r[offset + k] * scale[k]).collect());
+        }
+        offset += c.f.len();
+    }
+    if pooled.is_empty() {
+        return Vec::new();
+    }
+    let n: usize = conditions.iter().map(|c| c.f.len()).sum();
+    let ratios = super::plausibility::misfit_ratios(&pooled, &residuals, 1.0 - p as f64 / n as f64);
+    for &row in &rows {
+        for (k, f) in ratios.iter().enumerate() {
+            if *f > MISFIT_RATIO {
+                let w = f.sqrt();
+                r[row + k] /= w;
+                for q in 0..j.ncols() {
+                    j[(row + k, q)] /= w;
+                }
+            }
+        }
+    }
+    ratios
 }
 
 /// One Gauss-Newton step for the weighted residuals `r` with Jacobian `j`: the least-squares

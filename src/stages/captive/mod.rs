@@ -7,6 +7,7 @@
 
 pub mod fit;
 pub mod harmonic;
+pub mod plausibility;
 
 pub use crate::config::captive::CaptiveConfig;
 
@@ -123,8 +124,7 @@ pub fn run(
             cfg,
             known,
             runs,
-            rho: fluid.rho,
-            length: vehicle.length,
+            reference: reference_of(vehicle, fluid),
         },
     )
     .map_err(Error::vehicle)?
@@ -134,9 +134,33 @@ struct Fit<'a> {
     cfg: &'a CaptiveConfig,
     known: &'a CoefficientSet,
     runs: &'a [Record],
-    rho: f64,
-    /// The vehicle's length, m (the scale of a rate's steadiness).
-    length: f64,
+    /// The vehicle's scales (its length is that of a rate's steadiness).
+    reference: plausibility::Reference,
+}
+
+/// The scales of the vehicle the plausibility checks compare with: its mass and length, and
+/// the draught (`vehicle.particulars.draught`) or diameter that give its analytic added
+/// masses.
+fn reference_of(vehicle: &VehicleConfig, fluid: &FluidConfig) -> plausibility::Reference {
+    #[derive(serde::Deserialize)]
+    struct Draught {
+        #[serde(
+            default,
+            deserialize_with = "crate::config::si::option::<_, crate::config::si::Length>"
+        )]
+        draught: Option<f64>,
+    }
+    let draught = toml::Value::Table(vehicle.particulars.clone())
+        .try_into::<Draught>()
+        .ok()
+        .and_then(|d| d.draught);
+    plausibility::Reference::new(
+        fluid.rho,
+        vehicle.length,
+        vehicle.mass,
+        draught,
+        vehicle.diameter,
+    )
 }
 
 /// What turns a table's columns into SI: the prime system and the water density.
@@ -173,9 +197,11 @@ fn prepare<M: Model>(
     model: &M,
     cfg: &CaptiveConfig,
     runs: &[&Record],
-    (rho, length): (f64, f64),
+    reference: &plausibility::Reference,
     known: &dyn Fn(&str) -> Option<f64>,
 ) -> Result<Prepared> {
+    let (rho, length) = (reference.rho, reference.length);
+    let layout = plausibility::Layout::of(model);
     let forces = model.force_quantities();
     if forces.is_empty() {
         return Err(Error::numerical(
@@ -214,6 +240,9 @@ fn prepare<M: Model>(
             periods = p;
             c = vec![one];
         }
+        let found = plausibility::before(&rec.name, &c, &layout, reference)
+            .map_err(|m| Error::numerical(STAGE, format!("run '{}': {m}", rec.name)))?;
+        prepared.warnings.extend(found);
         prepared.sizes.push((rec.name.clone(), c.len(), periods));
         prepared.conditions.extend(c);
     }
@@ -234,7 +263,7 @@ pub fn preflight(
     struct Check<'a> {
         cfg: &'a CaptiveConfig,
         runs: &'a [&'a Record],
-        frame: (f64, f64),
+        reference: plausibility::Reference,
         available: &'a [String],
     }
     impl ModelVisitor for Check<'_> {
@@ -242,13 +271,13 @@ pub fn preflight(
         fn visit<M: Model>(self, model: &M) -> Option<Error> {
             // only whether a value exists matters before the fit
             let known = |n: &str| self.available.iter().any(|a| a == n).then_some(0.0);
-            prepare(model, self.cfg, self.runs, self.frame, &known).err()
+            prepare(model, self.cfg, self.runs, &self.reference, &known).err()
         }
     }
     let check = Check {
         cfg,
         runs,
-        frame: (fluid.rho, vehicle.length),
+        reference: reference_of(vehicle, fluid),
         available,
     };
     // a model the vehicle cannot build is the configuration's problem, reported by its
@@ -270,7 +299,7 @@ impl ModelVisitor for Fit<'_> {
             conditions,
             sizes,
             mut warnings,
-        } = prepare(model, cfg, &runs, (self.rho, self.length), &known)?;
+        } = prepare(model, cfg, &runs, &self.reference, &known)?;
         let start: Vec<f64> = cfg
             .estimate
             .iter()
@@ -285,7 +314,7 @@ impl ModelVisitor for Fit<'_> {
                 None => 0.0,
             })
             .collect();
-        let f = fit::fit(model, &base, &est, &start, &signs, &conditions)
+        let mut f = fit::fit(model, &base, &est, &start, &signs, &conditions)
             .map_err(|m| Error::numerical(STAGE, m))?;
         let misfit: Vec<String> = forces
             .iter()
@@ -307,6 +336,15 @@ impl ModelVisitor for Fit<'_> {
                  here, or in a joint HEKF, removes the bias",
             ));
         }
+        let worst = add_range_term(
+            model,
+            (&base, &est, &signs),
+            &conditions,
+            self.reference.length,
+            &mut f,
+        );
+        let shift = worst.map(|(i, d, s)| (cfg.estimate[i].as_str(), d, s));
+        warnings.extend(misfit_warning(forces, &f.misfit, shift));
         let (coefficients, bound) = fitted(model.name(), cfg, &f, &signs, conditions.len());
         warnings.extend(bound);
         let runs = residual_summaries(model, &base, &est, &f.values, &conditions, &sizes);
@@ -329,6 +367,87 @@ impl ModelVisitor for Fit<'_> {
             covariance: f.covariance,
         })
     }
+}
+
+/// The warning of the lack-of-fit test of the steady rows ([`fit::Fit::misfit`]), with the
+/// largest shift of a coefficient when the outer conditions are left out (`shift`: name,
+/// shift, its sigma before the range term).
+fn misfit_warning(
+    forces: &[Quantity],
+    ratios: &[f64],
+    shift: Option<(&str, f64, f64)>,
+) -> Option<Warning> {
+    let missed: Vec<String> = forces
+        .iter()
+        .zip(ratios)
+        .filter(|(_, f)| **f > fit::MISFIT_RATIO)
+        .map(|(q, f)| format!("{} ({} times)", q.key(), crate::numfmt::num(*f)))
+        .collect();
+    let moved = shift.map_or(String::new(), |(name, d, s)| {
+        format!(
+            "; without the outer quarter of the conditions' range {name} moves by {} ({} of its \
+             sigma from the residuals)",
+            crate::numfmt::num(d),
+            crate::numfmt::num(d.abs() / s.max(f64::MIN_POSITIVE))
+        )
+    });
+    (!missed.is_empty()).then(|| {
+        Warning::new(
+            STAGE,
+            format!(
+                "lack of fit: the residuals of the steady rows vary with the condition; their \
+                 variance over the pure noise of near-neighbour conditions is {}, 1 when the \
+                 model fits{moved}",
+                missed.join(", ")
+            ),
+            "the model lacks a term the runs excite (a higher power of the drift or yaw \
+             rate), or a fixed coefficient is off: the fitted coefficients depend on the \
+             range of the conditions. The sigmas are widened by the square roots of these \
+             ratios and by the shift of the coefficients when the outer quarter of the \
+             conditions' range is left out (docs/stages.md, \"Captive plausibility\")",
+        )
+        .failed(crate::warning::Test::Misfit)
+    })
+}
+
+/// When the steady rows show a lack of fit: the fit again without the outer quarter of
+/// their range ([`plausibility::inner`]), and its shift d of each coefficient, beyond what
+/// the noise explains, added to its variance: max(0, d^2 - (V_inner - V)) (the variance of
+/// the difference of two nested fits without misfit, Hausman 1978 eq. 2.4). A model-error
+/// term: how far the answer depends on the range the model is made to cover. Returns the
+/// coefficient that moved most against its sigma before the term.
+fn add_range_term<M: Model>(
+    model: &M,
+    (base, est, signs): (&[f64], &[usize], &[f64]),
+    conditions: &[Condition],
+    length: f64,
+    f: &mut fit::Fit,
+) -> Option<(usize, f64, f64)> {
+    if !f.misfit.iter().any(|r| *r > fit::MISFIT_RATIO) {
+        return None;
+    }
+    let keep = plausibility::inner(conditions, &plausibility::Layout::of(model), length);
+    let kept: Vec<Condition> = conditions
+        .iter()
+        .zip(&keep)
+        .filter(|(_, k)| **k)
+        .map(|(c, _)| c.clone())
+        .collect();
+    if kept.len() == conditions.len() {
+        return None;
+    }
+    let inner = fit::fit(model, base, est, &f.values, signs, &kept).ok()?;
+    let sigma = |i: usize| f.covariance[i][i].max(0.0).sqrt();
+    let p = f.values.len();
+    let worst = (0..p)
+        .map(|i| (i, inner.values[i] - f.values[i], sigma(i)))
+        .max_by(|a, b| (a.1.abs() / a.2).total_cmp(&(b.1.abs() / b.2)))?;
+    for i in 0..p {
+        let d = inner.values[i] - f.values[i];
+        let noise = (inner.covariance[i][i] - f.covariance[i][i]).max(0.0);
+        f.covariance[i][i] += (d * d - noise).max(0.0);
+    }
+    Some(worst)
 }
 
 /// The fitted coefficients with their sigmas (one that ends on its sign bound held at 0
@@ -830,8 +949,7 @@ mod tests {
             cfg: &cfg,
             known: &known,
             runs: &[],
-            rho: 1000.0,
-            length: 1.2,
+            reference: plausibility::Reference::new(1000.0, 1.2, 10.0, None, None),
         }
         .visit(&model)
         .unwrap_err()
