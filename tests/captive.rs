@@ -377,7 +377,9 @@ fn force_histories_averaged_after_their_transient_give_the_hull_derivatives() {
         std::fs::write(&config, text).unwrap();
         run_ok(&config, &dir.path().join(format!("out_{after}")), &[])
     };
-    let (r, _) = write("8 s");
+    let (r, err) = write("8 s");
+    // nothing implausible across the averaged runs (signs and sizes of Y_v, N_r, Y_r)
+    assert!(!err.contains("averaged force histories"), "{err}");
     assert_eq!(
         r["stages"]["captive"]["runs"].as_array().unwrap().len(),
         conditions.len()

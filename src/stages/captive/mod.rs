@@ -246,6 +246,14 @@ fn prepare<M: Model>(
         prepared.sizes.push((rec.name.clone(), c.len(), periods));
         prepared.conditions.extend(c);
     }
+    // force histories averaged one condition per run: their signs and sizes across the runs
+    let averaged: Vec<&Condition> = prepared
+        .conditions
+        .iter()
+        .filter(|c| c.sigma.is_some() && c.harmonic.is_none())
+        .collect();
+    let found = plausibility::across_runs(&averaged, &layout, reference);
+    prepared.warnings.extend(found);
     Ok(prepared)
 }
 

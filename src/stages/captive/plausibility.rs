@@ -133,6 +133,22 @@ pub fn before(
     Ok(out.into_iter().map(|w| w.for_run(run)).collect())
 }
 
+/// The sign and size checks of [`before`] over the conditions of force histories averaged
+/// one per run (a CFD programme: a run per drift angle), which no run can make alone.
+pub fn across_runs(
+    averaged: &[&Condition],
+    layout: &Layout,
+    reference: &Reference,
+) -> Vec<Warning> {
+    small_angles(averaged, layout, reference)
+        .into_iter()
+        .map(|mut w| {
+            w.message = w.message.replace("steady rows", "averaged force histories");
+            w
+        })
+        .collect()
+}
+
 fn warning(message: String, meaning: &str) -> Warning {
     Warning::new(super::STAGE, message, meaning)
 }
@@ -691,6 +707,40 @@ mod tests {
         println!("white noise {lo} to {hi}, smooth misfit from {smooth_lo}");
         assert!(lo > 0.6 && hi < 1.4, "white noise: {lo} to {hi}");
         assert!(smooth_lo > 2.0, "smooth misfit: {smooth_lo}");
+    }
+
+    /// Averaged force histories, one per drift angle: Fy = -v (Y_v L / (m U) = 1 with m = L =
+    /// U = 1) says nothing; flipped, the sign is named.
+    #[test]
+    fn averaged_runs_are_checked_across_runs() {
+        let layout = Layout {
+            u: Some(0),
+            v: Some(1),
+            r: Some(2),
+            fy: Some(0),
+            mz: None,
+        };
+        let reference = Reference::new(1000.0, 1.0, 1.0, None, None);
+        for sign in [1.0, -1.0] {
+            let conditions: Vec<Condition> = grid()
+                .into_iter()
+                .enumerate()
+                .map(|(k, mut c)| {
+                    let wiggle = 1e-3 * ((k * 7919) % 13) as f64;
+                    c.f = vec![-sign * c.x[1] + wiggle];
+                    c.sigma = Some(vec![1e-3]);
+                    c
+                })
+                .collect();
+            let refs: Vec<&Condition> = conditions.iter().collect();
+            let w = across_runs(&refs, &layout, &reference);
+            if sign > 0.0 {
+                assert!(w.is_empty(), "{w:?}");
+            } else {
+                assert!(w.len() == 1 && w[0].message.contains("averaged force histories"));
+                assert!(w[0].meaning.contains("sign of fy"), "{w:?}");
+            }
+        }
     }
 
     #[test]
