@@ -39,6 +39,17 @@ enum Mistake {
     DoubleAmplitude,
 }
 
+/// The generator's added masses m_x, m_y (kg) and moment of inertia J_z (kg m^2), from its
+/// prime values on 0.5 rho L^2 d (and L^2 for J_z).
+fn added_masses(ship: &Kvlcc2) -> (f64, f64, f64) {
+    let half = 0.5 * ship.rho * ship.lpp * ship.lpp * ship.draught;
+    (
+        ship.p["m_x_dash"] * half,
+        ship.p["m_y_dash"] * half,
+        ship.p["J_z_dash"] * half * ship.lpp * ship.lpp,
+    )
+}
+
 /// The ITTC steady programme at the approach speed and the self-propulsion point: static
 /// drift -20..20 deg, rudder -35..35 deg, drift 10 deg with rudder +-20 deg, circular motion
 /// at r' 0.2, 0.4, 0.6 with drift -12..12 deg; the forces on the hull held in the motion
@@ -47,23 +58,8 @@ fn steady_table(dir: &Path, mistake: Mistake, seed: u64) -> std::path::PathBuf {
     let ship = Kvlcc2::model();
     let speed = approach_speed();
     let n = ship.self_propulsion(speed);
-    let half = 0.5 * ship.rho * ship.lpp * ship.lpp * ship.draught;
-    let (mx, my) = (ship.p["m_x_dash"] * half, ship.p["m_y_dash"] * half);
-    let mut points = Vec::new();
-    for b in (-20..=20).step_by(4) {
-        points.push((f64::from(b), 0.0, 0.0));
-    }
-    for d in (-35..=35).step_by(10) {
-        points.push((0.0, 0.0, f64::from(d)));
-    }
-    for d in [-20.0, 20.0] {
-        points.push((10.0, 0.0, d));
-    }
-    for rp in [0.2, 0.4, 0.6] {
-        for b in (-12..=12).step_by(6) {
-            points.push((f64::from(b), rp, 0.0));
-        }
-    }
+    let (mx, my, _) = added_masses(&ship);
+    let points = common::ittc_programme();
     let mut cols: Vec<Vec<f64>> = vec![Vec::new(); 7];
     for &(beta, rp, delta) in &points {
         let beta: f64 = f64::to_radians(beta);
@@ -151,6 +147,26 @@ fn head(hull: &[&str], zero: &[&str], drop: &[&str]) -> String {
     head
 }
 
+/// The hull derivatives not in `estimate` (held at their published values).
+fn held_except(estimate: &[&str]) -> Vec<&'static str> {
+    HULL.iter()
+        .copied()
+        .filter(|h| !estimate.contains(h))
+        .collect()
+}
+
+/// `hydroid run` on the configuration `text` written in `dir`: the exit status,
+/// results.json when written and the console.
+fn run_text(dir: &Path, text: &str) -> (Option<i32>, Option<serde_json::Value>, String) {
+    let config = dir.join("captive.toml");
+    std::fs::write(&config, text).unwrap();
+    let out = dir.join("out");
+    let o = common::run_config(&config, &out, &[]);
+    let results = out.join("results.json");
+    let json = results.exists().then(|| common::json(&results));
+    (o.status.code(), json, common::text(&o.stderr))
+}
+
 /// The captive stage on the steady table of `mistake`, estimating `estimate` (the other hull
 /// derivatives held at their published values, those in `zero` at 0): the exit status,
 /// results.json when written and the console.
@@ -161,28 +177,17 @@ fn steady(
 ) -> (Option<i32>, Option<serde_json::Value>, String) {
     let dir = tempfile::tempdir().unwrap();
     let file = steady_table(dir.path(), mistake, 11);
-    let held: Vec<&str> = HULL
-        .iter()
-        .copied()
-        .filter(|h| !estimate.contains(h))
-        .collect();
     let list: Vec<String> = estimate.iter().map(|e| format!("\"{e}\"")).collect();
     let text = format!(
         "{}[captive]\nmodel = \"mmg3\"\nestimate = [{}]\n[[captive.runs]]\nname = \"programme\"\n\
          file = \"{}\"\nsource = \"measured\"\n[captive.runs.columns]\nu = \"u\"\nv = \"v\"\n\
          r = \"yaw rate\"\nrudder = \"rudder\"\nrpm = \"propeller\"\nfx = \"Fx\"\nfy = \"Fy\"\n\
          mz = \"Mz\"\n",
-        head(&held, zero, &[]),
+        head(&held_except(estimate), zero, &[]),
         list.join(", "),
         file.display()
     );
-    let config = dir.path().join("captive.toml");
-    std::fs::write(&config, text).unwrap();
-    let out = dir.path().join("out");
-    let o = common::run_config(&config, &out, &[]);
-    let results = out.join("results.json");
-    let json = results.exists().then(|| common::json(&results));
-    (o.status.code(), json, common::text(&o.stderr))
+    run_text(dir.path(), &text)
 }
 
 /// The captive warnings of a run, as text.
@@ -201,12 +206,17 @@ fn warned(mistake: Mistake, estimate: &[&str], needles: &[&str]) -> Vec<String> 
     let (code, r, err) = steady(mistake, estimate, &[]);
     assert_eq!(code, Some(0), "{err}");
     let w = captive_warnings(&r.unwrap());
+    assert_named(&w, needles);
+    w
+}
+
+/// Asserts that one of the warnings `w` holds every one of `needles`.
+fn assert_named(w: &[String], needles: &[&str]) {
     println!("{w:#?}");
     assert!(
         w.iter().any(|w| needles.iter().all(|n| w.contains(n))),
         "no warning with {needles:?}: {w:#?}"
     );
-    w
 }
 
 #[test]
@@ -259,12 +269,7 @@ fn a_model_that_misses_the_steady_table_warns_and_widens_its_sigmas() {
     let (code, missed, err) = steady(Mistake::None, &estimate, &["Yvvv_p", "Nvvv_p"]);
     assert_eq!(code, Some(0), "{err}");
     let missed = missed.unwrap();
-    let w = captive_warnings(&missed);
-    assert!(
-        w.iter()
-            .any(|w| w.contains("lack of fit") && w.contains("fy")),
-        "{w:#?}"
-    );
+    assert_named(&captive_warnings(&missed), &["lack of fit", "fy"]);
     let grown = sigma(&missed, "Yv_p") / sigma(&clean, "Yv_p");
     assert!(grown > 2.0, "Yv_p's sigma grew {grown} times");
 }
@@ -278,9 +283,7 @@ fn pmm_run(dir: &Path, yaw: bool, mistake: Mistake, seed: u64) -> std::path::Pat
     let ship = Kvlcc2::model();
     let speed = approach_speed();
     let n = ship.self_propulsion(speed);
-    let half = 0.5 * ship.rho * ship.lpp * ship.lpp * ship.draught;
-    let (mx, my) = (ship.p["m_x_dash"] * half, ship.p["m_y_dash"] * half);
-    let jz = ship.p["J_z_dash"] * half * ship.lpp * ship.lpp;
+    let (mx, my, jz) = added_masses(&ship);
     let w = 2.0 * std::f64::consts::PI * 0.05;
     let amplitude = if yaw { 3f64.to_radians() } else { 0.06 };
     let t: Vec<f64> = (0..1600).map(|k| k as f64 * 0.05).collect();
@@ -333,14 +336,9 @@ fn pmm(mistake: Mistake) -> serde_json::Value {
     let dir = tempfile::tempdir().unwrap();
     let n = Kvlcc2::model().self_propulsion(approach_speed());
     let estimate = ["my_p", "Jz_p", "Yv_p", "Yr_p", "Nv_p", "Nr_p"];
-    let held: Vec<&str> = HULL
-        .iter()
-        .copied()
-        .filter(|h| !estimate.contains(h))
-        .collect();
     let mut text = format!(
         "{}[captive]\nmodel = \"mmg3\"\naverage_after = 0\nestimate = [{}]\n",
-        head(&held, &[], &["my_p", "Jz_p"]),
+        head(&held_except(&estimate), &[], &["my_p", "Jz_p"]),
         estimate.map(|e| format!("\"{e}\"")).join(", ")
     );
     for (name, yaw, seed) in [("pure sway", false, 5), ("pure yaw", true, 6)] {
@@ -356,12 +354,9 @@ fn pmm(mistake: Mistake) -> serde_json::Value {
             file.display()
         ));
     }
-    let config = dir.path().join("pmm.toml");
-    std::fs::write(&config, text).unwrap();
-    let out = dir.path().join("out");
-    let o = common::run_config(&config, &out, &[]);
-    assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
-    common::json(&out.join("results.json"))
+    let (code, json, err) = run_text(dir.path(), &text);
+    assert_eq!(code, Some(0), "{err}");
+    json.unwrap()
 }
 
 #[test]
@@ -374,24 +369,13 @@ fn clean_pmm_runs_give_no_warning() {
 #[test]
 fn a_pmm_force_record_of_pure_noise_is_named() {
     let w = captive_warnings(&pmm(Mistake::NoiseOnly));
-    println!("{w:#?}");
-    assert!(
-        w.iter()
-            .any(|w| w.contains("no first harmonic above its noise") && w.contains("fy")),
-        "{w:#?}"
-    );
+    assert_named(&w, &["no first harmonic above its noise", "fy"]);
 }
 
 #[test]
 fn a_pmm_amplitude_twice_too_large_is_named() {
-    let r = pmm(Mistake::DoubleAmplitude);
-    let w = captive_warnings(&r);
-    println!("{w:#?}");
-    assert!(
-        w.iter()
-            .any(|w| w.contains("pure sway") && w.contains("motion amplitude")),
-        "{w:#?}"
-    );
+    let w = captive_warnings(&pmm(Mistake::DoubleAmplitude));
+    assert_named(&w, &["pure sway", "motion amplitude"]);
 }
 
 /// The windows of the checks against the published sets they were calibrated on: the

@@ -3,7 +3,8 @@
 //! (kvlcc2_captive.csv; its README gives the normalisation: X', Y' on 0.5 rho L^2 U^2, N' on
 //! 0.5 rho L^3 U^2, L = 7 m, positive drift giving positive Y' and N', the rudder positive to
 //! port). The file is read where it lies (its licence is not stated: never copied into the
-//! repository); the test skips when it is absent.
+//! repository); the test fails, saying where it looked, when it is absent
+//! (`common::real_data_file`).
 //!
 //! The MMG model's cubic drift terms absorb what its polynomial lacks at large drift: before
 //! the lack-of-fit test, with sigmas from the pooled residuals alone, cutting the drift range
@@ -16,15 +17,6 @@
 mod common;
 
 use std::path::{Path, PathBuf};
-
-/// The real captive table, when it is there.
-fn table() -> Option<PathBuf> {
-    let dir = std::env::var_os("HYDROID_REAL_DATA")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| common::root().join("../shared/data/real"));
-    let file = dir.join("kvlcc2_captive.csv");
-    file.is_file().then_some(file)
-}
 
 /// The rows of the table with |drift| <= `cut` deg, without its text column (test type), in
 /// `dir`.
@@ -91,10 +83,7 @@ fn fit(table: &Path, dir: &Path, cut: f64) -> (Vec<(f64, f64)>, String) {
 #[test]
 #[ignore = "reads ../shared/data/real; run by .ci/run"]
 fn cutting_the_drift_range_moves_the_cubic_terms_within_their_widened_sigmas() {
-    let Some(table) = table() else {
-        eprintln!("skipped: no kvlcc2_captive.csv in ../shared/data/real (HYDROID_REAL_DATA)");
-        return;
-    };
+    let table = common::real_data_file("kvlcc2_captive.csv");
     let dir = tempfile::tempdir().unwrap();
     let (full, err) = fit(&table, dir.path(), 30.0);
     assert!(err.contains("lack of fit"), "{err}");

@@ -578,12 +578,24 @@ fn conditions_of<M: Model>(
     frame: &Frame,
     oscillation: Option<&crate::config::captive::Oscillation>,
 ) -> Result<Vec<Condition>> {
-    let fail = |m: String| Error::numerical(STAGE, format!("run '{}': {m}", rec.name));
-    let value = |q: Quantity, k: usize| {
-        rec.channel(q)
-            .map(|v| v[k])
-            .or_else(|| rec.constants.get(&q).copied())
+    check_columns(model, rec, frame)?;
+    let table = Table {
+        rec,
+        frame,
+        oscillation,
+        by_drift: motion_columns(rec, oscillation)?,
     };
+    (0..rec.rows()).map(|k| table.condition(model, k)).collect()
+}
+
+/// An error of the run `rec`.
+fn run_error(rec: &Record, m: String) -> Error {
+    Error::numerical(STAGE, format!("run '{}': {m}", rec.name))
+}
+
+/// Whether the table gives what the model's conditions need: the prime system of its
+/// non-dimensional columns, each captive force (or its prime column) and each input.
+fn check_columns<M: Model>(model: &M, rec: &Record, frame: &Frame) -> Result<()> {
     let uses_prime = [
         Quantity::RPrime,
         Quantity::XPrime,
@@ -593,7 +605,8 @@ fn conditions_of<M: Model>(
     .iter()
     .any(|q| rec.has(*q));
     if uses_prime && frame.prime.is_none() {
-        return Err(fail(
+        return Err(run_error(
+            rec,
             "the table has non-dimensional columns (r_prime, x_prime, y_prime or n_prime): \
              give their normalisation, captive.prime = { length = ..., area = ... }"
                 .into(),
@@ -602,128 +615,178 @@ fn conditions_of<M: Model>(
     for q in model.force_quantities() {
         let prime = prime_of(*q).map(|(p, _)| p);
         if !rec.has(*q) && !prime.is_some_and(|p| rec.has(p)) {
-            return Err(fail(format!(
-                "no {q}{} column: the {} model's captive forces are {}",
-                prime.map(|p| format!(" (or {p})")).unwrap_or_default(),
-                model.name(),
-                model
-                    .force_quantities()
-                    .iter()
-                    .map(|q| q.key())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            )));
+            return Err(run_error(
+                rec,
+                format!(
+                    "no {q}{} column: the {} model's captive forces are {}",
+                    prime.map(|p| format!(" (or {p})")).unwrap_or_default(),
+                    model.name(),
+                    model
+                        .force_quantities()
+                        .iter()
+                        .map(|q| q.key())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            ));
         }
     }
     for q in model.input_quantities() {
         if !rec.has(q) {
-            return Err(fail(format!(
-                "no {q}: the {} model needs it (a column, or `constants = {{ {q} = ... }}`)",
-                model.name()
-            )));
-        }
-    }
-    if let Some(o) = oscillation {
-        for q in o.amplitude.keys() {
-            if rec.channel(*q).is_some() {
-                return Err(fail(format!(
-                    "{q} is both a column and a prescribed oscillation \
-                     (captive.oscillations): give one"
-                )));
-            }
-        }
-        if rec.time().is_none() {
-            return Err(fail(
-                "a prescribed oscillation needs the time column of the force history".into(),
+            return Err(run_error(
+                rec,
+                format!(
+                    "no {q}: the {} model needs it (a column, or `constants = {{ {q} = ... }}`)",
+                    model.name()
+                ),
             ));
         }
     }
-    let oscillating = |q: Quantity, k: usize| -> Option<f64> {
-        let o = oscillation?;
-        let a = o.amplitude.get(&q)?.si;
-        let t = rec.time()?[k];
-        let mean = rec.constants.get(&q).copied().unwrap_or(0.0);
-        Some(mean + a * (2.0 * std::f64::consts::PI * o.frequency * t + o.phase).sin())
-    };
+    Ok(())
+}
+
+/// Whether the table gives its motion (its prescribed oscillation, if any, with the time
+/// and no column of the same velocity): true when by speed and drift, false when by u.
+fn motion_columns(
+    rec: &Record,
+    oscillation: Option<&crate::config::captive::Oscillation>,
+) -> Result<bool> {
+    let fail = |m: &str| Err(run_error(rec, m.to_string()));
+    if let Some(o) = oscillation {
+        for q in o.amplitude.keys() {
+            if rec.channel(*q).is_some() {
+                return Err(run_error(
+                    rec,
+                    format!(
+                        "{q} is both a column and a prescribed oscillation \
+                         (captive.oscillations): give one"
+                    ),
+                ));
+            }
+        }
+        if rec.time().is_none() {
+            return fail("a prescribed oscillation needs the time column of the force history");
+        }
+    }
     let by_drift = rec.has(Quantity::Drift);
     if by_drift && !rec.has(Quantity::Speed) {
-        return Err(fail(
-            "a drift column needs the speed U (`speed`) too".into(),
-        ));
+        return fail("a drift column needs the speed U (`speed`) too");
     }
     let u_given =
         rec.has(Quantity::U) || oscillation.is_some_and(|o| o.amplitude.contains_key(&Quantity::U));
     if !by_drift && !u_given {
-        return Err(fail(
-            "no motion: give u (and v, r) or speed and drift (and r_prime)".into(),
-        ));
+        return fail("no motion: give u (and v, r) or speed and drift (and r_prime)");
     }
-    let mut out = Vec::new();
-    for k in 0..rec.rows() {
-        let line = rec.lines.get(k).copied().unwrap_or(k + 1);
-        let speed = value(Quantity::Speed, k);
-        let motion = |q: Quantity| -> Option<f64> {
-            if let Some(v) = oscillating(q, k) {
-                return Some(v);
+    Ok(by_drift)
+}
+
+/// A table checked by [`check_columns`] and [`motion_columns`], read row by row.
+struct Table<'a> {
+    rec: &'a Record,
+    frame: &'a Frame,
+    oscillation: Option<&'a crate::config::captive::Oscillation>,
+    /// The motion is given by speed and drift (else by u).
+    by_drift: bool,
+}
+
+impl Table<'_> {
+    /// The value of `q` at row `k`: its column's, else its constant.
+    fn value(&self, q: Quantity, k: usize) -> Option<f64> {
+        self.rec
+            .channel(q)
+            .map(|v| v[k])
+            .or_else(|| self.rec.constants.get(&q).copied())
+    }
+
+    /// The prescribed oscillating velocity `q` at row `k` (its constant, or 0, plus
+    /// A sin(2 pi f t + phase)); None when `q` does not oscillate.
+    fn oscillating(&self, q: Quantity, k: usize) -> Option<f64> {
+        let o = self.oscillation?;
+        let a = o.amplitude.get(&q)?.si;
+        let t = self.rec.time()?[k];
+        let mean = self.rec.constants.get(&q).copied().unwrap_or(0.0);
+        Some(mean + a * (2.0 * std::f64::consts::PI * o.frequency * t + o.phase).sin())
+    }
+
+    /// The velocity `q` at row `k` with the speed U `speed`.
+    fn motion(&self, q: Quantity, k: usize, speed: Option<f64>) -> Option<f64> {
+        if let Some(v) = self.oscillating(q, k) {
+            return Some(v);
+        }
+        let rec = self.rec;
+        match (q, self.by_drift) {
+            (Quantity::U, true) => Some(speed? * self.value(Quantity::Drift, k)?.cos()),
+            (Quantity::V, true) => Some(-speed? * self.value(Quantity::Drift, k)?.sin()),
+            (Quantity::R, _) if !rec.has(Quantity::R) && rec.has(Quantity::RPrime) => {
+                Some(self.value(Quantity::RPrime, k)? * speed? / self.frame.prime?.length)
             }
-            match (q, by_drift) {
-                (Quantity::U, true) => Some(speed? * value(Quantity::Drift, k)?.cos()),
-                (Quantity::V, true) => Some(-speed? * value(Quantity::Drift, k)?.sin()),
-                (Quantity::R, _) if !rec.has(Quantity::R) && rec.has(Quantity::RPrime) => {
-                    Some(value(Quantity::RPrime, k)? * speed? / frame.prime?.length)
+            _ => self.value(q, k),
+        }
+    }
+
+    /// The force `q` at row `k` in SI: its column, or its prime column times
+    /// 0.5 rho A U^2 (and L for a moment); NaN when neither gives it.
+    fn force(&self, q: Quantity, k: usize, speed: Option<f64>) -> f64 {
+        match (self.value(q, k), prime_of(q)) {
+            (Some(v), _) => v,
+            (None, Some((p, moment))) => match (self.value(p, k), speed, self.frame.prime) {
+                (Some(v), Some(speed), Some(ps)) => {
+                    let q = 0.5 * self.frame.rho * ps.area * speed * speed;
+                    v * if moment { q * ps.length } else { q }
                 }
-                _ => value(q, k),
-            }
-        };
+                _ => f64::NAN,
+            },
+            (None, None) => f64::NAN,
+        }
+    }
+
+    /// The steady condition of row `k`.
+    fn condition<M: Model>(&self, model: &M, k: usize) -> Result<Condition> {
+        let rec = self.rec;
+        let line = rec.lines.get(k).copied().unwrap_or(k + 1);
+        let speed = self.value(Quantity::Speed, k);
         if rec.has(Quantity::RPrime) && speed.is_none() {
-            return Err(fail(format!(
-                "line {line}: r_prime needs the speed U (`speed`)"
-            )));
+            return Err(run_error(
+                rec,
+                format!("line {line}: r_prime needs the speed U (`speed`)"),
+            ));
         }
         let x: Vec<f64> = model
             .states()
             .iter()
             .map(|s| match s.quantity {
-                q if Quantity::MOTION[..6].contains(&q) => motion(q).unwrap_or(0.0),
+                q if Quantity::MOTION[..6].contains(&q) => self.motion(q, k, speed).unwrap_or(0.0),
                 _ => 0.0,
             })
             .collect();
         let u: Vec<f64> = model
             .input_quantities()
             .iter()
-            .map(|q| value(*q, k).unwrap_or(0.0))
+            .map(|q| self.value(*q, k).unwrap_or(0.0))
             .collect();
         let f: Vec<f64> = model
             .force_quantities()
             .iter()
-            .map(|q| match (value(*q, k), prime_of(*q)) {
-                (Some(v), _) => v,
-                (None, Some((p, moment))) => match (value(p, k), speed, frame.prime) {
-                    (Some(v), Some(speed), Some(ps)) => {
-                        let q = 0.5 * frame.rho * ps.area * speed * speed;
-                        v * if moment { q * ps.length } else { q }
-                    }
-                    _ => f64::NAN,
-                },
-                (None, None) => f64::NAN,
-            })
+            .map(|q| self.force(*q, k, speed))
             .collect();
         if x.iter().chain(&u).chain(&f).any(|v| !v.is_finite()) {
-            return Err(fail(format!(
-                "line {line}: a value is missing or not a number (a prime force needs the \
-                 speed U in `speed`)"
-            )));
+            return Err(run_error(
+                rec,
+                format!(
+                    "line {line}: a value is missing or not a number (a prime force needs the \
+                     speed U in `speed`)"
+                ),
+            ));
         }
-        out.push(Condition {
+        Ok(Condition {
             x,
             u,
             f,
             sigma: None,
             place: format!("{} line {line}", rec.name),
             harmonic: None,
-        });
+        })
     }
-    Ok(out)
 }
 
 /// Birge ratio of a force component above which the misfit is reported.

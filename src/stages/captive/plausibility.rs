@@ -328,12 +328,8 @@ impl Scales {
 
     /// Y_v: its sign (< 0) and size (in [`YV_WINDOW`] of m U / L).
     fn yv(&self, s: Slope, from: &str) -> Option<Warning> {
-        if !s.significant() {
-            return None;
-        }
-        let ratio = s.value.abs() / self.yv;
-        if s.value > 0.0 {
-            return Some(warning(
+        let rises = || {
+            warning(
                 format!(
                     "the sway force rises with the sway velocity at {from}: dFy/dv = {} N s/m \
                      (Y_v > 0; expected < 0, the force opposing v)",
@@ -342,9 +338,9 @@ impl Scales {
                 "the sign of fy is likely flipped (a force positive to port: `scale = -1` on \
                  its column), or that of v or the drift angle (beta = -atan(v / u): positive \
                  drift moves the ship to port); every derivative fitted from fy changes sign",
-            ));
-        }
-        (ratio < YV_WINDOW.0 || ratio > YV_WINDOW.1).then(|| {
+            )
+        };
+        damping(s, self.yv, YV_WINDOW, rises, |ratio| {
             warning(
                 format!(
                     "the sway force per sway velocity at {from} is |dFy/dv| = {} N s/m, {} \
@@ -380,12 +376,8 @@ impl Scales {
 
     /// N_r: its sign (< 0) and size (in [`NR_WINDOW`] of m L U).
     fn nr(&self, s: Slope, from: &str) -> Option<Warning> {
-        if !s.significant() {
-            return None;
-        }
-        let ratio = s.value.abs() / self.nr;
-        if s.value > 0.0 {
-            return Some(warning(
+        let rises = || {
+            warning(
                 format!(
                     "the yaw moment rises with the yaw rate at {from}: dMz/dr = {} N m s (N_r \
                      > 0; expected < 0, yaw damping)",
@@ -393,9 +385,9 @@ impl Scales {
                 ),
                 "the sign of mz or of r is likely flipped (a moment or rate positive to port: \
                  `scale = -1` on its column); every derivative fitted from it changes sign",
-            ));
-        }
-        (ratio < NR_WINDOW.0 || ratio > NR_WINDOW.1).then(|| {
+            )
+        };
+        damping(s, self.nr, NR_WINDOW, rises, |ratio| {
             warning(
                 format!(
                     "the yaw moment per yaw rate at {from} is |dMz/dr| = {} N m s, {} times m L \
@@ -411,6 +403,26 @@ impl Scales {
             )
         })
     }
+}
+
+/// A damping derivative's check: when its slope `s` is significant, the warning `rises` when
+/// it is positive (expected < 0), else `outside` with |s| / `scale` when that is outside
+/// `window`.
+fn damping(
+    s: Slope,
+    scale: f64,
+    window: (f64, f64),
+    rises: impl FnOnce() -> Warning,
+    outside: impl FnOnce(f64) -> Warning,
+) -> Option<Warning> {
+    if !s.significant() {
+        return None;
+    }
+    if s.value > 0.0 {
+        return Some(rises());
+    }
+    let ratio = s.value.abs() / scale;
+    (ratio < window.0 || ratio > window.1).then(|| outside(ratio))
 }
 
 /// A harmonic (PMM) run: the signal-to-noise of each lateral force's first harmonic, and,
@@ -452,53 +464,54 @@ fn harmonic(c: &Condition, l: &Layout, reference: &Reference) -> Vec<Warning> {
     let speed = l.u.map_or(0.0, |i| motion.states[i][0]);
     let scale = Scales::new(reference, speed);
     let pure = |a: f64, b: f64| a > 0.0 && b <= 1e-3 * a;
-    if let (Some(iv), Some(fy), true) = (
-        l.v,
-        l.fy,
-        pure(
-            av / speed.max(1e-300),
-            ar * reference.length / speed.max(1e-300),
-        ),
-    ) {
-        let (inphase, quad) = parts(c, motion, iv, fy);
-        out.extend(scale.yv(
-            Slope {
-                value: inphase,
-                se: 0.0,
-            },
-            "the pure sway run's first harmonic",
-        ));
-        out.extend(added_check(
-            -quad,
-            reference.added.map(|a| (a.0, a.2)),
-            av,
+    // the motion's share in sway and in yaw: a pure run has only one
+    let (sway, yaw) = (
+        av / speed.max(1e-300),
+        ar * reference.length / speed.max(1e-300),
+    );
+    type Damping = fn(&Scales, Slope, &str) -> Option<Warning>;
+    // the analytic sway added mass and yaw added inertia, with their source
+    let (mass, inertia) = (
+        reference.added.map(|a| (a.0, a.2)),
+        reference.added.map(|a| (a.1, a.2)),
+    );
+    let runs: [(_, _, _, Damping, _, _, _, _); 2] = [
+        (
+            l.v,
+            l.fy,
+            pure(sway, yaw),
+            Scales::yv,
             "sway",
+            av,
+            mass,
             SWAY_MASS_WINDOW,
-        ));
-    }
-    if let (Some(ir), Some(mz), true) = (
-        l.r,
-        l.mz,
-        pure(
-            ar * reference.length / speed.max(1e-300),
-            av / speed.max(1e-300),
         ),
-    ) {
-        let (inphase, quad) = parts(c, motion, ir, mz);
-        out.extend(scale.nr(
-            Slope {
-                value: inphase,
-                se: 0.0,
-            },
-            "the pure yaw run's first harmonic",
-        ));
-        out.extend(added_check(
-            -quad,
-            reference.added.map(|a| (a.1, a.2)),
-            ar,
+        (
+            l.r,
+            l.mz,
+            pure(yaw, sway),
+            Scales::nr,
             "yaw",
+            ar,
+            inertia,
             YAW_MASS_WINDOW,
+        ),
+    ];
+    for (state, force, is_pure, damping, kind, amplitude, analytic, window) in runs {
+        let (Some(i), Some(f), true) = (state, force, is_pure) else {
+            continue;
+        };
+        let (inphase, quad) = parts(c, motion, i, f);
+        let slope = Slope {
+            value: inphase,
+            se: 0.0,
+        };
+        out.extend(damping(
+            &scale,
+            slope,
+            &format!("the pure {kind} run's first harmonic"),
         ));
+        out.extend(added_check(-quad, analytic, amplitude, kind, window));
     }
     out
 }
