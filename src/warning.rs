@@ -37,6 +37,8 @@ pub enum Test {
     NoiseModel,
     /// The identified model re-simulated against a run, or steered through its manoeuvre.
     Resimulation,
+    /// A captive fit's lack of fit on steady tables (docs/stages.md, "Captive plausibility").
+    Misfit,
 }
 
 impl Test {
@@ -47,6 +49,7 @@ impl Test {
             Test::StageConflict => "stage conflict",
             Test::NoiseModel => "noise model",
             Test::Resimulation => "re-simulation",
+            Test::Misfit => "captive lack of fit",
         }
     }
 }

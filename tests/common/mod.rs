@@ -218,6 +218,28 @@ pub fn spheroid_joint_truth() -> Vec<(&'static str, f64)> {
         .collect()
 }
 
+/// The conditions of the ITTC steady captive programme, (drift deg, r', rudder deg): static
+/// drift -20..20 deg, rudder -35..35 deg straight ahead, drift 10 deg with rudder +-20 deg,
+/// and circular motion at r' 0.2, 0.4, 0.6 with drift -12..12 deg.
+pub fn ittc_programme() -> Vec<(f64, f64, f64)> {
+    let mut points = Vec::new();
+    for b in (-20..=20).step_by(4) {
+        points.push((f64::from(b), 0.0, 0.0));
+    }
+    for d in (-35..=35).step_by(10) {
+        points.push((0.0, 0.0, f64::from(d)));
+    }
+    for d in [-20.0, 20.0] {
+        points.push((10.0, 0.0, d));
+    }
+    for rp in [0.2, 0.4, 0.6] {
+        for b in (-12..=12).step_by(6) {
+            points.push((f64::from(b), rp, 0.0));
+        }
+    }
+    points
+}
+
 /// The folder of the real basin logs (not in the repository: `$HYDROID_REAL_DATA`, by
 /// default `../shared/data/real` beside it); panics with what to do when it is absent.
 pub fn real_data_dir() -> PathBuf {
@@ -231,4 +253,17 @@ pub fn real_data_dir() -> PathBuf {
         dir.display()
     );
     dir
+}
+
+/// The file `name` of the real data folder ([`real_data_dir`]); panics with what to do when
+/// it is absent.
+pub fn real_data_file(name: &str) -> PathBuf {
+    let file = real_data_dir().join(name);
+    assert!(
+        file.is_file(),
+        "no {name} in the real data folder {}: set HYDROID_REAL_DATA to the folder that \
+         holds it (../shared/data/real/README.md)",
+        file.parent().unwrap_or(&file).display()
+    );
+    file
 }

@@ -70,7 +70,17 @@ pub struct Fit {
     /// When every value has its own standard error: each component's Birge ratio
     /// sqrt(chi2 / dof), at least 1, by which its errors were widened; else empty.
     pub birge: Vec<f64>,
+    /// Of the rows of steady tables (their noise from the residuals): each component's
+    /// lack-of-fit ratio, residual variance over near-neighbour pure error
+    /// ([`super::plausibility::misfit_ratios`]); above [`MISFIT_RATIO`] its errors are widened
+    /// by its square root. Empty when no row is such.
+    pub misfit: Vec<f64>,
 }
+
+/// Lack-of-fit ratio of a component above which the model misses the steady rows by more
+/// than their noise (the ratio is near 1 for a model that fits: within 0.6 to 1.4 for white
+/// noise on twelve seeds, the unit test of [`super::plausibility`]).
+pub const MISFIT_RATIO: f64 = 2.0;
 
 /// Most Gauss-Newton iterations.
 const MAX_ITERATIONS: usize = 50;
@@ -99,7 +109,165 @@ pub fn fit<M: Model>(
             conditions.len()
         ));
     }
+    let problem = Problem {
+        model,
+        base,
+        est,
+        signs,
+        conditions,
+    };
     // first weights: each component by its measured RMS, so that N and Y count alike
+    let mut scale = rms_of_components(conditions, nf);
+    let mut theta = start.to_vec();
+    let mut iterations = 0;
+    for _ in 0..2 {
+        problem.converge(&mut theta, &scale, &mut iterations)?;
+        // reweight by each component's residual noise (over the conditions without their
+        // own standard errors), then solve again
+        problem.reweight(&theta, &mut scale);
+    }
+    // a coefficient that ended on its sign bound is held there: no variance
+    for (t, s) in theta.iter_mut().zip(signs) {
+        if *s != 0.0 && *t * s <= 0.0 {
+            *t = 0.0;
+        }
+    }
+    problem.at_solution(theta, scale, iterations)
+}
+
+/// What a fit fits: the model, the full coefficient vector `base` with the estimated ones at
+/// `est`, their sign constraints, and the conditions.
+struct Problem<'a, M: Model> {
+    model: &'a M,
+    base: &'a [f64],
+    est: &'a [usize],
+    signs: &'a [f64],
+    conditions: &'a [Condition],
+}
+
+impl<M: Model> Problem<'_, M> {
+    /// Weighted residuals and their Jacobian at `theta` ([`residuals`]).
+    fn residuals(&self, theta: &[f64], scale: &[f64]) -> (DVector<f64>, DMatrix<f64>) {
+        residuals(
+            self.model,
+            self.base,
+            self.est,
+            theta,
+            self.conditions,
+            scale,
+        )
+    }
+
+    /// Gauss-Newton steps from `theta` at fixed weights until converged, counting them in
+    /// `iterations` (at most [`MAX_ITERATIONS`] over all calls).
+    fn converge(
+        &self,
+        theta: &mut [f64],
+        scale: &[f64],
+        iterations: &mut usize,
+    ) -> Result<(), String> {
+        let n: usize = self.conditions.iter().map(|c| c.f.len()).sum();
+        let dof = n - self.est.len();
+        while *iterations < MAX_ITERATIONS {
+            *iterations += 1;
+            let (r, j) = self.residuals(theta, scale);
+            let (step, rss_after) = gauss_newton_step(&j, &r, theta, self.signs, dof)?;
+            let mut largest: f64 = 0.0;
+            for (t, d) in theta.iter_mut().zip(&step) {
+                largest = largest.max(d.abs() / t.abs().max(1e-12));
+                *t += d;
+            }
+            // converged: the step is negligible, or it cannot lower the residual further
+            // (the rounding floor of a fit to noise-free forces)
+            let rss = r.norm_squared();
+            if largest < 1e-10 || rss - rss_after <= 1e-12 * rss {
+                return Ok(());
+            }
+        }
+        Err(format!(
+            "the fit did not converge in {MAX_ITERATIONS} Gauss-Newton iterations"
+        ))
+    }
+
+    /// Each component's weight `scale` set to its residual noise at `theta` over the
+    /// conditions without their own standard errors (unchanged when there are none).
+    fn reweight(&self, theta: &[f64], scale: &mut [f64]) {
+        let (r, _) = self.residuals(theta, scale);
+        let mut offset = 0;
+        let mut own = Vec::new();
+        for c in self.conditions {
+            if c.sigma.is_none() {
+                own.push(offset);
+            }
+            offset += c.f.len();
+        }
+        if own.is_empty() {
+            return;
+        }
+        let nf = scale.len();
+        let dof = (own.len() as f64 - self.est.len() as f64 / nf as f64).max(1.0);
+        for (i, s) in scale.iter_mut().enumerate() {
+            let rss: f64 = own.iter().map(|&k| (r[k + i] * *s).powi(2)).sum();
+            *s = (rss / dof).sqrt().max(1e-12 * *s);
+        }
+    }
+
+    /// The fit at its solution `theta` (a coefficient on its sign bound at 0): the
+    /// covariance of the coefficients off their bounds, from the values' own standard
+    /// errors widened by each component's Birge ratio when every value has them, else from
+    /// the pooled residuals ([`pooled_covariance`]).
+    fn at_solution(
+        &self,
+        theta: Vec<f64>,
+        scale: Vec<f64>,
+        iterations: usize,
+    ) -> Result<Fit, String> {
+        let p = self.est.len();
+        let free: Vec<usize> = (0..p)
+            .filter(|&q| {
+                self.signs
+                    .get(q)
+                    .is_none_or(|s| *s == 0.0 || theta[q] != 0.0)
+            })
+            .collect();
+        let (mut r, j_all) = self.residuals(&theta, &scale);
+        let mut j = DMatrix::from_fn(j_all.nrows(), free.len(), |i, c| j_all[(i, free[c])]);
+        if free.is_empty() {
+            return Ok(Fit {
+                values: theta,
+                covariance: vec![vec![0.0; p]; p],
+                noise: scale,
+                iterations,
+                birge: Vec::new(),
+                misfit: Vec::new(),
+            });
+        }
+        let singular = || "the covariance of the fit is singular".to_string();
+        let (covariance, factor, birge, misfit) =
+            if self.conditions.iter().all(|c| c.sigma.is_some()) {
+                let (covariance, factor, birge) =
+                    birge_covariance(self.conditions, scale.len(), &mut r, &mut j)
+                        .ok_or_else(singular)?;
+                (covariance, factor, birge, Vec::new())
+            } else {
+                let (covariance, factor, misfit) =
+                    pooled_covariance(self.conditions, &scale, &mut r, &mut j)
+                        .ok_or_else(singular)?;
+                (covariance, factor, Vec::new(), misfit)
+            };
+        Ok(Fit {
+            values: theta,
+            covariance: embed(&covariance, factor, &free, p),
+            noise: scale,
+            iterations,
+            birge,
+            misfit,
+        })
+    }
+}
+
+/// Each force component's RMS over the conditions' values (the first weights).
+fn rms_of_components(conditions: &[Condition], nf: usize) -> Vec<f64> {
     let mut scale = vec![0.0; nf];
     let mut count = vec![0usize; nf];
     for c in conditions {
@@ -111,121 +279,113 @@ pub fn fit<M: Model>(
     for (s, n) in scale.iter_mut().zip(&count) {
         *s = (*s / (*n).max(1) as f64).sqrt().max(f64::MIN_POSITIVE);
     }
-    let mut theta = start.to_vec();
-    let mut iterations = 0;
-    for round in 0..2 {
-        let mut converged = false;
-        while iterations < MAX_ITERATIONS {
-            iterations += 1;
-            let (r, j) = residuals(model, base, est, &theta, conditions, &scale);
-            let (step, rss_after) = gauss_newton_step(&j, &r, &theta, signs, n - p)?;
-            let mut largest: f64 = 0.0;
-            for (t, d) in theta.iter_mut().zip(&step) {
-                largest = largest.max(d.abs() / t.abs().max(1e-12));
-                *t += d;
-            }
-            // converged: the step is negligible, or it cannot lower the residual further
-            // (the rounding floor of a fit to noise-free forces)
-            let rss = r.norm_squared();
-            if largest < 1e-10 || rss - rss_after <= 1e-12 * rss {
-                converged = true;
-                break;
-            }
-        }
-        if !converged {
-            return Err(format!(
-                "the fit did not converge in {MAX_ITERATIONS} Gauss-Newton iterations"
-            ));
-        }
-        // reweight by each component's residual noise (over the conditions without their
-        // own standard errors), then solve again
-        let (r, _) = residuals(model, base, est, &theta, conditions, &scale);
-        let mut offset = 0;
-        let mut own = Vec::new();
-        for c in conditions {
-            if c.sigma.is_none() {
-                own.push(offset);
-            }
-            offset += c.f.len();
-        }
-        let dof = (own.len() as f64 - p as f64 / nf as f64).max(1.0);
-        for (i, s) in scale.iter_mut().enumerate() {
-            if own.is_empty() {
-                break;
-            }
-            let rss: f64 = own.iter().map(|&k| (r[k + i] * *s).powi(2)).sum();
-            *s = (rss / dof).sqrt().max(1e-12 * *s);
-        }
-        if round == 1 {
-            break;
+    scale
+}
+
+/// The covariance `cov` of the free coefficients (at the indices `free` of `p`) times
+/// `factor` in the full p x p matrix, 0 for the coefficients held on their bounds.
+fn embed(cov: &[Vec<f64>], factor: f64, free: &[usize], p: usize) -> Vec<Vec<f64>> {
+    let mut full = vec![vec![0.0; p]; p];
+    for (a, &qa) in free.iter().enumerate() {
+        for (b, &qb) in free.iter().enumerate() {
+            full[qa][qb] = cov[a][b] * factor;
         }
     }
-    // a coefficient that ended on its sign bound is held there: no variance
-    for (t, s) in theta.iter_mut().zip(signs) {
-        if *s != 0.0 && *t * s <= 0.0 {
-            *t = 0.0;
-        }
-    }
-    let free: Vec<usize> = (0..p)
-        .filter(|&q| signs.get(q).is_none_or(|s| *s == 0.0 || theta[q] != 0.0))
-        .collect();
-    let (mut r, j_all) = residuals(model, base, est, &theta, conditions, &scale);
-    let mut j = DMatrix::from_fn(j_all.nrows(), free.len(), |i, c| j_all[(i, free[c])]);
-    let pf = free.len();
-    let embed = |cov: Vec<Vec<f64>>, factor: f64| -> Vec<Vec<f64>> {
-        let mut full = vec![vec![0.0; p]; p];
-        for (a, &qa) in free.iter().enumerate() {
-            for (b, &qb) in free.iter().enumerate() {
-                full[qa][qb] = cov[a][b] * factor;
+    full
+}
+
+/// The covariance of a fit whose every value has its own standard error: (J' W J)^-1 as
+/// the scaled covariance and its factor, each component's errors widened by its own Birge
+/// ratio sqrt(chi2 / dof) when above 1 (a component the model misses, e.g. through a biased
+/// fixed coefficient, then widens only what it determines), and the Birge ratios. None when
+/// J' W J is singular.
+fn birge_covariance(
+    conditions: &[Condition],
+    nf: usize,
+    r: &mut DVector<f64>,
+    j: &mut DMatrix<f64>,
+) -> Option<(Vec<Vec<f64>>, f64, Vec<f64>)> {
+    let (n, pf) = j.shape();
+    let birge = component_birge(conditions, r, nf, pf, n);
+    let mut row = 0;
+    for c in conditions {
+        for k in 0..c.f.len() {
+            let f = birge[c.component(k)];
+            r[row] /= f;
+            for q in 0..pf {
+                j[(row, q)] /= f;
             }
+            row += 1;
         }
-        full
-    };
-    let singular = || "the covariance of the fit is singular".to_string();
-    if pf == 0 {
-        return Ok(Fit {
-            values: theta,
-            covariance: vec![vec![0.0; p]; p],
-            noise: scale,
-            iterations,
-            birge: Vec::new(),
-        });
     }
-    if conditions.iter().all(|c| c.sigma.is_some()) {
-        // every value has its own standard error: the covariance is (J' W J)^-1, each
-        // component's errors widened by its own Birge ratio sqrt(chi2 / dof) when above 1
-        // (a component the model misses, e.g. through a biased fixed coefficient, then
-        // widens only what it determines)
-        let birge = component_birge(conditions, &r, nf, pf, n);
-        let mut row = 0;
-        for c in conditions {
-            for k in 0..c.f.len() {
-                let f = birge[c.component(k)];
-                r[row] /= f;
-                for q in 0..pf {
-                    j[(row, q)] /= f;
+    let last = scaled_least_squares(j, r, n - pf)?;
+    let s2 = last.rss / (n - pf) as f64;
+    Some((last.covariance, 1.0 / s2.max(f64::MIN_POSITIVE), birge))
+}
+
+/// The covariance of a fit whose noise comes from its residuals: s^2 (J' W J)^-1 as the
+/// scaled covariance and its factor, with the rows of a component that shows a lack of fit
+/// down-weighted ([`widen_by_misfit`]; the unwidened s^2 kept), and the misfit ratios. None
+/// when J' W J is singular.
+fn pooled_covariance(
+    conditions: &[Condition],
+    scale: &[f64],
+    r: &mut DVector<f64>,
+    j: &mut DMatrix<f64>,
+) -> Option<(Vec<Vec<f64>>, f64, Vec<f64>)> {
+    let (n, p) = j.shape();
+    let last = scaled_least_squares(j, r, n - p)?;
+    let misfit = widen_by_misfit(conditions, scale, p, r, j);
+    if !misfit.iter().any(|f| *f > MISFIT_RATIO) {
+        return Some((last.covariance, 1.0, misfit));
+    }
+    let widened = scaled_least_squares(j, r, n - p)?;
+    let factor = last.rss / widened.rss.max(f64::MIN_POSITIVE);
+    Some((widened.covariance, factor, misfit))
+}
+
+/// The lack-of-fit ratio of each component over the rows without their own standard
+/// errors ([`super::plausibility::misfit_ratios`]), and those rows' weighted residuals and
+/// Jacobian divided by its square root where it exceeds [`MISFIT_RATIO`]: a misfit that
+/// varies smoothly over the conditions makes their errors correlated, and the sigmas from
+/// the pooled residuals alone too small (the sigmas grow with the misfit, as the HEKF's
+/// grow with its innovations' NIS).
+fn widen_by_misfit(
+    conditions: &[Condition],
+    scale: &[f64],
+    p: usize,
+    r: &mut DVector<f64>,
+    j: &mut DMatrix<f64>,
+) -> Vec<f64> {
+    let mut rows = Vec::new();
+    let mut pooled = Vec::new();
+    let mut residuals = Vec::new();
+    let mut offset = 0;
+    for c in conditions {
+        if c.sigma.is_none() && c.harmonic.is_none() {
+            pooled.push(c);
+            rows.push(offset);
+            residuals.push((0..c.f.len()).map(|k| r[offset + k] * scale[k]).collect());
+        }
+        offset += c.f.len();
+    }
+    if pooled.is_empty() {
+        return Vec::new();
+    }
+    let n: usize = conditions.iter().map(|c| c.f.len()).sum();
+    let ratios = super::plausibility::misfit_ratios(&pooled, &residuals, 1.0 - p as f64 / n as f64);
+    for &row in &rows {
+        for (k, f) in ratios.iter().enumerate() {
+            if *f > MISFIT_RATIO {
+                let w = f.sqrt();
+                r[row + k] /= w;
+                for q in 0..j.ncols() {
+                    j[(row + k, q)] /= w;
                 }
-                row += 1;
             }
         }
-        let last = scaled_least_squares(&j, &r, n - pf).ok_or_else(singular)?;
-        let s2 = last.rss / (n - pf) as f64;
-        return Ok(Fit {
-            values: theta,
-            covariance: embed(last.covariance, 1.0 / s2.max(f64::MIN_POSITIVE)),
-            noise: scale,
-            iterations,
-            birge,
-        });
     }
-    let last = scaled_least_squares(&j, &r, n - pf).ok_or_else(singular)?;
-    Ok(Fit {
-        values: theta,
-        covariance: embed(last.covariance, 1.0),
-        noise: scale,
-        iterations,
-        birge: Vec::new(),
-    })
+    ratios
 }
 
 /// One Gauss-Newton step for the weighted residuals `r` with Jacobian `j`: the least-squares

@@ -7,6 +7,7 @@
 
 pub mod fit;
 pub mod harmonic;
+pub mod plausibility;
 
 pub use crate::config::captive::CaptiveConfig;
 
@@ -127,8 +128,7 @@ pub fn run(
             cfg,
             known,
             runs,
-            rho: fluid.rho,
-            length: vehicle.length,
+            reference: reference_of(vehicle, fluid),
         },
     )
     .map_err(Error::vehicle)?
@@ -138,9 +138,33 @@ struct Fit<'a> {
     cfg: &'a CaptiveConfig,
     known: &'a CoefficientSet,
     runs: &'a [Record],
-    rho: f64,
-    /// The vehicle's length, m (the scale of a rate's steadiness).
-    length: f64,
+    /// The vehicle's scales (its length is that of a rate's steadiness).
+    reference: plausibility::Reference,
+}
+
+/// The scales of the vehicle the plausibility checks compare with: its mass and length, and
+/// the draught (`vehicle.particulars.draught`) or diameter that give its analytic added
+/// masses.
+fn reference_of(vehicle: &VehicleConfig, fluid: &FluidConfig) -> plausibility::Reference {
+    #[derive(serde::Deserialize)]
+    struct Draught {
+        #[serde(
+            default,
+            deserialize_with = "crate::config::si::option::<_, crate::config::si::Length>"
+        )]
+        draught: Option<f64>,
+    }
+    let draught = toml::Value::Table(vehicle.particulars.clone())
+        .try_into::<Draught>()
+        .ok()
+        .and_then(|d| d.draught);
+    plausibility::Reference::new(
+        fluid.rho,
+        vehicle.length,
+        vehicle.mass,
+        draught,
+        vehicle.diameter,
+    )
 }
 
 /// What turns a table's columns into SI: the prime system and the water density.
@@ -177,9 +201,11 @@ fn prepare<M: Model>(
     model: &M,
     cfg: &CaptiveConfig,
     runs: &[&Record],
-    (rho, length): (f64, f64),
+    reference: &plausibility::Reference,
     known: &dyn Fn(&str) -> Option<f64>,
 ) -> Result<Prepared> {
+    let (rho, length) = (reference.rho, reference.length);
+    let layout = plausibility::Layout::of(model);
     let forces = model.force_quantities();
     if forces.is_empty() {
         return Err(Error::numerical(
@@ -218,9 +244,20 @@ fn prepare<M: Model>(
             periods = p;
             c = vec![one];
         }
+        let found = plausibility::before(&rec.name, &c, &layout, reference)
+            .map_err(|m| Error::numerical(STAGE, format!("run '{}': {m}", rec.name)))?;
+        prepared.warnings.extend(found);
         prepared.sizes.push((rec.name.clone(), c.len(), periods));
         prepared.conditions.extend(c);
     }
+    // force histories averaged one condition per run: their signs and sizes across the runs
+    let averaged: Vec<&Condition> = prepared
+        .conditions
+        .iter()
+        .filter(|c| c.sigma.is_some() && c.harmonic.is_none())
+        .collect();
+    let found = plausibility::across_runs(&averaged, &layout, reference);
+    prepared.warnings.extend(found);
     Ok(prepared)
 }
 
@@ -238,7 +275,7 @@ pub fn preflight(
     struct Check<'a> {
         cfg: &'a CaptiveConfig,
         runs: &'a [&'a Record],
-        frame: (f64, f64),
+        reference: plausibility::Reference,
         available: &'a [String],
     }
     impl ModelVisitor for Check<'_> {
@@ -246,13 +283,13 @@ pub fn preflight(
         fn visit<M: Model>(self, model: &M) -> Option<Error> {
             // only whether a value exists matters before the fit
             let known = |n: &str| self.available.iter().any(|a| a == n).then_some(0.0);
-            prepare(model, self.cfg, self.runs, self.frame, &known).err()
+            prepare(model, self.cfg, self.runs, &self.reference, &known).err()
         }
     }
     let check = Check {
         cfg,
         runs,
-        frame: (fluid.rho, vehicle.length),
+        reference: reference_of(vehicle, fluid),
         available,
     };
     // a model the vehicle cannot build is the configuration's problem, reported by its
@@ -274,7 +311,7 @@ impl ModelVisitor for Fit<'_> {
             conditions,
             sizes,
             mut warnings,
-        } = prepare(model, cfg, &runs, (self.rho, self.length), &known)?;
+        } = prepare(model, cfg, &runs, &self.reference, &known)?;
         let start: Vec<f64> = cfg
             .estimate
             .iter()
@@ -289,7 +326,7 @@ impl ModelVisitor for Fit<'_> {
                 None => 0.0,
             })
             .collect();
-        let f = fit::fit(model, &base, &est, &start, &signs, &conditions)
+        let mut f = fit::fit(model, &base, &est, &start, &signs, &conditions)
             .map_err(|m| Error::numerical(STAGE, m))?;
         let misfit: Vec<String> = forces
             .iter()
@@ -311,6 +348,15 @@ impl ModelVisitor for Fit<'_> {
                  here, or in a joint HEKF, removes the bias",
             ));
         }
+        let worst = add_range_term(
+            model,
+            (&base, &est, &signs),
+            &conditions,
+            self.reference.length,
+            &mut f,
+        );
+        let shift = worst.map(|(i, d, s)| (cfg.estimate[i].as_str(), d, s));
+        warnings.extend(misfit_warning(forces, &f.misfit, shift));
         let (coefficients, bound) = fitted(model.name(), cfg, &f, &signs, conditions.len());
         warnings.extend(bound);
         let runs = residual_summaries(model, &base, &est, &f.values, &conditions, &sizes);
@@ -333,6 +379,87 @@ impl ModelVisitor for Fit<'_> {
             covariance: f.covariance,
         })
     }
+}
+
+/// The warning of the lack-of-fit test of the steady rows ([`fit::Fit::misfit`]), with the
+/// largest shift of a coefficient when the outer conditions are left out (`shift`: name,
+/// shift, its sigma before the range term).
+fn misfit_warning(
+    forces: &[Quantity],
+    ratios: &[f64],
+    shift: Option<(&str, f64, f64)>,
+) -> Option<Warning> {
+    let missed: Vec<String> = forces
+        .iter()
+        .zip(ratios)
+        .filter(|(_, f)| **f > fit::MISFIT_RATIO)
+        .map(|(q, f)| format!("{} ({} times)", q.key(), crate::numfmt::num(*f)))
+        .collect();
+    let moved = shift.map_or(String::new(), |(name, d, s)| {
+        format!(
+            "; without the outer quarter of the conditions' range {name} moves by {} ({} of its \
+             sigma from the residuals)",
+            crate::numfmt::num(d),
+            crate::numfmt::num(d.abs() / s.max(f64::MIN_POSITIVE))
+        )
+    });
+    (!missed.is_empty()).then(|| {
+        Warning::new(
+            STAGE,
+            format!(
+                "lack of fit: the residuals of the steady rows vary with the condition; their \
+                 variance over the pure noise of near-neighbour conditions is {}, 1 when the \
+                 model fits{moved}",
+                missed.join(", ")
+            ),
+            "the model lacks a term the runs excite (a higher power of the drift or yaw \
+             rate), or a fixed coefficient is off: the fitted coefficients depend on the \
+             range of the conditions. The sigmas are widened by the square roots of these \
+             ratios and by the shift of the coefficients when the outer quarter of the \
+             conditions' range is left out (docs/stages.md, \"Captive plausibility\")",
+        )
+        .failed(crate::warning::Test::Misfit)
+    })
+}
+
+/// When the steady rows show a lack of fit: the fit again without the outer quarter of
+/// their range ([`plausibility::inner`]), and its shift d of each coefficient, beyond what
+/// the noise explains, added to its variance: max(0, d^2 - (V_inner - V)) (the variance of
+/// the difference of two nested fits without misfit, Hausman 1978 eq. 2.4). A model-error
+/// term: how far the answer depends on the range the model is made to cover. Returns the
+/// coefficient that moved most against its sigma before the term.
+fn add_range_term<M: Model>(
+    model: &M,
+    (base, est, signs): (&[f64], &[usize], &[f64]),
+    conditions: &[Condition],
+    length: f64,
+    f: &mut fit::Fit,
+) -> Option<(usize, f64, f64)> {
+    if !f.misfit.iter().any(|r| *r > fit::MISFIT_RATIO) {
+        return None;
+    }
+    let keep = plausibility::inner(conditions, &plausibility::Layout::of(model), length);
+    let kept: Vec<Condition> = conditions
+        .iter()
+        .zip(&keep)
+        .filter(|(_, k)| **k)
+        .map(|(c, _)| c.clone())
+        .collect();
+    if kept.len() == conditions.len() {
+        return None;
+    }
+    let inner = fit::fit(model, base, est, &f.values, signs, &kept).ok()?;
+    let sigma = |i: usize| f.covariance[i][i].max(0.0).sqrt();
+    let p = f.values.len();
+    let worst = (0..p)
+        .map(|i| (i, inner.values[i] - f.values[i], sigma(i)))
+        .max_by(|a, b| (a.1.abs() / a.2).total_cmp(&(b.1.abs() / b.2)))?;
+    for i in 0..p {
+        let d = inner.values[i] - f.values[i];
+        let noise = (inner.covariance[i][i] - f.covariance[i][i]).max(0.0);
+        f.covariance[i][i] += (d * d - noise).max(0.0);
+    }
+    Some(worst)
 }
 
 /// The fitted coefficients with their sigmas (one that ends on its sign bound held at 0
@@ -455,12 +582,24 @@ fn conditions_of<M: Model>(
     frame: &Frame,
     oscillation: Option<&crate::config::captive::Oscillation>,
 ) -> Result<Vec<Condition>> {
-    let fail = |m: String| Error::numerical(STAGE, format!("run '{}': {m}", rec.name));
-    let value = |q: Quantity, k: usize| {
-        rec.channel(q)
-            .map(|v| v[k])
-            .or_else(|| rec.constants.get(&q).copied())
+    check_columns(model, rec, frame)?;
+    let table = Table {
+        rec,
+        frame,
+        oscillation,
+        by_drift: motion_columns(rec, oscillation)?,
     };
+    (0..rec.rows()).map(|k| table.condition(model, k)).collect()
+}
+
+/// An error of the run `rec`.
+fn run_error(rec: &Record, m: String) -> Error {
+    Error::numerical(STAGE, format!("run '{}': {m}", rec.name))
+}
+
+/// Whether the table gives what the model's conditions need: the prime system of its
+/// non-dimensional columns, each captive force (or its prime column) and each input.
+fn check_columns<M: Model>(model: &M, rec: &Record, frame: &Frame) -> Result<()> {
     let uses_prime = [
         Quantity::RPrime,
         Quantity::XPrime,
@@ -470,7 +609,8 @@ fn conditions_of<M: Model>(
     .iter()
     .any(|q| rec.has(*q));
     if uses_prime && frame.prime.is_none() {
-        return Err(fail(
+        return Err(run_error(
+            rec,
             "the table has non-dimensional columns (r_prime, x_prime, y_prime or n_prime): \
              give their normalisation, captive.prime = { length = ..., area = ... }"
                 .into(),
@@ -479,128 +619,178 @@ fn conditions_of<M: Model>(
     for q in model.force_quantities() {
         let prime = prime_of(*q).map(|(p, _)| p);
         if !rec.has(*q) && !prime.is_some_and(|p| rec.has(p)) {
-            return Err(fail(format!(
-                "no {q}{} column: the {} model's captive forces are {}",
-                prime.map(|p| format!(" (or {p})")).unwrap_or_default(),
-                model.name(),
-                model
-                    .force_quantities()
-                    .iter()
-                    .map(|q| q.key())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            )));
+            return Err(run_error(
+                rec,
+                format!(
+                    "no {q}{} column: the {} model's captive forces are {}",
+                    prime.map(|p| format!(" (or {p})")).unwrap_or_default(),
+                    model.name(),
+                    model
+                        .force_quantities()
+                        .iter()
+                        .map(|q| q.key())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            ));
         }
     }
     for q in model.input_quantities() {
         if !rec.has(q) {
-            return Err(fail(format!(
-                "no {q}: the {} model needs it (a column, or `constants = {{ {q} = ... }}`)",
-                model.name()
-            )));
-        }
-    }
-    if let Some(o) = oscillation {
-        for q in o.amplitude.keys() {
-            if rec.channel(*q).is_some() {
-                return Err(fail(format!(
-                    "{q} is both a column and a prescribed oscillation \
-                     (captive.oscillations): give one"
-                )));
-            }
-        }
-        if rec.time().is_none() {
-            return Err(fail(
-                "a prescribed oscillation needs the time column of the force history".into(),
+            return Err(run_error(
+                rec,
+                format!(
+                    "no {q}: the {} model needs it (a column, or `constants = {{ {q} = ... }}`)",
+                    model.name()
+                ),
             ));
         }
     }
-    let oscillating = |q: Quantity, k: usize| -> Option<f64> {
-        let o = oscillation?;
-        let a = o.amplitude.get(&q)?.si;
-        let t = rec.time()?[k];
-        let mean = rec.constants.get(&q).copied().unwrap_or(0.0);
-        Some(mean + a * (2.0 * std::f64::consts::PI * o.frequency * t + o.phase).sin())
-    };
+    Ok(())
+}
+
+/// Whether the table gives its motion (its prescribed oscillation, if any, with the time
+/// and no column of the same velocity): true when by speed and drift, false when by u.
+fn motion_columns(
+    rec: &Record,
+    oscillation: Option<&crate::config::captive::Oscillation>,
+) -> Result<bool> {
+    let fail = |m: &str| Err(run_error(rec, m.to_string()));
+    if let Some(o) = oscillation {
+        for q in o.amplitude.keys() {
+            if rec.channel(*q).is_some() {
+                return Err(run_error(
+                    rec,
+                    format!(
+                        "{q} is both a column and a prescribed oscillation \
+                         (captive.oscillations): give one"
+                    ),
+                ));
+            }
+        }
+        if rec.time().is_none() {
+            return fail("a prescribed oscillation needs the time column of the force history");
+        }
+    }
     let by_drift = rec.has(Quantity::Drift);
     if by_drift && !rec.has(Quantity::Speed) {
-        return Err(fail(
-            "a drift column needs the speed U (`speed`) too".into(),
-        ));
+        return fail("a drift column needs the speed U (`speed`) too");
     }
     let u_given =
         rec.has(Quantity::U) || oscillation.is_some_and(|o| o.amplitude.contains_key(&Quantity::U));
     if !by_drift && !u_given {
-        return Err(fail(
-            "no motion: give u (and v, r) or speed and drift (and r_prime)".into(),
-        ));
+        return fail("no motion: give u (and v, r) or speed and drift (and r_prime)");
     }
-    let mut out = Vec::new();
-    for k in 0..rec.rows() {
-        let line = rec.lines.get(k).copied().unwrap_or(k + 1);
-        let speed = value(Quantity::Speed, k);
-        let motion = |q: Quantity| -> Option<f64> {
-            if let Some(v) = oscillating(q, k) {
-                return Some(v);
+    Ok(by_drift)
+}
+
+/// A table checked by [`check_columns`] and [`motion_columns`], read row by row.
+struct Table<'a> {
+    rec: &'a Record,
+    frame: &'a Frame,
+    oscillation: Option<&'a crate::config::captive::Oscillation>,
+    /// The motion is given by speed and drift (else by u).
+    by_drift: bool,
+}
+
+impl Table<'_> {
+    /// The value of `q` at row `k`: its column's, else its constant.
+    fn value(&self, q: Quantity, k: usize) -> Option<f64> {
+        self.rec
+            .channel(q)
+            .map(|v| v[k])
+            .or_else(|| self.rec.constants.get(&q).copied())
+    }
+
+    /// The prescribed oscillating velocity `q` at row `k` (its constant, or 0, plus
+    /// A sin(2 pi f t + phase)); None when `q` does not oscillate.
+    fn oscillating(&self, q: Quantity, k: usize) -> Option<f64> {
+        let o = self.oscillation?;
+        let a = o.amplitude.get(&q)?.si;
+        let t = self.rec.time()?[k];
+        let mean = self.rec.constants.get(&q).copied().unwrap_or(0.0);
+        Some(mean + a * (2.0 * std::f64::consts::PI * o.frequency * t + o.phase).sin())
+    }
+
+    /// The velocity `q` at row `k` with the speed U `speed`.
+    fn motion(&self, q: Quantity, k: usize, speed: Option<f64>) -> Option<f64> {
+        if let Some(v) = self.oscillating(q, k) {
+            return Some(v);
+        }
+        let rec = self.rec;
+        match (q, self.by_drift) {
+            (Quantity::U, true) => Some(speed? * self.value(Quantity::Drift, k)?.cos()),
+            (Quantity::V, true) => Some(-speed? * self.value(Quantity::Drift, k)?.sin()),
+            (Quantity::R, _) if !rec.has(Quantity::R) && rec.has(Quantity::RPrime) => {
+                Some(self.value(Quantity::RPrime, k)? * speed? / self.frame.prime?.length)
             }
-            match (q, by_drift) {
-                (Quantity::U, true) => Some(speed? * value(Quantity::Drift, k)?.cos()),
-                (Quantity::V, true) => Some(-speed? * value(Quantity::Drift, k)?.sin()),
-                (Quantity::R, _) if !rec.has(Quantity::R) && rec.has(Quantity::RPrime) => {
-                    Some(value(Quantity::RPrime, k)? * speed? / frame.prime?.length)
+            _ => self.value(q, k),
+        }
+    }
+
+    /// The force `q` at row `k` in SI: its column, or its prime column times
+    /// 0.5 rho A U^2 (and L for a moment); NaN when neither gives it.
+    fn force(&self, q: Quantity, k: usize, speed: Option<f64>) -> f64 {
+        match (self.value(q, k), prime_of(q)) {
+            (Some(v), _) => v,
+            (None, Some((p, moment))) => match (self.value(p, k), speed, self.frame.prime) {
+                (Some(v), Some(speed), Some(ps)) => {
+                    let q = 0.5 * self.frame.rho * ps.area * speed * speed;
+                    v * if moment { q * ps.length } else { q }
                 }
-                _ => value(q, k),
-            }
-        };
+                _ => f64::NAN,
+            },
+            (None, None) => f64::NAN,
+        }
+    }
+
+    /// The steady condition of row `k`.
+    fn condition<M: Model>(&self, model: &M, k: usize) -> Result<Condition> {
+        let rec = self.rec;
+        let line = rec.lines.get(k).copied().unwrap_or(k + 1);
+        let speed = self.value(Quantity::Speed, k);
         if rec.has(Quantity::RPrime) && speed.is_none() {
-            return Err(fail(format!(
-                "line {line}: r_prime needs the speed U (`speed`)"
-            )));
+            return Err(run_error(
+                rec,
+                format!("line {line}: r_prime needs the speed U (`speed`)"),
+            ));
         }
         let x: Vec<f64> = model
             .states()
             .iter()
             .map(|s| match s.quantity {
-                q if Quantity::MOTION[..6].contains(&q) => motion(q).unwrap_or(0.0),
+                q if Quantity::MOTION[..6].contains(&q) => self.motion(q, k, speed).unwrap_or(0.0),
                 _ => 0.0,
             })
             .collect();
         let u: Vec<f64> = model
             .input_quantities()
             .iter()
-            .map(|q| value(*q, k).unwrap_or(0.0))
+            .map(|q| self.value(*q, k).unwrap_or(0.0))
             .collect();
         let f: Vec<f64> = model
             .force_quantities()
             .iter()
-            .map(|q| match (value(*q, k), prime_of(*q)) {
-                (Some(v), _) => v,
-                (None, Some((p, moment))) => match (value(p, k), speed, frame.prime) {
-                    (Some(v), Some(speed), Some(ps)) => {
-                        let q = 0.5 * frame.rho * ps.area * speed * speed;
-                        v * if moment { q * ps.length } else { q }
-                    }
-                    _ => f64::NAN,
-                },
-                (None, None) => f64::NAN,
-            })
+            .map(|q| self.force(*q, k, speed))
             .collect();
         if x.iter().chain(&u).chain(&f).any(|v| !v.is_finite()) {
-            return Err(fail(format!(
-                "line {line}: a value is missing or not a number (a prime force needs the \
-                 speed U in `speed`)"
-            )));
+            return Err(run_error(
+                rec,
+                format!(
+                    "line {line}: a value is missing or not a number (a prime force needs the \
+                     speed U in `speed`)"
+                ),
+            ));
         }
-        out.push(Condition {
+        Ok(Condition {
             x,
             u,
             f,
             sigma: None,
             place: format!("{} line {line}", rec.name),
             harmonic: None,
-        });
+        })
     }
-    Ok(out)
 }
 
 /// Birge ratio of a force component above which the misfit is reported.
@@ -834,8 +1024,7 @@ mod tests {
             cfg: &cfg,
             known: &known,
             runs: &[],
-            rho: 1000.0,
-            length: 1.2,
+            reference: plausibility::Reference::new(1000.0, 1.2, 10.0, None, None),
         }
         .visit(&model)
         .unwrap_err()
