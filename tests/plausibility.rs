@@ -224,6 +224,19 @@ fn swapped_u_and_v_are_named() {
 }
 
 #[test]
+fn body_velocities_declared_earth_frame_are_named() {
+    let dir = example_copy();
+    named_by_check_and_run(
+        dir.path(),
+        &["hekf.runs[0].velocity_frame=\"earth\""],
+        &[
+            "the velocity columns hold body velocities",
+            "velocity_frame = \"earth\"",
+        ],
+    );
+}
+
+#[test]
 fn warnings_are_printed_by_check_when_checks_only_warn() {
     let dir = example_copy();
     let set = [

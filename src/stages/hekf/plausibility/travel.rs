@@ -179,7 +179,7 @@ impl<'a> Path<'a> {
 
     /// The mix-ups a user may have made, each as the earth velocity it predicts and what it
     /// means.
-    fn mix_ups(&self) -> [(Predict<'_>, &'static str); 5] {
+    fn mix_ups(&self) -> [(Predict<'_>, &'static str); 6] {
         const SWAPPED: &str = "u and v look swapped (the column mapped to u holds the sway \
             velocity, the one mapped to v the surge velocity): exchange the columns of the u \
             and v entries";
@@ -189,6 +189,17 @@ impl<'a> Path<'a> {
                 Box::new(move |k| (u[k], v[k])),
                 "the velocity columns hold earth-frame velocities (dx/dt, dy/dt), not body \
                  velocities: set `velocity_frame = \"earth\"` for this run",
+            ),
+            // body velocities declared earth-frame: the loader rotated them by -psi, so the
+            // columns as logged are the record's u, v rotated by +psi, and the earth velocity
+            // those body velocities give is that rotated by +psi again
+            (
+                Box::new(move |k| {
+                    let logged = self.rotate(k, (u[k], v[k]), 1.0);
+                    self.rotate(k, logged, 1.0)
+                }),
+                "the velocity columns hold body velocities, but the run declares them \
+                 earth-frame (`velocity_frame = \"earth\"`): remove it (or set \"body\")",
             ),
             (
                 Box::new(move |k| self.rotate(k, (u[k], v[k]), -1.0)),
