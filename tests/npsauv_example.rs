@@ -174,24 +174,43 @@ fn the_papers_preset_runs_with_the_papers_filter_and_tuning() {
     assert!(err.contains("smaller than the noise model says"), "{err}");
 }
 
-/// A prior that makes the mass matrix singular (Mqdot above I_y / (0.5 rho L^5)) stops
-/// with an error naming the run, the pass, the time and the cause, not a NaN.
+/// A start of Mqdot outside its admissible range (an added mass of Fossen's sign, <= 0) is
+/// refused before the filter runs, naming the key and the range.
+#[test]
+fn an_added_mass_started_outside_its_range_is_refused_naming_the_key() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = run(
+        "configs/npsauv.toml",
+        dir.path(),
+        &[&estimate_17_and("Mqdot"), "hekf.prior.Mqdot.initial=0.01"],
+    );
+    assert!(!o.status.success());
+    let e = common::text(&o.stderr);
+    assert!(
+        e.contains(
+            "hekf.prior.Mqdot.initial = 0.01: outside the coefficient's admissible range (<= 0)"
+        ),
+        "{e}"
+    );
+}
+
+/// A prior that makes the mass matrix singular (the pitch-heave coupling Mwdot far above its
+/// size; Mqdot, which did it before, is now kept to its sign) stops with an error naming the
+/// run, the pass, the time and the cause, not a NaN.
 #[test]
 fn a_singular_mass_matrix_prior_stops_with_run_pass_and_time() {
     let dir = tempfile::tempdir().unwrap();
-    let mut estimate: Vec<String> = PAPER_17.iter().map(|n| format!("\"{n}\"")).collect();
-    estimate.push("\"Mqdot\"".into());
-    let estimate = format!("hekf.estimate=[{}]", estimate.join(","));
+    let estimate = estimate_17_and("Mwdot");
     let o = run(
         "configs/npsauv.toml",
         dir.path(),
         &[
             &estimate,
-            "hekf.prior.Mqdot.initial=0.01",
-            "hekf.prior.Mqdot.sigma=0.001",
+            "hekf.prior.Mwdot.initial=1.0",
+            "hekf.prior.Mwdot.sigma=0.001",
         ],
     );
-    assert!(!o.status.success());
+    assert!(!o.status.success(), "{}", common::text(&o.stderr));
     let e = common::text(&o.stderr);
     for part in [
         "run 'helix: rudder and stern planes 10 deg, 500 rpm'",
@@ -199,7 +218,7 @@ fn a_singular_mass_matrix_prior_stops_with_run_pass_and_time() {
         "t = 0.0000 s",
         "mass matrix",
         "not positive definite",
-        "Mqdot",
+        "Mwdot",
     ] {
         assert!(e.contains(part), "missing '{part}' in: {e}");
     }
@@ -255,4 +274,11 @@ fn noise_free_helix_recovers_the_truth_to_a_tenth_of_a_percent() {
             100.0 * err
         );
     }
+}
+
+/// `hekf.estimate` of the paper's 17 and `extra`.
+fn estimate_17_and(extra: &str) -> String {
+    let mut estimate: Vec<String> = PAPER_17.iter().map(|n| format!("\"{n}\"")).collect();
+    estimate.push(format!("\"{extra}\""));
+    format!("hekf.estimate=[{}]", estimate.join(","))
 }

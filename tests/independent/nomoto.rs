@@ -192,28 +192,17 @@ pub fn simulate(
 
 /// The 20/20 zig-zag of [`zigzag_in_waves`] in calm water: the compass sees no wave yaw.
 pub fn zigzag_in_calm(ship: &NomotoShip, seed: u64) -> Run {
-    simulate(
-        ship,
-        Helm::ZigZag(ZigZag::new(
-            20f64.to_radians(),
-            20f64.to_radians(),
-            1.0,
-            10.0,
-            0.0,
-        )),
-        steering_gear(),
-        false,
-        600.0,
-        0.01,
-        0.1,
-        0.1f64.to_radians(),
-        seed,
-    )
+    zigzag_20_20(ship, false, seed)
 }
 
 /// A 20/20 zig-zag in waves of `period` s: 600 s logged at 10 Hz (RK4 at 10 ms), compass
 /// noise 0.1 deg, first rudder order at 10 s.
 pub fn zigzag_in_waves(ship: &NomotoShip, seed: u64) -> Run {
+    zigzag_20_20(ship, true, seed)
+}
+
+/// The 20/20 zig-zag, with or without the waves of `ship`.
+fn zigzag_20_20(ship: &NomotoShip, waves: bool, seed: u64) -> Run {
     simulate(
         ship,
         Helm::ZigZag(ZigZag::new(
@@ -224,7 +213,7 @@ pub fn zigzag_in_waves(ship: &NomotoShip, seed: u64) -> Run {
             0.0,
         )),
         steering_gear(),
-        true,
+        waves,
         600.0,
         0.01,
         0.1,
