@@ -36,7 +36,18 @@ fn identify(name: &str, edit: &dyn Fn(String) -> String) -> (Value, String) {
     let said = text(&o.stderr);
     assert_eq!(o.status.code(), Some(0), "{said}");
     says_measured(&out.join("report.md"));
-    (json(&out.join("results.json")), said)
+    let r = json(&out.join("results.json"));
+    // results.json says per run how `between = auto` read the rudder: linearly on the
+    // zig-zags (it moves through intermediate angles), held on MARIN's turns (after the one
+    // execution it flickers by one printed digit, which the rule counts as steps)
+    for run in r["stages"]["hekf"]["runs"].as_array().unwrap() {
+        let turn = run["name"].as_str().unwrap().contains("turn");
+        let want = if turn { "held" } else { "linear" };
+        assert_eq!(run["between"]["rudder"], want, "{}", run["name"]);
+    }
+    let md = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(md.contains("Inputs between samples"), "{md}");
+    (r, said)
 }
 
 /// The report of basin logs calls the data measured, never CFD (issue 27).

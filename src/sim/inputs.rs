@@ -224,6 +224,23 @@ impl InputSeries {
         Ok(InputSeries { t, inputs })
     }
 
+    /// How each sampled input of `wanted` (the defs this series was made from) is read
+    /// between its samples, `held` or `linear`, by quantity key; constants are left out.
+    pub fn between(&self, wanted: &[InputDef]) -> std::collections::BTreeMap<String, String> {
+        wanted
+            .iter()
+            .zip(&self.inputs)
+            .filter_map(|(d, i)| {
+                let rule = match i {
+                    Input::Held(_) => "held",
+                    Input::Series(_) => "linear",
+                    Input::Constant(_) => return None,
+                };
+                Some((d.quantity.key().to_string(), rule.to_string()))
+            })
+            .collect()
+    }
+
     /// Every input constant.
     pub fn constant(values: &[f64]) -> Self {
         InputSeries {
@@ -290,6 +307,37 @@ impl InputSeries {
 mod tests {
     use super::*;
     use crate::record::{self, Needs};
+
+    /// What `between` reports: held and linear inputs by key, constants left out.
+    #[test]
+    fn between_names_each_sampled_inputs_rule() {
+        let series = InputSeries {
+            t: vec![0.0, 1.0],
+            inputs: vec![
+                Input::Held(vec![0.0, 0.1]),
+                Input::Series(vec![10.0, 10.0]),
+                Input::Constant(0.0),
+            ],
+        };
+        let defs = [
+            InputDef {
+                quantity: Quantity::Rudder,
+                rule: InputRule::Hold,
+            },
+            InputDef {
+                quantity: Quantity::Rpm,
+                rule: InputRule::Interpolate,
+            },
+            InputDef {
+                quantity: Quantity::Thrust,
+                rule: InputRule::Interpolate,
+            },
+        ];
+        let b = series.between(&defs);
+        assert_eq!(b.len(), 2, "{b:?}");
+        assert_eq!(b[Quantity::Rudder.key()], "held");
+        assert_eq!(b[Quantity::Rpm.key()], "linear");
+    }
 
     /// The bundled validation turn (15 N, then 30 N from 10 s) read with `extra` added to its
     /// input table and its thrust column mapped or not.

@@ -242,6 +242,21 @@ fn noise(d: &mut Document, h: &HekfResult) {
         }
     }
     d.table(t);
+    let between: Vec<String> = h
+        .runs
+        .iter()
+        .filter(|r| !r.between.is_empty())
+        .map(|r| {
+            let rules: Vec<String> = r.between.iter().map(|(q, b)| format!("{q} {b}")).collect();
+            format!("{}: {}", r.name, rules.join(", "))
+        })
+        .collect();
+    if !between.is_empty() {
+        d.text(format!(
+            "Inputs between samples (`between`, docs/config.md): {}.",
+            between.join("; ")
+        ));
+    }
 }
 
 fn nis(d: &mut Document, h: &HekfResult) {

@@ -245,6 +245,7 @@ mod tests {
             process_noise: Default::default(),
             nis: summarize(&nis, 3),
             innovation_rms: Vec::new(),
+            between: Default::default(),
             warnings: Vec::new(),
         };
         let traces = RunTraces {

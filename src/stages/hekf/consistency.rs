@@ -213,6 +213,7 @@ mod tests {
             process_noise: Default::default(),
             nis: summarize(nis, 2),
             innovation_rms: rms,
+            between: Default::default(),
             warnings: Vec::new(),
         }
     }

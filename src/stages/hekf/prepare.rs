@@ -347,6 +347,7 @@ pub fn run_data<M: Model>(
         process_noise: Default::default(),
         nis: None,
         innovation_rms: Vec::new(),
+        between: inputs.between(model.inputs()),
         warnings,
     };
     Ok((

@@ -50,6 +50,10 @@ pub struct RunSummary {
     pub nis: Option<NisSummary>,
     /// RMS of the innovations in the last pass, per measured quantity (SI).
     pub innovation_rms: Vec<f64>,
+    /// How each sampled input is read between its samples (`held` or `linear`, by quantity:
+    /// the run's `between`, docs/config.md); constant inputs are not listed.
+    #[serde(skip_serializing_if = "BTreeMap::is_empty")]
+    pub between: BTreeMap<String, String>,
     /// Things to know about this run.
     pub warnings: Vec<Warning>,
 }
