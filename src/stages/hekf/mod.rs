@@ -230,7 +230,7 @@ impl ModelVisitor for Identify<'_> {
         };
         let vehicle = inputs.vehicle.vehicle_data(inputs.fluid);
         let expect = expectation(model, cfg, &configured, &vehicle);
-        let (runs, summaries) = run_data(model, cfg, &tuning, &plan, inputs, &expect)?;
+        let (runs, summaries) = prepared_runs(model, cfg, &tuning, &plan, inputs, &expect)?;
         let setup = prepare::setup(model, cfg, &plan, &tuning, &runs)?;
         let id = identify(model, &setup, &runs, self.progress)
             .map_err(|e| divergence_error(model, &plan, &runs, &summaries, e))?;
@@ -302,7 +302,7 @@ impl ModelVisitor for Identify<'_> {
 
 /// Each run's samples for the filter, with its plausibility findings (blocking ones stopped
 /// the run in preflight unless `checks = "warn"`), decimated as configured.
-fn run_data<M: Model>(
+fn prepared_runs<M: Model>(
     model: &M,
     cfg: &HekfConfig,
     tuning: &tuning::Resolved,
