@@ -36,7 +36,10 @@
 //! coefficients `Xvv`, `Xvr`, `Xrr`, `Xww` of the other models have those names.
 
 mod coefficients;
+mod cross_flow;
 mod forces;
+
+pub use cross_flow::CrossFlow;
 
 pub use coefficients::{ADDED_MASS, COEFFICIENTS, PAPER_17, PUBLISHED};
 use coefficients::*;
@@ -101,6 +104,8 @@ struct ParticularsIn {
     propeller_k: Option<f64>,
     #[serde(default)]
     propeller_ct: Option<f64>,
+    #[serde(default)]
+    cross_flow: Option<CrossFlow>,
 }
 
 /// The NPS AUV's own data (SI), from `[vehicle.particulars]` or the published defaults.
@@ -134,6 +139,9 @@ pub struct NpsParticulars {
     pub propeller_k: f64,
     /// Thrust coefficient factor of C_t = 0.5 c_t L^2 eta |eta| (default 0.008, MSS npsauv.m).
     pub propeller_ct: f64,
+    /// How the cross-flow drag integral is evaluated (default Healey & Lienard's integral;
+    /// `"stations"` and `"mss"` are the forms of MSS npsauv.m, [`CrossFlow`]).
+    pub cross_flow: CrossFlow,
 }
 
 impl Default for NpsParticulars {
@@ -151,6 +159,7 @@ impl Default for NpsParticulars {
             cd0: 0.00385,
             propeller_k: 0.012,
             propeller_ct: 0.008,
+            cross_flow: CrossFlow::Integral,
         }
     }
 }
@@ -197,6 +206,7 @@ impl NpsAuv {
             cd0: p.cd0.unwrap_or(d.cd0),
             propeller_k: p.propeller_k.unwrap_or(d.propeller_k),
             propeller_ct: p.propeller_ct.unwrap_or(d.propeller_ct),
+            cross_flow: p.cross_flow.unwrap_or(d.cross_flow),
         };
         let mut problems = Vec::new();
         let mut need = |key: &str, value: f64, ok: bool, what: &str| {
@@ -603,6 +613,14 @@ mod tests {
         let e = NpsAuv::build(&v).unwrap_err();
         let keys: Vec<&str> = e.iter().map(|p| p.key.as_str()).collect();
         assert_eq!(keys, ["vehicle.ixx", "vehicle.particulars.hull_heigth"], "{e:?}");
+        let mut v = nps_auv_vehicle();
+        v.particulars.insert("cross_flow".into(), toml::Value::String("trapezoid".into()));
+        let e = NpsAuv::build(&v).unwrap_err();
+        assert_eq!(e[0].key, "vehicle.particulars.cross_flow", "{e:?}");
+        assert!(e[0].message.contains("integral"), "{e:?}");
+        let mut v = nps_auv_vehicle();
+        v.particulars.insert("cross_flow".into(), toml::Value::String("mss".into()));
+        assert_eq!(NpsAuv::build(&v).unwrap().particulars.cross_flow, CrossFlow::Mss);
     }
 
     #[test]

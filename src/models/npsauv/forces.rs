@@ -1,5 +1,5 @@
 //! The Healey & Lienard (1993) forces of the NPS AUV II: hydrodynamic terms, control
-//! surfaces, propulsion with the eps(n) corrections, and the cross-flow drag integral.
+//! surfaces and propulsion with the eps(n) corrections; the cross-flow drag is [`cross_flow`].
 //!
 //! The arrangement of the terms (which coefficient multiplies which product, on which scale
 //! 0.5 rho L^2..L^5) is Healey & Lienard's as coded in Fossen's MSS npsauv.m (read there,
@@ -11,14 +11,6 @@ use super::*;
 /// Speed below which the propulsion law's 1/u is kept finite (m/s): u is replaced by
 /// 0.5 (u + sqrt(u^2 + e^2)), equal to u within e^2 / (4 u), 1.25e-5 m/s at 2 m/s.
 const U_FLOOR: f64 = 0.01;
-
-/// Added to the cross-flow speed so that it never vanishes (m/s; MSS npsauv.m's
-/// `epsilon_drag`, here inside the square root so the derivative stays finite at rest).
-const UCF_FLOOR: f64 = 1e-6;
-
-/// Number of strips of the cross-flow integral: stations x = -L/2, -L/2 + L/10, ..., L/2,
-/// each weighted L/10 (MSS npsauv.m's sum over `xL = -L/2:dxL:L/2`).
-const STRIPS: usize = 10;
 
 /// Hydrodynamic + control + propulsion + cross-flow forces at nu for inputs
 /// `[delta_r, delta_s, delta_b, n]` (rad, rad, rad, rev/s).
@@ -88,34 +80,6 @@ pub(super) fn total<T: Scalar>(m: &NpsAuv, nu: &[T; 6], inputs: &[f64], c: &[T])
         + (c[NP] * u * p + c[NR] * u * r + c[NVQ] * v * q + c[NWP] * w * p + c[NWR] * w * r) * r4
         + (c[NPQ] * p * q + c[NQR] * q * r) * r5;
 
-    let cf = crossflow(m, v, w, q, r);
+    let cf = cross_flow::drag(m, v, w, q, r);
     [x, y + cf[0], z + cf[1], k, mm + cf[2], nn + cf[3]]
-}
-
-/// Cross-flow drag [Y, Z, M, N] by strip theory (Healey & Lienard 1993; stations and block
-/// section of MSS npsauv.m): at station x the section moves laterally at a = v + x r and
-/// vertically at b = w - x q, U_cf = sqrt(a^2 + b^2), and
-/// D = C_dy h a^2 + C_dz b_s b^2; dY = -0.5 rho D a / U_cf dx, dZ = -0.5 rho D b / U_cf dx,
-/// N = sum x dY and M = -sum x dZ (the moment of the vertical force; MSS npsauv.m writes
-/// w + x q in the pitch integrand, which is not the moment of its own heave force).
-fn crossflow<T: Scalar>(m: &NpsAuv, v: T, w: T, q: T, r: T) -> [T; 4] {
-    let s = &m.particulars;
-    let l = m.length;
-    let dx = l / STRIPS as f64;
-    let z = T::from(0.0);
-    let (mut fy, mut fz, mut mm, mut nn) = (z, z, z, z);
-    for k in 0..=STRIPS {
-        let xl = -0.5 * l + k as f64 * dx;
-        let a = v + r * xl;
-        let b = w - q * xl;
-        let ucf = (a * a + b * b + UCF_FLOOR * UCF_FLOOR).sqrt();
-        let d = (a * a * (s.cdy * s.hull_height) + b * b * (s.cdz * s.hull_breadth)) / ucf;
-        let dy = -(d * a) * (0.5 * m.rho * dx);
-        let dz = -(d * b) * (0.5 * m.rho * dx);
-        fy += dy;
-        fz += dz;
-        nn += dy * xl;
-        mm -= dz * xl;
-    }
-    [fy, fz, mm, nn]
 }
