@@ -147,8 +147,12 @@ fn held(between: Option<Between>, rule: InputRule, v: &[f64]) -> bool {
 /// sampled continuous signal does (a rudder moving at its rate, a measured deflection with its
 /// noise), rather than jumping from one level to the next within one interval and holding
 /// it (a step log). Each interval where the signal changes is part of a ramp when a
-/// neighbouring interval changes it in the same direction, else a jump; the signal moves
-/// continuously when ramps outnumber jumps. A constant signal does not.
+/// neighbouring interval changes it in the same direction by at least a quarter as much (so
+/// that a step's neighbouring noise does not make it a ramp), else a jump; the signal moves
+/// continuously when it travels farther in ramps than in jumps (the sums of the changes'
+/// sizes), so that a level that flickers by one printed digit (a 35 deg rudder printed with
+/// three significant digits reading 35.0, 34.9, 35.0 ...: many jumps of 0.1 deg) does not
+/// outweigh the ramp that reached it. A constant signal does not move.
 pub fn moves_continuously(v: &[f64]) -> bool {
     let (lo, hi) = v
         .iter()
@@ -162,20 +166,20 @@ pub fn moves_continuously(v: &[f64]) -> bool {
         return false;
     }
     let d: Vec<f64> = v.windows(2).map(|w| w[1] - w[0]).collect();
-    let moves = |i: usize, sign: f64| {
+    // interval i moves in the direction of a change `x` by at least a quarter of it
+    let moves = |i: usize, x: f64| {
         d.get(i)
-            .is_some_and(|x| x.abs() > tol && x.signum() == sign)
+            .is_some_and(|y| y.abs() > tol && y.signum() == x.signum() && 4.0 * y.abs() >= x.abs())
     };
-    let (mut ramps, mut jumps) = (0usize, 0usize);
+    let (mut ramps, mut jumps) = (0.0, 0.0);
     for (i, x) in d.iter().enumerate() {
         if x.is_nan() || x.abs() <= tol {
             continue;
         }
-        let sign = x.signum();
-        if (i > 0 && moves(i - 1, sign)) || moves(i + 1, sign) {
-            ramps += 1;
+        if (i > 0 && moves(i - 1, *x)) || moves(i + 1, *x) {
+            ramps += x.abs();
         } else {
-            jumps += 1;
+            jumps += x.abs();
         }
     }
     ramps > jumps
@@ -436,9 +440,10 @@ mod tests {
         assert_eq!(o[0], 20.0);
     }
 
-    /// A rudder moving at 2.32 deg/s sampled at 10 Hz ramps; the same zig-zag logged as
-    /// commanded steps jumps; a measured deflection with noise moves continuously; a constant
-    /// does not move.
+    /// A rudder moving at 2.32 deg/s sampled at 10 Hz ramps, also with noise, and also when
+    /// printed with three significant digits, so that its held levels flicker by one digit;
+    /// the same zig-zag logged as commanded steps jumps, also with noise (its jumps outweigh
+    /// the noise's ramps); a constant does not move.
     #[test]
     fn continuous_signals_are_told_from_step_logs() {
         let t: Vec<f64> = (0..600).map(|k| k as f64 * 0.1).collect();
@@ -450,11 +455,30 @@ mod tests {
         // (10 of the 24 orders of four samples), so ramps are ~58 % of the changes
         use rand::{rngs::StdRng, Rng, SeedableRng};
         let mut rng = StdRng::seed_from_u64(7);
-        let noisy: Vec<f64> = steps
+        let mut noise = |v: &Vec<f64>| -> Vec<f64> {
+            v.iter()
+                .map(|v| v + 1e-3 * rng.random_range(-1.0..1.0))
+                .collect()
+        };
+        assert!(moves_continuously(&noise(&ramp)));
+        assert!(!moves_continuously(&noise(&steps)));
+        // three significant digits in degrees, and a level flickering by one digit at most
+        // samples (more jumps than the ramp has intervals)
+        let printed: Vec<f64> = ramp
             .iter()
-            .map(|v| v + 1e-3 * rng.random_range(-1.0..1.0))
+            .enumerate()
+            .map(|(k, v)| {
+                let deg = v.to_degrees();
+                let step = if deg.abs() >= 10.0 { 0.1 } else { 0.01 };
+                let flicker = if deg.abs() > 19.9 && k % 2 == 0 { step } else { 0.0 };
+                ((deg / step).round() * step - flicker * deg.signum()).to_radians()
+            })
             .collect();
-        assert!(moves_continuously(&noisy));
+        let d: Vec<f64> = printed.windows(2).map(|w| (w[1] - w[0]).abs()).collect();
+        let flickers = d.iter().filter(|&&x| x > 0.0 && x < 0.11f64.to_radians()).count();
+        let moved = d.iter().filter(|&&x| x > 0.0).count();
+        assert!(2 * flickers > moved, "{flickers} of {moved}");
+        assert!(moves_continuously(&printed));
         assert!(!moves_continuously(&[0.1; 50]));
         assert!(!moves_continuously(&[]));
     }
