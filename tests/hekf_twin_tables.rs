@@ -23,11 +23,11 @@ const TRUTH: [(&str, f64); 6] = [
     ("Yrr", 0.5),
 ];
 
-/// One identification: per coefficient of [`TRUTH`], value and sigma; the fit run's mean NIS
-/// and whether it is consistent.
+/// One identification: per coefficient of [`TRUTH`], value and sigma; the fit run's mean NIS,
+/// whether it is consistent, and the 95 % bounds of a consistent mean.
 struct Identified {
     estimates: Vec<(f64, f64)>,
-    nis: (f64, bool),
+    nis: (f64, bool, [f64; 2]),
 }
 
 /// Runs `config` (a path under the repository) with the overrides `set`, the HEKF stage only
@@ -46,7 +46,7 @@ fn identify(config: &Path, set: &[String]) -> Identified {
     let nis = h.runs[0].nis.as_ref().expect("NIS of the fit run");
     Identified {
         estimates,
-        nis: (nis.mean, nis.consistent),
+        nis: (nis.mean, nis.consistent, nis.mean_bounds),
     }
 }
 
@@ -122,6 +122,11 @@ const SECOND_PAPER: Column = [
 ];
 const SECOND_PAPER_NIS: (&str, bool) = ("3.98", false);
 
+/// The bounds of a consistent mean NIS as the tables print them.
+fn nis_bounds(i: &Identified) -> String {
+    format!("{:.2}-{:.2}", i.nis.2[0], i.nis.2[1])
+}
+
 fn preset(name: &str) -> Vec<String> {
     vec![format!("hekf.preset=\"{name}\"")]
 }
@@ -132,6 +137,7 @@ fn twin_toml_reproduces_the_paper_manoeuvre_table() {
     let cfg = root().join("configs/twin.toml");
     let defaults = identify(&cfg, &preset("hydroid"));
     assert_column("defaults", &defaults, &PAPER_DEFAULTS, PAPER_DEFAULTS_NIS);
+    assert_eq!(nis_bounds(&defaults), "5.85-6.15");
     let paper = identify(&cfg, &preset("paper"));
     assert_column("paper's tuning", &paper, &PAPER_PAPER, PAPER_PAPER_NIS);
 }
@@ -142,6 +148,7 @@ fn twin_second_toml_reproduces_the_second_manoeuvre_table() {
     let cfg = root().join("configs/twin_second.toml");
     let defaults = identify(&cfg, &preset("hydroid"));
     assert_column("defaults", &defaults, &SECOND_DEFAULTS, SECOND_DEFAULTS_NIS);
+    assert_eq!(nis_bounds(&defaults), "5.70-6.31");
     let paper = identify(&cfg, &preset("paper"));
     assert_column("paper's tuning", &paper, &SECOND_PAPER, SECOND_PAPER_NIS);
 }
