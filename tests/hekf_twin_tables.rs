@@ -122,6 +122,25 @@ const SECOND_PAPER: Column = [
 ];
 const SECOND_PAPER_NIS: (&str, bool) = ("3.98", false);
 
+/// Asserts the error column of the paper's manoeuvre table: |estimate - truth| / |truth| in
+/// % (Yrd, whose truth is 0: the absolute error in kg m), to the decimals printed.
+fn assert_errors(label: &str, got: &Identified, printed: [&str; 6]) {
+    for (((name, truth), (v, _)), p) in TRUTH.iter().zip(&got.estimates).zip(printed) {
+        let number = p.trim_end_matches(" %");
+        let decimals = number.split_once('.').map_or(0, |(_, d)| d.len());
+        let error = if *truth == 0.0 {
+            (v - truth).abs()
+        } else {
+            100.0 * ((v - truth) / truth).abs()
+        };
+        assert_eq!(
+            format!("{error:.decimals$}"),
+            number,
+            "{label}: {name} error"
+        );
+    }
+}
+
 /// The bounds of a consistent mean NIS as the tables print them.
 fn nis_bounds(i: &Identified) -> String {
     format!("{:.2}-{:.2}", i.nis.2[0], i.nis.2[1])
@@ -138,8 +157,18 @@ fn twin_toml_reproduces_the_paper_manoeuvre_table() {
     let defaults = identify(&cfg, &preset("hydroid"));
     assert_column("defaults", &defaults, &PAPER_DEFAULTS, PAPER_DEFAULTS_NIS);
     assert_eq!(nis_bounds(&defaults), "5.85-6.15");
+    assert_errors(
+        "defaults",
+        &defaults,
+        ["0.00 %", "0.001", "0.02 %", "0.00 %", "0.01 %", "0.08 %"],
+    );
     let paper = identify(&cfg, &preset("paper"));
     assert_column("paper's tuning", &paper, &PAPER_PAPER, PAPER_PAPER_NIS);
+    assert_errors(
+        "paper's tuning",
+        &paper,
+        ["7.2 %", "0.082", "67 %", "19 %", "16 %", "182 %"],
+    );
 }
 
 /// docs/validation.md, "A second manoeuvre".
