@@ -4,7 +4,8 @@
 //! vectorises the innermost one, and nothing allocates. The hottest kernels are compiled
 //! twice on x86-64, for the baseline and for AVX2, and the AVX2 copy is used when the
 //! processor has it ([`simd`]). Both copies do the same operations in the same order (no
-//! fused multiply-add, fixed partial sums), so results are bit-identical either way.
+//! fused multiply-add, fixed partial sums), so results are bit-identical either way: a test
+//! per kernel (here and in `estimation::hybrid_ekf`) compares the two copies bit for bit.
 
 /// out (r x c) = a (r x k) * b (k x c).
 pub fn matmul(a: &[f64], b: &[f64], r: usize, k: usize, c: usize, out: &mut [f64]) {
@@ -201,6 +202,66 @@ pub fn symmetrize(p: &mut [f64], n: usize) {
     }
 }
 
+/// Test support for the kernels built twice (here and in `estimation::hybrid_ekf`): whether
+/// the dispatch takes a different copy from the baseline one a test calls directly, seeded
+/// inputs, and a bit-for-bit comparison.
+#[cfg(test)]
+pub(crate) mod simd_check {
+    use rand::{rngs::StdRng, Rng, SeedableRng};
+
+    /// Sizes of each dimension: 1 to 9 around the four partial sums and AVX2's four lanes,
+    /// and larger odd and even ones (the filters have 2 to 29 states).
+    pub(crate) const SIZES: [usize; 12] = [1, 2, 3, 4, 5, 6, 7, 8, 9, 13, 16, 29];
+
+    /// True when [`super::dispatch`] runs the AVX2 copy, so that comparing it with the baseline
+    /// copy tests something; otherwise prints why the comparison is skipped.
+    pub(crate) fn avx2_path_differs(kernel: &str) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if cfg!(target_feature = "avx2") {
+                eprintln!("{kernel}: skipped, this build targets AVX2 (RUSTFLAGS), so its baseline copy is AVX2 code too");
+                false
+            } else if std::is_x86_feature_detected!("avx2") {
+                true
+            } else {
+                eprintln!("{kernel}: skipped, this processor has no AVX2 (the dispatch runs the baseline copy)");
+                false
+            }
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            eprintln!("{kernel}: skipped, not x86-64 (one build of each kernel)");
+            false
+        }
+    }
+
+    /// A fixed-seed generator for a test's inputs.
+    pub(crate) fn rng(seed: u64) -> StdRng {
+        StdRng::seed_from_u64(seed)
+    }
+
+    /// `len` values of both signs spread over twelve decades (1e-6 to 1e6), so that sums
+    /// round and their order matters.
+    pub(crate) fn values(rng: &mut StdRng, len: usize) -> Vec<f64> {
+        (0..len)
+            .map(|_| rng.random_range(-1.0..1.0) * 10f64.powf(rng.random_range(-6.0..6.0)))
+            .collect()
+    }
+
+    /// Asserts that two results are the same bits, naming the case and the first element
+    /// that differs.
+    pub(crate) fn assert_same_bits(avx2: &[f64], baseline: &[f64], case: &str) {
+        assert_eq!(avx2.len(), baseline.len(), "{case}");
+        for (i, (a, b)) in avx2.iter().zip(baseline).enumerate() {
+            assert_eq!(
+                a.to_bits(),
+                b.to_bits(),
+                "{case}, element {i}: AVX2 {a:e}, baseline {b:e}"
+            );
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -229,24 +290,48 @@ mod tests {
         }
     }
 
+    /// matmul through the dispatch (AVX2 where the processor has it) against its baseline
+    /// copy, bit for bit, over edge and odd sizes of each dimension.
     #[test]
-    fn simd_and_baseline_kernels_agree_to_the_bit() {
-        let n = 13;
-        let v = |seed: usize, len: usize| -> Vec<f64> {
-            (0..len)
-                .map(|i| ((i * 7919 + seed * 104729) % 1000) as f64 / 37.0 - 13.0)
-                .collect()
-        };
-        let (a, b) = (v(1, 6 * n), v(2, n * n));
-        let (mut x, mut y) = (vec![0.0; 6 * n], vec![0.0; 6 * n]);
-        matmul(&a, &b, 6, n, n, &mut x);
-        matmul_impl(&a, &b, 6, n, n, &mut y);
-        assert_eq!(x, y);
-        let (k, c, row) = (v(3, n), v(4, n), v(5, n));
-        let (mut p1, mut p2) = (v(6, n * n), v(6, n * n));
-        rank_two_update(&mut p1, &k, &c, &row);
-        rank_two_update_impl(&mut p2, &k, &c, &row);
-        assert_eq!(p1, p2);
+    fn matmul_avx2_and_baseline_copies_agree_to_the_bit() {
+        if !simd_check::avx2_path_differs("matmul") {
+            return;
+        }
+        let mut rng = simd_check::rng(1);
+        let mut cases = 0;
+        for &r in &simd_check::SIZES {
+            for &k in &simd_check::SIZES {
+                for &c in &[1, 3, 4, 5, 8, 13, 29] {
+                    let (a, b) = (
+                        simd_check::values(&mut rng, r * k),
+                        simd_check::values(&mut rng, k * c),
+                    );
+                    let (mut x, mut y) = (vec![f64::NAN; r * c], vec![f64::NAN; r * c]);
+                    matmul(&a, &b, r, k, c, &mut x);
+                    matmul_impl(&a, &b, r, k, c, &mut y);
+                    simd_check::assert_same_bits(&x, &y, &format!("matmul {r}x{k}x{c}"));
+                    cases += 1;
+                }
+            }
+        }
+        assert_eq!(cases, 12 * 12 * 7);
+    }
+
+    /// rank_two_update through the dispatch against its baseline copy, bit for bit.
+    #[test]
+    fn rank_two_update_avx2_and_baseline_copies_agree_to_the_bit() {
+        if !simd_check::avx2_path_differs("rank_two_update") {
+            return;
+        }
+        let mut rng = simd_check::rng(2);
+        for &n in &simd_check::SIZES {
+            let [k, c, row] = [(); 3].map(|_| simd_check::values(&mut rng, n));
+            let p = simd_check::values(&mut rng, n * n);
+            let (mut p1, mut p2) = (p.clone(), p);
+            rank_two_update(&mut p1, &k, &c, &row);
+            rank_two_update_impl(&mut p2, &k, &c, &row);
+            simd_check::assert_same_bits(&p1, &p2, &format!("rank_two_update n = {n}"));
+        }
     }
 
     #[test]

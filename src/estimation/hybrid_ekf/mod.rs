@@ -403,6 +403,71 @@ pub(super) use update::{note_beyond, UpdateWork};
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::linalg::simd_check;
+
+    /// Numbers of dynamic states tried with `n` states in all: one, about half, all.
+    fn dynamic_sizes(n: usize) -> Vec<usize> {
+        let mut nd = vec![1, n.div_ceil(2), n];
+        nd.dedup();
+        nd
+    }
+
+    /// congruence_blocks through the dispatch (AVX2 where the processor has it) against its
+    /// baseline copy, bit for bit, for every state count of `simd_check::SIZES`.
+    #[test]
+    fn congruence_blocks_avx2_and_baseline_copies_agree_to_the_bit() {
+        if !simd_check::avx2_path_differs("congruence_blocks") {
+            return;
+        }
+        let mut rng = simd_check::rng(3);
+        for &n in &simd_check::SIZES {
+            for nd in dynamic_sizes(n) {
+                let (m, top) = (
+                    simd_check::values(&mut rng, nd * n),
+                    simd_check::values(&mut rng, nd * n),
+                );
+                let p = simd_check::values(&mut rng, n * n);
+                let (mut p1, mut p2) = (p.clone(), p);
+                congruence_blocks(&mut p1, &m, &top, nd, n);
+                congruence_blocks_impl(&mut p2, &m, &top, nd, n);
+                simd_check::assert_same_bits(&p1, &p2, &format!("n = {n}, nd = {nd}"));
+            }
+        }
+    }
+
+    /// trapezoidal_noise through the dispatch against its baseline copy, bit for bit: Q with
+    /// every entry positive, with the coefficients' entries zero (as the filters have it),
+    /// and all zero (the early return).
+    #[test]
+    fn trapezoidal_noise_avx2_and_baseline_copies_agree_to_the_bit() {
+        if !simd_check::avx2_path_differs("trapezoidal_noise") {
+            return;
+        }
+        let mut rng = simd_check::rng(4);
+        for &n in &simd_check::SIZES {
+            for nd in dynamic_sizes(n) {
+                let top = simd_check::values(&mut rng, nd * n);
+                let p = simd_check::values(&mut rng, n * n);
+                let full: Vec<f64> = simd_check::values(&mut rng, n)
+                    .iter()
+                    .map(|v| v.abs())
+                    .collect();
+                let mut states_only = full.clone();
+                states_only[nd..].fill(0.0);
+                for (label, q) in [
+                    ("full", full),
+                    ("states", states_only),
+                    ("zero", vec![0.0; n]),
+                ] {
+                    let (mut p1, mut p2) = (p.clone(), p.clone());
+                    trapezoidal_noise(&mut p1, &top, &q, nd, 0.0123);
+                    trapezoidal_noise_impl(&mut p2, &top, &q, nd, 0.0123);
+                    let case = format!("n = {n}, nd = {nd}, Q {label}");
+                    simd_check::assert_same_bits(&p1, &p2, &case);
+                }
+            }
+        }
+    }
 
     /// x_dot = -a x with unknown a appended; y = x.
     struct Decay {
