@@ -124,16 +124,48 @@ fn clean_estimates() -> &'static Value {
 
 const ESTIMATED: [&str; 6] = ["Yvd", "Yrd", "Nrd", "Nvv", "Nrr", "Yrr"];
 
-/// Largest change of an HEKF estimate against the clean run, in the clean run's sigmas.
-fn largest_shift(r: &Value) -> f64 {
+/// The HEKF's sigma of `name` from the data alone (`stages.hekf.sigma_filter`, in
+/// `estimated` order: the polar and surge coefficients it holds taken as exact). A gap or a
+/// spike in the motion can move an estimate only through the data, so a shift is measured
+/// in this sigma: the total one, two hundred times larger here (the polar's drag carried
+/// into the HEKF, docs/validation.md), would let a shift of 20 % pass as "under 1 sigma".
+fn data_sigma(r: &Value, name: &str) -> f64 {
+    let h = &r["stages"]["hekf"];
+    let i = h["estimated"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .position(|n| n == name)
+        .unwrap_or_else(|| panic!("{name} not in {}", h["estimated"]));
+    h["sigma_filter"][i].as_f64().unwrap()
+}
+
+/// Each HEKF estimate's change against the clean run, in the clean run's sigmas from the
+/// data alone ([`data_sigma`]); each printed, with the spread that losing data explains
+/// (sqrt(sigma^2 - sigma_clean^2), the run's data a subset of the clean run's).
+fn shifts(r: &Value) -> Vec<(&'static str, f64)> {
     ESTIMATED
         .iter()
         .map(|n| {
-            let (v0, s0) = coefficient(clean_estimates(), n);
+            let (v0, total) = coefficient(clean_estimates(), n);
+            let s0 = data_sigma(clean_estimates(), n);
             let (v, _) = coefficient(r, n);
-            (v - v0).abs() / s0
+            let lost = (data_sigma(r, n).powi(2) - s0 * s0).max(0.0).sqrt();
+            println!(
+                "{n}: {v0:.6} -> {v:.6}, {:+.3} data sigma ({s0:.2e}), {:+.2} of the spread \
+                 losing data explains ({lost:.2e}), {:+.4} total sigma",
+                (v - v0) / s0,
+                (v - v0) / lost,
+                (v - v0) / total
+            );
+            (*n, (v - v0) / s0)
         })
-        .fold(0.0, f64::max)
+        .collect()
+}
+
+/// The largest |change| of an HEKF estimate against the clean run, in data sigmas ([`shifts`]).
+fn largest_shift(r: &Value) -> f64 {
+    shifts(r).iter().map(|(_, z)| z.abs()).fold(0.0, f64::max)
 }
 
 #[test]
@@ -226,7 +258,7 @@ fn a_two_second_gap_is_crossed_in_regular_steps_and_reported() {
     let m = gap[0]["message"].as_str().unwrap();
     assert!(m.contains("2.01 s after t = 8 s (lines 806-807)"), "{m}");
     // integrated in 10 ms steps, the gap moves no estimate by more than a fraction of its
-    // sigma (integrated in one step of 2 s, Yrd moved by 4 sigma)
+    // sigma from the data (measured: 0.24, Yrr)
     let shift = largest_shift(&r);
     assert!(shift < 0.3, "largest shift {shift} sigma");
 }
@@ -242,8 +274,13 @@ fn a_five_second_gap_does_not_end_the_run() {
     assert!(o.status.success(), "{}", stderr(&o));
     let r = results(dir.path());
     assert_eq!(warnings_with(&r, "5.01 s after t = 8 s").len(), 1);
-    let shift = largest_shift(&r);
-    assert!(shift < 1.0, "largest shift {shift} sigma");
+    // a quarter of the run lost: every estimate within 1 sigma from the data of the clean
+    // run (measured: at most 0.74), but Yrr, 2.9 of them (1.9 % of Yrr, 0.02 of its total
+    // sigma; 3.5 of the spread the lost data explain: what crossing 5 s without data costs)
+    for (name, z) in shifts(&r) {
+        let limit = if name == "Yrr" { 3.0 } else { 1.0 };
+        assert!(z.abs() < limit, "{name} moved by {z:+.2} sigma");
+    }
 }
 
 #[test]
@@ -272,6 +309,8 @@ fn spike_cells_are_left_out_and_named_by_line() {
     let v = warnings_with(&r, "1 outlier in v left out: line 706");
     assert_eq!(v.len(), 1, "{:#?}", r["warnings"]);
     assert!(warnings_with(&r, "re-simulation").is_empty());
+    // left out, the three spikes move no estimate by more than 0.05 sigma from the data
+    // (measured: 0.031, Nrr)
     let shift = largest_shift(&r);
     assert!(shift < 0.05, "largest shift {shift} sigma");
     assert!(dir.path().join("out/plots").is_dir());

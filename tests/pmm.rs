@@ -5,6 +5,7 @@
 
 mod common;
 
+use common::accuracy::Accuracy;
 use std::path::Path;
 
 fn run_ok(config: &Path, out: &Path, set: &[&str]) -> (serde_json::Value, String) {
@@ -35,17 +36,21 @@ fn spheroid_joint_example_meets_the_targets() {
     );
     let hekf = &joint["stages"]["hekf"];
     let truths = common::spheroid_joint_truth();
+    let estimates = Accuracy::from_json(
+        "joint estimate",
+        &hekf["coefficients"],
+        &truths,
+        &common::accuracy::hekf_flagged(&joint),
+    );
+    println!("{}", estimates.table());
     for name in ["Xud", "Yvd", "Nrd", "Nvv", "Nrr"] {
-        let truth = truths.iter().find(|(n, _)| *n == name).unwrap().1;
-        let (v, s) = value_sigma(&hekf["coefficients"], name);
+        let row = estimates.row(name);
         assert!(
-            ((v - truth) / truth).abs() < 0.01,
-            "{name} = {v} is more than 1 % from {truth}"
+            row.error_percent().abs() < 0.2,
+            "{name} is more than 0.2 % from its truth\n{}",
+            estimates.table()
         );
-        assert!(
-            (v - truth).abs() < 2.0 * s,
-            "{name} = {v} ± {s}, truth {truth}"
-        );
+        assert!(row.z.abs() < 2.0, "{name}\n{}", estimates.table());
     }
     let nis = &hekf["runs"][0]["nis"];
     assert_eq!(nis["consistent"], true, "{nis}");
@@ -55,15 +60,16 @@ fn spheroid_joint_example_meets_the_targets() {
     assert_eq!(surge["nis"]["dof"], 1, "{surge}");
     let v = common::named_by(&surge["noise"], "quantity", "v");
     assert_eq!(v["source"], "held constant by the run (constants)", "{v}");
-    // the captive runs alone: every coefficient within 3 sigma of the truth
+    // all 13 determined and flagged as such; 12 within 2 sigma, Yuvl at -2.4 (docs/stages.md)
+    estimates.assert_determined_within(&[], 2.5);
+    assert_eq!(
+        estimates.within_two_sigma(),
+        (12, 13),
+        "{}",
+        estimates.table()
+    );
+    assert_eq!(format!("{:+.1}", estimates.row("Yuvl").z), "-2.4");
     let captive = &joint["stages"]["captive"];
-    for &(name, truth) in &truths {
-        let (v, s) = value_sigma(&captive["coefficients"], name);
-        assert!(
-            (v - truth).abs() < 3.0 * s,
-            "captive {name} = {v} ± {s}, truth {truth}"
-        );
-    }
     let periods = &captive["runs"][0]["periods"];
     assert_eq!(periods["periods"], 5, "{periods}");
     assert!((periods["frequency"].as_f64().unwrap() - 0.5).abs() < 1e-6);
@@ -101,6 +107,33 @@ fn spheroid_joint_example_meets_the_targets() {
         report.contains("| pure sway | v 0.2500 | 0.5000 | 5 |"),
         "{report}"
     );
+}
+
+/// The captive stage alone (configs/spheroid_joint.toml without its HEKF stage): the 11
+/// coefficients the two harmonic runs determine within 2 sigma of the truth, and the two
+/// they leave undetermined, Yrr (360 % off, sigma 1.06 kg m against 0.5) and Yvv (sigma
+/// 0.85 kg/m against 0.44), flagged in the comparison table (docs/stages.md).
+#[test]
+fn the_captive_stage_alone_flags_what_it_leaves_undetermined() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = common::root().join("configs/spheroid_joint.toml");
+    let (r, _) = run_ok(&config, &dir.path().join("out"), &["hekf.enabled=false"]);
+    let alone = Accuracy::from_json(
+        "captive stage alone",
+        &r["coefficients"],
+        &common::spheroid_joint_truth(),
+        &common::accuracy::comparison_flagged(&r),
+    );
+    println!("{}", alone.table());
+    alone.assert_determined_within(&["Yrr", "Yvv"], 2.0);
+    alone.assert_printed(&[
+        ("Yvd", "-23.639 ± 0.011 | -1.1"),
+        ("Nrd", "-1.4519 ± 0.0028 | +0.5"),
+        ("Xud", "-1.34 ± 0.12 | -1.5"),
+        ("Nvv", "10.22 ± 0.23 | +1.0"),
+        ("Yrr", "2.30 ± 1.06 | 360 %"),
+        ("Yvv", "-0.49 ± 0.85 | -0.1"),
+    ]);
 }
 
 /// Writes a force history with the given v(t) (u = 2 m/s) and forces of the truth-free
