@@ -499,7 +499,7 @@ fn smoothed_states_are_closer_to_the_truth_than_filtered_ones() {
 /// the paper's manoeuvre (cfd_exports/turn_paper.csv, the CFX reader, its fit run) or, with
 /// `validation`, the second manoeuvre (cfd_exports/turn_validation.csv, STAR-CCM+, its
 /// validation run) as the fit run. The experiments of docs/validation.md's twin tables.
-fn bundled(validation: bool, preset: &str) -> Accuracy {
+fn bundled(validation: bool, preset: &str) -> (Accuracy, String) {
     let text = std::fs::read_to_string(common::root().join("configs/spheroid.toml")).unwrap();
     let head = &text[..text.find("[output]").unwrap()];
     let (hekf, fit, rest) = (
@@ -530,7 +530,12 @@ fn bundled(validation: bool, preset: &str) -> Accuracy {
     let out = hydroid::run(&loaded, &mut hydroid::progress::Silent).unwrap();
     let h = out.result.stages.hekf.as_ref().expect("an HEKF stage");
     let run = if validation { "second" } else { "paper's" };
-    accuracy(&format!("the {run} manoeuvre, {preset} preset"), h)
+    let nis = h.runs[0].nis.as_ref().expect("an innovation test");
+    let consistent = if nis.consistent { "" } else { "not " };
+    (
+        accuracy(&format!("the {run} manoeuvre, {preset} preset"), h),
+        format!("{:.2}, {consistent}consistent", nis.mean),
+    )
 }
 
 /// A row of docs/validation.md's twin tables from `ours` (hydroid's defaults) and `paper`
@@ -571,7 +576,13 @@ fn docs_row(name: &str, ours: &Accuracy, paper: &Accuracy, errors: bool) -> Stri
 /// undetermined: 1.5), its sigmas 68 to 180 times hydroid's (README.md, docs/validation.md).
 #[test]
 fn bundled_manoeuvres_give_the_tables_of_the_docs() {
-    let (ours, paper) = (bundled(false, "hydroid"), bundled(false, "paper"));
+    let ((ours, nis_ours), (paper, nis_paper)) =
+        (bundled(false, "hydroid"), bundled(false, "paper"));
+    // the table's last row: the mean NIS (bounds 5.85-6.15)
+    assert_eq!(
+        [nis_ours, nis_paper],
+        ["6.04, consistent", "3.59, not consistent"]
+    );
     let rows: Vec<String> = ESTIMATED
         .iter()
         .map(|n| docs_row(n, &ours, &paper, true))
@@ -603,7 +614,7 @@ fn bundled_manoeuvres_give_the_tables_of_the_docs() {
     assert_eq!(paper.undetermined_names(), ["Yrr"], "{}", paper.table());
     paper.assert_undetermined_flagged();
 
-    let (ours, paper) = (bundled(true, "hydroid"), bundled(true, "paper"));
+    let ((ours, _), (paper, _)) = (bundled(true, "hydroid"), bundled(true, "paper"));
     let rows: Vec<String> = ESTIMATED
         .iter()
         .map(|n| docs_row(n, &ours, &paper, false))

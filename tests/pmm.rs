@@ -54,6 +54,24 @@ fn spheroid_joint_example_meets_the_targets() {
     }
     let nis = &hekf["runs"][0]["nis"];
     assert_eq!(nis["consistent"], true, "{nis}");
+    // docs/hekf.md: mean NIS 6.04 (5.85-6.15); the surge run's 0.932 (0.939-1.063), its noise
+    // estimated 1.4 % above the simulated 1 mm/s
+    let surge_nis = &hekf["runs"][1]["nis"];
+    let u = common::named_by(&hekf["runs"][1]["noise"], "quantity", "u");
+    let said = format!(
+        "{:.2} ({:.2}-{:.2}); {:.3} ({:.3}-{:.3}); u noise {:+.1} %",
+        nis["mean"].as_f64().unwrap(),
+        nis["mean_bounds"][0].as_f64().unwrap(),
+        nis["mean_bounds"][1].as_f64().unwrap(),
+        surge_nis["mean"].as_f64().unwrap(),
+        surge_nis["mean_bounds"][0].as_f64().unwrap(),
+        surge_nis["mean_bounds"][1].as_f64().unwrap(),
+        100.0 * (u["sigma"].as_f64().unwrap() / 1e-3 - 1.0)
+    );
+    assert_eq!(
+        said,
+        "6.04 (5.85-6.15); 0.932 (0.939-1.063); u noise +1.4 %"
+    );
     // the surge run in the filter: v, r, y and the heading held at 0 by the run, measured at
     // those values and not counted by the innovation test
     let surge = &hekf["runs"][1];
@@ -69,6 +87,17 @@ fn spheroid_joint_example_meets_the_targets() {
         estimates.table()
     );
     assert_eq!(format!("{:+.1}", estimates.row("Yuvl").z), "-2.4");
+    // docs/hekf.md, "Joint estimate": its table at the printed digits; Yuvl and Yvv, which
+    // the runs see only together, at -2.4 and +2.0 sigma
+    estimates.assert_printed(&[
+        ("Xud", "-1.1624 ± 0.0021 | 0.14 %"),
+        ("Yvd", "-23.630 ± 0.005 | 0.02 %"),
+        ("Nrd", "-1.4515 ± 0.0021 | 0.11 %"),
+        ("Nvv", "9.997 ± 0.004 | 0.03 %"),
+        ("Nrr", "-4.998 ± 0.003 | 0.03 %"),
+        ("Yuvl", "-16.330 ± 0.008 | -2.4"),
+        ("Yvv", "-0.422 ± 0.009 | +2.0"),
+    ]);
     let captive = &joint["stages"]["captive"];
     let periods = &captive["runs"][0]["periods"];
     assert_eq!(periods["periods"], 5, "{periods}");
@@ -87,6 +116,33 @@ fn spheroid_joint_example_meets_the_targets() {
             "{name}: joint sigma {sj} > consider sigma {sc}"
         );
     }
+    // docs/hekf.md's consider column
+    let consider: Vec<String> = ["Xud", "Yvd", "Nrd", "Nvv", "Nrr"]
+        .iter()
+        .map(|n| {
+            let row = common::named(rows, n);
+            if row["undetermined_by_runs"] == true {
+                "not determined".to_string()
+            } else {
+                let c = &row["consider"];
+                format!(
+                    "{:.4} +- {:.4}",
+                    c[0].as_f64().unwrap(),
+                    c[1].as_f64().unwrap()
+                )
+            }
+        })
+        .collect();
+    assert_eq!(
+        consider,
+        [
+            "-1.1608 +- 0.0023",
+            "-23.6282 +- 0.0057",
+            "not determined",
+            "not determined",
+            "not determined"
+        ]
+    );
     let nrd = common::named(rows, "Nrd");
     assert_eq!(nrd["undetermined_by_runs"], true, "{nrd}");
     assert!(
