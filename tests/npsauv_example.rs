@@ -306,6 +306,10 @@ fn the_papers_preset_runs_with_the_papers_filter_and_tuning() {
     // the consistency test says so on the console
     let err = common::text(&o.stderr);
     assert!(err.contains("smaller than the noise model says"), "{err}");
+    // docs/models/npsauv.md: mean NIS 0.003 for 9
+    let nis = &r["stages"]["hekf"]["runs"][0]["nis"];
+    let said = format!("{:.3} for {}", nis["mean"].as_f64().unwrap(), nis["dof"]);
+    assert_eq!(said, "0.003 for 9", "{nis}");
 }
 
 /// A start of Mqdot outside its admissible range (an added mass of Fossen's sign, <= 0) is

@@ -92,6 +92,10 @@ fn integral_form_recovers_xud_from_a_noisy_run() {
     assert!((r.xud.value + 1.1634).abs() <= 0.00005, "{}", r.xud.value);
     assert!((s - 0.0017).abs() <= 0.00005, "{s}");
     assert!(err < 0.0005, "{:.3} % off", 100.0 * err);
+    // 0.3 sigma from the truth; the sigma 0.15 % of the value
+    let z = (r.xud.value - XUD) / s;
+    let said = format!("{z:.1} sigma, {:.2} %", 100.0 * s / r.xud.value.abs());
+    assert_eq!(said, "0.3 sigma, 0.15 %");
     // The reported sigma is honest: the error is within one of them.
     assert!((r.xud.value - XUD).abs() < s, "{} +- {s}", r.xud.value);
     // The residuals are the measurement noise: the right size, and white.
