@@ -116,6 +116,33 @@ fn turning_circles_identify_the_hull_and_the_model_sails_the_zigzag_as_the_truth
         ("Nvrr_p", "0.080 ± 0.016 | +1.6"),
         ("Nrrr_p", "-0.0088 ± 0.0023 | +1.8"),
     ]);
+    assert_manoeuvres(&r, dir.path());
+    // the only warning: the cubic hull terms trade off against each other in turning
+    // circles (each loose, together exact: the model sails the zig-zag as the truth)
+    let warnings = r["warnings"].as_array().unwrap();
+    assert!(
+        warnings.iter().all(|w| {
+            let m = w["message"].as_str().unwrap();
+            m.starts_with("not determined by these runs: ")
+                && m.split("), ").all(|part| {
+                    part.contains("vvv_p")
+                        || part.contains("vvr_p")
+                        || part.contains("vrr_p")
+                        || part.contains("rrr_p")
+                })
+        }),
+        "{}",
+        r["warnings"]
+    );
+
+    assert_steering(&r);
+}
+
+/// The identified model steered through each run's manoeuvre (results.json `resimulation`)
+/// against the truth model steered the same way without noise: docs/validation.md's table at
+/// its digits, tactical diameters within 0.1 %, overshoots within 0.2 deg (README.md,
+/// docs/validation.md, docs/manoeuvres.md).
+fn assert_manoeuvres(r: &serde_json::Value, dir: &Path) {
     // the truth model sailing the same manoeuvres without noise
     let truth_dir = tempfile::tempdir().unwrap();
     let mut truth = Vec::new();
@@ -123,7 +150,7 @@ fn turning_circles_identify_the_hull_and_the_model_sails_the_zigzag_as_the_truth
         noise_free(truth_dir.path(), name);
         truth.push(truth_dir.path().join(format!("{name}.csv")));
     }
-    let measured = measure(&truth, dir.path());
+    let measured = measure(&truth, dir);
     let resim = r["resimulation"].as_array().unwrap();
     assert_eq!(resim.len(), 3);
     // docs/validation.md's table at its digits: tactical diameters within 0.1 %, overshoots
@@ -168,25 +195,6 @@ fn turning_circles_identify_the_hull_and_the_model_sails_the_zigzag_as_the_truth
             "15.81 deg | 15.65 deg",
         ]
     );
-    // the only warning: the cubic hull terms trade off against each other in turning
-    // circles (each loose, together exact: the model sails the zig-zag as the truth)
-    let warnings = r["warnings"].as_array().unwrap();
-    assert!(
-        warnings.iter().all(|w| {
-            let m = w["message"].as_str().unwrap();
-            m.starts_with("not determined by these runs: ")
-                && m.split("), ").all(|part| {
-                    part.contains("vvv_p")
-                        || part.contains("vvr_p")
-                        || part.contains("vrr_p")
-                        || part.contains("rrr_p")
-                })
-        }),
-        "{}",
-        r["warnings"]
-    );
-
-    assert_steering(&r);
 }
 
 /// Nomoto's indices of the identified model against the truth model's, linearised at the
