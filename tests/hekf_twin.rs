@@ -632,3 +632,41 @@ fn bundled_manoeuvres_give_the_tables_of_the_docs() {
         ]
     );
 }
+
+/// The shared accuracy checks (tests/common/accuracy.rs) fail where they should: an
+/// undetermined coefficient hydroid does not flag, a determined one beyond the limit, a
+/// coefficient counted as determined that is not, a docs row that is not what the run gave.
+#[test]
+fn the_accuracy_checks_can_fail() {
+    use common::accuracy::Row;
+    let made_up = |flagged: bool| Accuracy {
+        title: "made up".into(),
+        rows: vec![
+            // determined, +1 sigma
+            Row::new("A", 1.0, 1.01, 0.01, false),
+            // undetermined (sigma above half the value), the wrong sign
+            Row::new("B", 0.5, -0.2, 0.6, flagged),
+        ],
+    };
+    let fails = |f: &dyn Fn()| std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).is_err();
+    assert!(!fails(
+        &|| made_up(true).assert_determined_within(&["B"], 2.0)
+    ));
+    assert!(fails(
+        &|| made_up(false).assert_determined_within(&["B"], 2.0)
+    ));
+    assert!(fails(
+        &|| made_up(true).assert_determined_within(&["B"], 0.5)
+    ));
+    assert!(fails(&|| made_up(true).assert_determined_within(&[], 2.0)));
+    assert!(!fails(
+        &|| made_up(true).assert_printed(&[("A", "1.01 ± 0.01 | +1.0")])
+    ));
+    assert!(fails(
+        &|| made_up(true).assert_printed(&[("A", "1.02 ± 0.01 | +1.0")])
+    ));
+    assert!(fails(
+        &|| made_up(true).assert_printed(&[("A", "1.01 ± 0.01 | 2 %")])
+    ));
+    assert_eq!(made_up(true).within_two_sigma(), (1, 1));
+}
