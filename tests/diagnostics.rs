@@ -8,6 +8,7 @@
 
 mod common;
 
+use common::accuracy::Accuracy;
 use common::{example_copy, json, named, text};
 use serde_json::Value;
 use std::io::Read;
@@ -124,16 +125,136 @@ fn clean_estimates() -> &'static Value {
 
 const ESTIMATED: [&str; 6] = ["Yvd", "Yrd", "Nrd", "Nvv", "Nrr", "Yrr"];
 
-/// Largest change of an HEKF estimate against the clean run, in the clean run's sigmas.
-fn largest_shift(r: &Value) -> f64 {
+/// The HEKF's sigma of `name` from the data alone (`stages.hekf.sigma_filter`, in
+/// `estimated` order: the polar and surge coefficients it holds taken as exact). A gap or a
+/// spike in the motion can move an estimate only through the data, so a shift is measured
+/// in this sigma: the total one, two hundred times larger here (the polar's drag carried
+/// into the HEKF, docs/validation.md), would let a shift of 20 % pass as "under 1 sigma".
+fn data_sigma(r: &Value, name: &str) -> f64 {
+    let h = &r["stages"]["hekf"];
+    let i = h["estimated"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .position(|n| n == name)
+        .unwrap_or_else(|| panic!("{name} not in {}", h["estimated"]));
+    h["sigma_filter"][i].as_f64().unwrap()
+}
+
+/// Each HEKF estimate's change against the clean run, in the clean run's sigmas from the
+/// data alone ([`data_sigma`]); each printed, with the spread that losing data explains
+/// (sqrt(sigma^2 - sigma_clean^2), the run's data a subset of the clean run's).
+fn shifts(r: &Value) -> Vec<(&'static str, f64)> {
     ESTIMATED
         .iter()
         .map(|n| {
-            let (v0, s0) = coefficient(clean_estimates(), n);
+            let (v0, total) = coefficient(clean_estimates(), n);
+            let s0 = data_sigma(clean_estimates(), n);
             let (v, _) = coefficient(r, n);
-            (v - v0).abs() / s0
+            let lost = (data_sigma(r, n).powi(2) - s0 * s0).max(0.0).sqrt();
+            println!(
+                "{n}: {v0:.6} -> {v:.6}, {:+.3} data sigma ({s0:.2e}), {:+.2} of the spread \
+                 losing data explains ({lost:.2e}), {:+.4} total sigma",
+                (v - v0) / s0,
+                (v - v0) / lost,
+                (v - v0) / total
+            );
+            (*n, (v - v0) / s0)
         })
-        .fold(0.0, f64::max)
+        .collect()
+}
+
+/// The largest |change| of an HEKF estimate against the clean run, in data sigmas ([`shifts`]).
+fn largest_shift(r: &Value) -> f64 {
+    shifts(r).iter().map(|(_, z)| z.abs()).fold(0.0, f64::max)
+}
+
+/// docs/validation.md, "The whole pipeline on the bundled example": per HEKF and surge
+/// coefficient, value ± sigma and z against the truth, the sigma from the data alone
+/// (`stages.hekf.sigma_filter`; the surge stage's `sigma_statistical` for Xud) and the
+/// budget's other stages (above 0.0005), at the table's printed digits.
+#[test]
+fn the_bundled_pipeline_gives_the_table_of_the_docs() {
+    let r = clean_estimates();
+    let truth = [
+        ("Xud", -1.164),
+        ("Yvd", -23.626),
+        ("Nrd", -1.4532),
+        ("Nvv", 10.0),
+        ("Nrr", -5.0),
+        ("Yrr", 0.5),
+    ];
+    let a = Accuracy::from_json("the bundled example", &r["coefficients"], &truth, &[]);
+    println!("{}", a.table());
+    a.assert_printed(&[
+        ("Xud", "-0.903 ± 0.126 | +2.1"),
+        ("Yvd", "-23.22 ± 0.18 | +2.3"),
+        ("Nrd", "-1.390 ± 0.105 | +0.6"),
+        ("Nvv", "9.88 ± 0.20 | -0.6"),
+        ("Nrr", "-4.957 ± 0.043 | +1.0"),
+        ("Yrr", "0.65 ± 0.63 | +0.2"),
+    ]);
+    let columns: Vec<String> = truth
+        .iter()
+        .map(|(name, _)| {
+            let data = match *name {
+                "Xud" => r["stages"]["surge"]["xud"]["sigma_statistical"]
+                    .as_f64()
+                    .unwrap(),
+                _ => data_sigma(r, name),
+            };
+            let budget = &named(&r["comparison"], name)["budget"];
+            let mut stages: Vec<(&str, f64)> = budget
+                .as_object()
+                .unwrap()
+                .iter()
+                .filter(|(stage, _)| *stage != "hekf")
+                .map(|(stage, s)| (stage.as_str(), s.as_f64().unwrap()))
+                .filter(|(_, s)| *s >= 0.0005)
+                .collect();
+            stages.sort_by(|x, y| y.1.total_cmp(&x.1));
+            let stages: Vec<String> = stages.iter().map(|(n, s)| format!("{n} {s:.3}")).collect();
+            format!("{name} | {data:.4} | {}", stages.join(", "))
+        })
+        .collect();
+    println!("{columns:#?}");
+    assert_eq!(
+        columns,
+        [
+            "Xud | 0.0059 | polar 0.126, surge 0.006",
+            "Yvd | 0.0097 | polar 0.179, noise 0.003, surge 0.002",
+            "Nrd | 0.0054 | polar 0.105, surge 0.002, noise 0.002",
+            "Nvv | 0.0110 | polar 0.196, surge 0.004, noise 0.004",
+            "Nrr | 0.0070 | polar 0.042, noise 0.001",
+            "Yrr | 0.0042 | polar 0.625, surge 0.018",
+        ]
+    );
+    // what limits it: the polar's drag (Xuu 0.4 % off, 2.0 of its sigmas) through
+    // d Xud / d Xuu = -51.5 kg per kg/m moves Xud by 22 %; without the consider analysis
+    // Yvd's sigma would be the data's alone, 42 of them from the truth
+    let xuu = named(&r["coefficients"], "Xuu");
+    let (v, s) = (
+        xuu["value"].as_f64().unwrap(),
+        xuu["sigma"].as_f64().unwrap(),
+    );
+    let dxud = r["stages"]["surge"]["xud"]["sensitivity_to_xuu"]
+        .as_f64()
+        .unwrap();
+    let said = format!(
+        "Xuu {:.1} % off, {:.1} sigma; d Xud / d Xuu = {dxud:.1}; Xud {:.0} % off; Yvd \
+         {:.3} ± {:.3}, {:.0} data sigmas off",
+        100.0 * (v / -1.33 - 1.0),
+        (v + 1.33).abs() / s,
+        a.row("Xud").error_percent(),
+        a.row("Yvd").estimate,
+        data_sigma(r, "Yvd"),
+        (a.row("Yvd").estimate + 23.626).abs() / data_sigma(r, "Yvd")
+    );
+    assert_eq!(
+        said,
+        "Xuu 0.4 % off, 2.0 sigma; d Xud / d Xuu = -51.5; Xud -22 % off; Yvd -23.217 ± 0.010, \
+         42 data sigmas off"
+    );
 }
 
 #[test]
@@ -226,7 +347,7 @@ fn a_two_second_gap_is_crossed_in_regular_steps_and_reported() {
     let m = gap[0]["message"].as_str().unwrap();
     assert!(m.contains("2.01 s after t = 8 s (lines 806-807)"), "{m}");
     // integrated in 10 ms steps, the gap moves no estimate by more than a fraction of its
-    // sigma (integrated in one step of 2 s, Yrd moved by 4 sigma)
+    // sigma from the data (measured: 0.24, Yrr)
     let shift = largest_shift(&r);
     assert!(shift < 0.3, "largest shift {shift} sigma");
 }
@@ -242,8 +363,13 @@ fn a_five_second_gap_does_not_end_the_run() {
     assert!(o.status.success(), "{}", stderr(&o));
     let r = results(dir.path());
     assert_eq!(warnings_with(&r, "5.01 s after t = 8 s").len(), 1);
-    let shift = largest_shift(&r);
-    assert!(shift < 1.0, "largest shift {shift} sigma");
+    // a quarter of the run lost: every estimate within 1 sigma from the data of the clean
+    // run (measured: at most 0.74), but Yrr, 2.9 of them (1.9 % of Yrr, 0.02 of its total
+    // sigma; 3.5 of the spread the lost data explain: what crossing 5 s without data costs)
+    for (name, z) in shifts(&r) {
+        let limit = if name == "Yrr" { 3.0 } else { 1.0 };
+        assert!(z.abs() < limit, "{name} moved by {z:+.2} sigma");
+    }
 }
 
 #[test]
@@ -272,6 +398,8 @@ fn spike_cells_are_left_out_and_named_by_line() {
     let v = warnings_with(&r, "1 outlier in v left out: line 706");
     assert_eq!(v.len(), 1, "{:#?}", r["warnings"]);
     assert!(warnings_with(&r, "re-simulation").is_empty());
+    // left out, the three spikes move no estimate by more than 0.05 sigma from the data
+    // (measured: 0.031, Nrr)
     let shift = largest_shift(&r);
     assert!(shift < 0.05, "largest shift {shift} sigma");
     assert!(dir.path().join("out/plots").is_dir());

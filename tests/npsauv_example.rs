@@ -5,8 +5,12 @@
 
 mod common;
 
+use common::accuracy::Accuracy;
 use hydroid::models::npsauv::{PAPER_17, PUBLISHED};
 use std::path::Path;
+
+/// The paper's 17 the bundled helix leaves undetermined (sigma above half the value).
+const HELIX_UNDETERMINED: [&str; 2] = ["Np", "Yp"];
 
 /// `hydroid run CONFIG --out DIR/out` with `--set` overrides, CONFIG relative to the
 /// repository.
@@ -14,13 +18,16 @@ fn run(config: &str, dir: &Path, set: &[&str]) -> std::process::Output {
     common::run_config(&common::root().join(config), &dir.join("out"), set)
 }
 
+/// configs/npsauv.toml: the 15 of the paper's 17 the helix determines within 2 sigma of the
+/// truth (within 0.8), the other two (Np, Yp: sigma above half the value) named by the
+/// identifiability advice (issue 28: a 2-sigma count of them is vacuous).
 #[test]
 fn the_bundled_helix_identifies_the_papers_17_within_two_sigma() {
     let dir = tempfile::tempdir().unwrap();
     let o = run("configs/npsauv.toml", dir.path(), &[]);
     assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
     let r = common::json(&dir.path().join("out/results.json"));
-    let (inside, lines) = against_truth(&r);
+    let helix = against_truth(&r, "configs/npsauv.toml");
     // the comparison holds the paper's Table 3 and the published truth side by side, in
     // results.json and in coefficients.csv
     let row = common::named(&r["comparison"], "Nr");
@@ -38,28 +45,162 @@ fn the_bundled_helix_identifies_the_papers_17_within_two_sigma() {
             .contains("reference: published truth,error_vs_reference_pct: published truth"),
         "{csv}"
     );
-    // the issue's target: the truth inside 2 sigma for at least 15 of the 17
-    assert!(inside >= 15, "{inside} of 17 inside 2 sigma:\n{lines}");
+    // the determined ones within 2 sigma; the ones the helix leaves undetermined (sigma
+    // above half the value) flagged by the identifiability advice
+    helix.assert_determined_within(&HELIX_UNDETERMINED, 2.0);
+    assert_docs_column(&helix, 1);
+    // docs/models/npsauv.md: the 15 determined within 0.8 sigma; of the eleven with a sigma
+    // under 5 % of the value, ten within 2 % of the truth and Nv (sigma 4.0 %) 2.9 % off
+    assert!(helix.worst_z() < 0.8, "{}", helix.table());
+    let sharp: Vec<_> = helix
+        .rows
+        .iter()
+        .filter(|r| r.sigma < 0.05 * r.estimate.abs())
+        .collect();
+    assert_eq!(sharp.len(), 11, "{}", helix.table());
+    for r in sharp.iter().filter(|r| r.name != "Nv") {
+        assert!(
+            r.error_percent().abs() < 2.0,
+            "{}\n{}",
+            r.name,
+            helix.table()
+        );
+    }
+    let nv = helix.row("Nv");
+    assert_eq!(format!("{:.1}", nv.error_percent().abs()), "2.9");
+    assert_eq!(
+        format!("{:.1}", 100.0 * nv.sigma / nv.estimate.abs()),
+        "4.0"
+    );
 }
 
-/// Each of the 17 against the published truth: how many lie within 2 sigma, and a line each.
-fn against_truth(r: &serde_json::Value) -> (usize, String) {
-    let mut inside = 0;
-    let mut lines = Vec::new();
-    for name in PAPER_17 {
-        let c = common::named(&r["coefficients"], name);
-        let (v, s) = (c["value"].as_f64().unwrap(), c["sigma"].as_f64().unwrap());
-        let truth = PUBLISHED.iter().find(|(n, _)| n == name).unwrap().1;
-        let z = (v - truth) / s;
-        lines.push(format!(
-            "{name}: {v:.4e} ± {s:.2e}, truth {truth:e}, {z:+.2} sigma"
-        ));
-        assert!(z.abs() < 3.0, "{name} beyond 3 sigma: {}", lines.join("\n"));
-        if z.abs() <= 2.0 {
-            inside += 1;
-        }
-    }
-    (inside, lines.join("\n"))
+/// docs/models/npsauv.md's table, per coefficient: the helix with hydroid's defaults, the
+/// helix and the horizontal zig-zag jointly, the helix with the paper's preset (value ± sigma
+/// at the printed digits).
+const DOCS_TABLE: [(&str, &str, &str, &str); 17] = [
+    (
+        "Yp",
+        "0.0023 ± 0.0030",
+        "0.00300 ± 0.00011",
+        "0.0074 ± 0.40",
+    ),
+    (
+        "Yr",
+        "0.0302 ± 0.0022",
+        "0.030008 ± 0.000037",
+        "0.049 ± 0.28",
+    ),
+    (
+        "Yv",
+        "-0.0999 ± 0.0027",
+        "-0.099977 ± 0.000063",
+        "-0.037 ± 0.34",
+    ),
+    (
+        "Ydr",
+        "0.02712 ± 0.00079",
+        "0.027000 ± 0.000013",
+        "0.0068 ± 0.23",
+    ),
+    (
+        "Zq",
+        "-0.1405 ± 0.0055",
+        "-0.14007 ± 0.00023",
+        "-0.0055 ± 0.35",
+    ),
+    (
+        "Zw",
+        "-0.3009 ± 0.0095",
+        "-0.29973 ± 0.00059",
+        "-0.012 ± 0.38",
+    ),
+    (
+        "Zds",
+        "-0.0732 ± 0.0024",
+        "-0.07296 ± 0.00015",
+        "0.0050 ± 0.14",
+    ),
+    (
+        "Kp",
+        "-0.0117 ± 0.0011",
+        "-0.010992 ± 0.000038",
+        "-0.0046 ± 0.36",
+    ),
+    (
+        "Kr",
+        "-0.00092 ± 0.00011",
+        "-0.0008377 ± 0.0000090",
+        "-0.0019 ± 0.18",
+    ),
+    (
+        "Kv",
+        "0.00285 ± 0.00035",
+        "0.003100 ± 0.000017",
+        "0.0025 ± 0.28",
+    ),
+    (
+        "Mq",
+        "-0.06784 ± 0.00069",
+        "-0.068008 ± 0.000039",
+        "-0.038 ± 0.29",
+    ),
+    (
+        "Mw",
+        "0.1002 ± 0.0012",
+        "0.099922 ± 0.000086",
+        "0.028 ± 0.36",
+    ),
+    (
+        "Mds",
+        "-0.04094 ± 0.00030",
+        "-0.041017 ± 0.000019",
+        "-0.060 ± 0.12",
+    ),
+    (
+        "Np",
+        "-0.00004 ± 0.00081",
+        "-0.000835 ± 0.000017",
+        "0.0004 ± 0.39",
+    ),
+    (
+        "Nr",
+        "-0.01600 ± 0.00021",
+        "-0.015994 ± 0.000012",
+        "-0.0081 ± 0.25",
+    ),
+    (
+        "Nv",
+        "-0.00719 ± 0.00028",
+        "-0.007392 ± 0.000014",
+        "0.0023 ± 0.34",
+    ),
+    (
+        "Ndr",
+        "-0.013050 ± 0.000088",
+        "-0.0129988 ± 0.0000045",
+        "-0.011 ± 0.21",
+    ),
+];
+
+/// Asserts column `column` (1 to 3) of [`DOCS_TABLE`].
+#[track_caller]
+fn assert_docs_column(a: &Accuracy, column: usize) {
+    let rows: Vec<(&str, &str)> = DOCS_TABLE
+        .iter()
+        .map(|r| (r.0, [r.1, r.2, r.3][column - 1]))
+        .collect();
+    a.assert_printed(&rows);
+}
+
+/// The paper's 17 of a results.json against the published truth, printed.
+fn against_truth(r: &serde_json::Value, title: &str) -> Accuracy {
+    let truth: Vec<(&str, f64)> = PAPER_17
+        .iter()
+        .map(|name| *PUBLISHED.iter().find(|(n, _)| n == name).unwrap())
+        .collect();
+    let a = Accuracy::of_hekf(title, r, &truth);
+    println!("{}", a.table());
+    a
 }
 
 /// configs/npsauv_joint.toml: the helix and a horizontal zig-zag identified jointly put all
@@ -73,32 +214,24 @@ fn the_helix_and_a_horizontal_zigzag_jointly_determine_all_17() {
     let o = run("configs/npsauv_joint.toml", dir.path(), &[]);
     assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
     let r = common::json(&dir.path().join("out/results.json"));
-    let (inside, lines) = against_truth(&r);
-    assert_eq!(inside, 17, "{lines}");
-    let mut determined = 0;
-    for name in PAPER_17 {
-        let c = common::named(&r["coefficients"], name);
-        let (v, s) = (c["value"].as_f64().unwrap(), c["sigma"].as_f64().unwrap());
-        let truth = PUBLISHED.iter().find(|(n, _)| n == name).unwrap().1;
+    let joint = against_truth(&r, "configs/npsauv_joint.toml");
+    joint.assert_determined_within(&[], 1.0);
+    assert_docs_column(&joint, 2);
+    // every sigma under 2 % of the value but Np's and Yp's, every value within 0.7 %
+    for row in &joint.rows {
+        let limit = match row.name.as_str() {
+            "Np" => 0.021,
+            "Yp" => 0.036,
+            _ => 0.02,
+        };
+        let table = joint.table();
         assert!(
-            (v - truth).abs() < s,
-            "{name}: {v} +- {s} against {truth}\n{lines}"
+            row.sigma < limit * row.estimate.abs(),
+            "{}\n{table}",
+            row.name
         );
-        if s < 0.05 * v.abs() {
-            determined += 1;
-            let limit = match *name {
-                "Np" => 0.021,
-                "Yp" => 0.036,
-                _ => 0.02,
-            };
-            assert!(s < limit * v.abs(), "{name}: sigma {s} of {v}\n{lines}");
-            assert!(
-                (v - truth).abs() < 0.007 * truth.abs(),
-                "{name}: {v} against {truth}\n{lines}"
-            );
-        }
+        assert!(row.error_percent().abs() < 0.7, "{}\n{table}", row.name);
     }
-    assert_eq!(determined, 17, "{lines}");
     // no advice at all (the key absent) when every coefficient is determined
     let none = Vec::new();
     let advice = r["stages"]["hekf"]["identifiability"]
@@ -152,6 +285,7 @@ fn the_papers_preset_runs_with_the_papers_filter_and_tuning() {
     let o = run("configs/npsauv_paper.toml", dir.path(), &[]);
     assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
     let r = common::json(&dir.path().join("out/results.json"));
+    assert_docs_column(&against_truth(&r, "configs/npsauv_paper.toml"), 3);
     let settings = &r["stages"]["hekf"]["settings"];
     assert_eq!(settings["filter"], "continuous", "{settings}");
     assert_eq!(settings["passes"], 1, "{settings}");
@@ -172,6 +306,10 @@ fn the_papers_preset_runs_with_the_papers_filter_and_tuning() {
     // the consistency test says so on the console
     let err = common::text(&o.stderr);
     assert!(err.contains("smaller than the noise model says"), "{err}");
+    // docs/models/npsauv.md: mean NIS 0.003 for 9
+    let nis = &r["stages"]["hekf"]["runs"][0]["nis"];
+    let said = format!("{:.3} for {}", nis["mean"].as_f64().unwrap(), nis["dof"]);
+    assert_eq!(said, "0.003 for 9", "{nis}");
 }
 
 /// A start of Mqdot outside its admissible range (an added mass of Fossen's sign, <= 0) is

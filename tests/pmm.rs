@@ -5,6 +5,7 @@
 
 mod common;
 
+use common::accuracy::Accuracy;
 use std::path::Path;
 
 fn run_ok(config: &Path, out: &Path, set: &[&str]) -> (serde_json::Value, String) {
@@ -22,8 +23,9 @@ fn value_sigma(list: &serde_json::Value, name: &str) -> (f64, f64) {
 }
 
 /// The spheroid twin: polar, surge run, one PMM pure sway and one pure yaw run and
-/// the paper's manoeuvre; joint mode gives Xud, Yvd, Nrd, Nvv, Nrr within 1 % with the truth
-/// inside 2 sigma, a consistent innovation test, and no sigma larger than consider mode's.
+/// the paper's manoeuvre; joint mode gives Xud, Yvd, Nrd, Nvv, Nrr within 0.2 % with the
+/// truth inside 2 sigma, a consistent innovation test, and no sigma larger than consider
+/// mode's.
 #[test]
 fn spheroid_joint_example_meets_the_targets() {
     let dir = tempfile::tempdir().unwrap();
@@ -34,62 +36,13 @@ fn spheroid_joint_example_meets_the_targets() {
         "{console}"
     );
     let hekf = &joint["stages"]["hekf"];
-    let truths = common::spheroid_joint_truth();
-    for name in ["Xud", "Yvd", "Nrd", "Nvv", "Nrr"] {
-        let truth = truths.iter().find(|(n, _)| *n == name).unwrap().1;
-        let (v, s) = value_sigma(&hekf["coefficients"], name);
-        assert!(
-            ((v - truth) / truth).abs() < 0.01,
-            "{name} = {v} is more than 1 % from {truth}"
-        );
-        assert!(
-            (v - truth).abs() < 2.0 * s,
-            "{name} = {v} ± {s}, truth {truth}"
-        );
-    }
-    let nis = &hekf["runs"][0]["nis"];
-    assert_eq!(nis["consistent"], true, "{nis}");
-    // the surge run in the filter: v, r, y and the heading held at 0 by the run, measured at
-    // those values and not counted by the innovation test
-    let surge = &hekf["runs"][1];
-    assert_eq!(surge["nis"]["dof"], 1, "{surge}");
-    let v = common::named_by(&surge["noise"], "quantity", "v");
-    assert_eq!(v["source"], "held constant by the run (constants)", "{v}");
-    // the captive runs alone: every coefficient within 3 sigma of the truth
+    assert_joint_estimates(&joint);
+    assert_innovations(hekf);
     let captive = &joint["stages"]["captive"];
-    for &(name, truth) in &truths {
-        let (v, s) = value_sigma(&captive["coefficients"], name);
-        assert!(
-            (v - truth).abs() < 3.0 * s,
-            "captive {name} = {v} ± {s}, truth {truth}"
-        );
-    }
     let periods = &captive["runs"][0]["periods"];
     assert_eq!(periods["periods"], 5, "{periods}");
     assert!((periods["frequency"].as_f64().unwrap() - 0.5).abs() < 1e-6);
-    // consider mode, run beside it: no joint sigma above it; the yaw scale pinned by the
-    // captive stage alone
-    let rows = &hekf["modes"]["rows"];
-    for &(name, _) in &truths {
-        let row = common::named(rows, name);
-        let (sj, sc) = (
-            row["joint"][1].as_f64().unwrap(),
-            row["consider"][1].as_f64().unwrap(),
-        );
-        assert!(
-            sj <= sc * 1.0001,
-            "{name}: joint sigma {sj} > consider sigma {sc}"
-        );
-    }
-    let nrd = common::named(rows, "Nrd");
-    assert_eq!(nrd["undetermined_by_runs"], true, "{nrd}");
-    assert!(
-        nrd["pinned_by"]
-            .as_str()
-            .unwrap()
-            .starts_with("captive stage: free-running data alone do not determine it"),
-        "{nrd}"
-    );
+    assert_modes(&hekf["modes"]["rows"]);
     let schema = common::json(&common::root().join("docs/results.schema.json"));
     let validator = jsonschema::draft202012::new(&schema).unwrap();
     assert!(
@@ -101,6 +54,150 @@ fn spheroid_joint_example_meets_the_targets() {
         report.contains("| pure sway | v 0.2500 | 0.5000 | 5 |"),
         "{report}"
     );
+}
+
+/// The joint estimates of configs/spheroid_joint.toml against the truth: Xud, Yvd, Nrd, Nvv,
+/// Nrr within 0.2 % (README.md) and 2 sigma; all 13 determined, 12 within 2 sigma, and the
+/// table of docs/hekf.md, "Joint estimate", at its printed digits.
+fn assert_joint_estimates(joint: &serde_json::Value) {
+    let estimates = Accuracy::from_json(
+        "joint estimate",
+        &joint["stages"]["hekf"]["coefficients"],
+        &common::spheroid_joint_truth(),
+        &common::accuracy::hekf_flagged(joint),
+    );
+    println!("{}", estimates.table());
+    for name in ["Xud", "Yvd", "Nrd", "Nvv", "Nrr"] {
+        let row = estimates.row(name);
+        assert!(
+            row.error_percent().abs() < 0.2,
+            "{name} is more than 0.2 % from its truth\n{}",
+            estimates.table()
+        );
+        assert!(row.z.abs() < 2.0, "{name}\n{}", estimates.table());
+    }
+    estimates.assert_determined_within(&[], 2.5);
+    assert_eq!(
+        estimates.within_two_sigma(),
+        (12, 13),
+        "{}",
+        estimates.table()
+    );
+    // Yuvl and Yvv, which the runs see only together, at -2.4 and +2.0 sigma
+    estimates.assert_printed(&[
+        ("Xud", "-1.1624 ± 0.0021 | 0.14 %"),
+        ("Yvd", "-23.630 ± 0.005 | 0.02 %"),
+        ("Nrd", "-1.4515 ± 0.0021 | 0.11 %"),
+        ("Nvv", "9.997 ± 0.004 | 0.03 %"),
+        ("Nrr", "-4.998 ± 0.003 | 0.03 %"),
+        ("Yuvl", "-16.330 ± 0.008 | -2.4"),
+        ("Yvv", "-0.422 ± 0.009 | +2.0"),
+    ]);
+}
+
+/// The innovation tests of the joint run (docs/hekf.md): the paper's manoeuvre consistent,
+/// mean NIS 6.04 (5.85-6.15); the surge run's 0.932 (0.939-1.063), its noise estimated 1.4 %
+/// above the simulated 1 mm/s, and v, r, y and the heading held at 0 by the run, measured at
+/// those values and not counted by the test.
+fn assert_innovations(hekf: &serde_json::Value) {
+    let nis = &hekf["runs"][0]["nis"];
+    assert_eq!(nis["consistent"], true, "{nis}");
+    let surge = &hekf["runs"][1];
+    let u = common::named_by(&surge["noise"], "quantity", "u");
+    let said = format!(
+        "{:.2} ({:.2}-{:.2}); {:.3} ({:.3}-{:.3}); u noise {:+.1} %",
+        nis["mean"].as_f64().unwrap(),
+        nis["mean_bounds"][0].as_f64().unwrap(),
+        nis["mean_bounds"][1].as_f64().unwrap(),
+        surge["nis"]["mean"].as_f64().unwrap(),
+        surge["nis"]["mean_bounds"][0].as_f64().unwrap(),
+        surge["nis"]["mean_bounds"][1].as_f64().unwrap(),
+        100.0 * (u["sigma"].as_f64().unwrap() / 1e-3 - 1.0)
+    );
+    assert_eq!(
+        said,
+        "6.04 (5.85-6.15); 0.932 (0.939-1.063); u noise +1.4 %"
+    );
+    assert_eq!(surge["nis"]["dof"], 1, "{surge}");
+    let v = common::named_by(&surge["noise"], "quantity", "v");
+    assert_eq!(v["source"], "held constant by the run (constants)", "{v}");
+}
+
+/// Consider mode, run beside joint mode (`stages.hekf.modes.rows`): no joint sigma above
+/// it; its column of docs/hekf.md's table; the yaw scale pinned by the captive stage alone.
+fn assert_modes(rows: &serde_json::Value) {
+    for (name, _) in common::spheroid_joint_truth() {
+        let row = common::named(rows, name);
+        let (sj, sc) = (
+            row["joint"][1].as_f64().unwrap(),
+            row["consider"][1].as_f64().unwrap(),
+        );
+        assert!(
+            sj <= sc * 1.0001,
+            "{name}: joint sigma {sj} > consider sigma {sc}"
+        );
+    }
+    let consider: Vec<String> = ["Xud", "Yvd", "Nrd", "Nvv", "Nrr"]
+        .iter()
+        .map(|n| {
+            let row = common::named(rows, n);
+            if row["undetermined_by_runs"] == true {
+                "not determined".to_string()
+            } else {
+                let c = &row["consider"];
+                format!(
+                    "{:.4} +- {:.4}",
+                    c[0].as_f64().unwrap(),
+                    c[1].as_f64().unwrap()
+                )
+            }
+        })
+        .collect();
+    assert_eq!(
+        consider,
+        [
+            "-1.1608 +- 0.0023",
+            "-23.6282 +- 0.0057",
+            "not determined",
+            "not determined",
+            "not determined"
+        ]
+    );
+    let nrd = common::named(rows, "Nrd");
+    assert!(
+        nrd["pinned_by"]
+            .as_str()
+            .unwrap()
+            .starts_with("captive stage: free-running data alone do not determine it"),
+        "{nrd}"
+    );
+}
+
+/// The captive stage alone (configs/spheroid_joint.toml without its HEKF stage): the 11
+/// coefficients the two harmonic runs determine within 2 sigma of the truth, and the two
+/// they leave undetermined, Yrr (360 % off, sigma 1.06 kg m against 0.5) and Yvv (sigma
+/// 0.85 kg/m against 0.44), flagged in the comparison table (docs/stages.md).
+#[test]
+fn the_captive_stage_alone_flags_what_it_leaves_undetermined() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = common::root().join("configs/spheroid_joint.toml");
+    let (r, _) = run_ok(&config, &dir.path().join("out"), &["hekf.enabled=false"]);
+    let alone = Accuracy::from_json(
+        "captive stage alone",
+        &r["coefficients"],
+        &common::spheroid_joint_truth(),
+        &common::accuracy::comparison_flagged(&r),
+    );
+    println!("{}", alone.table());
+    alone.assert_determined_within(&["Yrr", "Yvv"], 2.0);
+    alone.assert_printed(&[
+        ("Yvd", "-23.639 ± 0.011 | -1.1"),
+        ("Nrd", "-1.4519 ± 0.0028 | +0.5"),
+        ("Xud", "-1.34 ± 0.12 | -1.5"),
+        ("Nvv", "10.22 ± 0.23 | +1.0"),
+        ("Yrr", "2.30 ± 1.06 | 360 %"),
+        ("Yvv", "-0.49 ± 0.85 | -0.1"),
+    ]);
 }
 
 /// Writes a force history with the given v(t) (u = 2 m/s) and forces of the truth-free

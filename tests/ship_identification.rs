@@ -5,7 +5,8 @@
 
 mod common;
 
-use common::{hydroid, json, named, root, text};
+use common::accuracy::Accuracy;
+use common::{hydroid, json, root, text};
 use hydroid::course_stability::sway_yaw;
 use hydroid::models::mmg3::{KVLCC2, KVLCC2_RPS};
 use hydroid::models::{Mmg3, Model};
@@ -26,6 +27,22 @@ const TRUTH: [(&str, f64); 12] = [
     ("Nvrr_p", 0.055),
     ("Nrrr_p", -0.013),
 ];
+
+/// The hull derivatives the +-35 deg turns leave undetermined (sigma above half the value):
+/// Y'vvr, Y'rrr and N'vvv, each with a sigma about as large as its value.
+const UNDETERMINED: [&str; 3] = ["Yvvr_p", "Yrrr_p", "Nvvv_p"];
+
+/// The twelve hull derivatives of a results.json against the truth, printed: the determined
+/// ones within 2 sigma, the others ([`UNDETERMINED`]) flagged by hydroid's identifiability
+/// advice (issue 28: a 2-sigma check of a coefficient whose sigma is its size is vacuous).
+fn assert_hull(r: &serde_json::Value, title: &str) -> Accuracy {
+    let hull = Accuracy::of_hekf(title, r, &TRUTH);
+    println!("{}", hull.table());
+    hull.assert_determined_within(&UNDETERMINED, 2.0);
+    // docs/validation.md: "all within 2 sigma (1.8 at most)"
+    assert!(hull.worst_z() < 1.8, "{}", hull.table());
+    hull
+}
 
 /// The bundled manoeuvre `name` simulated again without its sensor noise into `dir`.
 fn noise_free(dir: &Path, name: &str) -> String {
@@ -77,69 +94,29 @@ fn turning_circles_identify_the_hull_and_the_model_sails_the_zigzag_as_the_truth
     broken["resimulation"][2]["manoeuvre"]["steering"]["rate"] = serde_json::json!(-1.0);
     assert!(!validator.is_valid(&broken), "the schema checks the helm");
 
-    // every estimated hull derivative within 2 sigma; the linear ones within 2 %
-    for (name, truth) in TRUTH {
-        let c = named(&r["coefficients"], name);
-        let (v, s) = (c["value"].as_f64().unwrap(), c["sigma"].as_f64().unwrap());
-        assert!(
-            (v - truth).abs() <= 2.0 * s,
-            "{name} = {v} +- {s}, truth {truth}"
-        );
-        println!(
-            "{name}: {v:.5} +- {s:.5}, truth {truth} ({:+.2} sigma)",
-            (v - truth) / s
-        );
-        if ["Yv_p", "Yr_p", "Nv_p", "Nr_p"].contains(&name) {
-            assert!(
-                ((v - truth) / truth).abs() < 0.02,
-                "{name} = {v}, truth {truth}"
-            );
-        }
+    // the determined hull derivatives within 2 sigma, the others flagged; the linear ones
+    // within 0.8 % (README.md, docs/validation.md)
+    let hull = assert_hull(&r, "configs/ship_kvlcc2.toml");
+    for name in ["Yv_p", "Yr_p", "Nv_p", "Nr_p"] {
+        let e = hull.row(name).error_percent();
+        assert!(e.abs() < 0.8, "{name}: {e:+.3} %\n{}", hull.table());
     }
-
-    // the truth model sailing the same manoeuvres without noise
-    let truth_dir = tempfile::tempdir().unwrap();
-    let mut truth = Vec::new();
-    for name in ["kvlcc2_turn35", "kvlcc2_turn35_port", "kvlcc2_zigzag20"] {
-        noise_free(truth_dir.path(), name);
-        truth.push(truth_dir.path().join(format!("{name}.csv")));
-    }
-    let measured = measure(&truth, dir.path());
-    let resim = r["resimulation"].as_array().unwrap();
-    assert_eq!(resim.len(), 3);
-    for (i, m) in resim.iter().enumerate() {
-        let model = &m["manoeuvre"]["model"];
-        if i < 2 {
-            let got = model["turning_circle"]["tactical_diameter"]["value"]
-                .as_f64()
-                .unwrap();
-            let want = measured[i]["turning_circle"]["tactical_diameter"]["value"]
-                .as_f64()
-                .unwrap();
-            println!("run {i}: tactical diameter {got:.4} m, truth model {want:.4} m");
-            assert!(
-                ((got - want) / want).abs() < 0.01,
-                "run {i}: tactical diameter {got} m, truth model {want} m"
-            );
-            assert_eq!(
-                model["turning_circle"]["side"],
-                measured[i]["turning_circle"]["side"]
-            );
-        } else {
-            for key in ["first_overshoot", "second_overshoot"] {
-                let got = model["zigzag"][key]["value"].as_f64().unwrap().to_degrees();
-                let want = measured[i]["zigzag"][key]["value"]
-                    .as_f64()
-                    .unwrap()
-                    .to_degrees();
-                println!("{key}: {got:.3} deg, truth model {want:.3} deg");
-                assert!(
-                    (got - want).abs() < 0.5,
-                    "{key}: {got} deg, truth model {want} deg"
-                );
-            }
-        }
-    }
+    // docs/validation.md's table at its digits
+    hull.assert_printed(&[
+        ("Yv_p", "-0.3165 ± 0.0033 | -0.5"),
+        ("Yr_p", "0.0824 ± 0.0012 | -0.5"),
+        ("Yvvv_p", "-1.68 ± 0.22 | -0.3"),
+        ("Yvvr_p", "0.27 ± 0.20 | -0.6"),
+        ("Yvrr_p", "-0.446 ± 0.069 | -0.8"),
+        ("Yrrr_p", "-0.0006 ± 0.0091 | -0.9"),
+        ("Nv_p", "-0.13686 ± 0.00060 | +0.2"),
+        ("Nr_p", "-0.04899 ± 0.00023 | +0.0"),
+        ("Nvvv_p", "-0.007 ± 0.028 | +0.8"),
+        ("Nvvr_p", "-0.248 ± 0.035 | +1.3"),
+        ("Nvrr_p", "0.080 ± 0.016 | +1.6"),
+        ("Nrrr_p", "-0.0088 ± 0.0023 | +1.8"),
+    ]);
+    assert_manoeuvres(&r, dir.path());
     // the only warning: the cubic hull terms trade off against each other in turning
     // circles (each loose, together exact: the model sails the zig-zag as the truth)
     let warnings = r["warnings"].as_array().unwrap();
@@ -158,8 +135,72 @@ fn turning_circles_identify_the_hull_and_the_model_sails_the_zigzag_as_the_truth
         r["warnings"]
     );
 
-    // Nomoto's indices of the identified model against the truth model's, linearised at the
-    // same approach (KVLCC2 is course-unstable: K and T negative)
+    assert_steering(&r);
+}
+
+/// The identified model steered through each run's manoeuvre (results.json `resimulation`)
+/// against the truth model steered the same way without noise: docs/validation.md's table at
+/// its digits, tactical diameters within 0.1 %, overshoots within 0.2 deg (README.md,
+/// docs/validation.md, docs/manoeuvres.md).
+fn assert_manoeuvres(r: &serde_json::Value, dir: &Path) {
+    // the truth model sailing the same manoeuvres without noise
+    let truth_dir = tempfile::tempdir().unwrap();
+    let mut truth = Vec::new();
+    for name in ["kvlcc2_turn35", "kvlcc2_turn35_port", "kvlcc2_zigzag20"] {
+        noise_free(truth_dir.path(), name);
+        truth.push(truth_dir.path().join(format!("{name}.csv")));
+    }
+    let measured = measure(&truth, dir);
+    let resim = r["resimulation"].as_array().unwrap();
+    assert_eq!(resim.len(), 3);
+    // docs/validation.md's table at its digits: tactical diameters within 0.1 %, overshoots
+    // within 0.2 deg (README.md, docs/validation.md, docs/manoeuvres.md)
+    let mut rows = Vec::new();
+    for (i, m) in resim.iter().enumerate() {
+        let (model, truth) = (&m["manoeuvre"]["model"], &measured[i]);
+        if i < 2 {
+            let diameter = |v: &serde_json::Value| {
+                v["turning_circle"]["tactical_diameter"]["value"]
+                    .as_f64()
+                    .unwrap()
+            };
+            let (got, want) = (diameter(model), diameter(truth));
+            rows.push(format!(
+                "{want:.3} m | {got:.3} m ({:+.2} %)",
+                100.0 * (got / want - 1.0)
+            ));
+            assert!(((got - want) / want).abs() < 0.001, "{rows:?}");
+            assert_eq!(
+                model["turning_circle"]["side"],
+                truth["turning_circle"]["side"]
+            );
+        } else {
+            for key in ["first_overshoot", "second_overshoot"] {
+                let angle = |v: &serde_json::Value| {
+                    v["zigzag"][key]["value"].as_f64().unwrap().to_degrees()
+                };
+                let (got, want) = (angle(model), angle(truth));
+                rows.push(format!("{want:.2} deg | {got:.2} deg"));
+                assert!((got - want).abs() < 0.2, "{rows:?}");
+            }
+        }
+    }
+    println!("{rows:#?}");
+    assert_eq!(
+        rows,
+        [
+            "21.828 m | 21.821 m (-0.03 %)",
+            "21.734 m | 21.751 m (+0.08 %)",
+            "10.60 deg | 10.71 deg",
+            "15.81 deg | 15.65 deg",
+        ]
+    );
+}
+
+/// Nomoto's indices of the identified model against the truth model's, linearised at the
+/// same approach (KVLCC2 is course-unstable: K and T negative): within 2 sigma, and the
+/// numbers of docs/models/ships.md at their digits.
+fn assert_steering(r: &serde_json::Value) {
     let s = &r["steering"];
     let m = Mmg3::build(&Mmg3::example_vehicle()).unwrap();
     let truth = sway_yaw(
@@ -171,17 +212,26 @@ fn turning_circles_identify_the_hull_and_the_model_sails_the_zigzag_as_the_truth
     .unwrap()
     .nomoto()
     .unwrap();
-    for (key, want) in [("k", truth.k), ("t", truth.t)] {
-        let (got, sigma) = (
+    let got = |key: &str| {
+        (
             s[key].as_f64().unwrap(),
             s[&format!("{key}_sigma")].as_f64().unwrap(),
-        );
-        println!("Nomoto {key}: {got:.4} +- {sigma:.4}, truth model {want:.4}");
-        assert!(
-            (got - want).abs() <= 2.0 * sigma,
-            "{key}: {got} +- {sigma}, truth {want}"
-        );
-    }
+        )
+    };
+    let ((k, k_sigma), (t, t_sigma)) = (got("k"), got("t"));
+    let said = format!(
+        "truth model K = {:.3} 1/s, T = {:.1} s; identified {k:.3} +- {k_sigma:.3} 1/s and \
+         {t:.1} +- {t_sigma:.1} s",
+        truth.k, truth.t
+    );
+    println!("{said}");
+    assert!((k - truth.k).abs() <= 2.0 * k_sigma, "{said}");
+    assert!((t - truth.t).abs() <= 2.0 * t_sigma, "{said}");
+    assert_eq!(
+        said,
+        "truth model K = -1.087 1/s, T = -85.4 s; identified -1.109 +- 0.038 1/s and \
+         -86.9 +- 2.5 s"
+    );
     assert_eq!(s["course_stable"], false);
     assert!(!truth.course_stable);
 }
@@ -276,19 +326,10 @@ fn basin_logs_are_read_and_identified_as_the_exports() {
         "{err}"
     );
     let r = json(&out.join("results.json"));
-    for (name, truth) in TRUTH {
-        let c = named(&r["coefficients"], name);
-        let (v, s) = (c["value"].as_f64().unwrap(), c["sigma"].as_f64().unwrap());
-        assert!(
-            (v - truth).abs() <= 2.0 * s,
-            "{name} = {v} +- {s}, truth {truth}"
-        );
-        if ["Yv_p", "Yr_p", "Nv_p", "Nr_p"].contains(&name) {
-            assert!(
-                ((v - truth) / truth).abs() < 0.02,
-                "{name} = {v}, truth {truth}"
-            );
-        }
+    let hull = assert_hull(&r, "tests/fixtures/ships/marin_logs.toml");
+    for name in ["Yv_p", "Yr_p", "Nv_p", "Nr_p"] {
+        let e = hull.row(name).error_percent();
+        assert!(e.abs() < 0.8, "{name}: {e:+.3} %\n{}", hull.table());
     }
     // the identified model turns the way the logs do, the rudder sign read through the map
     for m in r["resimulation"].as_array().unwrap() {

@@ -3,6 +3,8 @@
 //! bundled example copied into a temporary folder or run into one.
 #![allow(dead_code)]
 
+pub mod accuracy;
+
 use hydroid::config::{FluidConfig, VehicleConfig};
 use hydroid::formats::Format;
 use hydroid::quantity::Quantity;

@@ -5,119 +5,30 @@ use super::Truth;
 use std::path::Path;
 use std::time::Instant;
 
-/// One estimated coefficient against its truth.
-#[derive(Debug, Clone)]
-pub struct Row {
-    pub name: String,
-    pub truth: f64,
-    pub estimate: f64,
-    pub sigma: f64,
-    /// (estimate - truth) / sigma.
-    pub z: f64,
-    /// The run determines it: sigma below half of |truth| (a coefficient whose truth is 0
-    /// counts as determined: its z is still a test).
-    pub determined: bool,
-    /// hydroid names it among the estimates the runs leave undetermined or correlated
-    /// (its identifiability advice).
-    pub flagged: bool,
-}
+// The rows, the determined rule and the checks, shared with the twin tests (issue 28). A
+// test that declares both `mod common` and `mod independent` compiles the file twice, as
+// two private modules of the same content: harmless, so clippy's duplicate_mod is allowed.
+#[allow(clippy::duplicate_mod)]
+#[path = "../common/accuracy.rs"]
+mod shared;
+pub use shared::Accuracy;
 
-impl Row {
-    pub fn error_percent(&self) -> f64 {
-        if self.truth == 0.0 {
-            f64::NAN
-        } else {
-            100.0 * (self.estimate - self.truth) / self.truth
-        }
-    }
-}
-
-/// What one identification gave.
+/// What one identification gave: its estimates against the truth (the methods of
+/// [`Accuracy`] through `Deref`), its warnings and how long it took.
 #[derive(Debug, Clone)]
 pub struct Outcome {
-    pub title: String,
-    pub rows: Vec<Row>,
+    /// The estimates; the table's title says the run's title and its seconds.
+    pub accuracy: Accuracy,
     /// Every warning hydroid gave, as text.
     pub warnings: Vec<String>,
     /// Seconds the run took.
     pub seconds: f64,
 }
 
-impl Outcome {
-    /// The row of `name`.
-    pub fn row(&self, name: &str) -> &Row {
-        self.rows
-            .iter()
-            .find(|r| r.name == name)
-            .unwrap_or_else(|| panic!("{name} was not estimated"))
-    }
-
-    /// The determined coefficients.
-    pub fn determined(&self) -> impl Iterator<Item = &Row> {
-        self.rows.iter().filter(|r| r.determined)
-    }
-
-    /// How many determined coefficients lie within 2 sigma, of how many determined.
-    pub fn within_two_sigma(&self) -> (usize, usize) {
-        let d: Vec<&Row> = self.determined().collect();
-        (d.iter().filter(|r| r.z.abs() <= 2.0).count(), d.len())
-    }
-
-    /// The undetermined coefficients.
-    pub fn undetermined(&self) -> Vec<&Row> {
-        self.rows.iter().filter(|r| !r.determined).collect()
-    }
-
-    /// The largest |z| of the determined coefficients.
-    pub fn worst_z(&self) -> f64 {
-        self.determined().map(|r| r.z.abs()).fold(0.0, f64::max)
-    }
-
-    /// The table, one line per coefficient.
-    pub fn table(&self) -> String {
-        let mut s = format!(
-            "{} ({:.1} s)\n{:>8} {:>13} {:>13} {:>10} {:>8} {:>7}  note\n",
-            self.title, self.seconds, "coef", "truth", "estimate", "sigma", "error %", "z"
-        );
-        for r in &self.rows {
-            s.push_str(&format!(
-                "{:>8} {:>13.5e} {:>13.5e} {:>10.2e} {:>+8.2} {:>+7.2}  {}{}\n",
-                r.name,
-                r.truth,
-                r.estimate,
-                r.sigma,
-                r.error_percent(),
-                r.z,
-                if r.determined { "" } else { "undetermined" },
-                if r.flagged {
-                    " (flagged by hydroid)"
-                } else {
-                    ""
-                }
-            ));
-        }
-        let (k, n) = self.within_two_sigma();
-        s.push_str(&format!(
-            "determined: {n} of {}, within 2 sigma: {k} of {n}, worst |z| {:.2}\n",
-            self.rows.len(),
-            self.worst_z()
-        ));
-        s
-    }
-
-    /// Asserts that every undetermined coefficient is flagged by hydroid.
-    #[track_caller]
-    pub fn assert_undetermined_flagged(&self) {
-        for r in self.undetermined() {
-            assert!(
-                r.flagged,
-                "{} is undetermined (sigma {:.2e} against {:.2e}) but hydroid does not flag it\n{}",
-                r.name,
-                r.sigma,
-                r.truth,
-                self.table()
-            );
-        }
+impl std::ops::Deref for Outcome {
+    type Target = Accuracy;
+    fn deref(&self) -> &Accuracy {
+        &self.accuracy
     }
 }
 
@@ -130,37 +41,16 @@ pub fn identify(config: &Path, truth: &Truth) -> Outcome {
         .unwrap_or_else(|e| panic!("{config:?}: {e}"));
     let seconds = started.elapsed().as_secs_f64();
     let h = out.result.stages.hekf.as_ref().expect("an HEKF stage");
-    let flagged: Vec<&str> = h
-        .identifiability
-        .iter()
-        .map(|a| a.coefficient.as_str())
-        .collect();
-    let rows = h
-        .coefficients
-        .iter()
-        .map(|c| {
-            let t = super::truth_of(truth, &c.name);
-            let s = c.sigma.expect("a sigma");
-            Row {
-                name: c.name.clone(),
-                truth: t,
-                estimate: c.value,
-                sigma: s,
-                z: (c.value - t) / s,
-                determined: t == 0.0 || s < 0.5 * t.abs(),
-                flagged: flagged.contains(&c.name.as_str()),
-            }
-        })
-        .collect();
     let warnings = out
         .result
         .warnings
         .iter()
         .map(|w| format!("[{}] {}", w.stage, w.message))
         .collect();
+    let title = out.result.title.clone().unwrap_or_default();
+    let title = format!("{title} ({seconds:.1} s)");
     Outcome {
-        title: out.result.title.clone().unwrap_or_default(),
-        rows,
+        accuracy: Accuracy::of_hekf_result(&title, h, |name| super::truth_of(truth, name)),
         warnings,
         seconds,
     }
