@@ -14,7 +14,7 @@
 mod independent;
 
 use independent::accuracy::{identify, Outcome, Study};
-use independent::mmg::{self, Kvlcc2};
+use independent::mmg::{self, Kvlcc2, Sensors};
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -67,6 +67,8 @@ struct Case<'a> {
     read: Option<&'static str>,
     /// Noise seed of the starboard turn; the port turn and the zig-zag take the next two.
     seed: u64,
+    /// The sensor noise, a multiple of the basin's ([`Sensors::basin`]).
+    noise: f64,
 }
 
 /// The configuration's vehicle, fluid and held coefficients (all but `estimated`), as the
@@ -113,18 +115,15 @@ fn vehicle_text(ship: &Kvlcc2, estimated: &[&str]) -> String {
 /// configuration fitting `case.fit`, the others as validation.
 fn write_case(dir: &Path, ship: &Kvlcc2, case: &Case) -> std::path::PathBuf {
     let (held, seed) = (case.held, case.seed);
+    let sensors = Sensors::basin().scaled(case.noise);
+    let turn =
+        |deg: f64, seed| mmg::turn_sensed(ship, held, deg.to_radians(), 200.0, 10.0, sensors, seed);
     let runs = [
-        (
-            "turn35",
-            mmg::turn_held(ship, held, 35f64.to_radians(), 200.0, 10.0, seed),
-        ),
-        (
-            "turn35_port",
-            mmg::turn_held(ship, held, -35f64.to_radians(), 200.0, 10.0, seed + 1),
-        ),
+        ("turn35", turn(35.0, seed)),
+        ("turn35_port", turn(-35.0, seed + 1)),
         (
             "zigzag20",
-            mmg::zigzag_held(ship, held, 150.0, 10.0, seed + 2),
+            mmg::zigzag_sensed(ship, held, 150.0, 10.0, sensors, seed + 2),
         ),
     ];
     let truth = mmg::hull_truth(ship);
@@ -263,6 +262,7 @@ fn turns_at_10_hz_cover_the_truth_over_20_seeds() {
         held: false,
         read: None,
         seed: 0,
+        noise: 1.0,
     });
     assert_calibrated(&s, 1.0);
 }
@@ -284,6 +284,7 @@ fn turns_and_zigzag_at_10_hz_cover_the_truth_over_20_seeds() {
         held: false,
         read: None,
         seed: 0,
+        noise: 1.0,
     });
     assert_calibrated(&s, 0.2);
 }
@@ -297,7 +298,9 @@ fn turns_and_zigzag_at_10_hz_cover_the_truth_over_20_seeds() {
 /// yaw moment's timing moves by half a sample: N'v and N'r 4 sigma or more away).
 ///
 /// Measured (2026-11-26): interpolated against held, Y'v and Y'r within 0.04 sigma, N'v and
-/// N'r within 0.22 sigma; read held, N'v 6.1 and N'r 6.4 sigma off.
+/// N'r within 0.22 sigma (what is left is hydroid's RK4 reading the held rudder's next sample
+/// in the last stage of each interval: the ignored test below; with that fixed, 0.01 sigma);
+/// read held, N'v 6.1 and N'r 6.4 sigma off.
 #[test]
 fn a_moving_rudder_read_linearly_gives_what_a_held_rudder_gives() {
     let case = |held: bool, read: Option<&'static str>| Case {
@@ -305,6 +308,7 @@ fn a_moving_rudder_read_linearly_gives_what_a_held_rudder_gives() {
         held,
         read,
         seed: 2801,
+        noise: 1.0,
     };
     let (held, moving, moving_held) = std::thread::scope(|s| {
         let a = s.spawn(|| run(&case(true, Some("hold"))));
@@ -331,4 +335,50 @@ fn a_moving_rudder_read_linearly_gives_what_a_held_rudder_gives() {
     assert!(linear.iter().all(|(_, d)| d.abs() <= 0.33), "{linear:?}");
     let moved = |name: &str| step.iter().find(|(n, _)| n == name).map_or(0.0, |p| p.1);
     assert!(moved("Nv_p") >= 4.0 && moved("Nr_p") >= 4.0, "{step:?}");
+}
+
+/// The models' forms, with the noise taken almost out: seed 2801 of the turns (the draw that
+/// put Y'v 3 sigma off) with every sensor's noise a hundredth of the basin's, the rudder
+/// moving and read linearly. A difference of form between the generator (Y&Y 2015 as written
+/// in tests/independent/mmg.rs) and mmg3 would stay as the noise goes; the linear
+/// derivatives come within 0.05 % of the truth.
+///
+/// Measured (2026-11-26): Y'v -0.02 %, Y'r +0.02 %, N'v +0.03 %, N'r +0.02 % (at a tenth of
+/// the noise Y'v +0.23 %, at the basin's +2.9 %: the error goes with the noise).
+#[test]
+fn with_a_hundredth_of_the_noise_the_linear_derivatives_come_within_0_05_percent() {
+    low_noise_within_0_05_percent(false, None);
+}
+
+/// The same with the hull feeling the rudder held at its samples and the log read held: the
+/// physics are then exactly the zero-order hold hydroid assumes, and the estimates should
+/// come as close. They do not: hydroid's RK4 (src/ode.rs) evaluates the last stage of each
+/// step at t + h, which for the last step of a sample interval is the next sample time, where
+/// a held input already has its next value, so a sixth of each step's rudder change acts
+/// early (or not, as the rounding of t + h falls). Evaluating that stage's inputs just before
+/// the step's end (t + h (1 - 1e-6)) gives Y'v -0.03 %, Y'r, N'v, N'r +0.04 % here (measured
+/// on branch helper-b, 2026-11-26); it changes `hydroid simulate`'s output, so the bundled
+/// exports (cfd_exports/, tests/cli.rs) and the twin numbers of the docs must be made again
+/// with it.
+#[test]
+#[ignore = "hydroid's RK4 reads a held input's next sample in the last stage of each sample interval: N'v +0.16 % (z -24), N'r +0.17 % (z -24) at a hundredth of the noise; 0.04 % with that stage read just before the step's end"]
+fn held_rudder_with_a_hundredth_of_the_noise_within_0_05_percent() {
+    low_noise_within_0_05_percent(true, Some("hold"));
+}
+
+/// Seed 2801 of the turns at a hundredth of the basin's noise: Y'v, Y'r, N'v and N'r
+/// within 0.05 % of the truth.
+fn low_noise_within_0_05_percent(held: bool, read: Option<&'static str>) {
+    let o = run(&Case {
+        fit: &["turn35", "turn35_port"],
+        held,
+        read,
+        seed: 2801,
+        noise: 0.01,
+    });
+    println!("{}", o.table());
+    for name in ["Yv_p", "Yr_p", "Nv_p", "Nr_p"] {
+        let r = o.row(name);
+        assert!(r.error_percent().abs() <= 0.05, "{name}: {}", o.table());
+    }
 }
