@@ -167,8 +167,9 @@ pub fn identify(config: &Path, truth: &Truth) -> Outcome {
 }
 
 /// One identification repeated over noise seeds (a coverage study): whether the reported
-/// sigmas cover the estimates' errors, which one seed cannot tell (9 coefficients within 2
-/// sigma in one seed happen with a probability of about 0.6 to 0.8 however right the sigmas).
+/// sigmas cover the estimates' errors, which one seed cannot tell (however right the sigmas,
+/// nine coefficients all within 2 sigma is a 63 % chance for independent estimates, 0.95^9;
+/// over the KVLCC2 studies' seeds it happened in 80 to 95 % of them).
 #[derive(Debug, Clone)]
 pub struct Study {
     /// One outcome per seed.
