@@ -5,11 +5,16 @@
 //! log with sensor noise), identified by `hydroid run` (as a library) with a configuration
 //! like the bundled configs/ship_kvlcc2.toml: the twelve sway and yaw hull derivatives,
 //! everything else held at the published values, hydroid's default tuning.
+//!
+//! The accuracy tests are coverage studies over 20 noise seeds: whether the sigmas cover the
+//! errors is a property of the spread over seeds, which one seed cannot show (the single-seed
+//! tests these replace failed on their seed, 2801, at z -3.0 for Y'v, the tail of a spread the
+//! sigmas describe; see the first test).
 
 mod independent;
 
-use independent::accuracy::{identify, Outcome};
-use independent::mmg::{self, Kvlcc2};
+use independent::accuracy::{identify, Outcome, Study};
+use independent::mmg::{self, Kvlcc2, Sensors};
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -48,24 +53,27 @@ fn hydroid_name(csv: &str) -> Option<String> {
 const COLUMNS: &str = "time = \"time\"\nx = \"x\"\ny = \"y\"\nyaw = \"heading\"\nu = \"u\"\n\
     v = \"v\"\nr = \"yaw rate\"\nrudder = \"rudder\"\nrpm = \"propeller\"\n";
 
-/// Writes the +-35 deg turns (200 s) and the 20/20 zig-zag (150 s), logged at `hz`, and a
-/// configuration fitting `fit` (names of the runs: "turn35", "turn35_port", "zigzag20"),
-/// the others as validation.
-/// With `held` the hull feels the rudder held at its logged samples (a diagnostic).
-fn write_case(dir: &Path, ship: &Kvlcc2, hz: f64, fit: &[&str], held: bool) -> std::path::PathBuf {
-    let runs = [
-        (
-            "turn35",
-            mmg::turn_held(ship, held, 35f64.to_radians(), 200.0, hz, 2801),
-        ),
-        (
-            "turn35_port",
-            mmg::turn_held(ship, held, -35f64.to_radians(), 200.0, hz, 2802),
-        ),
-        ("zigzag20", mmg::zigzag_held(ship, held, 150.0, hz, 2803)),
-    ];
-    let truth = mmg::hull_truth(ship);
-    let estimated: Vec<&str> = truth.iter().map(|t| t.0).collect();
+/// How one case is made and read.
+#[derive(Debug, Clone, Copy)]
+struct Case<'a> {
+    /// The runs fitted ("turn35", "turn35_port", "zigzag20"); the others are validation.
+    fit: &'a [&'a str],
+    /// The hull feels the rudder held at each logged sample (a diagnostic: the rudder then
+    /// acts exactly as a held input does in hydroid) while the log still samples the moving
+    /// rudder.
+    held: bool,
+    /// The rudder's `between` rule in the configuration; None: hydroid's default (`auto`,
+    /// which reads a logged ramp linearly).
+    read: Option<&'static str>,
+    /// Noise seed of the starboard turn; the port turn and the zig-zag take the next two.
+    seed: u64,
+    /// The sensor noise, a multiple of the basin's ([`Sensors::basin`]).
+    noise: f64,
+}
+
+/// The configuration's vehicle, fluid and held coefficients (all but `estimated`), as the
+/// bundled configs/ship_kvlcc2.toml writes them.
+fn vehicle_text(ship: &Kvlcc2, estimated: &[&str]) -> String {
     let mut c = String::new();
     writeln!(
         c,
@@ -100,14 +108,39 @@ fn write_case(dir: &Path, ship: &Kvlcc2, hz: f64, fit: &[&str], held: bool) -> s
             }
         }
     }
+    c
+}
+
+/// Writes the +-35 deg turns (200 s) and the 20/20 zig-zag (150 s), logged at 10 Hz, and a
+/// configuration fitting `case.fit`, the others as validation.
+fn write_case(dir: &Path, ship: &Kvlcc2, case: &Case) -> std::path::PathBuf {
+    let (held, seed) = (case.held, case.seed);
+    let sensors = Sensors::basin().scaled(case.noise);
+    let turn =
+        |deg: f64, seed| mmg::turn_sensed(ship, held, deg.to_radians(), 200.0, 10.0, sensors, seed);
+    let runs = [
+        ("turn35", turn(35.0, seed)),
+        ("turn35_port", turn(-35.0, seed + 1)),
+        (
+            "zigzag20",
+            mmg::zigzag_sensed(ship, held, 150.0, 10.0, sensors, seed + 2),
+        ),
+    ];
+    let truth = mmg::hull_truth(ship);
+    let estimated: Vec<&str> = truth.iter().map(|t| t.0).collect();
+    let mut c = vehicle_text(ship, &estimated);
     writeln!(
         c,
         "[hekf]\nmodel = \"mmg3\"\npreset = \"hydroid\"\nestimate = {estimated:?}"
     )
     .unwrap();
+    let between = case
+        .read
+        .map(|r| format!("between = {{ rudder = \"{r}\" }}\n"))
+        .unwrap_or_default();
     for (name, run) in &runs {
         run.log.write_csv(dir, &format!("{name}.csv"));
-        let table = if fit.contains(name) {
+        let table = if case.fit.contains(name) {
             "hekf.runs"
         } else {
             "hekf.validation"
@@ -115,14 +148,7 @@ fn write_case(dir: &Path, ship: &Kvlcc2, hz: f64, fit: &[&str], held: bool) -> s
         writeln!(
             c,
             "[[{table}]]\nname = \"{name}\"\nfile = \"{name}.csv\"\n{between}[{table}.columns]\n\
-             {COLUMNS}",
-            // a rudder the generator holds at each logged sample is read held; a moving one as
-            // hydroid reads any log (`auto`: the logged ramp interpolated)
-            between = if held {
-                "between = { rudder = \"hold\" }\n"
-            } else {
-                ""
-            }
+             {COLUMNS}"
         )
         .unwrap();
     }
@@ -131,54 +157,228 @@ fn write_case(dir: &Path, ship: &Kvlcc2, hz: f64, fit: &[&str], held: bool) -> s
     path
 }
 
-fn run(hz: f64, fit: &[&str], held: bool) -> Outcome {
+/// Generates and identifies one case.
+fn run(case: &Case) -> Outcome {
     let ship = Kvlcc2::model();
     let dir = tempfile::tempdir().unwrap();
-    let config = write_case(dir.path(), &ship, hz, fit, held);
-    let outcome = identify(&config, &mmg::hull_truth(&ship));
-    println!("{}", outcome.table());
-    for w in &outcome.warnings {
-        println!("warning: {w}");
+    let config = write_case(dir.path(), &ship, case);
+    identify(&config, &mmg::hull_truth(&ship))
+}
+
+/// Noise seeds of a coverage study: the first is the seed of the single-seed tests these
+/// replace (2801, 2802, 2803).
+const SEEDS: u64 = 20;
+
+/// `case` over [`SEEDS`] noise seeds (2801 + 10 k), two at a time.
+fn study(case: Case) -> Study {
+    let mut outcomes: Vec<(u64, Outcome)> = std::thread::scope(|s| {
+        let workers: Vec<_> = (0..2u64)
+            .map(|w| {
+                s.spawn(move || {
+                    (0..SEEDS)
+                        .filter(|k| k % 2 == w)
+                        .map(|k| {
+                            let seed = 2801 + 10 * k;
+                            (seed, run(&Case { seed, ..case }))
+                        })
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        workers
+            .into_iter()
+            .flat_map(|h| h.join().unwrap())
+            .collect()
+    });
+    outcomes.sort_by_key(|(seed, _)| *seed);
+    for (seed, o) in &outcomes {
+        let (k, n) = o.within_two_sigma();
+        println!(
+            "seed {seed}: {k} of {n} determined within 2 sigma, worst |z| {:.2}",
+            o.worst_z()
+        );
     }
-    outcome
+    let study = Study {
+        outcomes: outcomes.into_iter().map(|(_, o)| o).collect(),
+    };
+    println!("{}", study.table());
+    study
+}
+
+/// What a calibrated identification gives over the seeds: in every seed, every coefficient
+/// the run leaves undetermined is flagged; 93 % or more of the determined coefficient-seed
+/// pairs within 2 sigma and 55 to 85 % within 1 (68 % for a calibrated sigma; the pairs are
+/// correlated, so the band is wide); no coefficient's sigma too small (root mean square z at
+/// most 1.5 over the seeds); and in the coefficients hydroid never flags (the linear
+/// derivatives) no bias: mean z within 3 standard errors of 0 (3 / sqrt(seeds)) and the
+/// mean error within `error_percent` of the truth.
+#[track_caller]
+fn assert_calibrated(study: &Study, error_percent: f64) {
+    let table = study.table();
+    for o in &study.outcomes {
+        o.assert_undetermined_flagged();
+    }
+    let (one, two, _) = study.coverage();
+    assert!(two >= 0.93, "{table}");
+    assert!((0.55..=0.85).contains(&one), "{table}");
+    let n = study.outcomes.len();
+    for c in study.spreads() {
+        if c.determined == n {
+            assert!(c.rms_z <= 1.5, "{}: {table}", c.name);
+        }
+        if c.flagged == 0 {
+            assert!(
+                c.mean_z.abs() <= 3.0 / (n as f64).sqrt()
+                    && c.mean_error_percent.abs() <= error_percent,
+                "{}: {table}",
+                c.name
+            );
+        }
+    }
 }
 
 /// The bundled set-up: the +-35 deg turns fitted, the zig-zag for validation, 10 Hz, the
-/// logged rudder read as hydroid reads any log (`between = "auto"`: its ramps interpolated).
-/// Measured: 7 of 9 determined coefficients within 2 sigma; Nv_p +0.10 % (z -0.25), Nr_p
-/// +0.20 % (z -0.5), but Yv_p and Yr_p off by 2.9 and 4.1 % at 3 sigma, as with the rudder
-/// held on both sides (the diagnostic below): what is left is the sway equation's form, not
-/// the sampling (held, before `between`: 2 of 9, Nv_p and Nr_p at z +6.5 and +6.6).
+/// logged rudder read as hydroid reads any log (`between = "auto"`: its ramps interpolated),
+/// over 20 noise seeds. The runs determine Y'v, Y'r, N'v, N'r and some cubic terms; hydroid
+/// flags the others (the cubic terms correlated 0.91 to 0.98).
+///
+/// Measured (2026-11-26, seeds 2801 + 10 k): 96.7 % of the 180 determined coefficient-seed
+/// pairs within 2 sigma, 67.2 % within 1; Y'v mean error +0.44 % (mean z -0.46, rms z 1.18,
+/// the estimates' spread 1.10 times the mean sigma), Y'r -0.62 % (mean z -0.48, rms 1.19),
+/// N'v and N'r +0.03 % (rms z 0.89, 0.91); 3 of the 20 seeds have a determined coefficient
+/// beyond 2 sigma (2801: Y'v +2.9 % at z -3.0 and Y'r -4.1 % at z -3.2; 2901: 2.5; 2921:
+/// 2.1). Another 20 seeds (10001 + 10 k): Y'v +0.26 % (mean z -0.25, rms 0.98), 97.5 % within
+/// 2 sigma. Seed 2801 is noise, not a difference of the models' forms (tests/independent/mmg.rs
+/// and src/models/mmg3.rs agree term by term, Y&Y 2015 eq. 4-26): the same seed with the
+/// sensor noise scaled by 0.1 gives Y'v +0.23 %, by 0.01 -0.02 %; with the hull feeling the
+/// rudder held, the same as with it moving (the last test). The undetermined cubic terms stay
+/// near their start, 0 (Y'rrr -103 %, N'vvv -84 %, mean z -0.91 and +0.89 with a spread of
+/// 0.15 sigma): their sigma is the prior's width, and covers it; started at the truth, Y'v and
+/// Y'r come out the same (mean z -0.50, -0.53).
 #[test]
-#[ignore = "issue 22: 7/9 within 2 sigma: Yv_p -0.3242 +- 0.0030 (truth -0.315, +2.9 %, z -3.0), Yr_p 0.0796 +- 0.0011 (0.083, -4.1 %, z -3.2); Yvvr_p, Yrrr_p, Nvvv_p undetermined and flagged"]
-fn turns_at_10_hz_identify_the_hull_derivatives() {
-    let o = run(10.0, &["turn35", "turn35_port"], false);
-    o.assert_undetermined_flagged();
-    let (k, n) = o.within_two_sigma();
-    assert_eq!(k, n, "{}", o.table());
+fn turns_at_10_hz_cover_the_truth_over_20_seeds() {
+    let s = study(Case {
+        fit: &["turn35", "turn35_port"],
+        held: false,
+        read: None,
+        seed: 0,
+        noise: 1.0,
+    });
+    assert_calibrated(&s, 1.0);
 }
 
-/// The turns and the zig-zag fitted jointly, 10 Hz, the rudder read by `between = "auto"`.
-/// Measured: 9 of 10 determined coefficients within 2 sigma, worst Nv_p at z -2.04 (+0.19 %);
-/// Yv_p +0.23 %, Yr_p -0.34 %, Nr_p +0.20 %; the cubic terms correlated 0.92 to 0.98 and
-/// flagged (read held, before `between`: 0 of 10, Yv_p z -11.2, Yvvv_p z +15.4).
+/// The turns and the zig-zag fitted jointly, 10 Hz, the rudder read by `between = "auto"`,
+/// over 20 noise seeds: all twelve hull derivatives but Y'rrr and N'vvv determined in most
+/// seeds; hydroid flags the cubic terms (correlated 0.92 to 0.98).
+///
+/// Measured (2026-11-26, seeds 2801 + 10 k): 99.5 % of the 198 determined pairs within 2
+/// sigma, 76.3 % within 1 (the sigmas a little wide: rms z 0.76 to 0.95); mean errors Y'v
+/// +0.09 %, Y'r -0.12 %, N'v and N'r +0.04 % against sigmas of about 0.16 %, 0.21 %, 0.10 %
+/// and 0.11 %; every mean z within +-0.42. Seed 2801 alone gives N'v at z -2.04, the one pair
+/// of 198 beyond 2 sigma. Another 20 seeds (10001 + 10 k): 97.0 % within 2 sigma, 65.5 %
+/// within 1, every mean z within +-0.24.
 #[test]
-#[ignore = "issue 22: 9/10 within 2 sigma: Nv_p -0.13727 +- 0.00013 (truth -0.137, +0.19 %, z -2.04); Yrrr_p, Nvvv_p undetermined and flagged"]
-fn turns_and_zigzag_at_10_hz_identify_the_hull_derivatives() {
-    let o = run(10.0, &["turn35", "turn35_port", "zigzag20"], false);
-    o.assert_undetermined_flagged();
-    let (k, n) = o.within_two_sigma();
-    assert_eq!(k, n, "{}", o.table());
+fn turns_and_zigzag_at_10_hz_cover_the_truth_over_20_seeds() {
+    let s = study(Case {
+        fit: &["turn35", "turn35_port", "zigzag20"],
+        held: false,
+        read: None,
+        seed: 0,
+        noise: 1.0,
+    });
+    assert_calibrated(&s, 0.2);
 }
 
-/// Diagnostic: the turns again, the hull feeling the rudder held at each logged sample (as
-/// mmg3 assumes) while the log is the same: what is left is model form, not sampling.
-/// Measured: 7 of 9 within 2 sigma; Nv_p +0.16 % (z -0.4), Nr_p +0.27 % (z -0.7), but
-/// Yv_p -0.3241 +- 0.0029 (+2.9 %, z -3.2) and Yr_p 0.0796 +- 0.0010 (-4.0 %, z -3.3).
+/// The rudder between samples, with the noise fixed (seed 2801): the generator's hull
+/// feeling the rudder held at each logged sample (read `hold`: the physics then are
+/// exactly what the filter assumes) against the hull feeling the moving rudder, read as
+/// hydroid reads any log (`auto`: the logged ramp interpolated) and read held (`hold`, the
+/// default before `between`). Interpolating the moving rudder must give what the held case
+/// gives (each determined coefficient within a third of its sigma); holding it must not (the
+/// yaw moment's timing moves by half a sample: N'v and N'r 4 sigma or more away).
+///
+/// Measured (2026-11-26): interpolated against held, Y'v and Y'r within 0.04 sigma, N'v and
+/// N'r within 0.22 sigma (what is left is hydroid's RK4 reading the held rudder's next sample
+/// in the last stage of each interval: the ignored test below; with that fixed, 0.01 sigma);
+/// read held, N'v 6.1 and N'r 6.4 sigma off.
 #[test]
-#[ignore = "diagnostic for issue 22: the rudder's inter-sample rule taken out; 7/9, Yv_p z -3.2, Yr_p z -3.3"]
-fn turns_at_10_hz_with_the_rudder_held_between_samples() {
-    let o = run(10.0, &["turn35", "turn35_port"], true);
-    let (k, n) = o.within_two_sigma();
-    assert_eq!(k, n, "{}", o.table());
+fn a_moving_rudder_read_linearly_gives_what_a_held_rudder_gives() {
+    let case = |held: bool, read: Option<&'static str>| Case {
+        fit: &["turn35", "turn35_port"],
+        held,
+        read,
+        seed: 2801,
+        noise: 1.0,
+    };
+    let (held, moving, moving_held) = std::thread::scope(|s| {
+        let a = s.spawn(|| run(&case(true, Some("hold"))));
+        let b = s.spawn(|| run(&case(false, None)));
+        let c = run(&case(false, Some("hold")));
+        (a.join().unwrap(), b.join().unwrap(), c)
+    });
+    let apart = |o: &Outcome| -> Vec<(String, f64)> {
+        held.determined()
+            .map(|r| {
+                let other = o.row(&r.name);
+                (r.name.clone(), (other.estimate - r.estimate) / r.sigma)
+            })
+            .collect()
+    };
+    let (linear, step) = (apart(&moving), apart(&moving_held));
+    println!(
+        "{}\n{}\n{}",
+        held.table(),
+        moving.table(),
+        moving_held.table()
+    );
+    println!("interpolated - held, in sigmas: {linear:.2?}\nread held - held: {step:.2?}");
+    assert!(linear.iter().all(|(_, d)| d.abs() <= 0.33), "{linear:?}");
+    let moved = |name: &str| step.iter().find(|(n, _)| n == name).map_or(0.0, |p| p.1);
+    assert!(moved("Nv_p") >= 4.0 && moved("Nr_p") >= 4.0, "{step:?}");
+}
+
+/// The models' forms, with the noise taken almost out: seed 2801 of the turns (the draw that
+/// put Y'v 3 sigma off) with every sensor's noise a hundredth of the basin's, the rudder
+/// moving and read linearly. A difference of form between the generator (Y&Y 2015 as written
+/// in tests/independent/mmg.rs) and mmg3 would stay as the noise goes; the linear
+/// derivatives come within 0.05 % of the truth.
+///
+/// Measured (2026-11-26): Y'v -0.02 %, Y'r +0.02 %, N'v +0.03 %, N'r +0.02 % (at a tenth of
+/// the noise Y'v +0.23 %, at the basin's +2.9 %: the error goes with the noise).
+#[test]
+fn with_a_hundredth_of_the_noise_the_linear_derivatives_come_within_0_05_percent() {
+    low_noise_within_0_05_percent(false, None);
+}
+
+/// The same with the hull feeling the rudder held at its samples and the log read held: the
+/// physics are then exactly the zero-order hold hydroid assumes, and the estimates should
+/// come as close. They do not: hydroid's RK4 (src/ode.rs) evaluates the last stage of each
+/// step at t + h, which for the last step of a sample interval is the next sample time, where
+/// a held input already has its next value, so a sixth of each step's rudder change acts
+/// early (or not, as the rounding of t + h falls). Evaluating that stage's inputs just before
+/// the step's end (t + h (1 - 1e-6)) gives Y'v -0.03 %, Y'r, N'v, N'r +0.04 % here (measured
+/// on branch helper-b, 2026-11-26); it changes `hydroid simulate`'s output, so the bundled
+/// exports (cfd_exports/, tests/cli.rs) and the twin numbers of the docs must be made again
+/// with it.
+#[test]
+#[ignore = "hydroid's RK4 reads a held input's next sample in the last stage of each sample interval: N'v +0.16 % (z -24), N'r +0.17 % (z -24) at a hundredth of the noise; 0.04 % with that stage read just before the step's end"]
+fn held_rudder_with_a_hundredth_of_the_noise_within_0_05_percent() {
+    low_noise_within_0_05_percent(true, Some("hold"));
+}
+
+/// Seed 2801 of the turns at a hundredth of the basin's noise: Y'v, Y'r, N'v and N'r
+/// within 0.05 % of the truth.
+fn low_noise_within_0_05_percent(held: bool, read: Option<&'static str>) {
+    let o = run(&Case {
+        fit: &["turn35", "turn35_port"],
+        held,
+        read,
+        seed: 2801,
+        noise: 0.01,
+    });
+    println!("{}", o.table());
+    for name in ["Yv_p", "Yr_p", "Nv_p", "Nr_p"] {
+        let r = o.row(name);
+        assert!(r.error_percent().abs() <= 0.05, "{name}: {}", o.table());
+    }
 }

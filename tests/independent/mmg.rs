@@ -331,6 +331,16 @@ impl Sensors {
             heading: 0.05f64.to_radians(),
         }
     }
+
+    /// Every standard deviation times `k`.
+    pub fn scaled(self, k: f64) -> Self {
+        Sensors {
+            velocity: self.velocity * k,
+            rate: self.rate * k,
+            position: self.position * k,
+            heading: self.heading * k,
+        }
+    }
 }
 
 /// Runs the ship from straight ahead at the approach speed with the propeller at its
@@ -429,6 +439,19 @@ pub fn turn_held(
     rate_hz: f64,
     seed: u64,
 ) -> Run {
+    turn_sensed(ship, held, angle, duration, rate_hz, Sensors::basin(), seed)
+}
+
+/// [`turn_held`] with the sensors `sensors`.
+pub fn turn_sensed(
+    ship: &Kvlcc2,
+    held: bool,
+    angle: f64,
+    duration: f64,
+    rate_hz: f64,
+    sensors: Sensors,
+    seed: u64,
+) -> Run {
     simulate(
         ship,
         held,
@@ -436,7 +459,7 @@ pub fn turn_held(
         duration,
         0.005,
         1.0 / rate_hz,
-        Sensors::basin(),
+        sensors,
         seed,
         &format!(
             "KVLCC2 1/45.7 turning circle, rudder {:+.0} deg (independent MMG generator)",
@@ -452,6 +475,18 @@ pub fn zigzag(ship: &Kvlcc2, duration: f64, rate_hz: f64, seed: u64) -> Run {
 
 /// [`zigzag`], with the rudder held between samples as the hull feels it when `held`.
 pub fn zigzag_held(ship: &Kvlcc2, held: bool, duration: f64, rate_hz: f64, seed: u64) -> Run {
+    zigzag_sensed(ship, held, duration, rate_hz, Sensors::basin(), seed)
+}
+
+/// [`zigzag_held`] with the sensors `sensors`.
+pub fn zigzag_sensed(
+    ship: &Kvlcc2,
+    held: bool,
+    duration: f64,
+    rate_hz: f64,
+    sensors: Sensors,
+    seed: u64,
+) -> Run {
     simulate(
         ship,
         held,
@@ -465,7 +500,7 @@ pub fn zigzag_held(ship: &Kvlcc2, held: bool, duration: f64, rate_hz: f64, seed:
         duration,
         0.005,
         1.0 / rate_hz,
-        Sensors::basin(),
+        sensors,
         seed,
         "KVLCC2 1/45.7 20/20 zig-zag (independent MMG generator)",
     )
