@@ -37,13 +37,11 @@ fn identify(name: &str, edit: &dyn Fn(String) -> String) -> (Value, String) {
     assert_eq!(o.status.code(), Some(0), "{said}");
     says_measured(&out.join("report.md"));
     let r = json(&out.join("results.json"));
-    // results.json says per run how `between = auto` read the rudder: linearly on the
-    // zig-zags (it moves through intermediate angles), held on MARIN's turns (after the one
-    // execution it flickers by one printed digit, which the rule counts as steps)
+    // results.json says per run how `between = auto` read the rudder: linearly on every
+    // run, MARIN's turns too (after the one execution their rudder flickers by one printed
+    // digit, many small jumps that the rule weighs against the execution's ramp)
     for run in r["stages"]["hekf"]["runs"].as_array().unwrap() {
-        let turn = run["name"].as_str().unwrap().contains("turn");
-        let want = if turn { "held" } else { "linear" };
-        assert_eq!(run["between"]["rudder"], want, "{}", run["name"]);
+        assert_eq!(run["between"]["rudder"], "linear", "{}", run["name"]);
     }
     let md = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(md.contains("Inputs between samples"), "{md}");
@@ -175,9 +173,9 @@ fn marin_identified_predicts_the_hsva_zigzags_better_than_the_published_set() {
     assert!((worst - 3.4).abs() < 0.05, "{worst}");
     assert!((pub_mean - 2.4).abs() < 0.05, "{pub_mean}");
     assert!((pub_worst - 4.3).abs() < 0.05, "{pub_worst}");
-    // the turns it was fitted to: tactical diameter +0.4 % and -6.3 %, advance 0.0 % and
+    // the turns it was fitted to: tactical diameter +0.4 % and -6.3 %, advance -0.1 % and
     // -1.1 %
-    for ((td, adv), (want_td, want_adv)) in fitted.iter().zip([(0.4, 0.0), (-6.3, -1.1)]) {
+    for ((td, adv), (want_td, want_adv)) in fitted.iter().zip([(0.4, -0.1), (-6.3, -1.1)]) {
         assert!(
             (td - want_td).abs() < 0.05 && (adv - want_adv).abs() < 0.05,
             "{fitted:?}"
@@ -188,7 +186,7 @@ fn marin_identified_predicts_the_hsva_zigzags_better_than_the_published_set() {
 /// Identified from HSVA's three zig-zags: the surge balance the logged propeller speed
 /// contradicts is estimated by default (R0_p 0.0150 against the published 0.022) and said;
 /// MARIN's turns (other basin, full scale) are predicted with the tactical diameter +16.3 %
-/// and +8.0 % and the advance +3.8 % and +2.6 %: the 3 % and 2 % of issue 21 are not
+/// and +8.0 % and the advance +3.7 % and +2.5 %: the 3 % and 2 % of issue 21 are not
 /// reached.
 #[test]
 #[ignore = "reads the real basin logs in ../shared/data/real; .ci/run runs it"]
@@ -215,7 +213,7 @@ fn hsva_identified_estimates_the_surge_balance_and_predicts_the_marin_turns() {
         (r0["value"].as_f64().unwrap() - 0.0150).abs() < 0.00005,
         "{r0}"
     );
-    for ((td, adv), (want_td, want_adv)) in turns.iter().zip([(16.3, 3.8), (8.0, 2.6)]) {
+    for ((td, adv), (want_td, want_adv)) in turns.iter().zip([(16.3, 3.7), (8.0, 2.5)]) {
         assert!(
             (td - want_td).abs() < 0.05 && (adv - want_adv).abs() < 0.05,
             "{turns:?}"

@@ -470,12 +470,19 @@ mod tests {
             .map(|(k, v)| {
                 let deg = v.to_degrees();
                 let step = if deg.abs() >= 10.0 { 0.1 } else { 0.01 };
-                let flicker = if deg.abs() > 19.9 && k % 2 == 0 { step } else { 0.0 };
+                let flicker = if deg.abs() > 19.9 && k % 2 == 0 {
+                    step
+                } else {
+                    0.0
+                };
                 ((deg / step).round() * step - flicker * deg.signum()).to_radians()
             })
             .collect();
         let d: Vec<f64> = printed.windows(2).map(|w| (w[1] - w[0]).abs()).collect();
-        let flickers = d.iter().filter(|&&x| x > 0.0 && x < 0.11f64.to_radians()).count();
+        let flickers = d
+            .iter()
+            .filter(|&&x| x > 0.0 && x < 0.11f64.to_radians())
+            .count();
         let moved = d.iter().filter(|&&x| x > 0.0).count();
         assert!(2 * flickers > moved, "{flickers} of {moved}");
         assert!(moves_continuously(&printed));

@@ -11,7 +11,7 @@ use std::time::Instant;
 #[allow(clippy::duplicate_mod)]
 #[path = "../common/accuracy.rs"]
 mod shared;
-pub use shared::Accuracy;
+pub use shared::{Accuracy, Row};
 
 /// What one identification gave: its estimates against the truth (the methods of
 /// [`Accuracy`] through `Deref`), its warnings and how long it took.
