@@ -4,8 +4,10 @@
 //! At station x the section moves laterally at a = v + x r and vertically at b = w - x q,
 //! U_cf = sqrt(a^2 + b^2), and with D = C_dy h a^2 + C_dz b_s b^2 (Healey & Lienard 1993):
 //!
-//!     Y = -rho/2 Int D a / U_cf dx,    Z = -rho/2 Int D b / U_cf dx,
-//!     N = Int x dY,                    M = -Int x dZ   (the heave strip force's moment)
+//! ```text
+//! Y = -rho/2 Int D a / U_cf dx,    Z = -rho/2 Int D b / U_cf dx,
+//! N = Int x dY,                    M = -Int x dZ   (the heave strip force's moment)
+//! ```
 //!
 //! over the hull x = -L/2 .. L/2 (h, b_s the section height and breadth, constant: the MSS
 //! block body).
