@@ -313,23 +313,33 @@ fn the_papers_preset_runs_with_the_papers_filter_and_tuning() {
 }
 
 /// A start of Mqdot outside its admissible range (an added mass of Fossen's sign, <= 0) is
-/// refused before the filter runs, naming the key and the range.
+/// a configuration mistake: refused before anything runs, by `run` and `check` alike, with
+/// the configuration's exit code 2, naming the key and the range.
 #[test]
 fn an_added_mass_started_outside_its_range_is_refused_naming_the_key() {
     let dir = tempfile::tempdir().unwrap();
-    let o = run(
-        "configs/npsauv.toml",
-        dir.path(),
-        &[&estimate_17_and("Mqdot"), "hekf.prior.Mqdot.initial=0.01"],
-    );
-    assert!(!o.status.success());
-    let e = common::text(&o.stderr);
-    assert!(
-        e.contains(
-            "hekf.prior.Mqdot.initial = 0.01: outside the coefficient's admissible range (<= 0)"
-        ),
-        "{e}"
-    );
+    let sets = [&estimate_17_and("Mqdot"), "hekf.prior.Mqdot.initial=0.01"];
+    let o = run("configs/npsauv.toml", dir.path(), &sets);
+    let config = common::root().join("configs/npsauv.toml");
+    let check = common::hydroid(&[
+        "check",
+        config.to_str().unwrap(),
+        "--set",
+        sets[0],
+        "--set",
+        sets[1],
+    ]);
+    for o in [o, check] {
+        assert_eq!(o.status.code(), Some(2), "{}", common::text(&o.stderr));
+        let e = format!("{}{}", common::text(&o.stderr), common::text(&o.stdout));
+        assert!(
+            e.contains(
+                "hekf.prior.Mqdot.initial = 0.01: outside the coefficient's admissible range \
+                 (<= 0)"
+            ),
+            "{e}"
+        );
+    }
 }
 
 /// A prior that makes the mass matrix singular (the pitch-heave coupling Mwdot far above its

@@ -170,6 +170,15 @@ fn prior_sigma_of(
     }
 }
 
+/// The refusal of a configured start `init` of `name` outside its admissible range.
+fn start_outside(name: &str, unit: &str, init: f64, range: &crate::models::Range) -> String {
+    format!(
+        "hekf.prior.{name}.initial = {init}: outside the coefficient's admissible range ({}); \
+         start it inside the range",
+        range.describe(unit)
+    )
+}
+
 /// The start of coefficient `name` inside its admissible range: a configured start
 /// (`configured`) outside it is an error naming the key; a start read from the runs or the
 /// default zero outside it becomes the expected size `typical` on the range's side (its
@@ -188,11 +197,7 @@ fn start_in_range(
     if configured.is_some() {
         return Err(Error::numerical(
             "hekf",
-            format!(
-                "hekf.prior.{name}.initial = {init}: outside the coefficient's admissible range \
-                 ({}); start it inside the range",
-                range.describe(unit)
-            ),
+            start_outside(name, unit, init, range),
         ));
     }
     let side = if range.lo >= 0.0 { typical } else { -typical };
@@ -267,7 +272,19 @@ pub fn coefficient_problems<M: Model>(
                 "'{n}' follows from other coefficients by a symmetry relation (paper eq. 4); \
                  estimate the coefficient it is derived from instead"
             )),
-            Some(i) => est.push(i),
+            Some(i) => {
+                est.push(i);
+                // a configured start outside the admissible range: a mistake of the
+                // configuration, found before anything runs (exit code 2)
+                let range = M::COEFFICIENTS[i].range;
+                match cfg.prior.get(n).and_then(|p| p.initial) {
+                    Some(v) if !range.contains(v) => {
+                        let unit = crate::models::registry::coefficient(n).map_or("", |c| c.unit);
+                        problems.push(start_outside(n, unit, v, &range));
+                    }
+                    _ => {}
+                }
+            }
         }
     }
     let missing: Vec<&str> = names
