@@ -108,25 +108,10 @@ fn joint_mode_covers_the_truth_over_100_seeds() {
         .collect();
     // two workers, each with its own copy of the example
     let workers: Vec<tempfile::TempDir> = (0..2).map(|_| common::example_copy()).collect();
-    let outcomes: Vec<(Outcome, Outcome)> = std::thread::scope(|s| {
-        let handles: Vec<_> = workers
-            .iter()
-            .enumerate()
-            .map(|(w, dir)| {
-                let originals = &originals;
-                s.spawn(move || {
-                    (1..=SEEDS)
-                        .filter(|k| k % 2 == w as u64)
-                        .map(|k| seed(dir.path(), originals, k))
-                        .collect::<Vec<_>>()
-                })
-            })
-            .collect();
-        handles
-            .into_iter()
-            .flat_map(|h| h.join().unwrap())
-            .collect()
-    });
+    let outcomes: Vec<(Outcome, Outcome)> =
+        common::parallel::on_two_threads(SEEDS as usize, |w, k| {
+            seed(workers[w].path(), &originals, k as u64 + 1)
+        });
     assert_eq!(outcomes.len(), SEEDS as usize);
     let share = |pairs: Vec<f64>| {
         pairs.iter().filter(|z| z.abs() < 2.0).count() as f64 / pairs.len() as f64

@@ -248,27 +248,10 @@ fn calibrate(outcomes: &[Identified]) -> Calibration {
 fn calibration_over_30_noise_realisations_of_the_paper_manoeuvre() {
     let dir = tempfile::tempdir().unwrap();
     let cfg = root().join("configs/twin.toml");
-    // two workers
-    let outcomes: Vec<Identified> = std::thread::scope(|s| {
-        let handles: Vec<_> = (0..2u64)
-            .map(|w| {
-                let (dir, cfg) = (dir.path(), &cfg);
-                s.spawn(move || {
-                    (1..=SEEDS)
-                        .filter(|k| k % 2 == w)
-                        .map(|k| {
-                            let csv = paper_manoeuvre(dir, k);
-                            let file = format!("hekf.runs[0].file={:?}", csv.to_str().unwrap());
-                            identify(cfg, &[file])
-                        })
-                        .collect::<Vec<_>>()
-                })
-            })
-            .collect();
-        handles
-            .into_iter()
-            .flat_map(|h| h.join().unwrap())
-            .collect()
+    let outcomes: Vec<Identified> = common::parallel::on_two_threads(SEEDS as usize, |_, k| {
+        let csv = paper_manoeuvre(dir.path(), k as u64 + 1);
+        let file = format!("hekf.runs[0].file={:?}", csv.to_str().unwrap());
+        identify(&cfg, &[file])
     });
     assert_eq!(outcomes.len(), SEEDS as usize);
     let c = calibrate(&outcomes);

@@ -171,26 +171,11 @@ const SEEDS: u64 = 20;
 
 /// `case` over [`SEEDS`] noise seeds (2801 + 10 k), two at a time.
 fn study(case: Case) -> Study {
-    let mut outcomes: Vec<(u64, Outcome)> = std::thread::scope(|s| {
-        let workers: Vec<_> = (0..2u64)
-            .map(|w| {
-                s.spawn(move || {
-                    (0..SEEDS)
-                        .filter(|k| k % 2 == w)
-                        .map(|k| {
-                            let seed = 2801 + 10 * k;
-                            (seed, run(&Case { seed, ..case }))
-                        })
-                        .collect::<Vec<_>>()
-                })
-            })
-            .collect();
-        workers
-            .into_iter()
-            .flat_map(|h| h.join().unwrap())
-            .collect()
-    });
-    outcomes.sort_by_key(|(seed, _)| *seed);
+    let outcomes: Vec<(u64, Outcome)> =
+        independent::parallel::on_two_threads(SEEDS as usize, |_, k| {
+            let seed = 2801 + 10 * k as u64;
+            (seed, run(&Case { seed, ..case }))
+        });
     for (seed, o) in &outcomes {
         let (k, n) = o.within_two_sigma();
         println!(

@@ -372,33 +372,17 @@ const FITS: [(&str, f64, f64, f64, &str, &str); 9] = [
 #[test]
 fn first_order_fits_of_zigzags_and_turns() {
     let truth = clarke_ship().sys.nomoto().unwrap();
-    // two workers
-    let fits: Vec<(usize, Indices)> = std::thread::scope(|s| {
-        let handles: Vec<_> = (0..2)
-            .map(|w| {
-                s.spawn(move || {
-                    FITS.iter()
-                        .enumerate()
-                        .filter(|(i, _)| i % 2 == w)
-                        .map(|(i, &(kind, rudder_deg, heading_deg, duration, _, _))| {
-                            let man = Manoeuvre {
-                                kind,
-                                rudder_deg,
-                                heading_deg,
-                                duration,
-                                dt: 0.2,
-                                waves: false,
-                            };
-                            (i, first_order_fit(&man, 1))
-                        })
-                        .collect::<Vec<_>>()
-                })
-            })
-            .collect();
-        handles
-            .into_iter()
-            .flat_map(|h| h.join().unwrap())
-            .collect()
+    let fits: Vec<(usize, Indices)> = common::parallel::on_two_threads(FITS.len(), |_, i| {
+        let (kind, rudder_deg, heading_deg, duration, _, _) = FITS[i];
+        let man = Manoeuvre {
+            kind,
+            rudder_deg,
+            heading_deg,
+            duration,
+            dt: 0.2,
+            waves: false,
+        };
+        (i, first_order_fit(&man, 1))
     });
     assert_eq!(fits.len(), FITS.len());
     let mut differ = Vec::new();

@@ -4,6 +4,7 @@
 #![allow(dead_code)]
 
 pub mod accuracy;
+pub mod parallel;
 
 use hydroid::config::{FluidConfig, VehicleConfig};
 use hydroid::formats::Format;
