@@ -184,6 +184,9 @@ pub struct NpsAuv {
     pub buoyancy: f64,
     /// The particulars.
     pub particulars: NpsParticulars,
+    /// Stations and weights (x, dx) of the cross-flow quadrature, from the particulars'
+    /// form and the length (computed once: the dynamics use them at every evaluation).
+    cross_flow_stations: Vec<(f64, f64)>,
     relations: CompiledRelations,
 }
 
@@ -453,6 +456,7 @@ impl Model for NpsAuv {
             weight,
             buoyancy: v.buoyancy.unwrap_or(weight),
             particulars: p,
+            cross_flow_stations: p.cross_flow.stations(v.length),
             relations: CompiledRelations::compile(&[], &[]),
         })
     }

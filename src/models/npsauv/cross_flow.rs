@@ -46,7 +46,7 @@ pub enum CrossFlow {
 
 impl CrossFlow {
     /// Stations and weights (x, dx) of the form's quadrature over a hull of length `l`.
-    fn stations(self, l: f64) -> Vec<(f64, f64)> {
+    pub(super) fn stations(self, l: f64) -> Vec<(f64, f64)> {
         match self {
             CrossFlow::Integral => gauss_legendre(l, PANELS),
             CrossFlow::Stations | CrossFlow::Mss => {
@@ -74,8 +74,8 @@ fn gauss_legendre(l: f64, panels: usize) -> Vec<(f64, f64)> {
 
 /// Cross-flow drag [Y, Z, M, N] at (v, w, q, r) in the vehicle's form (module doc).
 pub(super) fn drag<T: Scalar>(m: &NpsAuv, v: T, w: T, q: T, r: T) -> [T; 4] {
-    let s = &m.particulars;
-    drag_on(m, &s.cross_flow.stations(m.length), s.cross_flow == CrossFlow::Mss, [v, w, q, r])
+    let mss = m.particulars.cross_flow == CrossFlow::Mss;
+    drag_on(m, &m.cross_flow_stations, mss, [v, w, q, r])
 }
 
 /// [`drag`] over the given stations (x, dx); `mss_pitch` takes MSS's pitch integrand.
@@ -106,8 +106,15 @@ mod tests {
     use crate::models::Model;
 
     fn auv(form: CrossFlow) -> NpsAuv {
-        let mut a = NpsAuv::build(&nps_auv_vehicle()).unwrap();
-        a.particulars.cross_flow = form;
+        let mut v = nps_auv_vehicle();
+        let word = match form {
+            CrossFlow::Integral => "integral",
+            CrossFlow::Stations => "stations",
+            CrossFlow::Mss => "mss",
+        };
+        v.particulars.insert("cross_flow".into(), toml::Value::String(word.into()));
+        let a = NpsAuv::build(&v).unwrap();
+        assert_eq!(a.particulars.cross_flow, form);
         a
     }
 
