@@ -7,8 +7,8 @@
 //! `cargo bench --bench ingest`; numbers are recorded in docs/performance.md.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use hydroid::formats::input::Limits;
-use hydroid::formats::{read, read_within, FormatChoice, ReadOptions};
+use hydroid::io::formats::input::Limits;
+use hydroid::io::formats::{read, read_within, FormatChoice, ReadOptions};
 use std::fmt::Write as _;
 use std::hint::black_box;
 use std::path::Path;

@@ -17,7 +17,7 @@
 //!   [`stages::hekf::system::ModelSystem`], a model with coefficients appended to its state.
 //!
 //! ```no_run
-//! use hydroid::{load, run, output::Staging, progress::Silent};
+//! use hydroid::{load, run, io::output::Staging, base::progress::Silent};
 //!
 //! fn main() -> hydroid::Result<()> {
 //!     let loaded = load(std::path::Path::new("configs/spheroid.toml"), &[])?;
@@ -26,7 +26,7 @@
 //!         println!("{} = {} {}", c.name, c.value, c.unit);
 //!     }
 //!     let staging = Staging::new(std::path::Path::new("out"))?;
-//!     hydroid::report::write(&staging, &loaded, &out)?;
+//!     hydroid::app::report::write(&staging, &loaded, &out)?;
 //!     staging.commit()?;
 //!     Ok(())
 //! }
@@ -39,49 +39,18 @@
 // the linear algebra.
 #![allow(clippy::needless_range_loop)]
 
-pub mod ad;
-pub mod analytic;
-pub mod autopilot;
-pub mod catalogue;
-pub mod coefficients;
+pub mod app;
+pub mod base;
 pub mod config;
-pub mod constrained_lsq;
-pub mod course_stability;
-pub mod error;
-pub mod estimation;
-pub mod formats;
-pub(crate) mod frames;
-pub mod froude;
-pub mod inspect;
-pub(crate) mod linalg;
-pub(crate) mod lsq;
-pub mod manoeuvre;
-pub mod markdown_text;
-pub mod models;
-pub mod numfmt;
-pub mod ode;
-pub mod output;
-pub mod pipeline;
-pub mod printed;
-pub mod progress;
-pub mod quantity;
-pub mod record;
-pub mod report;
-pub(crate) mod resim;
-pub mod results;
-pub(crate) mod sampling;
-pub(crate) mod signal;
-pub mod sim;
+pub mod dynamics;
+pub mod io;
+pub mod model;
+pub mod numerics;
 pub mod stages;
-pub mod suggest;
-pub mod table;
-pub mod time_stamps;
-pub mod units;
-pub mod warning;
 
 pub use config::{load, LoadedConfig};
-pub use error::{Error, Result};
-pub use estimation::{HybridEkf, System};
-pub use models::{with_model, Model, ModelName, ModelVisitor, Vehicle};
-pub use pipeline::run;
-pub use results::{RunOutput, RunResult};
+pub use app::pipeline::run;
+pub use app::results::{RunOutput, RunResult};
+pub use base::error::{Error, Result};
+pub use model::models::{with_model, Model, ModelName, ModelVisitor, Vehicle};
+pub use numerics::estimation::{HybridEkf, System};

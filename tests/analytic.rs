@@ -3,8 +3,8 @@
 mod common;
 
 use common::{four_figures, named, ANALYTIC_PAPER_SPHEROID};
-use hydroid::analytic::Spheroid;
-use hydroid::coefficients::Source;
+use hydroid::model::analytic::Spheroid;
+use hydroid::model::coefficients::Source;
 
 #[test]
 fn the_papers_spheroid() {

@@ -3,8 +3,8 @@
 //! nalgebra's own Euler-angle conversion, with earth-frame velocities rotated through them.
 
 use hydroid::config::InputSpec;
-use hydroid::quantity::Quantity;
-use hydroid::record::{self, Needs, Record};
+use hydroid::base::quantity::Quantity;
+use hydroid::io::record::{self, Needs, Record};
 use nalgebra::{UnitQuaternion, Vector3};
 use std::f64::consts::PI;
 use std::fmt::Write as _;

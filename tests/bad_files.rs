@@ -1,7 +1,7 @@
 //! Broken files under tests/fixtures/bad/: each is an error (never a panic) naming the file,
 //! the line and, where it applies, the column, with what was expected.
 
-use hydroid::formats::{self, Format, FormatChoice, ReadOptions};
+use hydroid::io::formats::{self, Format, FormatChoice, ReadOptions};
 use std::path::PathBuf;
 use std::process::Command;
 

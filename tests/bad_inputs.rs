@@ -6,10 +6,10 @@
 //! The broken exports themselves (cut-off lines, decimal commas ...) are in tests/bad_files.rs.
 
 use hydroid::config::InputSpec;
-use hydroid::formats::input::{self, Limits, MAX_LINE_ENV, MAX_SIZE_ENV};
-use hydroid::formats::{self, Format, FormatChoice, ReadOptions};
-use hydroid::quantity::Quantity;
-use hydroid::record::{self, Needs};
+use hydroid::io::formats::input::{self, Limits, MAX_LINE_ENV, MAX_SIZE_ENV};
+use hydroid::io::formats::{self, Format, FormatChoice, ReadOptions};
+use hydroid::base::quantity::Quantity;
+use hydroid::io::record::{self, Needs};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
@@ -21,7 +21,7 @@ fn edge(name: &str) -> PathBuf {
 }
 
 /// `formats::read` with detection; the error as text.
-fn read(path: &Path) -> Result<hydroid::table::Table, String> {
+fn read(path: &Path) -> Result<hydroid::io::table::Table, String> {
     formats::read(path, FormatChoice::Auto, &ReadOptions::default()).map_err(|e| e.to_string())
 }
 
@@ -48,7 +48,7 @@ fn refused_everywhere(path: &Path, says: &str) {
                 .err()
                 .map(|e| e.to_string())
                 .unwrap_or_default(),
-            hydroid::inspect::inspect(&p, FormatChoice::Fixed(Format::Delimited))
+            hydroid::app::inspect::inspect(&p, FormatChoice::Fixed(Format::Delimited))
                 .err()
                 .map(|e| e.to_string())
                 .unwrap_or_default(),
@@ -56,7 +56,7 @@ fn refused_everywhere(path: &Path, says: &str) {
                 .err()
                 .map(|e| e.to_string())
                 .unwrap_or_default(),
-            hydroid::pipeline::file_sha256(&p)
+            hydroid::app::pipeline::file_sha256(&p)
                 .err()
                 .map(|e| e.to_string())
                 .unwrap_or_default(),

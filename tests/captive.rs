@@ -4,8 +4,8 @@
 
 mod common;
 
-use hydroid::models::mmg3::{KVLCC2, KVLCC2_RPS};
-use hydroid::models::{with_model, Model, ModelName, ModelVisitor};
+use hydroid::model::models::mmg3::{KVLCC2, KVLCC2_RPS};
+use hydroid::model::models::{with_model, Model, ModelName, ModelVisitor};
 use hydroid::stages::captive::fit::{fit, Condition};
 use rand::SeedableRng;
 use rand_distr::{Distribution, Normal};
@@ -134,7 +134,7 @@ impl ModelVisitor for Twin {
 
 #[test]
 fn static_drift_rudder_and_circular_motion_give_the_mmg_hull_derivatives() {
-    let vehicle = hydroid::models::mmg3::kvlcc2_model_vehicle();
+    let vehicle = hydroid::model::models::mmg3::kvlcc2_model_vehicle();
     let mut inside = 0;
     let mut total = 0;
     for seed in 0..10 {
@@ -316,7 +316,7 @@ fn force_histories_averaged_after_their_transient_give_the_hull_derivatives() {
             programme(model, &model.coefficient_vector(KVLCC2), 5)
         }
     }
-    let vehicle = hydroid::models::mmg3::kvlcc2_model_vehicle();
+    let vehicle = hydroid::model::models::mmg3::kvlcc2_model_vehicle();
     let conditions = with_model(ModelName::Mmg3, &vehicle, Histories).unwrap();
     let dir = tempfile::tempdir().unwrap();
     let mut rng = rand::rngs::StdRng::seed_from_u64(9);

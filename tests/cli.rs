@@ -41,7 +41,7 @@ fn help_and_usage_errors() {
         let o = hydroid(args);
         assert_eq!(o.status.code(), Some(0), "{args:?}");
         let help = text(&o.stdout);
-        for model in hydroid::models::ModelName::NAMES {
+        for model in hydroid::model::models::ModelName::NAMES {
             assert!(
                 help.contains(model),
                 "{args:?} does not name {model}:\n{help}"

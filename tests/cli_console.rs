@@ -148,7 +148,7 @@ fn coefficients_lists_the_catalogue_and_one_model() {
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("stdout is JSON");
     assert_eq!(
         v["models"].as_array().unwrap().len(),
-        hydroid::models::ModelName::ALL.len()
+        hydroid::model::models::ModelName::ALL.len()
     );
     let o = hydroid(&["coefficients", "spheroid7"]);
     assert_eq!(o.status.code(), Some(2));
@@ -172,7 +172,7 @@ fn fill_in(config: &std::path::Path) {
             let header: Vec<String> = columns
                 .iter()
                 .map(|(q, name)| {
-                    let unit = hydroid::quantity::Quantity::from_key(q)
+                    let unit = hydroid::base::quantity::Quantity::from_key(q)
                         .unwrap()
                         .si_symbol();
                     let name = name.as_str().unwrap();

@@ -8,7 +8,7 @@
 mod common;
 
 use common::{hydroid, root, text};
-use hydroid::error::Error;
+use hydroid::base::error::Error;
 use std::path::{Path, PathBuf};
 
 /// Fragments that belong to Rust, not to a message for a naval architect.
@@ -30,7 +30,7 @@ fn problems(path: &Path, text: &str) -> Option<String> {
         let dir = tempfile::tempdir().unwrap();
         let file = dir.path().join(path.file_name().unwrap());
         std::fs::write(&file, text).unwrap();
-        hydroid::sim::config::load(&file)
+        hydroid::app::simulate::config::load(&file)
             .map(|_| ())
             .map_err(|e| match e {
                 Error::Config(list) => Error::Config(

@@ -12,12 +12,12 @@
 //!    reads any export, and identify the example's coefficients from the noise-free data with
 //!    the hybrid EKF: each within 1 % of the truth.
 
-use hydroid::ad;
-use hydroid::coefficients::{Coefficient, CoefficientSet, Source, YawMoment};
+use hydroid::numerics::ad;
+use hydroid::model::coefficients::{Coefficient, CoefficientSet, Source, YawMoment};
 use hydroid::config::{FluidConfig, InputSpec, VehicleConfig};
-use hydroid::models::{with_model, Model, ModelName, ModelVisitor, Vehicle};
-use hydroid::record;
-use hydroid::sim::{simulate, InputSeries};
+use hydroid::model::models::{with_model, Model, ModelName, ModelVisitor, Vehicle};
+use hydroid::io::record;
+use hydroid::dynamics::sim::{simulate, InputSeries};
 use hydroid::stages::hekf::{self, system::ModelSystem, HekfConfig};
 
 /// Runs `check` on every registered model, built for its example vehicle; failures name the
@@ -88,12 +88,12 @@ fn jacobians_at<M: Model>(m: &M, x0: &[f64], dz: f64) -> Result<(), String> {
     // the dynamics
     let mut dx = vec![0.0; nx];
     let mut fa = vec![0.0; nx * n];
-    hydroid::estimation::System::jacobian(&mut sys, 0.0, &x, &mut dx, &mut fa);
+    hydroid::numerics::estimation::System::jacobian(&mut sys, 0.0, &x, &mut dx, &mut fa);
     let mut ff = vec![0.0; nx * n];
     ad::jacobian_fd(
         &x,
         nx,
-        |xs, out| hydroid::estimation::System::derivative(&mut sys, 0.0, xs, out),
+        |xs, out| hydroid::numerics::estimation::System::derivative(&mut sys, 0.0, xs, out),
         &mut ff,
     );
     for (k, (a, b)) in fa.iter().zip(&ff).enumerate() {
@@ -108,13 +108,13 @@ fn jacobians_at<M: Model>(m: &M, x0: &[f64], dz: f64) -> Result<(), String> {
     // the measurement function
     let ny = outputs.len();
     let (mut y, mut ha) = (vec![0.0; ny], vec![0.0; ny * n]);
-    hydroid::estimation::System::observe(&mut sys, 0.0, &x, &mut y, &mut ha);
+    hydroid::numerics::estimation::System::observe(&mut sys, 0.0, &x, &mut y, &mut ha);
     let mut hf = vec![0.0; ny * n];
     let mut h = vec![0.0; ny * n];
     ad::jacobian_fd(
         &x,
         ny,
-        |xs, out| hydroid::estimation::System::observe(&mut sys, 0.0, xs, out, &mut h),
+        |xs, out| hydroid::numerics::estimation::System::observe(&mut sys, 0.0, xs, out, &mut h),
         &mut hf,
     );
     for (k, (a, b)) in ha.iter().zip(&hf).enumerate() {
@@ -294,7 +294,7 @@ impl ModelVisitor for RoundTrip {
                 runs: std::slice::from_ref(&rec),
                 base_dir: dir.path(),
             },
-            &mut hydroid::progress::Silent,
+            &mut hydroid::base::progress::Silent,
         )
         .map_err(|e| e.to_string())?;
         for c in result.coefficients() {

@@ -5,7 +5,7 @@
 mod common;
 
 use common::root;
-use hydroid::estimation::FilterKind;
+use hydroid::numerics::estimation::FilterKind;
 use hydroid::stages::hekf::HekfResult;
 
 const K: f64 = 0.18;
@@ -29,7 +29,7 @@ fn run(text: &str) -> HekfResult {
     let dir = tempfile::tempdir().unwrap();
     let cfg = write_config(dir.path(), text);
     let loaded = hydroid::config::load(&cfg, &[]).unwrap();
-    let out = hydroid::pipeline::run(&loaded, &mut hydroid::progress::Silent).unwrap();
+    let out = hydroid::app::pipeline::run(&loaded, &mut hydroid::base::progress::Silent).unwrap();
     out.result.stages.hekf.clone().unwrap()
 }
 

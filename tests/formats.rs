@@ -1,8 +1,8 @@
 //! Every fixture under tests/fixtures/formats/: detected format, column names, units, rows,
 //! a few cells in SI, the time column, metadata, restarts and angle unwrapping.
 
-use hydroid::formats::{self, detect::detect, Format, FormatChoice, ReadOptions};
-use hydroid::table::Table;
+use hydroid::io::formats::{self, detect::detect, Format, FormatChoice, ReadOptions};
+use hydroid::io::table::Table;
 use std::f64::consts::PI;
 use std::path::PathBuf;
 

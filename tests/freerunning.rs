@@ -3,8 +3,8 @@
 //! rpm, repeated time stamps of each kind, earth-frame velocities, Froude scaling.
 
 use hydroid::config::InputSpec;
-use hydroid::quantity::Quantity;
-use hydroid::record::{self, Needs, Record};
+use hydroid::base::quantity::Quantity;
+use hydroid::io::record::{self, Needs, Record};
 use std::path::Path;
 
 fn base() -> &'static Path {

@@ -5,7 +5,7 @@
 //! and no message shows Rust's vocabulary. The stages are not run. Fixed seed, bounded
 //! number of cases (a few seconds in debug).
 
-use hydroid::error::Error;
+use hydroid::base::error::Error;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestCaseError, TestRng, TestRunner};
 use std::path::{Path, PathBuf};
@@ -193,7 +193,7 @@ fn check(path: &Path, sim: bool, text: &str) -> Result<(), TestCaseError> {
         let dir = tempfile::tempdir().unwrap();
         let file = dir.path().join(path.file_name().unwrap());
         std::fs::write(&file, text).unwrap();
-        match hydroid::sim::config::load(&file) {
+        match hydroid::app::simulate::config::load(&file) {
             Ok(_) => Vec::new(),
             Err(Error::Config(p)) => p,
             Err(e) => {
@@ -207,7 +207,7 @@ fn check(path: &Path, sim: bool, text: &str) -> Result<(), TestCaseError> {
         if let Some(l) = &loaded {
             // what `check` and `run` do next, short of reading the inputs
             let _ = l.effective_toml();
-            let _ = hydroid::pipeline::stage_inputs(&l.config);
+            let _ = hydroid::app::pipeline::stage_inputs(&l.config);
         }
         p
     };

@@ -10,9 +10,9 @@
 //! cargo test --release --test fuzz_readers` runs a longer search from another seed.
 
 use hydroid::config::InputSpec;
-use hydroid::formats::{self, Format, FormatChoice, ReadOptions};
-use hydroid::quantity::Quantity;
-use hydroid::record::{self, Needs};
+use hydroid::io::formats::{self, Format, FormatChoice, ReadOptions};
+use hydroid::base::quantity::Quantity;
+use hydroid::io::record::{self, Needs};
 use proptest::prelude::*;
 use proptest::test_runner::RngSeed;
 use std::path::{Path, PathBuf};
@@ -278,7 +278,7 @@ fn read_every_way(path: PathBuf) {
             let _ = formats::read(&path, FormatChoice::Fixed(f), &options);
         }
         let _ = formats::detect::detect(&path);
-        let _ = hydroid::inspect::inspect(&path, FormatChoice::Auto);
+        let _ = hydroid::app::inspect::inspect(&path, FormatChoice::Auto);
         loads(&path);
         let _ = tx.send(());
     });

@@ -143,9 +143,9 @@ fn measured_child(spec: &str) {
     let mut set: Vec<String> = QUICK.iter().map(|s| s.to_string()).collect();
     set.push(format!("hekf.decimate={decimate}"));
     let loaded = hydroid::config::load(std::path::Path::new(config), &set).unwrap();
-    let staging = hydroid::output::Staging::new(std::path::Path::new(out)).unwrap();
-    let output = hydroid::pipeline::run(&loaded, &mut hydroid::progress::Silent).unwrap();
-    hydroid::report::write(&staging, &loaded, &output).unwrap();
+    let staging = hydroid::io::output::Staging::new(std::path::Path::new(out)).unwrap();
+    let output = hydroid::app::pipeline::run(&loaded, &mut hydroid::base::progress::Silent).unwrap();
+    hydroid::app::report::write(&staging, &loaded, &output).unwrap();
     staging.commit().unwrap();
     println!("peak_bytes={}", peak_rss().unwrap_or(0));
 }
@@ -257,9 +257,9 @@ fn a_million_rows_run_in_under_2_gb() {
     let start = std::time::Instant::now();
     let before = peak_rss().unwrap_or(0);
     let loaded = hydroid::config::load(&cfg_path, &[]).unwrap();
-    let staging = hydroid::output::Staging::new(&dir.path().join("out")).unwrap();
-    let output = hydroid::pipeline::run(&loaded, &mut hydroid::progress::Silent).unwrap();
-    hydroid::report::write(&staging, &loaded, &output).unwrap();
+    let staging = hydroid::io::output::Staging::new(&dir.path().join("out")).unwrap();
+    let output = hydroid::app::pipeline::run(&loaded, &mut hydroid::base::progress::Silent).unwrap();
+    hydroid::app::report::write(&staging, &loaded, &output).unwrap();
     staging.commit().unwrap();
     let peak = peak_rss().unwrap_or(0);
     let h = output.result.stages.hekf.as_ref().unwrap();

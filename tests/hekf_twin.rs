@@ -5,19 +5,19 @@
 mod common;
 
 use common::accuracy::Accuracy;
-use hydroid::coefficients::{Coefficient, CoefficientSet, Source, YawMoment, SYMMETRY};
+use hydroid::model::coefficients::{Coefficient, CoefficientSet, Source, YawMoment, SYMMETRY};
 use hydroid::config::{Constant, FluidConfig, VehicleConfig};
-use hydroid::formats::Format;
-use hydroid::quantity::Quantity;
-use hydroid::record::Record;
-use hydroid::sim::config::{ExportColumn, ExportConfig, Manoeuvre, NoiseConfig, SimConfig, Step};
-use hydroid::sim::synth::synthesize;
+use hydroid::io::formats::Format;
+use hydroid::base::quantity::Quantity;
+use hydroid::io::record::Record;
+use hydroid::app::simulate::config::{ExportColumn, ExportConfig, Manoeuvre, NoiseConfig, SimConfig, Step};
+use hydroid::app::simulate::synth::synthesize;
 use hydroid::stages::hekf::{
     self, Checks, HekfConfig, HekfResult, ModelName, Outliers, Preset, Prior,
 };
 use std::collections::BTreeMap;
 
-use hydroid::models::spheroid3::BOUNDED_TRUTH as TRUTH;
+use hydroid::model::models::spheroid3::BOUNDED_TRUTH as TRUTH;
 
 const ESTIMATED: [&str; 6] = ["Yvd", "Yrd", "Nrd", "Nvv", "Nrr", "Yrr"];
 
@@ -224,7 +224,7 @@ fn identify(cfg: &HekfConfig, runs: &[Record]) -> hydroid::Result<HekfResult> {
             runs,
             base_dir: std::path::Path::new(""),
         },
-        &mut hydroid::progress::Silent,
+        &mut hydroid::base::progress::Silent,
     )
 }
 
@@ -527,7 +527,7 @@ fn bundled(validation: bool, preset: &str) -> (Accuracy, String) {
     std::fs::write(&path, config).unwrap();
     let set = [format!("hekf.preset=\"{preset}\"")];
     let loaded = hydroid::load(&path, &set).unwrap_or_else(|e| panic!("{e}"));
-    let out = hydroid::run(&loaded, &mut hydroid::progress::Silent).unwrap();
+    let out = hydroid::run(&loaded, &mut hydroid::base::progress::Silent).unwrap();
     let h = out.result.stages.hekf.as_ref().expect("an HEKF stage");
     let run = if validation { "second" } else { "paper's" };
     let nis = h.runs[0].nis.as_ref().expect("an innovation test");

@@ -34,7 +34,7 @@ struct Identified {
 /// read from the result.
 fn identify(config: &Path, set: &[String]) -> Identified {
     let loaded = hydroid::config::load(config, set).unwrap();
-    let out = hydroid::pipeline::run(&loaded, &mut hydroid::progress::Silent).unwrap();
+    let out = hydroid::app::pipeline::run(&loaded, &mut hydroid::base::progress::Silent).unwrap();
     let h = out.result.stages.hekf.as_ref().expect("an HEKF stage");
     let estimates = TRUTH
         .iter()

@@ -1,7 +1,7 @@
 //! Manoeuvre measures against hand-computed values on constructed tracks.
 
-use hydroid::manoeuvre::imo::{turning_checks, zigzag_checks};
-use hydroid::manoeuvre::{
+use hydroid::dynamics::manoeuvre::imo::{turning_checks, zigzag_checks};
+use hydroid::dynamics::manoeuvre::{
     measure_history, turning_circle, zigzag, AngleSource, ComparisonTable, Criterion, History,
     Measure, Nominal, Ship, Side, TurningOptions, Verdict, ZigZagOptions,
 };

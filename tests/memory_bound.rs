@@ -7,7 +7,7 @@
 //! peak resident memory, `VmHWM` of /proc/self/status (Linux; elsewhere the test only checks
 //! that every file is read or refused).
 
-use hydroid::formats::FormatChoice;
+use hydroid::io::formats::FormatChoice;
 use std::path::Path;
 use std::process::Command;
 
@@ -148,7 +148,7 @@ fn a_3_mb_file_of_any_shape_is_read_or_refused_within_200_mb() {
 
 /// What `hydroid inspect` does with the file: "read" or the error.
 fn read(p: &Path) -> String {
-    match hydroid::inspect::inspect(p, FormatChoice::Auto) {
+    match hydroid::app::inspect::inspect(p, FormatChoice::Auto) {
         Ok(r) => format!("read, {} columns", r.columns.len()),
         Err(e) => {
             let e = e.to_string();

@@ -5,9 +5,9 @@
 mod common;
 
 use common::root;
-use hydroid::quantity::Quantity;
-use hydroid::sim::config::{load as load_sim, Manoeuvre};
-use hydroid::sim::synth::synthesize;
+use hydroid::base::quantity::Quantity;
+use hydroid::app::simulate::config::{load as load_sim, Manoeuvre};
+use hydroid::app::simulate::synth::synthesize;
 
 /// Truth of the bundled log: K = 0.18 1/s, T = 27 s, bias 1 deg.
 const K: f64 = 0.18;
@@ -75,7 +75,7 @@ fn twin(w0: f64, q: f64, estimate_w0: bool) -> Twin {
     let cfg = dir.path().join("nomoto.toml");
     std::fs::write(&cfg, text).unwrap();
     let loaded = hydroid::config::load(&cfg, &[]).unwrap();
-    let out = hydroid::pipeline::run(&loaded, &mut hydroid::progress::Silent).unwrap();
+    let out = hydroid::app::pipeline::run(&loaded, &mut hydroid::base::progress::Silent).unwrap();
     let h = out.result.stages.hekf.as_ref().unwrap();
     let estimates = h
         .coefficients
@@ -264,7 +264,7 @@ fn a_log_without_rudder_action_is_reported_and_still_filtered() {
     let cfg = dir.path().join("nomoto.toml");
     std::fs::write(&cfg, text).unwrap();
     let loaded = hydroid::config::load(&cfg, &[]).unwrap();
-    let out = hydroid::pipeline::run(&loaded, &mut hydroid::progress::Silent).unwrap();
+    let out = hydroid::app::pipeline::run(&loaded, &mut hydroid::base::progress::Silent).unwrap();
     assert!(
         out.result
             .warnings

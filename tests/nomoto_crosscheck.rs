@@ -25,10 +25,10 @@
 mod common;
 
 use common::root;
-use hydroid::course_stability::SwayYaw;
-use hydroid::quantity::Quantity;
-use hydroid::sim::config::load as load_sim;
-use hydroid::sim::synth::synthesize;
+use hydroid::dynamics::course_stability::SwayYaw;
+use hydroid::base::quantity::Quantity;
+use hydroid::app::simulate::config::load as load_sim;
+use hydroid::app::simulate::synth::synthesize;
 use rand::{rngs::StdRng, SeedableRng};
 use rand_distr::{Distribution, Normal};
 use std::path::Path;
@@ -178,7 +178,7 @@ struct Indices {
     t_sigma: f64,
 }
 
-fn indices(out: &hydroid::results::RunOutput) -> Indices {
+fn indices(out: &hydroid::app::results::RunOutput) -> Indices {
     let s = out.result.steering.as_ref().expect("steering indices");
     Indices {
         k: s.nomoto.k,
@@ -188,9 +188,9 @@ fn indices(out: &hydroid::results::RunOutput) -> Indices {
     }
 }
 
-fn run_config(path: &Path) -> hydroid::results::RunOutput {
+fn run_config(path: &Path) -> hydroid::app::results::RunOutput {
     let loaded = hydroid::config::load(path, &[]).unwrap();
-    hydroid::pipeline::run(&loaded, &mut hydroid::progress::Silent).unwrap()
+    hydroid::app::pipeline::run(&loaded, &mut hydroid::base::progress::Silent).unwrap()
 }
 
 /// (B): the truth ship (configs/simulate/ship150_zigzag20.toml, ship_linear) steered through

@@ -5,9 +5,9 @@
 
 mod common;
 
-use hydroid::models::npsauv::{nps_auv_vehicle, NpsAuv, ADDED_MASS, PUBLISHED};
-use hydroid::models::{Model, Vehicle};
-use hydroid::sim::{simulate, InputSeries};
+use hydroid::model::models::npsauv::{nps_auv_vehicle, NpsAuv, ADDED_MASS, PUBLISHED};
+use hydroid::model::models::{Model, Vehicle};
+use hydroid::dynamics::sim::{simulate, InputSeries};
 
 /// The published vehicle and coefficient set.
 fn published() -> (NpsAuv, Vec<f64>) {
@@ -262,9 +262,9 @@ fn the_vehicle_file_holds_the_published_set() {
 
 /// The paper's helix of [`the_papers_helix_identifies_its_17_coefficients`], the truth
 /// model's nine outputs at 10 Hz for 60 s with white noise of variance 1e-3 (seed 2015).
-fn papers_helix_record(m: &NpsAuv, truth: &[f64]) -> hydroid::record::Record {
-    use hydroid::quantity::Quantity;
-    use hydroid::record::Record;
+fn papers_helix_record(m: &NpsAuv, truth: &[f64]) -> hydroid::io::record::Record {
+    use hydroid::base::quantity::Quantity;
+    use hydroid::io::record::Record;
     use rand::{rngs::StdRng, SeedableRng};
     use rand_distr::{Distribution, Normal};
     use std::collections::BTreeMap;
@@ -324,9 +324,9 @@ fn papers_helix_record(m: &NpsAuv, truth: &[f64]) -> hydroid::record::Record {
 /// 76 known.
 #[test]
 fn the_papers_helix_identifies_its_17_coefficients() {
-    use hydroid::coefficients::{Coefficient, CoefficientSet, Source};
+    use hydroid::model::coefficients::{Coefficient, CoefficientSet, Source};
     use hydroid::config::{FluidConfig, VehicleConfig};
-    use hydroid::models::npsauv::PAPER_17;
+    use hydroid::model::models::npsauv::PAPER_17;
     use hydroid::stages::hekf::{self, HekfConfig};
 
     let (m, truth) = published();
@@ -371,7 +371,7 @@ fn the_papers_helix_identifies_its_17_coefficients() {
             runs: std::slice::from_ref(&record),
             base_dir: std::path::Path::new(""),
         },
-        &mut hydroid::progress::Silent,
+        &mut hydroid::base::progress::Silent,
     )
     .expect("the identification runs");
     let a = common::accuracy::Accuracy::of_hekf_result("the paper's helix, seed 2015", &r, |n| {

@@ -6,7 +6,7 @@
 mod common;
 
 use common::accuracy::Accuracy;
-use hydroid::models::npsauv::{PAPER_17, PUBLISHED};
+use hydroid::model::models::npsauv::{PAPER_17, PUBLISHED};
 use std::path::Path;
 
 /// The paper's 17 the bundled helix leaves undetermined (sigma above half the value).

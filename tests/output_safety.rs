@@ -459,7 +459,7 @@ fn the_bundled_exports_are_listed_with_their_hashes() {
     for (name, sha) in files {
         assert_eq!(
             sha.as_str().unwrap(),
-            hydroid::pipeline::file_sha256(&root().join("cfd_exports").join(name)).unwrap(),
+            hydroid::app::pipeline::file_sha256(&root().join("cfd_exports").join(name)).unwrap(),
             "cfd_exports/.hydroid-exports.json is stale for {name}: regenerate the export with \
              hydroid simulate"
         );

@@ -3,10 +3,10 @@
 mod common;
 
 use common::{fluid, four_figures, record, vehicle};
-use hydroid::coefficients::YawMoment;
+use hydroid::model::coefficients::YawMoment;
 use hydroid::config::{Config, Problems};
-use hydroid::quantity::Quantity;
-use hydroid::record::Record;
+use hydroid::base::quantity::Quantity;
+use hydroid::io::record::Record;
 use hydroid::stages::polar::{self, PolarConfig, PolarResult};
 use nalgebra::{DMatrix, DVector};
 use rand::SeedableRng;
@@ -87,7 +87,7 @@ fn exact_table3_polars_give_table3() {
     assert!(r.pooled.drag.binding_inequalities.is_empty());
     assert!(r.warnings.is_empty(), "{:?}", r.warnings);
     for c in r.coefficients() {
-        assert_eq!(c.source, hydroid::coefficients::Source::Polar);
+        assert_eq!(c.source, hydroid::model::coefficients::Source::Polar);
     }
 }
 

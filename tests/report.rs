@@ -6,9 +6,9 @@
 //! reuses the first run.
 
 use hydroid::config::LoadedConfig;
-use hydroid::output::Staging;
-use hydroid::report::{self, plots, table};
-use hydroid::results::RunOutput;
+use hydroid::io::output::Staging;
+use hydroid::app::report::{self, plots, table};
+use hydroid::app::results::RunOutput;
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
@@ -26,7 +26,7 @@ fn example() -> PathBuf {
 fn run_into(name: &str) -> Run {
     let loaded = hydroid::config::load(&example(), &[]).expect("the example loads");
     let output =
-        hydroid::pipeline::run(&loaded, &mut hydroid::progress::Silent).expect("the example runs");
+        hydroid::app::pipeline::run(&loaded, &mut hydroid::base::progress::Silent).expect("the example runs");
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
         .join("report-test")
         .join(name);
@@ -224,7 +224,7 @@ fn report_md_links_every_figure_and_holds_the_comparison_table() {
     assert!(!surge.warnings.is_empty());
     for w in &surge.warnings {
         assert!(
-            md.contains(&hydroid::markdown_text::escape_markdown(&w.message)),
+            md.contains(&hydroid::base::markdown_text::escape_markdown(&w.message)),
             "warning missing: {w}"
         );
     }

@@ -13,13 +13,13 @@
 //! Without Chromium the test prints why it is skipped and passes, unless
 //! HYDROID_REQUIRE_CHROMIUM=1 is set (CI sets it after installing Chromium): then it fails.
 
-use hydroid::catalogue;
-use hydroid::models::ModelName;
-use hydroid::output::Staging;
-use hydroid::quantity::Quantity;
-use hydroid::report;
-use hydroid::report::plots::panels::shown;
-use hydroid::results::RunOutput;
+use hydroid::app::catalogue;
+use hydroid::model::models::ModelName;
+use hydroid::io::output::Staging;
+use hydroid::base::quantity::Quantity;
+use hydroid::app::report;
+use hydroid::app::report::plots::panels::shown;
+use hydroid::app::results::RunOutput;
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
@@ -115,7 +115,7 @@ fn render(bin: &Path, config: &Path) -> Rendered {
         Vec::new()
     };
     let loaded = hydroid::config::load(config, &overrides).unwrap();
-    let output = hydroid::pipeline::run(&loaded, &mut hydroid::progress::Silent)
+    let output = hydroid::app::pipeline::run(&loaded, &mut hydroid::base::progress::Silent)
         .unwrap_or_else(|e| panic!("{name}: {e}"));
     let out = Path::new(env!("CARGO_TARGET_TMPDIR"))
         .join("report-chromium")
@@ -300,7 +300,7 @@ fn check_manoeuvres(r: &Rendered, figs: &[Fig], problems: &mut Vec<String>) {
 /// mass, a reference set).
 fn check_words(r: &Rendered, problems: &mut Vec<String>) {
     let result = &r.output.result;
-    let word = hydroid::results::data_word(&result.inputs, "");
+    let word = hydroid::app::results::data_word(&result.inputs, "");
     if word == Some("measured") {
         for cfd in [
             ">CFD<",

@@ -1,7 +1,7 @@
 //! Property tests of the generic reader: random tables written in random layouts come back
 //! with the same names, numbers and line numbers; random junk never panics.
 
-use hydroid::formats::{self, Format, FormatChoice, ReadOptions};
+use hydroid::io::formats::{self, Format, FormatChoice, ReadOptions};
 use proptest::prelude::*;
 use std::io::Write;
 

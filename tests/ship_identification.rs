@@ -7,9 +7,9 @@ mod common;
 
 use common::accuracy::Accuracy;
 use common::{hydroid, json, root, text};
-use hydroid::course_stability::sway_yaw;
-use hydroid::models::mmg3::{KVLCC2, KVLCC2_RPS};
-use hydroid::models::{Mmg3, Model};
+use hydroid::dynamics::course_stability::sway_yaw;
+use hydroid::model::models::mmg3::{KVLCC2, KVLCC2_RPS};
+use hydroid::model::models::{Mmg3, Model};
 use std::path::Path;
 
 /// The truth: Y&Y 2015 Table 2, as configs/vehicles/kvlcc2_mmg.toml holds it.

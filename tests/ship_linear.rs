@@ -6,14 +6,14 @@
 mod common;
 
 use common::accuracy::Accuracy;
-use hydroid::coefficients::CoefficientSet;
+use hydroid::model::coefficients::CoefficientSet;
 use hydroid::config::{FluidConfig, VehicleConfig};
-use hydroid::models::ship_linear::{ShipLinear, EXAMPLE};
-use hydroid::models::Model;
-use hydroid::quantity::Quantity;
-use hydroid::record::Record;
-use hydroid::sim::inputs::Input;
-use hydroid::sim::{simulate, InputSeries};
+use hydroid::model::models::ship_linear::{ShipLinear, EXAMPLE};
+use hydroid::model::models::Model;
+use hydroid::base::quantity::Quantity;
+use hydroid::io::record::Record;
+use hydroid::dynamics::sim::inputs::Input;
+use hydroid::dynamics::sim::{simulate, InputSeries};
 use hydroid::stages::hekf::{self, HekfConfig, HekfResult};
 use rand::{rngs::StdRng, SeedableRng};
 use rand_distr::{Distribution, Normal};
@@ -164,7 +164,7 @@ fn identify(runs: &[Record]) -> HekfResult {
             runs,
             base_dir: std::path::Path::new(""),
         },
-        &mut hydroid::progress::Silent,
+        &mut hydroid::base::progress::Silent,
     )
     .expect("the identification runs")
 }

@@ -73,12 +73,12 @@ fn the_diameter_falls_as_the_rudder_rises_and_reruns_are_identical() {
 fn each_speed_case_holds_its_approach_speed_with_the_balanced_propeller() {
     // the paper's own study on the KCS (configs/simulate/kcs_sweep.toml), at its speeds
     let loaded =
-        hydroid::sim::config::load(&root().join("configs/simulate/kcs_sweep.toml")).unwrap();
-    let result = hydroid::sim::sweep::simulate_sweep(&loaded).unwrap();
+        hydroid::app::simulate::config::load(&root().join("configs/simulate/kcs_sweep.toml")).unwrap();
+    let result = hydroid::app::simulate::sweep::simulate_sweep(&loaded).unwrap();
     let speed_cases: Vec<_> = result
         .cases
         .iter()
-        .filter(|c| c.varies == hydroid::sim::sweep::Varies::Speed)
+        .filter(|c| c.varies == hydroid::app::simulate::sweep::Varies::Speed)
         .collect();
     assert_eq!(speed_cases.len(), 6);
     for c in speed_cases {

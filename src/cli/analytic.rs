@@ -4,8 +4,8 @@
 // crate-wide choice.
 
 use super::CmdResult;
-use hydroid::analytic::Spheroid;
-use hydroid::coefficients::Coefficient;
+use hydroid::model::analytic::Spheroid;
+use hydroid::model::coefficients::Coefficient;
 use std::io::Write;
 
 /// Analytic added mass of simple shapes (Fossen 1994, section 2.4.1).

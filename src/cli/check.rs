@@ -2,10 +2,11 @@
 
 use super::{json, CmdResult};
 use hydroid::config::LoadedConfig;
-use hydroid::error::{ConfigProblem, Error};
-use hydroid::results::{InputSummary, LoadedInput};
-use hydroid::warning::Warning;
-use hydroid::{config, pipeline};
+use hydroid::base::error::{ConfigProblem, Error};
+use hydroid::app::results::{InputSummary, LoadedInput};
+use hydroid::base::warning::Warning;
+use hydroid::app::pipeline;
+use hydroid::config;
 use serde_json::{json, Value};
 use std::io::Write;
 use std::path::PathBuf;
@@ -183,7 +184,7 @@ fn read_input(
         writeln!(out, "  {key}: not read (its configuration has a problem)")?;
         return Ok(None);
     }
-    if hydroid::formats::input::check_regular(&l.resolve(&spec.file)).is_err() {
+    if hydroid::io::formats::input::check_regular(&l.resolve(&spec.file)).is_err() {
         // already a configuration problem
         writeln!(out, "  {key}: {} (missing)", spec.file.display())?;
         let missing = json!({ "key": key, "file": spec.file, "status": "missing" });
@@ -303,7 +304,7 @@ fn output_check(
     l: &LoadedConfig,
     out: Option<&std::path::Path>,
 ) -> Result<Option<Warning>, ConfigProblem> {
-    use hydroid::output::{Protected, Staging};
+    use hydroid::io::output::{Protected, Staging};
     let dir = out.map_or_else(|| l.resolve(&l.config.output.dir), PathBuf::from);
     match Staging::preview(&dir, &Protected::for_config(l)) {
         Ok(None) => Ok(None),

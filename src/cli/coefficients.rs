@@ -1,7 +1,7 @@
 //! `hydroid coefficients [MODEL]`: the coefficient catalogue (docs/coefficients.md).
 
 use super::{json, CmdResult};
-use hydroid::catalogue::{self, Entry};
+use hydroid::app::catalogue::{self, Entry};
 use hydroid::Error;
 use std::io::Write;
 
@@ -22,7 +22,7 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
     let entries = catalogue::entries();
     let Some(name) = &args.model else {
         if args.json {
-            let models: Vec<_> = hydroid::models::ModelName::ALL
+            let models: Vec<_> = hydroid::model::models::ModelName::ALL
                 .iter()
                 .map(|m| catalogue::model(*m))
                 .collect();

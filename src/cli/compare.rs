@@ -1,9 +1,9 @@
 //! `hydroid compare A/results.json B/results.json`: coefficient-by-coefficient differences.
 
 use super::{json, CmdResult};
-use hydroid::coefficients::Coefficient;
-use hydroid::error::{Error, InputError, Place};
-use hydroid::numfmt::num;
+use hydroid::model::coefficients::Coefficient;
+use hydroid::base::error::{Error, InputError, Place};
+use hydroid::base::numfmt::num;
 use serde_json::{json, Value};
 use std::collections::BTreeSet;
 use std::io::Write;
@@ -104,7 +104,7 @@ fn read(path: &Path) -> hydroid::Result<Results> {
 /// Refuses what would make the comparison wrong without a word: a file of another schema
 /// version, a sigma that is negative or not finite, a coefficient listed twice.
 fn check(file: &Path, text: &str, r: &Results) -> hydroid::Result<()> {
-    let schema = hydroid::results::SCHEMA;
+    let schema = hydroid::app::results::SCHEMA;
     let fail = |place: Place, message: String, expected: String| -> hydroid::Result<()> {
         Err(InputError::new(place, message).expected(expected).into())
     };

@@ -5,8 +5,8 @@
 //! checks it).
 
 use clap::Command;
-use hydroid::catalogue;
-use hydroid::models::ModelName;
+use hydroid::app::catalogue;
+use hydroid::model::models::ModelName;
 
 /// Each kind of vehicle: what it is, its models, and what hydroid does for it.
 const KINDS: &[(&str, &[&str], &str)] = &[

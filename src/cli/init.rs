@@ -1,7 +1,7 @@
 //! `hydroid init [PATH]`: write a commented template run configuration, and nothing else.
 
 use super::{CmdResult, Say};
-use hydroid::catalogue;
+use hydroid::app::catalogue;
 use hydroid::stages::hekf::ModelName;
 use hydroid::stages::surge::DragFrom;
 use hydroid::Error;
@@ -64,7 +64,7 @@ pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
         has(Stage::Hekf),
         model,
     );
-    hydroid::output::write_new(&file, text.as_bytes())?;
+    hydroid::io::output::write_new(&file, text.as_bytes())?;
     writeln!(out, "wrote {}", file.display())?;
     say.note(&format!(
         "next: fill in the vehicle and every FILL-IN file name, then `hydroid check {}`",
@@ -207,7 +207,7 @@ fn uses_stage_coefficients(model: ModelName) -> bool {
                 && e.given_by.iter().any(|p| {
                     matches!(
                         p.source,
-                        hydroid::coefficients::Source::Polar | hydroid::coefficients::Source::Surge
+                        hydroid::model::coefficients::Source::Polar | hydroid::model::coefficients::Source::Surge
                     )
                 })
         })
@@ -244,8 +244,8 @@ fn coefficients(polar: bool, surge: bool, hekf: bool, model: ModelName) -> Strin
         e.is_some_and(|e| {
             e.given_by.iter().any(|p| match p.source {
                 // the template gives the diameter: Lamb's added mass is known
-                hydroid::coefficients::Source::Analytic => true,
-                hydroid::coefficients::Source::Polar => polar,
+                hydroid::model::coefficients::Source::Analytic => true,
+                hydroid::model::coefficients::Source::Polar => polar,
                 _ => false,
             })
         }) || (surge

@@ -4,9 +4,10 @@
 //! the IMO criteria when the full-scale length and speed are known (docs/manoeuvres.md).
 
 use super::CmdResult;
-use hydroid::manoeuvre::{self, ComparisonTable, Nominal};
-use hydroid::record::Record;
-use hydroid::{config, pipeline, Error};
+use hydroid::dynamics::manoeuvre::{self, ComparisonTable, Nominal};
+use hydroid::io::record::Record;
+use hydroid::app::pipeline;
+use hydroid::{config, Error};
 use std::io::Write;
 use std::path::PathBuf;
 

@@ -1,10 +1,11 @@
 //! `hydroid rerun OUTDIR`: run again exactly what made an output folder.
 
 use super::{progress, warning, CmdResult, Say};
-use hydroid::error::{Error, InputError, Place};
-use hydroid::output::{Protected, Replace, Staging};
-use hydroid::report::{self, RerunManifest};
-use hydroid::{config, pipeline};
+use hydroid::base::error::{Error, InputError, Place};
+use hydroid::io::output::{Protected, Replace, Staging};
+use hydroid::app::report::{self, RerunManifest};
+use hydroid::app::pipeline;
+use hydroid::config;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -63,7 +64,7 @@ const RECORDS: &[&str] = &[report::CONFIG_TOML, report::RERUN_JSON, report::INPU
 /// Refuses an output folder whose recorded files were edited since hydroid wrote them (their
 /// SHA-256 differs from the marker's), unless `--edited` accepts the edits; then says so.
 fn check_edits(dir: &Path, accept: bool) -> hydroid::Result<()> {
-    let edited = hydroid::output::marker::edited(dir, RECORDS)?;
+    let edited = hydroid::io::output::marker::edited(dir, RECORDS)?;
     if edited.is_empty() {
         return Ok(());
     }
@@ -90,7 +91,7 @@ fn check_edits(dir: &Path, accept: bool) -> hydroid::Result<()> {
             "these files were"
         },
         if list.len() == 1 { "it" } else { "them" },
-        hydroid::output::marker::MARKER,
+        hydroid::io::output::marker::MARKER,
         list.join("\n  - "),
         dir.join(report::CONFIG_TOML).display()
     )))
@@ -98,7 +99,7 @@ fn check_edits(dir: &Path, accept: bool) -> hydroid::Result<()> {
 
 /// Runs the command.
 pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
-    hydroid::output::clean_up_on_signals()?;
+    hydroid::io::output::clean_up_on_signals()?;
     let dir = &args.outdir;
     check_edits(dir, args.edited)?;
     let manifest: RerunManifest = read_json(&dir.join(report::RERUN_JSON))?;

@@ -1,8 +1,9 @@
 //! `hydroid run CONFIG`: run every enabled stage and write the output folder.
 
 use super::{progress, CmdResult, Say};
-use hydroid::output::{Protected, Replace, Staging};
-use hydroid::{config, pipeline, report};
+use hydroid::io::output::{Protected, Replace, Staging};
+use hydroid::app::{pipeline, report};
+use hydroid::config;
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -34,7 +35,7 @@ pub struct Args {
 
 /// Runs the command.
 pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
-    hydroid::output::clean_up_on_signals()?;
+    hydroid::io::output::clean_up_on_signals()?;
     let loaded = config::load(&args.config, &args.set)?;
     let out_dir = args
         .out
@@ -77,7 +78,7 @@ pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
     }
     if args.json {
         // byte for byte the results.json written (it ends with a newline)
-        out.write_all(&hydroid::output::to_json(&output.result)?)?;
+        out.write_all(&hydroid::io::output::to_json(&output.result)?)?;
         say.note(&format!("wrote {}", dir.display()));
     } else {
         report::table::write_text(out, &output.result)?;

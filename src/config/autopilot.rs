@@ -214,7 +214,7 @@ impl AutopilotConfig {
                      = {} rad/s (ten samples per period of the loop)",
                     self.omega_n,
                     self.dt,
-                    crate::numfmt::num(0.6 / self.dt)
+                    crate::base::numfmt::num(0.6 / self.dt)
                 ),
             );
         }

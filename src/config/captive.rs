@@ -2,7 +2,7 @@
 //! motion) whose measured forces give a model's coefficients.
 
 use super::{si, yes, Config, InputSpec, Problems};
-use crate::models::ModelName;
+use crate::model::models::ModelName;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -84,7 +84,7 @@ pub enum Sign {
 #[serde(deny_unknown_fields)]
 pub struct Oscillation {
     /// Amplitude of each oscillating velocity (`v = "0.25 m/s"`, `r = "15 deg/s"`).
-    pub amplitude: BTreeMap<crate::quantity::Quantity, super::Constant>,
+    pub amplitude: BTreeMap<crate::base::quantity::Quantity, super::Constant>,
     /// Frequency, Hz.
     #[serde(deserialize_with = "si::value::<_, si::Frequency>")]
     pub frequency: f64,
@@ -99,10 +99,10 @@ struct ModelCheck<'a> {
     estimate: &'a [String],
 }
 
-impl crate::models::ModelVisitor for ModelCheck<'_> {
+impl crate::model::models::ModelVisitor for ModelCheck<'_> {
     type Output = Vec<(String, String)>;
 
-    fn visit<M: crate::models::Model>(self, model: &M) -> Self::Output {
+    fn visit<M: crate::model::models::Model>(self, model: &M) -> Self::Output {
         let mut out = Vec::new();
         if model.force_quantities().is_empty() {
             out.push((
@@ -115,7 +115,7 @@ impl crate::models::ModelVisitor for ModelCheck<'_> {
             ));
         }
         for (i, n) in self.estimate.iter().enumerate() {
-            let known = crate::models::registry::coefficient(n).is_some();
+            let known = crate::model::models::registry::coefficient(n).is_some();
             let message = match model.coefficient_index(n) {
                 // an unknown name is reported by its catalogue check
                 None if known => format!("the {} model has no coefficient {n}", model.name()),
@@ -139,7 +139,7 @@ impl CaptiveConfig {
         let check = ModelCheck {
             estimate: &self.estimate,
         };
-        match crate::models::with_model(self.model, &vehicle, check) {
+        match crate::model::models::with_model(self.model, &vehicle, check) {
             Ok(found) => {
                 for (key, message) in found {
                     p.add(&key, message);
@@ -217,7 +217,7 @@ impl CaptiveConfig {
                     &key,
                     format!(
                         "names no run of captive.runs{} (they are: {})",
-                        crate::suggest::did_you_mean(run, names.iter().map(String::as_str)),
+                        crate::base::suggest::did_you_mean(run, names.iter().map(String::as_str)),
                         names.join(", ")
                     ),
                 );
@@ -235,7 +235,7 @@ impl CaptiveConfig {
             }
             for (q, c) in &o.amplitude {
                 let k = format!("{key}.amplitude.{q}");
-                if !crate::quantity::Quantity::MOTION[..6].contains(q) {
+                if !crate::base::quantity::Quantity::MOTION[..6].contains(q) {
                     p.add(&k, "an oscillation moves a velocity: u, v, w, p, q or r");
                 } else if let Err(m) = c.expect_quantity(*q) {
                     p.add(&k, m);

@@ -1,9 +1,9 @@
 //! `[hekf]` configuration.
 
 use super::{yes, Config, Constant, InputSpec, Problems};
-pub use crate::estimation::FilterKind;
-use crate::models::ModelName;
-use crate::quantity::Quantity;
+pub use crate::numerics::estimation::FilterKind;
+use crate::model::models::ModelName;
+use crate::base::quantity::Quantity;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -219,12 +219,12 @@ impl HekfConfig {
     pub fn validate(&self, config: &Config, p: &mut Problems) {
         // the model says what it needs of the vehicle
         struct Built;
-        impl crate::models::ModelVisitor for Built {
+        impl crate::model::models::ModelVisitor for Built {
             type Output = ();
-            fn visit<M: crate::models::Model>(self, _: &M) {}
+            fn visit<M: crate::model::models::Model>(self, _: &M) {}
         }
         let vehicle = config.vehicle.for_model(&config.fluid);
-        if let Err(problems) = crate::models::with_model(self.model, &vehicle, Built) {
+        if let Err(problems) = crate::model::models::with_model(self.model, &vehicle, Built) {
             for vp in problems {
                 p.add(&vp.key, vp.message);
             }

@@ -4,7 +4,7 @@
 
 use super::collect::read_collecting;
 use super::{Config, Problems};
-use crate::error::{ConfigProblem, Error, Result};
+use crate::base::error::{ConfigProblem, Error, Result};
 use std::path::{Path, PathBuf};
 
 /// A configuration that parsed and validated.
@@ -51,7 +51,7 @@ pub fn load(path: &Path, overrides: &[String]) -> Result<LoadedConfig> {
 /// The text of a configuration file, or the problem reading it. The file is read like every
 /// input (`formats::input`): a regular file, within the size and line limits, UTF-8.
 pub fn read(path: &Path) -> Result<String> {
-    use crate::formats::input::{read_bytes, Limits};
+    use crate::io::formats::input::{read_bytes, Limits};
     let problem = |line: Option<usize>, message: String| {
         Error::Config(vec![ConfigProblem {
             file: path.to_path_buf(),
@@ -128,7 +128,7 @@ pub fn load_lenient(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::coefficients::YawMoment;
+    use crate::model::coefficients::YawMoment;
     use crate::config::FluidConfig;
 
     const GOOD: &str = "[vehicle]\nmass = 50\nlength = 1.2\nizz = 3.7\nreference_area = 0.03\n\

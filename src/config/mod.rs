@@ -7,20 +7,17 @@ pub mod autopilot;
 pub mod captive;
 mod collect;
 pub mod hekf;
-mod input;
 mod load;
 mod overrides;
 mod paths;
 pub mod polar;
 mod problems;
 mod reference;
-pub(crate) mod si;
 pub mod surge;
-pub(crate) mod words;
 
 pub(crate) use collect::read_collecting;
-pub(crate) use input::quantity_key;
-pub use input::{
+pub(crate) use crate::io::input_spec::quantity_key;
+pub use crate::io::input_spec::{
     Between, ColumnSpec, Constant, DataSource, FormatSetting, InputSpec, ManoeuvreSpec, Step,
     VelocityFrame,
 };
@@ -28,8 +25,9 @@ pub use load::{load, load_lenient, load_str, read, LoadedConfig};
 pub use problems::Problems;
 pub use reference::{ReferenceConfig, References};
 
-use crate::coefficients::YawMoment;
-use crate::models::RunVehicle;
+use crate::base::{si, words};
+use crate::model::coefficients::YawMoment;
+use crate::model::models::RunVehicle;
 use hekf::HekfConfig;
 use polar::PolarConfig;
 use serde::{Deserialize, Serialize};
@@ -238,8 +236,8 @@ impl VehicleConfig {
     }
 
     /// The vehicle data alone (SI).
-    pub fn vehicle_data(&self, fluid: &FluidConfig) -> crate::models::Vehicle {
-        crate::models::Vehicle {
+    pub fn vehicle_data(&self, fluid: &FluidConfig) -> crate::model::models::Vehicle {
+        crate::model::models::Vehicle {
             mass: self.mass,
             length: self.length,
             diameter: self.diameter,
@@ -543,14 +541,14 @@ pub fn check_scale(lambda: f64) -> std::result::Result<(), String> {
 
 /// Checks a coefficient name against the catalogue.
 pub(crate) fn check_coefficient_name(name: &str) -> Result<(), String> {
-    if crate::models::registry::coefficient(name).is_some() {
+    if crate::model::models::registry::coefficient(name).is_some() {
         Ok(())
     } else {
         Err(format!(
             "unknown coefficient '{name}'{}",
-            crate::suggest::did_you_mean(
+            crate::base::suggest::did_you_mean(
                 name,
-                crate::models::registry::all_coefficients()
+                crate::model::models::registry::all_coefficients()
                     .iter()
                     .map(|c| c.name)
             )

@@ -1,7 +1,7 @@
 //! `[polar]` configuration: inputs, fitting range, weights and the switchable constraints.
 
 use super::{yes, Config, InputSpec, Problems};
-use crate::coefficients::YawMoment;
+use crate::model::coefficients::YawMoment;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -254,7 +254,7 @@ fn check_bounds(
                 &k,
                 format!(
                     "unknown constant '{name}'{}",
-                    crate::suggest::did_you_mean(name, names.iter().copied())
+                    crate::base::suggest::did_you_mean(name, names.iter().copied())
                 ),
             );
             continue;

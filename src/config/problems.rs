@@ -1,7 +1,8 @@
 //! Collects every problem found in a configuration, each with its key path and line.
 
 use super::paths::Seg;
-use crate::error::ConfigProblem;
+use crate::base::error::ConfigProblem;
+use crate::base::numfmt::short;
 use std::path::{Path, PathBuf};
 
 /// The problems found so far, and what is needed to place them in the file.
@@ -283,7 +284,7 @@ impl Problems {
     pub fn existing_file(&mut self, key: &str, path: &Path) {
         let full = self.resolve(path);
         // a folder, FIFO, device or broken link is named as what it is
-        if let Err(e) = crate::formats::input::check_regular(&full) {
+        if let Err(e) = crate::io::formats::input::check_regular(&full) {
             self.add(
                 key,
                 format!(
@@ -328,19 +329,11 @@ pub const MAX_COEFFICIENT: f64 = 1e15;
 /// [`short`] cut to four significant digits when that is shorter (`3.142` for pi).
 fn brief(v: f64) -> String {
     let s = short(v);
-    let n = crate::numfmt::num(v);
+    let n = crate::base::numfmt::num(v);
     if n.len() < s.len() {
         n
     } else {
         s
-    }
-}
-
-pub(crate) fn short(v: f64) -> String {
-    if v == 0.0 || !v.is_finite() || (1e-3..1e6).contains(&v.abs()) {
-        format!("{v}")
-    } else {
-        format!("{v:e}")
     }
 }
 

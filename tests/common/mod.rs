@@ -7,9 +7,9 @@ pub mod accuracy;
 pub mod parallel;
 
 use hydroid::config::{FluidConfig, VehicleConfig};
-use hydroid::formats::Format;
-use hydroid::quantity::Quantity;
-use hydroid::record::Record;
+use hydroid::io::formats::Format;
+use hydroid::base::quantity::Quantity;
+use hydroid::io::record::Record;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -212,7 +212,7 @@ pub fn spheroid_joint_truth() -> Vec<(&'static str, f64)> {
     ESTIMATED
         .iter()
         .map(|n| {
-            let truth = hydroid::models::spheroid3::BOUNDED_TRUTH
+            let truth = hydroid::model::models::spheroid3::BOUNDED_TRUTH
                 .iter()
                 .find(|(m, _)| m == n)
                 .unwrap_or_else(|| panic!("no truth for {n}"));

@@ -37,7 +37,7 @@ impl std::ops::Deref for Outcome {
 pub fn identify(config: &Path, truth: &Truth) -> Outcome {
     let started = Instant::now();
     let loaded = hydroid::load(config, &[]).unwrap_or_else(|e| panic!("{config:?}: {e}"));
-    let out = hydroid::run(&loaded, &mut hydroid::progress::Silent)
+    let out = hydroid::run(&loaded, &mut hydroid::base::progress::Silent)
         .unwrap_or_else(|e| panic!("{config:?}: {e}"));
     let seconds = started.elapsed().as_secs_f64();
     let h = out.result.stages.hekf.as_ref().expect("an HEKF stage");

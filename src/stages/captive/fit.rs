@@ -9,9 +9,9 @@
 //! more than they explain (Birge 1932).
 
 use super::harmonic::HarmonicMotion;
-use crate::ad::{self, Scalar};
-use crate::lsq::scaled_least_squares;
-use crate::models::Model;
+use crate::numerics::ad::{self, Scalar};
+use crate::numerics::lsq::scaled_least_squares;
+use crate::model::models::Model;
 use nalgebra::{DMatrix, DVector};
 
 /// One steady captive condition: the prescribed motion, the inputs and the measured forces.
@@ -90,7 +90,7 @@ const MAX_ITERATIONS: usize = 50;
 ///
 /// `signs` (one per estimated coefficient, or empty) constrain each to be >= 0 (+1), <= 0
 /// (-1) or free (0): every Gauss-Newton step is then the constrained least-squares step
-/// (a quadratic programme, [`crate::constrained_lsq`]), and a coefficient that ends on its
+/// (a quadratic programme, [`crate::numerics::constrained_lsq`]), and a coefficient that ends on its
 /// bound is held there, with no variance (the covariance is that of the others).
 pub fn fit<M: Model>(
     model: &M,
@@ -407,7 +407,7 @@ fn gauss_newton_step(
         let step = scaled_least_squares(j, r, dof).ok_or_else(dependent)?;
         return Ok((step.theta, step.rss));
     }
-    use crate::constrained_lsq::{solve, Constraint, FitError, Kind};
+    use crate::numerics::constrained_lsq::{solve, Constraint, FitError, Kind};
     let p = theta.len();
     let rows: Vec<Vec<f64>> = (0..j.nrows())
         .map(|i| (0..p).map(|q| j[(i, q)]).collect())

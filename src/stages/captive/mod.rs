@@ -11,16 +11,16 @@ pub mod plausibility;
 
 pub use crate::config::captive::CaptiveConfig;
 
-use crate::coefficients::{
+use crate::model::coefficients::{
     directions_of, Coefficient, CoefficientSet, Correlation, Direction, Source,
 };
 use crate::config::FluidConfig;
 use crate::config::VehicleConfig;
-use crate::error::{Error, Result};
-use crate::models::{with_model, Model, ModelVisitor};
-use crate::quantity::Quantity;
-use crate::record::{Needs, Record};
-use crate::warning::Warning;
+use crate::base::error::{Error, Result};
+use crate::model::models::{with_model, Model, ModelVisitor};
+use crate::base::quantity::Quantity;
+use crate::io::record::{Needs, Record};
+use crate::base::warning::Warning;
 use fit::Condition;
 use serde::Serialize;
 
@@ -46,7 +46,7 @@ pub fn needs(_cfg: &CaptiveConfig) -> Needs<'static> {
                 Quantity::YPrime,
                 Quantity::NPrime,
             ])
-            .chain(crate::models::registry::all_inputs())
+            .chain(crate::model::models::registry::all_inputs())
             .copied()
             .collect()
     });
@@ -150,7 +150,7 @@ fn reference_of(vehicle: &VehicleConfig, fluid: &FluidConfig) -> plausibility::R
     struct Draught {
         #[serde(
             default,
-            deserialize_with = "crate::config::si::option::<_, crate::config::si::Length>"
+            deserialize_with = "crate::base::si::option::<_, crate::base::si::Length>"
         )]
         draught: Option<f64>,
     }
@@ -332,7 +332,7 @@ impl ModelVisitor for Fit<'_> {
             .iter()
             .zip(&f.birge)
             .filter(|(_, b)| **b > BIRGE_WARNING)
-            .map(|(q, b)| format!("{} ({} times)", q.key(), crate::numfmt::num(*b)))
+            .map(|(q, b)| format!("{} ({} times)", q.key(), crate::base::numfmt::num(*b)))
             .collect();
         if !misfit.is_empty() {
             warnings.push(Warning::new(
@@ -393,14 +393,14 @@ fn misfit_warning(
         .iter()
         .zip(ratios)
         .filter(|(_, f)| **f > fit::MISFIT_RATIO)
-        .map(|(q, f)| format!("{} ({} times)", q.key(), crate::numfmt::num(*f)))
+        .map(|(q, f)| format!("{} ({} times)", q.key(), crate::base::numfmt::num(*f)))
         .collect();
     let moved = shift.map_or(String::new(), |(name, d, s)| {
         format!(
             "; without the outer quarter of the conditions' range {name} moves by {} ({} of its \
              sigma from the residuals)",
-            crate::numfmt::num(d),
-            crate::numfmt::num(d.abs() / s.max(f64::MIN_POSITIVE))
+            crate::base::numfmt::num(d),
+            crate::base::numfmt::num(d.abs() / s.max(f64::MIN_POSITIVE))
         )
     });
     (!missed.is_empty()).then(|| {
@@ -418,7 +418,7 @@ fn misfit_warning(
              ratios and by the shift of the coefficients when the outer quarter of the \
              conditions' range is left out (docs/stages.md, \"Captive plausibility\")",
         )
-        .failed(crate::warning::Test::Misfit)
+        .failed(crate::base::warning::Test::Misfit)
     })
 }
 
@@ -852,8 +852,8 @@ fn history(
             "{} samples from t = {} s on (captive.average_after): at least {MIN_AVERAGED} are \
              needed to average; the run ends at t = {} s",
             kept.len(),
-            crate::numfmt::num(after),
-            crate::numfmt::num(times.last().copied().unwrap_or(0.0))
+            crate::base::numfmt::num(after),
+            crate::base::numfmt::num(times.last().copied().unwrap_or(0.0))
         )));
     }
     let oscillating = moving_states(&kept, held);
@@ -869,7 +869,7 @@ fn history(
     let names: Vec<&str> = held.velocities.iter().map(|(n, _)| *n).collect();
     let forces: Vec<&str> = held.forces.iter().map(|q| q.key()).collect();
     let (c, periods, w) = harmonic::reduce(&rec.name, &samples, &oscillating, &names, &forces)
-        .map_err(|m| fail(format!("from t = {} s: {m}", crate::numfmt::num(after))))?;
+        .map_err(|m| fail(format!("from t = {} s: {m}", crate::base::numfmt::num(after))))?;
     Ok((c, w, Some(periods)))
 }
 
@@ -893,7 +893,7 @@ fn moving_states(kept: &[(f64, &Condition)], held: &Held) -> Vec<usize> {
         .filter(|(i, (_, kind))| {
             let Some(rate) = kind else { return false };
             let scale = if *rate { speed / held.length } else { speed };
-            let (lo, hi) = crate::signal::range(kept.iter().map(|(_, c)| c.x[*i]));
+            let (lo, hi) = crate::numerics::signal::range(kept.iter().map(|(_, c)| c.x[*i]));
             hi - lo > 2.0 * STEADY_MOTION * scale
         })
         .map(|(i, _)| i)
@@ -901,7 +901,7 @@ fn moving_states(kept: &[(f64, &Condition)], held: &Held) -> Vec<usize> {
 }
 
 /// The rows of a steady force history averaged into one condition, each force's
-/// uncertainty the standard error of its mean ([`crate::signal::mean_and_standard_error`]);
+/// uncertainty the standard error of its mean ([`crate::numerics::signal::mean_and_standard_error`]);
 /// a warning when a force still drifts (the means of the two halves differ by more than
 /// three combined standard errors).
 fn averaged(
@@ -922,18 +922,18 @@ fn averaged(
     let mut drifting = Vec::new();
     for i in 0..kept[0].f.len() {
         let series: Vec<f64> = kept.iter().map(|c| c.f[i]).collect();
-        let (m, se) = crate::signal::mean_and_standard_error(&series).unwrap_or((series[0], 0.0));
+        let (m, se) = crate::numerics::signal::mean_and_standard_error(&series).unwrap_or((series[0], 0.0));
         let half = series.len() / 2;
         if let (Some((m1, s1)), Some((m2, s2))) = (
-            crate::signal::mean_and_standard_error(&series[..half]),
-            crate::signal::mean_and_standard_error(&series[half..]),
+            crate::numerics::signal::mean_and_standard_error(&series[..half]),
+            crate::numerics::signal::mean_and_standard_error(&series[half..]),
         ) {
             if (m1 - m2).abs() > 3.0 * s1.hypot(s2) {
                 drifting.push(format!(
                     "{} ({} then {})",
                     forces.get(i).map_or("a force", |q| q.key()),
-                    crate::numfmt::num(m1),
-                    crate::numfmt::num(m2)
+                    crate::base::numfmt::num(m1),
+                    crate::base::numfmt::num(m2)
                 ));
             }
         }
@@ -946,7 +946,7 @@ fn averaged(
             format!(
                 "the forces still drift in the averaged part from t = {} s: {} (mean of the \
                  first half, then of the second)",
-                crate::numfmt::num(after),
+                crate::base::numfmt::num(after),
                 drifting.join(", ")
             ),
             "the run may not have reached its steady state: its average and standard error \
@@ -960,7 +960,7 @@ fn averaged(
             u,
             f,
             sigma: Some(sigma),
-            place: format!("{} from t = {} s", rec.name, crate::numfmt::num(after)),
+            place: format!("{} from t = {} s", rec.name, crate::base::numfmt::num(after)),
             harmonic: None,
         },
         warning,
@@ -1012,7 +1012,7 @@ fn residual_summaries<M: Model>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::models::surge1::Surge1;
+    use crate::model::models::surge1::Surge1;
 
     #[test]
     fn a_model_without_forces_for_a_prescribed_motion_is_refused() {

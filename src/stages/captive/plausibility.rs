@@ -13,10 +13,10 @@
 
 use super::fit::Condition;
 use super::harmonic::PER_FORCE;
-use crate::models::Model;
-use crate::numfmt::num;
-use crate::quantity::Quantity;
-use crate::warning::Warning;
+use crate::model::models::Model;
+use crate::base::numfmt::num;
+use crate::base::quantity::Quantity;
+use crate::base::warning::Warning;
 
 /// Where the sway velocity, yaw rate, sway force and yaw moment sit in a model's state and
 /// force vectors (None: the model has no such entry and the checks of it are skipped).
@@ -61,7 +61,7 @@ impl Reference {
     /// The scales of a vehicle: the added masses by strip theory from the draught d (a ship:
     /// flat-plate sections doubled in the free surface, m_a = pi/2 rho d^2 per unit length;
     /// Newman 1977, section 4.13, the leading term of Clarke et al. 1983 eq. 4), by Lamb's
-    /// k-factors from the diameter (a body of revolution, [`crate::analytic::Spheroid`]),
+    /// k-factors from the diameter (a body of revolution, [`crate::model::analytic::Spheroid`]),
     /// else none.
     pub fn new(
         rho: f64,
@@ -79,7 +79,7 @@ impl Reference {
                     "strip theory from the draught",
                 ))
             }
-            (None, Some(dia)) => crate::analytic::Spheroid::from_length_diameter(length, dia, rho)
+            (None, Some(dia)) => crate::model::analytic::Spheroid::from_length_diameter(length, dia, rho)
                 .ok()
                 .map(|s| (-s.yvd(), -s.nrd(), "Lamb's k-factors of the spheroid")),
             _ => None,
@@ -234,7 +234,7 @@ fn slopes(x: &[Vec<f64>], y: &[f64]) -> Vec<Option<Slope>> {
     let k = x.first().map_or(0, Vec::len);
     let keep: Vec<usize> = (0..k)
         .filter(|&j| {
-            let (lo, hi) = crate::signal::range(x.iter().map(|r| r[j]));
+            let (lo, hi) = crate::numerics::signal::range(x.iter().map(|r| r[j]));
             hi - lo > 1e-9 * (hi.abs() + lo.abs()).max(1e-300)
         })
         .collect();
@@ -250,7 +250,7 @@ fn slopes(x: &[Vec<f64>], y: &[f64]) -> Vec<Option<Slope>> {
         }
     });
     let yv = nalgebra::DVector::from_column_slice(y);
-    if let Some(s) = crate::lsq::scaled_least_squares(&a, &yv, n - keep.len() - 1) {
+    if let Some(s) = crate::numerics::lsq::scaled_least_squares(&a, &yv, n - keep.len() - 1) {
         for (j, &col) in keep.iter().enumerate() {
             out[col] = Some(Slope {
                 value: s.theta[j + 1],
@@ -596,7 +596,7 @@ pub fn misfit_ratios(
     let dims = coords[0].len();
     let spans: Vec<f64> = (0..dims)
         .map(|j| {
-            let (lo, hi) = crate::signal::range(coords.iter().map(|c| c[j]));
+            let (lo, hi) = crate::numerics::signal::range(coords.iter().map(|c| c[j]));
             hi - lo
         })
         .collect();

@@ -17,7 +17,7 @@
 //! both the measurement noise and the rounding of the data average out.
 
 use super::identify::RunData;
-use crate::models::Model;
+use crate::model::models::Model;
 
 /// Stretches a run is cut into.
 const STRETCHES: usize = 20;
@@ -63,7 +63,7 @@ pub fn from_misfit<M: Model>(
     let mut excess: Vec<Vec<f64>> = vec![Vec::new(); nx];
     let mut stretches = 0usize;
     let mut duration = 0.0;
-    let step = crate::sampling::median_interval(&run.times)?;
+    let step = crate::numerics::sampling::median_interval(&run.times)?;
     for start in (0..k_len - len).step_by(len) {
         let end = start + len;
         let t = run.times[end] - run.times[start];
@@ -182,8 +182,8 @@ fn propagated<M: Model>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::models::surge1::Surge1;
-    use crate::sim::InputSeries;
+    use crate::model::models::surge1::Surge1;
+    use crate::dynamics::sim::InputSeries;
     use rand::{rngs::StdRng, SeedableRng};
     use rand_distr::{Distribution, Normal};
 

@@ -8,9 +8,9 @@
 //! (`Model::surge_balance`: R'_0 for the MMG model); when the data contradict it, the stage
 //! estimates it by default and says so.
 
-use crate::models::Model;
-use crate::quantity::Quantity;
-use crate::record::Record;
+use crate::model::models::Model;
+use crate::base::quantity::Quantity;
+use crate::io::record::Record;
 
 /// Fewest samples of an approach that are judged.
 const MIN_SAMPLES: usize = 10;
@@ -98,7 +98,7 @@ fn approach_end<M: Model>(model: &M, rec: &Record) -> Option<usize> {
         let Some(v) = rec.channel(d.quantity) else {
             continue;
         };
-        let (lo, hi) = crate::signal::range(v.iter().copied());
+        let (lo, hi) = crate::numerics::signal::range(v.iter().copied());
         let floor = if d.quantity.si_symbol() == "rad" {
             0.5f64.to_radians()
         } else {
@@ -140,7 +140,7 @@ fn slope(t: &[f64], y: &[f64]) -> Option<(f64, f64)> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::models::mmg3::{Mmg3, KVLCC2, KVLCC2_RPS, KVLCC2_SPEED};
+    use crate::model::models::mmg3::{Mmg3, KVLCC2, KVLCC2_RPS, KVLCC2_SPEED};
     use std::collections::BTreeMap;
 
     /// A straight approach at the KVLCC2's speed held by the basin (u constant), the
@@ -158,14 +158,14 @@ mod tests {
 
     #[test]
     fn the_published_resistance_at_its_balance_propeller_is_an_equilibrium() {
-        let m = Mmg3::build(&crate::models::mmg3::kvlcc2_model_vehicle()).unwrap();
+        let m = Mmg3::build(&crate::model::models::mmg3::kvlcc2_model_vehicle()).unwrap();
         let c = m.coefficient_vector(KVLCC2);
         assert_eq!(approach(&m, &c, &approach_record(KVLCC2_RPS)), None);
     }
 
     #[test]
     fn a_propeller_at_the_self_propulsion_point_leaves_the_published_resistance_unbalanced() {
-        let m = Mmg3::build(&crate::models::mmg3::kvlcc2_model_vehicle()).unwrap();
+        let m = Mmg3::build(&crate::model::models::mmg3::kvlcc2_model_vehicle()).unwrap();
         let c = m.coefficient_vector(KVLCC2);
         // the basin's 10.23 rps: the model decelerates where the ship held its speed
         let i = approach(&m, &c, &approach_record(10.23)).expect("imbalance");

@@ -1,5 +1,5 @@
 //! Admissible ranges inside the filter (docs/hekf.md, "Admissible ranges"): a coefficient
-//! whose range the model declares ([`crate::models::Range`]: a frequency is positive, a
+//! whose range the model declares ([`crate::model::models::Range`]: a frequency is positive, a
 //! diagonal added mass has its convention's sign) is kept in it by estimate projection
 //! (Simon 2010, "Kalman filtering with state constraints: a survey of linear and nonlinear
 //! algorithms", IET Control Theory & Applications 4(8), "estimate projection"; Simon & Chia
@@ -21,8 +21,8 @@
 //! more passes follow runs unprojected, as it runs ungated, and only its end is brought into
 //! range ([`Bounds::clamp`]; docs/hekf.md, "The first pass").
 
-use crate::models::{CoefDef, Range};
-use crate::warning::Warning;
+use crate::model::models::{CoefDef, Range};
+use crate::base::warning::Warning;
 
 /// An open bound (`w0 > 0`) is held this share of the coefficient's expected size inside
 /// the range: a wave period of hours for w0, where the wave model is a double integrator.
@@ -429,7 +429,7 @@ mod tests {
     /// end of the last pass is a warning naming it.
     #[test]
     fn a_bound_is_named_in_the_divergence_and_the_warning() {
-        use crate::models::nomoto_wave::{COEFFICIENTS, K, W0};
+        use crate::model::models::nomoto_wave::{COEFFICIENTS, K, W0};
         let defs = [&COEFFICIENTS[K], &COEFFICIENTS[W0]];
         let note = divergence_note(&defs, &[(1, 412)]);
         assert!(

@@ -5,8 +5,8 @@
 use super::identify::{Excursion, Rejection, RunData};
 use super::result::RunSummary;
 use super::STAGE;
-use crate::models::Model;
-use crate::warning::Warning;
+use crate::model::models::Model;
+use crate::base::warning::Warning;
 
 /// The warning for one run whose mean NIS lies outside its 95 % bounds, or None.
 pub fn nis_warning(run: &RunSummary) -> Option<Warning> {
@@ -62,7 +62,7 @@ pub fn nis_warning(run: &RunSummary) -> Option<Warning> {
                 ),
             )
             .for_run(&run.name)
-            .failed(crate::warning::Test::Innovations),
+            .failed(crate::base::warning::Test::Innovations),
         )
     } else {
         Some(
@@ -73,7 +73,7 @@ pub fn nis_warning(run: &RunSummary) -> Option<Warning> {
                  is set larger than the data's, so the sigmas are too large (conservative)",
             )
             .for_run(&run.name)
-            .failed(crate::warning::Test::Innovations),
+            .failed(crate::base::warning::Test::Innovations),
         )
     }
 }
@@ -115,7 +115,7 @@ pub fn excursion_warning<M: Model>(
             format!(
                 "the innovations stayed beyond the {} sigma gate over {} stretch{} ({} \
                  sample{}): {}",
-                crate::numfmt::fixed_trimmed(gate, 2),
+                crate::base::numfmt::fixed_trimmed(gate, 2),
                 excursions.len(),
                 if excursions.len() == 1 { "" } else { "es" },
                 samples,
@@ -165,7 +165,7 @@ pub fn gate_warning<M: Model>(model: &M, run: &RunData, rejected: &[Rejection]) 
                 "the innovation gate rejected {} measurement{} ({} % of them): {}",
                 rejected.len(),
                 if rejected.len() == 1 { "" } else { "s" },
-                crate::numfmt::num(100.0 * share),
+                crate::base::numfmt::num(100.0 * share),
                 at.join(", ")
             ),
             if share > 0.001 {
@@ -183,14 +183,14 @@ pub fn gate_warning<M: Model>(model: &M, run: &RunData, rejected: &[Rejection]) 
 }
 
 fn sig3(v: f64) -> String {
-    crate::numfmt::num(v)
+    crate::base::numfmt::num(v)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::estimation::nis::summarize;
-    use crate::quantity::Quantity;
+    use crate::numerics::estimation::nis::summarize;
+    use crate::base::quantity::Quantity;
     use crate::stages::hekf::tuning::NoiseChoice;
 
     fn run(nis: &[f64], rms: Vec<f64>) -> RunSummary {

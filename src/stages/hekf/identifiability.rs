@@ -2,7 +2,7 @@
 //! manoeuvre would.
 //!
 //! A coefficient c_j enters the dynamics through its regressor g_j(x, u) = df/dc_j (automatic
-//! differentiation, [`crate::ad`]): the motion its term needs. The data pin c_j only where
+//! differentiation, [`crate::numerics::ad`]): the motion its term needs. The data pin c_j only where
 //! g_j is large next to the noise and not a multiple of another estimated coefficient's
 //! regressor (then the two trade off: a strong correlation of the estimates, Ljung 1999,
 //! "System Identification", section 13.2 on persistent excitation; Fossen 2011, section
@@ -14,10 +14,10 @@
 
 use super::identify::RunData;
 use super::result::RunTraces;
-use crate::ad;
-use crate::models::Model;
-use crate::quantity::Quantity;
-use crate::results::{CORRELATED, UNCERTAIN};
+use crate::numerics::ad;
+use crate::model::models::Model;
+use crate::base::quantity::Quantity;
+use crate::app::results::{CORRELATED, UNCERTAIN};
 use serde::Serialize;
 
 /// A correlated estimate is flagged only when its sigma is above this share of its value:
@@ -233,7 +233,7 @@ fn finding(e: &Estimates, j: usize) -> Option<String> {
             if value == 0.0 {
                 "larger than".to_string()
             } else {
-                crate::numfmt::proportion(rel)
+                crate::base::numfmt::proportion(rel)
             }
         ));
     }
@@ -317,7 +317,7 @@ fn regressors<M: Model>(model: &M, x: &[f64], u: &[f64], e: &Estimates) -> Vec<f
 
 /// A magnitude in the unit a naval architect reads: degrees for angles and rates.
 fn magnitude(q: Quantity, v: f64) -> String {
-    let n = crate::numfmt::num;
+    let n = crate::base::numfmt::num;
     match q.si_symbol() {
         "rad" => format!("{} deg", n(v.to_degrees())),
         "rad/s" => format!("{} deg/s", n(v.to_degrees())),

@@ -5,17 +5,17 @@
 //! filtered and smoothed states, NIS); the coefficient histories are thinned
 //! ([`super::history`]), the innovation statistics summed as the samples come, and the
 //! smoother re-runs the filter from checkpoints instead of keeping its covariances
-//! ([`crate::estimation::rts`]).
+//! ([`crate::numerics::estimation::rts`]).
 
 use super::bounds::{BoundLog, BoundSummary, Bounds};
 use super::history::{History, HistoryBuilder};
-use super::system::ModelSystem;
-use crate::estimation::hybrid_ekf::GateEvent;
-use crate::estimation::rts::{self, SmoothError, Trace};
-use crate::estimation::{Divergence, FilterKind, HybridEkf};
-use crate::models::{Model, Range};
-use crate::progress::{Progress, Silent};
-use crate::sim::InputSeries;
+use crate::dynamics::model_system::ModelSystem;
+use crate::numerics::estimation::hybrid_ekf::GateEvent;
+use crate::numerics::estimation::rts::{self, SmoothError, Trace};
+use crate::numerics::estimation::{Divergence, FilterKind, HybridEkf};
+use crate::model::models::{Model, Range};
+use crate::base::progress::{Progress, Silent};
+use crate::dynamics::sim::InputSeries;
 
 /// One run, ready for the filter.
 #[derive(Debug, Clone)]
@@ -454,7 +454,7 @@ fn passes<M: Model>(
 fn bound_notes<M: Model>(model: &M, setup: &Setup, summary: &[BoundSummary]) -> Vec<String> {
     let all = model.coefficient_names();
     let names: Vec<&str> = setup.est.iter().map(|&i| all[i]).collect();
-    let defs: Vec<&crate::models::CoefDef> = setup
+    let defs: Vec<&crate::model::models::CoefDef> = setup
         .est
         .iter()
         .map(|&i| &model.coefficients()[i])
@@ -692,7 +692,7 @@ impl Calibration {
              the measured velocities, the estimate starts again from the prior",
             pass + 1,
             e.run,
-            crate::numfmt::num(e.divergence.time),
+            crate::base::numfmt::num(e.divergence.time),
             e.divergence.reason
         ));
     }
@@ -1088,9 +1088,9 @@ fn filter_sample<M: Model>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::estimation::rts::tests::dense_smooth;
-    use crate::models::spheroid3::{Spheroid3, BOUNDED_TRUTH};
-    use crate::sim::simulate;
+    use crate::numerics::estimation::rts::tests::dense_smooth;
+    use crate::model::models::spheroid3::{Spheroid3, BOUNDED_TRUTH};
+    use crate::dynamics::sim::simulate;
 
     const ESTIMATED: [&str; 6] = ["Yvd", "Yrd", "Nrd", "Nvv", "Nrr", "Yrr"];
 

@@ -15,23 +15,22 @@ mod noise;
 mod prepare;
 mod result;
 mod sensitivity;
-pub mod system;
 pub mod tuning;
 
-pub use crate::models::ModelName;
+pub use crate::model::models::ModelName;
 pub use config::{Checks, FilterKind, HekfConfig, Mode, Outliers, Preset, Prior, DEFAULT_GATE};
 pub use history::History;
 mod plausibility;
 pub use result::{HekfResult, PassSummary, RunSummary, RunTraces};
 
-use crate::coefficients::CoefficientSet;
+use crate::model::coefficients::CoefficientSet;
 use crate::config::{FluidConfig, VehicleConfig};
-use crate::error::{Error, Result};
-use crate::models::{with_model, Model, ModelVisitor};
-use crate::progress::Progress;
-use crate::quantity::Quantity;
-use crate::record::{Needs, Record};
-use crate::warning::Warning;
+use crate::base::error::{Error, Result};
+use crate::model::models::{with_model, Model, ModelVisitor};
+use crate::base::progress::Progress;
+use crate::base::quantity::Quantity;
+use crate::io::record::{Needs, Record};
+use crate::base::warning::Warning;
 use identify::{identify, IdentifyError};
 
 /// The stage's name in messages and warnings.
@@ -45,7 +44,7 @@ pub fn needs(_cfg: &HekfConfig) -> Needs<'static> {
     let optional = OPTIONAL.get_or_init(|| {
         Quantity::MOTION
             .iter()
-            .chain(crate::models::registry::all_inputs())
+            .chain(crate::model::models::registry::all_inputs())
             .copied()
             .collect()
     });
@@ -117,7 +116,7 @@ pub fn preflight(
         cfg: &'a HekfConfig,
         available: &'a [String],
         configured: &'a std::collections::BTreeMap<String, f64>,
-        vehicle: crate::models::Vehicle,
+        vehicle: crate::model::models::Vehicle,
         runs: &'a [&'a Record],
     }
     impl ModelVisitor for Pre<'_> {
@@ -186,7 +185,7 @@ fn expectation<M: Model>(
     model: &M,
     cfg: &HekfConfig,
     configured: &dyn Fn(&str) -> Option<f64>,
-    vehicle: &crate::models::Vehicle,
+    vehicle: &crate::model::models::Vehicle,
 ) -> plausibility::Expectation {
     // a configured value of an estimated coefficient below a tenth of its typical magnitude
     // (`Ndr = 0.0` as the start of an estimate) is a placeholder, not a sign
@@ -225,7 +224,7 @@ impl ModelVisitor for Identify<'_> {
             inputs
                 .known
                 .get(n)
-                .filter(|c| c.source == crate::coefficients::Source::Config)
+                .filter(|c| c.source == crate::model::coefficients::Source::Config)
                 .map(|c| c.value)
         };
         let vehicle = inputs.vehicle.vehicle_data(inputs.fluid);
@@ -234,7 +233,7 @@ impl ModelVisitor for Identify<'_> {
         let setup = prepare::setup(model, cfg, &plan, &tuning, &runs)?;
         let id = identify(model, &setup, &runs, self.progress)
             .map_err(|e| divergence_error(model, &plan, &runs, &summaries, e))?;
-        let defs: Vec<&crate::models::CoefDef> =
+        let defs: Vec<&crate::model::models::CoefDef> =
             plan.est.iter().map(|&i| &model.coefficients()[i]).collect();
         let bound_warnings = bounds::warnings(&defs, &id.bounds);
         let gated: Vec<(Vec<identify::Rejection>, Vec<identify::Excursion>)> = id
@@ -374,7 +373,7 @@ fn surge_balance<M: Model>(
     }) else {
         return (out, Vec::new());
     };
-    let num = crate::numfmt::num;
+    let num = crate::base::numfmt::num;
     let runs: Vec<&str> = found.iter().map(|i| i.run.as_str()).collect();
     let seen = format!(
         "the approach is not an equilibrium of the model's surge equation in {} run{} ({}): in \
@@ -449,7 +448,7 @@ fn noise_model_warning(
     moved.sort_by(|a, b| b.0.total_cmp(&a.0));
     let list: Vec<String> = moved
         .iter()
-        .map(|(m, n)| format!("{n} {} sigma", crate::numfmt::num(*m)))
+        .map(|(m, n)| format!("{n} {} sigma", crate::base::numfmt::num(*m)))
         .collect();
     Some(
         Warning::new(
@@ -469,7 +468,7 @@ fn noise_model_warning(
          but look for the misfit behind it (the runs' innovation tests, a coefficient held \
          at a value the data contradict)",
         )
-        .failed(crate::warning::Test::NoiseModel),
+        .failed(crate::base::warning::Test::NoiseModel),
     )
 }
 
@@ -583,7 +582,7 @@ fn divergence_error<M: Model>(
     summaries: &[RunSummary],
     e: IdentifyError,
 ) -> Error {
-    let defs: Vec<&crate::models::CoefDef> =
+    let defs: Vec<&crate::model::models::CoefDef> =
         plan.est.iter().map(|&i| &model.coefficients()[i]).collect();
     // what was noticed about the run before filtering, and a gap just before the failure
     let mut likely: Vec<String> = summaries
@@ -593,15 +592,15 @@ fn divergence_error<M: Model>(
         .map(|w| format!("{}; {}", w.message, w.meaning))
         .collect();
     if let Some(run) = runs.iter().find(|r| r.name == e.run) {
-        if let Some(g) = crate::sampling::gaps(&run.times).into_iter().rfind(|g| {
+        if let Some(g) = crate::numerics::sampling::gaps(&run.times).into_iter().rfind(|g| {
             let after = e.divergence.time - (g.start + g.length);
             g.start <= e.divergence.time && after <= 5.0 * g.length
         }) {
             likely.push(format!(
                 "the failure came {} s after a gap of {} s in the time axis at t = {} s",
-                crate::numfmt::num(e.divergence.time - g.start - g.length),
-                crate::numfmt::num(g.length),
-                crate::numfmt::num(g.start)
+                crate::base::numfmt::num(e.divergence.time - g.start - g.length),
+                crate::base::numfmt::num(g.length),
+                crate::base::numfmt::num(g.start)
             ));
         }
     }

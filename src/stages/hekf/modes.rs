@@ -4,7 +4,7 @@
 //! pins it, in the words a naval architect uses (docs/hekf.md, "Joint estimate").
 
 use super::HekfResult;
-use crate::coefficients::{Coefficient, CoefficientSet};
+use crate::model::coefficients::{Coefficient, CoefficientSet};
 use serde::Serialize;
 
 /// One coefficient in both modes.
@@ -51,9 +51,9 @@ pub fn compare(
             let earlier = known.get(&j.name).filter(|e| {
                 matches!(
                     e.source,
-                    crate::coefficients::Source::Polar
-                        | crate::coefficients::Source::Surge
-                        | crate::coefficients::Source::Captive
+                    crate::model::coefficients::Source::Polar
+                        | crate::model::coefficients::Source::Surge
+                        | crate::model::coefficients::Source::Captive
                 )
             });
             let undetermined = consider

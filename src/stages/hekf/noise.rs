@@ -5,7 +5,7 @@
 //!
 //! 1. **High-frequency content** (sensor noise): the fourth differences of a smooth signal
 //!    are ~ y'''' dt^4, those of white noise of variance s^2 have variance 70 s^2
-//!    ([`crate::signal::noise_sigma`], the median form, for finely printed data; the trimmed
+//!    ([`crate::numerics::signal::noise_sigma`], the median form, for finely printed data; the trimmed
 //!    mean-square form for a channel printed with few digits, whose median difference is 0).
 //! 2. **Printed resolution**: rounding to a step d adds an error of variance d^2 / 12 to each
 //!    sample (Widrow & Kollar 2008, section 4.2). It enters every sample's variance as its own
@@ -20,9 +20,9 @@
 //!    is the channel's error. It replaces the high-frequency estimate when it is more than
 //!    twice as large.
 
-use crate::quantity::Quantity;
-use crate::record::Record;
-use crate::signal;
+use crate::base::quantity::Quantity;
+use crate::io::record::Record;
+use crate::numerics::signal;
 
 /// Half-widths (samples) of the local slopes the consistency check tries.
 const HALF_WIDTHS: [usize; 10] = [1, 2, 4, 8, 16, 32, 64, 128, 256, 512];
@@ -104,7 +104,7 @@ pub fn rate_bias(rec: &Record) -> Option<(f64, f64)> {
     }
     // d_k = psi_k - psi_0 - int r, fitted by c - b t_k; across a gap in the time axis the
     // trapezoid cannot integrate r, and d is carried over unchanged
-    let step = crate::sampling::median_interval(t)?;
+    let step = crate::numerics::sampling::median_interval(t)?;
     let mut integral = 0.0;
     let mut d = Vec::with_capacity(n);
     for k in 0..n {
@@ -190,7 +190,7 @@ fn consistency(rec: &Record, q: Quantity, bias: f64) -> Option<(f64, String)> {
     }
     let t = rec.time()?;
     // the regular interval: a gap does not move the median
-    let dt = crate::sampling::median_interval(t).filter(|d| *d > 0.0)?;
+    let dt = crate::numerics::sampling::median_interval(t).filter(|d| *d > 0.0)?;
     match q {
         Quantity::R => {
             let psi = rec.channel(Quantity::Yaw)?;
@@ -360,7 +360,7 @@ mod tests {
             .collect();
         let printed: Vec<f64> = deg.iter().map(|d| d.to_radians()).collect();
         let mut rec = record(t, printed.clone(), vec![0.0; 4000]);
-        let res = crate::printed::coarse_resolutions(&deg).expect("coarse");
+        let res = crate::numerics::printed::coarse_resolutions(&deg).expect("coarse");
         rec.resolution
             .insert(Quantity::Yaw, res.iter().map(|r| r.to_radians()).collect());
         let got = estimate(&rec, Quantity::Yaw, &printed, 0.0).unwrap();

@@ -32,10 +32,10 @@ mod travel;
 pub use inputs::{constant_inputs, Start};
 
 use super::STAGE;
-use crate::models::{Model, Vehicle};
-use crate::quantity::Quantity;
-use crate::record::Record;
-use crate::warning::Warning;
+use crate::model::models::{Model, Vehicle};
+use crate::base::quantity::Quantity;
+use crate::io::record::Record;
+use crate::base::warning::Warning;
 
 /// A finding of a check: a warning, and whether it is a clear mistake that stops the run
 /// (with `hekf.checks = "error"`).
@@ -116,7 +116,7 @@ fn propeller_diameter(vehicle: &Vehicle) -> Option<f64> {
     struct Propeller {
         #[serde(
             default,
-            deserialize_with = "crate::config::si::option::<_, crate::config::si::Length>"
+            deserialize_with = "crate::base::si::option::<_, crate::base::si::Length>"
         )]
         propeller_diameter: Option<f64>,
     }
@@ -281,7 +281,7 @@ const GOOD_FIT: f64 = 0.25;
 /// Non-overlapping windows (first, last sample) of `len` regular intervals (each within 1 %
 /// of the median interval).
 fn windows(times: &[f64], len: usize) -> Vec<(usize, usize)> {
-    let Some(dt) = crate::sampling::median_interval(times) else {
+    let Some(dt) = crate::numerics::sampling::median_interval(times) else {
         return Vec::new();
     };
     let regular = |k: usize| (times[k + 1] - times[k] - dt).abs() < 0.01 * dt;
@@ -497,7 +497,7 @@ fn factor(gain: f64, table: &'static [Factor]) -> Option<&'static Factor> {
 }
 
 fn sig(v: f64) -> String {
-    crate::numfmt::num(v)
+    crate::base::numfmt::num(v)
 }
 
 #[cfg(test)]

@@ -8,15 +8,15 @@ use super::noise;
 use super::result::RunSummary;
 use super::tuning::{NoiseChoice, Resolved};
 use super::STAGE;
-use crate::coefficients::{Coefficient, CoefficientSet};
-use crate::error::{Error, Result};
-use crate::models::Model;
-use crate::quantity::Quantity;
-use crate::record::Record;
-use crate::sampling::median_interval;
-use crate::signal::{self, noise_floor};
-use crate::sim::inputs::InputSeries;
-use crate::warning::Warning;
+use crate::model::coefficients::{Coefficient, CoefficientSet};
+use crate::base::error::{Error, Result};
+use crate::model::models::Model;
+use crate::base::quantity::Quantity;
+use crate::io::record::Record;
+use crate::numerics::sampling::median_interval;
+use crate::numerics::signal::{self, noise_floor};
+use crate::dynamics::sim::inputs::InputSeries;
+use crate::base::warning::Warning;
 
 /// Which coefficients the filter estimates, which it holds fixed, and their priors.
 #[derive(Debug, Clone)]
@@ -36,7 +36,7 @@ pub struct Plan {
     /// Internal scales (SI).
     pub scale: Vec<f64>,
     /// Admissible ranges (SI) the model declares, kept inside the filter.
-    pub ranges: Vec<crate::models::Range>,
+    pub ranges: Vec<crate::model::models::Range>,
     /// Prior correlations (nb x nb; empty: uncorrelated).
     pub prior_correlation: Vec<f64>,
     /// Coefficients whose prior is an earlier stage's estimate (`hekf.mode = "joint"`).
@@ -77,7 +77,7 @@ pub fn plan<M: Model>(
         // joint: an earlier stage's estimate (value and sigma) is the prior, unless the
         // configuration gives one
         if let Some((v, s, stage)) = stage_prior(cfg, known, n).filter(|_| p.is_none()) {
-            let unit = crate::models::registry::coefficient(n).map_or("", |c| c.unit);
+            let unit = crate::model::models::registry::coefficient(n).map_or("", |c| c.unit);
             notes.push(format!(
                 "{n}: prior {} ± {} {unit} from the {stage} stage (hekf.mode = \"joint\")",
                 sig(v),
@@ -104,7 +104,7 @@ pub fn plan<M: Model>(
             from_data.then_some(init),
             typical,
         );
-        let unit = crate::models::registry::coefficient(n).map_or("", |c| c.unit);
+        let unit = crate::model::models::registry::coefficient(n).map_or("", |c| c.unit);
         let range = M::COEFFICIENTS[i].range;
         let start = start_in_range(n, unit, init, typical, &range, p.and_then(|p| p.initial))?;
         let whence = match (start != init, from_data) {
@@ -171,7 +171,7 @@ fn prior_sigma_of(
 }
 
 /// The refusal of a configured start `init` of `name` outside its admissible range.
-fn start_outside(name: &str, unit: &str, init: f64, range: &crate::models::Range) -> String {
+fn start_outside(name: &str, unit: &str, init: f64, range: &crate::model::models::Range) -> String {
     format!(
         "hekf.prior.{name}.initial = {init}: outside the coefficient's admissible range ({}); \
          start it inside the range",
@@ -188,7 +188,7 @@ fn start_in_range(
     unit: &str,
     init: f64,
     typical: f64,
-    range: &crate::models::Range,
+    range: &crate::model::models::Range,
     configured: Option<f64>,
 ) -> Result<f64> {
     if range.contains(init) {
@@ -210,7 +210,7 @@ fn start_in_range(
 
 /// In `hekf.mode = "joint"`, an earlier stage's estimate of `name`: value, sigma and stage.
 fn stage_prior(cfg: &HekfConfig, known: &CoefficientSet, name: &str) -> Option<(f64, f64, String)> {
-    use crate::coefficients::Source;
+    use crate::model::coefficients::Source;
     if cfg.mode != super::Mode::Joint {
         return None;
     }
@@ -279,7 +279,7 @@ pub fn coefficient_problems<M: Model>(
                 let range = M::COEFFICIENTS[i].range;
                 match cfg.prior.get(n).and_then(|p| p.initial) {
                     Some(v) if !range.contains(v) => {
-                        let unit = crate::models::registry::coefficient(n).map_or("", |c| c.unit);
+                        let unit = crate::model::models::registry::coefficient(n).map_or("", |c| c.unit);
                         problems.push(start_outside(n, unit, v, &range));
                     }
                     _ => {}
@@ -318,7 +318,7 @@ impl Plan {
 }
 
 fn sig(v: f64) -> String {
-    crate::numfmt::fixed_trimmed(v, 4)
+    crate::base::numfmt::fixed_trimmed(v, 4)
 }
 
 /// The filter's view of one run: measurements, noise, inputs, initial state.
@@ -355,7 +355,7 @@ pub fn run_data<M: Model>(
     warnings.extend(coverage_warnings(model, rec, &times, &measured_q));
     let summary = RunSummary {
         name: rec.name.clone(),
-        file: crate::record::report_path(&rec.source, base_dir),
+        file: crate::io::record::report_path(&rec.source, base_dir),
         samples: times.len(),
         duration: times.last().copied().unwrap_or(0.0) - times.first().copied().unwrap_or(0.0),
         mean_dt: mean_interval(&times),
@@ -642,7 +642,7 @@ fn still_inputs<M: Model>(model: &M, rec: &Record) -> Vec<Warning> {
         .filter_map(|q| {
             let held = match rec.channel(q) {
                 Some(v) => {
-                    let (lo, hi) = crate::signal::range(v.iter().copied());
+                    let (lo, hi) = crate::numerics::signal::range(v.iter().copied());
                     // less than 0.1 deg of motion
                     (hi - lo < 0.1f64.to_radians()).then_some(0.5 * (lo + hi))
                 }
@@ -745,7 +745,7 @@ fn outlier_warning(q: Quantity, spikes: &[signal::Outlier], rec: &Record) -> War
 /// The warning for the gaps in a run's time axis, naming where they are.
 fn gap_warning(times: &[f64], lines: &[usize]) -> Option<Warning> {
     const SHOWN: usize = 5;
-    let gaps = crate::sampling::gaps(times);
+    let gaps = crate::numerics::sampling::gaps(times);
     if gaps.is_empty() {
         return None;
     }

@@ -6,10 +6,10 @@ use super::history::History;
 use super::identify::{Identification, RunData, Setup};
 use super::prepare::Plan;
 use super::tuning::NoiseChoice;
-use crate::coefficients::{directions_of, Coefficient, Correlation, Direction, Source};
-use crate::estimation::nis::{summarize, NisSummary};
-use crate::models::Model;
-use crate::warning::Warning;
+use crate::model::coefficients::{directions_of, Coefficient, Correlation, Direction, Source};
+use crate::numerics::estimation::nis::{summarize, NisSummary};
+use crate::model::models::Model;
+use crate::base::warning::Warning;
 use serde::Serialize;
 use std::collections::BTreeMap;
 
@@ -127,7 +127,7 @@ pub struct HekfResult {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Settings {
     /// The form of the filter that ran (`hekf.filter`: hybrid, discrete or continuous).
-    pub filter: crate::estimation::FilterKind,
+    pub filter: crate::numerics::estimation::FilterKind,
     /// Filter passes.
     pub passes: usize,
     /// RK4 sub-steps per sample.
@@ -174,12 +174,12 @@ pub struct Upstream {
 
 /// The tuning choices in words, and what the filter's form changes.
 fn tuning_notes(plan: &Plan, setup: &Setup, cfg: &HekfConfig) -> Vec<String> {
-    use crate::estimation::FilterKind;
+    use crate::numerics::estimation::FilterKind;
     let mut notes = plan.notes.clone();
     if let Some(v) = cfg.state_variance {
         notes.push(format!(
             "every state starts with variance {} SI^2 (hekf.state_variance), measured or not",
-            crate::numfmt::num(v)
+            crate::base::numfmt::num(v)
         ));
     }
     match setup.filter {
@@ -249,7 +249,7 @@ pub fn build<M: Model>(
         .enumerate()
         .map(|(j, n)| {
             let sigma = total[j * nb + j].max(0.0).sqrt();
-            let num = crate::numfmt::num;
+            let num = crate::base::numfmt::num;
             // joint: the filter's sigma holds the earlier stage's prior as well as the data
             let from = if plan.held_prior.get(j).copied().unwrap_or(false) {
                 format!(

@@ -2,7 +2,7 @@
 //!
 //! The filter's covariance is conditional on the fixed coefficients being exact. They are not:
 //! X_udot from a surge run, the polar coefficients, all carry uncertainty, as independent
-//! directions (see [`crate::coefficients::Direction`]). For each direction that reaches a
+//! directions (see [`crate::model::coefficients::Direction`]). For each direction that reaches a
 //! fixed coefficient of the model, the identification is repeated with the fixed values moved
 //! by plus and minus one sigma along it (one pass from the converged estimate), and the change
 //! of the estimates, (beta(+) - beta(-)) / 2, is that direction's share in them: linear error
@@ -16,8 +16,8 @@
 //! the uncertainty budget, and a move beyond one sigma is worth a warning.
 
 use super::identify::{estimates, RunData, Setup};
-use crate::coefficients::{CoefficientSet, Direction};
-use crate::models::Model;
+use crate::model::coefficients::{CoefficientSet, Direction};
+use crate::model::models::Model;
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 

@@ -2,7 +2,7 @@
 //! preset.
 
 use super::config::{HekfConfig, Preset};
-use crate::quantity::Quantity;
+use crate::base::quantity::Quantity;
 
 /// The settings that follow from the preset and the explicit keys.
 #[derive(Debug, Clone, PartialEq)]
@@ -105,8 +105,8 @@ impl Resolved {
     /// each RK4 step at or below 10 ms.
     pub fn substeps_for(&self, dt: f64) -> usize {
         self.substeps.unwrap_or_else(|| {
-            crate::ode::steps_for(dt, crate::ode::DEFAULT_MAX_STEP)
-                .unwrap_or(crate::ode::MAX_STEPS_PER_INTERVAL)
+            crate::numerics::ode::steps_for(dt, crate::numerics::ode::DEFAULT_MAX_STEP)
+                .unwrap_or(crate::numerics::ode::MAX_STEPS_PER_INTERVAL)
         })
     }
 }

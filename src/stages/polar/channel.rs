@@ -5,7 +5,7 @@ use super::{
     ChannelFit, PolarConfig, PolarFit, PolarPoint, PolarWeights, Residual, SlopeFit, SlopeSign,
     DRAG_NAMES, SLOPE_NAMES, STAGE,
 };
-use crate::error::{Error, Result};
+use crate::base::error::{Error, Result};
 
 /// A standard error below this fraction of |value| (or 1e-12) is raised to it before
 /// inverse-variance weighting, so that a perfectly steady history does not get infinite weight.

@@ -3,10 +3,10 @@
 
 use super::config::{PolarAxes, PolarConfig, PolarData};
 use crate::config::{FluidConfig, VehicleConfig};
-use crate::error::{InputError, Place, Result};
-use crate::quantity::Quantity;
-use crate::record::Record;
-use crate::warning::Warning;
+use crate::base::error::{InputError, Place, Result};
+use crate::base::quantity::Quantity;
+use crate::io::record::Record;
+use crate::base::warning::Warning;
 use serde::Serialize;
 
 /// One point of the polar, in body-axis coefficients.

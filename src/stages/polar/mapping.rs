@@ -16,7 +16,7 @@
 //! combination g'x of one channel's constants, so its variance is g' Cov g.
 
 use super::ChannelFit;
-use crate::coefficients::{directions_of, Coefficient, Direction, Source, YawMoment};
+use crate::model::coefficients::{directions_of, Coefficient, Direction, Source, YawMoment};
 
 /// One coefficient of eq. 5 as a linear combination of a channel's constants.
 struct Map {

@@ -13,7 +13,7 @@ mod channel;
 use crate::config::polar as config;
 mod data;
 /// The constrained least squares the polar fits use (shared with the captive stage).
-pub use crate::constrained_lsq as fit;
+pub use crate::numerics::constrained_lsq as fit;
 mod mapping;
 mod plausibility;
 mod result;
@@ -25,13 +25,13 @@ pub use config::{
 pub use data::{steady_mean, PolarPoint};
 pub use result::{ChannelFit, PolarFit, PolarResult, Reference, Residual, SpeedFit};
 
-use crate::coefficients::Coefficient;
+use crate::model::coefficients::Coefficient;
 use crate::config::{FluidConfig, VehicleConfig};
-use crate::error::{Error, Result};
-use crate::quantity::Quantity;
-use crate::record::{Needs, Record};
+use crate::base::error::{Error, Result};
+use crate::base::quantity::Quantity;
+use crate::io::record::{Needs, Record};
 use crate::stages::spread::{spread, Spread};
-use crate::warning::Warning;
+use crate::base::warning::Warning;
 use channel::fit_all;
 
 pub(crate) const STAGE: &str = "polar";

@@ -4,7 +4,7 @@
 
 use super::data::PolarPoint;
 use super::STAGE;
-use crate::warning::Warning;
+use crate::base::warning::Warning;
 
 /// A drift sweep narrower than this (deg) is almost certainly radians read as degrees.
 const NARROWEST_SWEEP_DEG: f64 = 1.0;

@@ -1,7 +1,7 @@
 //! The polar stage's result types (all `serde::Serialize`; see docs/stages.md).
 
 use super::{PolarAxes, PolarData, PolarPoint, PolarWeights};
-use crate::coefficients::{Coefficient, Direction};
+use crate::model::coefficients::{Coefficient, Direction};
 use crate::stages::spread::Spread;
 use serde::Serialize;
 
@@ -31,7 +31,7 @@ pub struct Reference {
     pub weights: PolarWeights,
     /// Which part of the yaw moment C_M is: `total` (Munk moment included; the slope gives
     /// Nuv) or `lift-only` (the slope gives Nuvl).
-    pub moment: crate::coefficients::YawMoment,
+    pub moment: crate::model::coefficients::YawMoment,
     /// The definitions in words.
     pub statement: String,
 }
@@ -148,7 +148,7 @@ pub struct PolarResult {
     /// Every point read, with `used` telling whether it was in the fitting range.
     pub points: Vec<PolarPoint>,
     /// Things worth reading.
-    pub warnings: Vec<crate::warning::Warning>,
+    pub warnings: Vec<crate::base::warning::Warning>,
     /// The coefficients' uncertainty as independent directions (for propagation through the
     /// later stages; summarised per coefficient in the report).
     #[serde(skip)]

@@ -4,7 +4,7 @@
 use super::estimate::Stack;
 use super::{Estimate, MomentumCheck, RunResiduals, STAGE};
 use crate::stages::spread::Spread;
-use crate::warning::Warning;
+use crate::base::warning::Warning;
 
 /// The warning when X_udot differs between the speed bins by more than their standard errors
 /// explain (chi-squared test at 1 %).
@@ -77,7 +77,7 @@ pub(super) fn momentum(
                 .collect();
             let mean = d.iter().sum::<f64>() / d.len() as f64;
             let rms = (d.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / d.len() as f64).sqrt();
-            let (lo, hi) = crate::signal::range(stack.u[r.clone()].iter().copied());
+            let (lo, hi) = crate::numerics::signal::range(stack.u[r.clone()].iter().copied());
             let relative = rms / (mass * (hi - lo)).max(f64::MIN_POSITIVE);
             if relative > 0.05 {
                 warnings.push(
@@ -86,7 +86,7 @@ pub(super) fn momentum(
                         format!(
                             "the exported force and thrust do not account for the motion \
                              (momentum balance off by {} the momentum change)",
-                            crate::numfmt::proportion(relative)
+                            crate::base::numfmt::proportion(relative)
                         ),
                         "Xuu and Xud fitted from this force export are not reliable: check \
                          vehicle.mass, the thrust and the sign of fx",

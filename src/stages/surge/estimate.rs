@@ -2,9 +2,9 @@
 
 use super::regress::{self, cumulative_trapezoid, SegmentError, SegmentFit};
 use super::{DragFrom, Estimate, PartFit, SurgeConfig, DEFAULT_FORCE_WINDOW, MIN_RUN_SAMPLES};
-use crate::error::{Error, InputError, Place, Result};
-use crate::quantity::Quantity;
-use crate::record::Record;
+use crate::base::error::{Error, InputError, Place, Result};
+use crate::base::quantity::Quantity;
+use crate::io::record::Record;
 use std::ops::Range;
 
 /// The stacked samples of every run, with the integrals the fits need.

@@ -30,12 +30,12 @@ pub use result::{
     BinFit, Constants, Estimate, MomentumCheck, PartFit, RunFit, RunResiduals, SurgeResult, XuuUsed,
 };
 
-use crate::coefficients::{Coefficient, CoefficientSet, Source};
+use crate::model::coefficients::{Coefficient, CoefficientSet, Source};
 use crate::config::VehicleConfig;
-use crate::error::{Error, Result};
-use crate::quantity::Quantity;
-use crate::record::{Needs, Record};
-use crate::warning::Warning;
+use crate::base::error::{Error, Result};
+use crate::base::quantity::Quantity;
+use crate::io::record::{Needs, Record};
+use crate::base::warning::Warning;
 use estimate::{part, solve, stack, Stack};
 use regress::SegmentFit;
 use std::ops::Range;

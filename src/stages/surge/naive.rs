@@ -1,7 +1,7 @@
 //! The estimator the stage does not use, kept to show why.
 
 use super::STAGE;
-use crate::error::{Error, Result};
+use crate::base::error::{Error, Result};
 
 /// Diagnostic only, and biased: X_udot from regressing the force Xuu u|u| + X_prop on a
 /// central-difference u_dot through the origin, (m - Xud) = sum(F u_dot) / sum(u_dot^2).

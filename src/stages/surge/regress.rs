@@ -1,7 +1,7 @@
 //! Cumulative integrals and least squares with one free intercept per segment (a
 //! fixed-effects regression: each stretch of a run keeps its own u(t0)).
 
-use crate::lsq::Slopes;
+use crate::numerics::lsq::Slopes;
 use nalgebra::{DMatrix, DVector};
 use std::ops::Range;
 
@@ -54,7 +54,7 @@ fn scaled_least_squares(
     y: &DVector<f64>,
     resid_dof: usize,
 ) -> Result<Slopes, SegmentError> {
-    crate::lsq::scaled_least_squares(x, y, resid_dof).ok_or(SegmentError::Singular)
+    crate::numerics::lsq::scaled_least_squares(x, y, resid_dof).ok_or(SegmentError::Singular)
 }
 
 /// Fits y = c_s + X theta over `segments` (index ranges into `y` and each of `x`).

@@ -1,7 +1,7 @@
 //! The surge stage's result types (all `serde::Serialize`; see docs/stages.md).
 
 use super::DragFrom;
-use crate::coefficients::{directions_of, Coefficient, CoefficientSet, Direction};
+use crate::model::coefficients::{directions_of, Coefficient, CoefficientSet, Direction};
 use crate::stages::spread::Spread;
 use serde::Serialize;
 
@@ -171,7 +171,7 @@ pub struct SurgeResult {
     /// Coefficients: Xud (and Xuu for `force`), `Source::Surge`.
     pub coefficients: Vec<Coefficient>,
     /// Things worth reading.
-    pub warnings: Vec<crate::warning::Warning>,
+    pub warnings: Vec<crate::base::warning::Warning>,
 }
 
 impl SurgeResult {

@@ -9,13 +9,13 @@
 //! filter would otherwise turn into confidently wrong coefficients.
 
 use super::{Finding, STAGE};
-use crate::estimation::System;
-use crate::models::Model;
-use crate::record::Record;
-use crate::sim::inputs::{Input, InputSeries};
+use crate::numerics::estimation::System;
+use crate::model::models::Model;
+use crate::io::record::Record;
+use crate::dynamics::sim::inputs::{Input, InputSeries};
 use crate::stages::hekf::identify::RunData;
-use crate::stages::hekf::system::ModelSystem;
-use crate::warning::Warning;
+use crate::dynamics::model_system::ModelSystem;
+use crate::base::warning::Warning;
 use nalgebra::{DMatrix, DVector};
 
 /// Samples used at most (evenly spread): enough for a precise fit, bounded for long runs.
@@ -49,7 +49,7 @@ pub fn constant_inputs<M: Model>(
     if m != nx || run.len() < 20 {
         return Vec::new();
     }
-    let Some(dt) = crate::sampling::median_interval(&run.times) else {
+    let Some(dt) = crate::numerics::sampling::median_interval(&run.times) else {
         return Vec::new();
     };
     // regular interior samples with every measurement present
@@ -166,7 +166,7 @@ fn check_one<M: Model>(
         let xm = DMatrix::from_fn(kk, cols.len(), |r, c| eq[r].1[cols[c]]);
         let ym = DVector::from_fn(kk, |r, _| eq[r].0);
         let Some(fit) =
-            crate::lsq::scaled_least_squares(&xm, &ym, kk.saturating_sub(cols.len()).max(1))
+            crate::numerics::lsq::scaled_least_squares(&xm, &ym, kk.saturating_sub(cols.len()).max(1))
         else {
             continue;
         };
@@ -213,5 +213,5 @@ fn check_one<M: Model>(
 }
 
 fn num(v: f64) -> String {
-    crate::numfmt::num(v)
+    crate::base::numfmt::num(v)
 }

@@ -8,8 +8,8 @@
 //! equation is not judged here).
 
 use super::{file, median_of, named, sig, Expectation, Finding};
-use crate::quantity::Quantity;
-use crate::record::Record;
+use crate::base::quantity::Quantity;
+use crate::io::record::Record;
 
 /// The advance ratios a working propeller has.
 const PLAUSIBLE: (f64, f64) = (0.1, 1.5);

@@ -17,8 +17,8 @@ use super::{
     complex_gain, correlation, factor, file, increment, median, named, sig, window_lengths,
     windows, Finding, GAIN_TOLERANCE, GOOD_FIT, RATE_FACTORS,
 };
-use crate::quantity::Quantity;
-use crate::record::Record;
+use crate::base::quantity::Quantity;
+use crate::io::record::Record;
 
 /// An angle and the body rate that drives it.
 struct Pair {
@@ -123,7 +123,7 @@ fn pair(rec: &Record, p: &Pair) -> Option<Finding> {
     // noisy samples has sigma sqrt(2) s; 4 s is beyond it for nine windows in ten, 10 s
     // makes the noise's share of the increments' spread below 2 %, so that a correlation
     // below 0.9 is the column's, not the noise's.
-    let noise = crate::signal::noise_sigma(angle).unwrap_or(0.0);
+    let noise = crate::numerics::signal::noise_sigma(angle).unwrap_or(0.0);
     let mut moves: Vec<f64> = f
         .windows
         .iter()
@@ -140,7 +140,7 @@ fn pair(rec: &Record, p: &Pair) -> Option<Finding> {
 fn judge(rec: &Record, p: &Pair, f: &Fit, clear_motion: bool) -> Finding {
     let dt = rec
         .time()
-        .and_then(crate::sampling::median_interval)
+        .and_then(crate::numerics::sampling::median_interval)
         .unwrap_or(0.0);
     let seen = format!(
         "in {}, the {} {} changes {} times as fast as the {} {} says (over {} windows of {} s: \

@@ -15,9 +15,9 @@
 use super::{
     approach, file, integral, median_of, named, sig, window_lengths, windows, Expectation, Finding,
 };
-use crate::models::Model;
-use crate::quantity::Quantity;
-use crate::record::Record;
+use crate::model::models::Model;
+use crate::base::quantity::Quantity;
+use crate::io::record::Record;
 use nalgebra::{DMatrix, DVector};
 
 const DEG: f64 = 180.0 / std::f64::consts::PI;
@@ -186,7 +186,7 @@ fn response<M: Model>(
         return None;
     }
     let model_b = model_response(model, rec, expect, range, u0)?;
-    let dt = crate::sampling::median_interval(times)?;
+    let dt = crate::numerics::sampling::median_interval(times)?;
     Some(Response {
         run: b * u0 * u0,
         model: model_b,
@@ -252,7 +252,7 @@ fn fit(
             x[(i, 3)] = integral(times, w, |k| speed[k] * v[k]);
         }
     }
-    let s = crate::lsq::scaled_least_squares(&x, &y, wins.len() - cols)?;
+    let s = crate::numerics::lsq::scaled_least_squares(&x, &y, wins.len() - cols)?;
     let (b, var) = (s.theta[1], s.covariance[1][1]);
     (b.is_finite() && var.is_finite()).then(|| (b, var.max(0.0).sqrt()))
 }

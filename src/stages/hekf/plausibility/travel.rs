@@ -13,8 +13,8 @@ use super::{
     approach, complex_gain, factor, file, increment, integral, median_of, named, sig,
     window_lengths, windows, Finding, GAIN_TOLERANCE, GOOD_FIT, TRAVEL_FACTORS,
 };
-use crate::quantity::Quantity;
-use crate::record::Record;
+use crate::base::quantity::Quantity;
+use crate::io::record::Record;
 
 /// What a factor between distance and speed points at.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -69,7 +69,7 @@ pub(super) fn speed(rec: &Record) -> Option<(Finding, Suspect)> {
         // no consistent factor: the path check says what disagrees
         return None;
     }
-    let dt = crate::sampling::median_interval(times).unwrap_or(0.0);
+    let dt = crate::numerics::sampling::median_interval(times).unwrap_or(0.0);
     let seen = format!(
         "in {}, the positions {} and {} travel {} times the distance the speed from {} and {} \
          gives between the same time stamps of {} ({n} windows of {} s; median relative \
@@ -311,7 +311,7 @@ pub(super) fn sway_over_surge(rec: &Record) -> Option<Finding> {
     }
     let surge = median_of(u[range.clone()].iter().map(|x| x.abs()))?;
     let sway = median_of(v[range.clone()].iter().map(|x| x.abs()))?;
-    let noise = crate::signal::noise_sigma(v).unwrap_or(0.0);
+    let noise = crate::numerics::signal::noise_sigma(v).unwrap_or(0.0);
     if !(sway > 3.0 * surge && sway > 10.0 * noise) {
         return None;
     }

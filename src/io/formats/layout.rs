@@ -1,0 +1,454 @@
+//! The layout pre-scan of delimited files: which delimiter, where the header is, which lines
+//! are preamble, comments and data, and whether lines end in an extra delimiter.
+//!
+//! The first line that is all numbers (confirmed by the next two) fixes the delimiter and the
+//! number of columns; the header is the nearest line above it whose cells are all names.
+
+use super::text::{
+    comment, decimal_commas_likely, parse_number, split_fields, Delim, Field, Source,
+    DECIMAL_COMMA_HINT,
+};
+use crate::base::error::InputError;
+
+/// Where things are in a delimited file.
+#[derive(Debug, Clone)]
+pub(crate) struct Layout {
+    /// The cell separator.
+    pub delim: Delim,
+    /// Numbers use a decimal comma (`1,5;2,25`).
+    pub decimal_comma: bool,
+    /// Number of columns.
+    pub ncols: usize,
+    /// Every line ends with one extra delimiter, which is dropped.
+    pub trailing_delim: bool,
+    /// The header line, when there is one.
+    pub header: Option<HeaderLine>,
+    /// Lines before the header (or the data), comments included (0-based).
+    pub preamble: Vec<usize>,
+    /// Data lines (0-based), comments, blank lines and repeated headers excluded.
+    pub data: Vec<usize>,
+    /// Lines that repeat the header further down (a concatenated file).
+    pub repeated_headers: Vec<usize>,
+    /// One name over rows of two integers split by a comma: perhaps `0,5` with a decimal
+    /// comma, perhaps a title over two columns. Read as two columns, with a warning.
+    pub decimal_comma_suspect: bool,
+    /// A line right above the data that reads like a header (names with units, or one name
+    /// more than the rows have values) but does not fit the rows: kept as a title, with a
+    /// warning. (0-based line, its number of names.)
+    pub unfit_header: Option<(usize, usize)>,
+}
+
+/// The header line of a delimited file.
+#[derive(Debug, Clone)]
+pub(crate) struct HeaderLine {
+    /// 0-based line index.
+    pub index: usize,
+    /// Its cells.
+    pub fields: Vec<Field>,
+    /// True when the header is written as a comment (`# time u v`).
+    pub commented: bool,
+}
+
+const CANDIDATES: [(Delim, bool); 6] = [
+    (Delim::Char(b','), false),
+    (Delim::Char(b';'), false),
+    (Delim::Char(b'\t'), false),
+    (Delim::Whitespace, false),
+    (Delim::Char(b';'), true),
+    (Delim::Char(b'\t'), true),
+];
+
+/// A cell as a number, reading a decimal comma when the layout has them.
+pub(crate) fn number(text: &str, decimal_comma: bool) -> Option<f64> {
+    if decimal_comma && text.contains(',') {
+        parse_number(&text.replace(',', "."))
+    } else {
+        parse_number(text)
+    }
+}
+
+/// Cells of `line` if every cell is a number or empty and at least one is a number.
+fn numeric_cells(line: &str, delim: Delim, dc: bool) -> Option<usize> {
+    let f = split_fields(line, delim);
+    let ok = f
+        .iter()
+        .all(|c| c.text.is_empty() || number(&c.text, dc).is_some())
+        && f.iter().any(|c| !c.text.is_empty());
+    ok.then_some(f.len())
+}
+
+fn is_header_like(fields: &[Field], dc: bool) -> bool {
+    !fields.is_empty()
+        && fields
+            .iter()
+            .all(|c| !c.text.is_empty() && number(&c.text, dc).is_none())
+}
+
+/// A line that may be a data row with a problem: it opens with a number. A title line
+/// (`Zig-zag 10/10 run 3`, `KVLCC2 : 35 (deg)`) opens with a word, even if it holds numbers.
+fn opens_with_number(fields: &[Field], dc: bool) -> bool {
+    fields
+        .first()
+        .is_some_and(|c| number(&c.text, dc).is_some())
+}
+
+/// The cells of a blank-separated header line with the units that blanks split off joined
+/// back to their names: `time (s) u (m/s)` and `u [ m s^-1 ]` are two names and one, each
+/// with its unit. A cell that opens a bracket takes the cells up to the one that closes it.
+fn join_units(fields: Vec<Field>) -> Vec<Field> {
+    let mut out: Vec<Field> = Vec::with_capacity(fields.len());
+    let mut depth = 0i32;
+    for f in fields {
+        let opens = !f.quoted && f.text.starts_with(['(', '[']);
+        let joined = depth > 0 || opens;
+        depth += f.text.matches(['(', '[']).count() as i32;
+        depth -= f.text.matches([')', ']']).count() as i32;
+        depth = depth.max(0);
+        match out.last_mut() {
+            Some(last) if joined => {
+                last.text.push(' ');
+                last.text.push_str(&f.text);
+            }
+            _ => out.push(f),
+        }
+    }
+    out
+}
+
+/// True when a cell ends in a bracket that parses as a unit (`time (s)`, `u [ m/s ]`).
+fn has_unit(fields: &[Field]) -> bool {
+    use super::columns::{interpret_unit, split_unit_suffix, HeaderUnit};
+    fields.iter().any(|f| {
+        let split = split_unit_suffix(&f.text, '(', ')', true)
+            .or_else(|| split_unit_suffix(&f.text, '[', ']', true));
+        split.is_some_and(|(_, u)| matches!(interpret_unit(u), HeaderUnit::Known(_)))
+    })
+}
+
+/// A `[Section]` line (CFX-Post preamble).
+pub(crate) fn is_section(line: &str) -> bool {
+    let t = line.trim();
+    t.starts_with('[') && t.ends_with(']') && !t[1..].contains('[')
+}
+
+/// Finds the layout of a delimited file.
+pub(crate) fn scan(src: &Source) -> Result<Layout, InputError> {
+    let cand: Vec<usize> = src
+        .content()
+        .filter(|(_, l)| comment(l).is_none())
+        .map(|(i, _)| i)
+        .collect();
+    // The first line that is all numbers, confirmed by the next two, with the delimiter
+    // that gives the most cells (a tab-separated row with an empty cell is still two cells).
+    let mut found = None;
+    for (k, &i) in cand.iter().enumerate() {
+        let mut best: Option<(Delim, bool, usize)> = None;
+        for (delim, dc) in CANDIDATES {
+            let Some(n) = numeric_cells(src.lines[i], delim, dc) else {
+                continue;
+            };
+            let confirmed = cand[k + 1..]
+                .iter()
+                .take(2)
+                .all(|&j| numeric_cells(src.lines[j], delim, dc) == Some(n));
+            if confirmed && best.is_none_or(|b| n > b.2) {
+                best = Some((delim, dc, n));
+            }
+        }
+        if let Some((delim, dc, n)) = best {
+            found = Some((k, delim, dc, n));
+            break;
+        }
+    }
+    let Some((k0, delim, dc, mut ncols)) = found else {
+        return Err(no_data(src, &cand));
+    };
+
+    // The header: the nearest line above the data whose cells are all names. Lines opening
+    // with a number between it and the confirmed data are data rows (with a problem to
+    // report); lines opening with a word are titles.
+    let fits = |f: &[Field]| {
+        let named =
+            f.len() - usize::from(f.len() > ncols && f.last().is_some_and(|c| c.text.is_empty()));
+        (named == ncols || (named + 1 == ncols && ncols > 1)) && is_header_like(&f[..named], dc)
+    };
+    // A header written as a comment (`# time u v`) right above the data is used only when
+    // no bare header line is found above it.
+    let mut header = None;
+    let mut commented = None;
+    // The line right above the data when it is all names but does not fit the data (for the
+    // decimal-comma check).
+    let mut names_above: Option<(usize, usize)> = None;
+    let mut unfit_header: Option<(usize, usize)> = None;
+    let mut nearest = true;
+    let mut data_start = cand[k0];
+    let mut absorbing = true;
+    for i in (0..cand[k0]).rev() {
+        let line = src.lines[i];
+        if line.trim().is_empty() {
+            continue;
+        }
+        if let Some(text) = comment(line) {
+            if absorbing && commented.is_none() {
+                commented = [delim, Delim::Whitespace].into_iter().find_map(|d| {
+                    let mut f = split_fields(text, d);
+                    if d == Delim::Whitespace && f.len() != ncols {
+                        f = join_units(f);
+                    }
+                    (f.len() == ncols && is_header_like(&f, dc)).then_some(HeaderLine {
+                        index: i,
+                        fields: f,
+                        commented: true,
+                    })
+                });
+            }
+            continue;
+        }
+        if is_section(line) {
+            absorbing = false;
+            continue;
+        }
+        let mut f = split_fields(line, delim);
+        if delim == Delim::Whitespace && !fits(&f) {
+            f = join_units(f);
+        }
+        if fits(&f) {
+            header = Some(HeaderLine {
+                index: i,
+                fields: f,
+                commented: false,
+            });
+            break;
+        }
+        if std::mem::take(&mut nearest) && is_header_like(&f, dc) {
+            names_above = Some((i, f.len()));
+            if f.len() == ncols + 1 || has_unit(&f) {
+                unfit_header = Some((i, f.len()));
+            }
+        }
+        if absorbing && commented.is_none() && opens_with_number(&f, dc) {
+            data_start = i;
+        } else {
+            absorbing = false;
+        }
+    }
+    let mut header = header.or(commented);
+    // a header found after all (a commented one): the line above is no header
+    if header.is_some() {
+        unfit_header = None;
+    }
+    // `time,u` over `0,5,1,25`: every number split in two by a comma separator.
+    let names = match &header {
+        Some(h) => Some((
+            h.index,
+            h.fields.iter().filter(|f| !f.text.is_empty()).count(),
+        )),
+        None => names_above,
+    };
+    let mut decimal_comma_suspect = false;
+    if let Some((i, m)) = names.filter(|&(_, m)| delim == Delim::Char(b',') && 2 * m == ncols) {
+        let split = cand[k0..]
+            .iter()
+            .take(3)
+            .all(|&j| decimal_commas_likely(src.lines[j]));
+        // One name over two integers is as likely a title over a table without header.
+        decimal_comma_suspect = split && m == 1;
+        if split && m > 1 {
+            return Err(InputError::new(
+                src.at(i),
+                format!(
+                    "the header has {m} name{} but the rows below have {ncols} values; \
+                     {DECIMAL_COMMA_HINT}",
+                    if m == 1 { "" } else { "s" }
+                ),
+            )
+            .expected(format!("{m} values per row separated by commas")));
+        }
+    }
+    if let Some(h) = &header {
+        data_start = h.index + 1;
+    }
+
+    // A delimiter at the end of every line makes an extra empty column.
+    let first_fields = split_fields(src.lines[cand[k0]], delim);
+    let mut trailing_delim = false;
+    if let (Delim::Char(_), Some(last)) = (delim, first_fields.last()) {
+        if last.text.is_empty() && !last.quoted && ncols > 1 {
+            let hn = header.as_ref().map(|h| {
+                let f = &h.fields;
+                f.len() - usize::from(f.last().is_some_and(|c| c.text.is_empty()))
+            });
+            if hn.is_none_or(|n| n == ncols - 1) {
+                trailing_delim = true;
+                ncols -= 1;
+            }
+        }
+    }
+    if let Some(h) = &mut header {
+        if h.fields.len() > ncols {
+            h.fields.truncate(ncols);
+        }
+    }
+
+    let header_text = header.as_ref().map(|h| src.lines[h.index].trim());
+    let mut data = Vec::new();
+    let mut repeated_headers = Vec::new();
+    for &i in cand.iter().filter(|&&i| i >= data_start) {
+        if !header.as_ref().is_some_and(|h| h.commented) && Some(src.lines[i].trim()) == header_text
+        {
+            repeated_headers.push(i);
+        } else {
+            data.push(i);
+        }
+    }
+    // In semicolon- or tab-separated numbers a comma can only be a decimal comma, even when
+    // the first rows happen to have none.
+    let dc = dc
+        || (matches!(delim, Delim::Char(b';' | b'\t'))
+            && data.iter().any(|&i| src.lines[i].contains(',')));
+    let preamble_end = header.as_ref().map_or(data_start, |h| h.index);
+    let preamble = (0..preamble_end)
+        .filter(|&i| !src.lines[i].trim().is_empty())
+        .collect();
+    Ok(Layout {
+        delim,
+        decimal_comma: dc,
+        ncols,
+        trailing_delim,
+        header,
+        preamble,
+        data,
+        repeated_headers,
+        decimal_comma_suspect,
+        unfit_header,
+    })
+}
+
+fn no_data(src: &Source, cand: &[usize]) -> InputError {
+    let expected = "rows of numbers separated by commas, semicolons, tabs or spaces, under an \
+                    optional header line (or name the format with --format)";
+    // Rows of decimal-comma numbers split by commas have varying cell counts: no rows fit.
+    let decimal: Vec<usize> = cand
+        .iter()
+        .take(10)
+        .copied()
+        .filter(|&i| decimal_commas_likely(src.lines[i]))
+        .collect();
+    if decimal.len() >= 3 {
+        return InputError::new(
+            src.at(decimal[0]),
+            format!("no rows of numbers with the same number of cells; {DECIMAL_COMMA_HINT}"),
+        )
+        .expected(expected);
+    }
+    match cand.first() {
+        Some(&i) if cand.len() <= 3 => InputError::new(
+            src.at(i),
+            format!(
+                "no rows of numbers: the file has only {} line{} of text ('{}'), like a \
+                 header without data",
+                cand.len(),
+                if cand.len() == 1 { "" } else { "s" },
+                shorten(src.lines[i].trim(), 60)
+            ),
+        )
+        .expected(expected),
+        Some(&i) => InputError::new(
+            src.at(i),
+            format!(
+                "no rows of numbers anywhere in the file; it starts with '{}'",
+                shorten(src.lines[i].trim(), 60)
+            ),
+        )
+        .expected(expected),
+        None => InputError::new(src.file(), "the file holds only comment lines").expected(expected),
+    }
+}
+
+/// `s` cut to `n` characters with `...`.
+pub(crate) fn shorten(s: &str, n: usize) -> String {
+    if s.chars().count() > n {
+        format!("{}...", s.chars().take(n).collect::<String>())
+    } else {
+        s.to_string()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    fn layout(text: &str) -> Layout {
+        scan(&Source::new(Path::new("t.csv"), text)).unwrap()
+    }
+
+    #[test]
+    fn finds_header_preamble_and_delimiter() {
+        let l = layout("Run 12\n# comment\ntime;u\n0;1\n1;2\n");
+        assert_eq!(l.delim, Delim::Char(b';'));
+        assert_eq!(l.header.as_ref().map(|h| h.index), Some(2));
+        assert_eq!(l.preamble, vec![0, 1]);
+        assert_eq!(l.data, vec![3, 4]);
+    }
+
+    #[test]
+    fn decimal_comma_and_trailing_delimiter() {
+        let l = layout("a;b\n1,5;2\n3;4,25\n");
+        assert!(l.decimal_comma);
+        let l = layout("a;b\n1;2\n3;4\n5;6\n7,5;8\n");
+        assert!(l.decimal_comma, "a decimal comma further down");
+        let l = layout("a,b\n1,2,\n3,4,\n");
+        assert!(l.trailing_delim);
+        assert_eq!(l.ncols, 2);
+    }
+
+    #[test]
+    fn bad_first_row_is_data_not_header() {
+        let l = layout("t,u\n1,x\n2,3\n3,4\n4,5\n");
+        assert_eq!(l.header.as_ref().map(|h| h.index), Some(0));
+        assert_eq!(l.data, vec![1, 2, 3, 4]);
+    }
+
+    #[test]
+    fn decimal_commas_split_by_the_separator() {
+        let scan_err = |text: &str| {
+            scan(&Source::new(Path::new("t.csv"), text))
+                .err()
+                .map(|e| e.to_string())
+        };
+        let e = scan_err("time,u\n0,5,1,25\n1,0,1,5\n1,5,1,75\n").unwrap();
+        assert!(e.contains("t.csv:1") && e.contains("decimal commas"), "{e}");
+        // Integers under a header that fits are no decimal commas; under a title line they
+        // may be: read, with a warning.
+        assert!(layout("Towing tank\n1,2\n3,4\n5,6\n").decimal_comma_suspect);
+        assert!(!layout("Towing tank\n1,2.5\n3,4\n5,6\n").decimal_comma_suspect);
+        assert_eq!(scan_err("a,b\nrun 3\n1,2\n3,4\n5,6\n"), None);
+        assert_eq!(scan_err("a,b,c,d\n1,2,3,4\n3,4,5,6\n5,6,7,8\n"), None);
+    }
+
+    /// Title lines of model-test logs open with a word, whatever numbers they hold; they are
+    /// preamble, not rows. A line opening with a number right above the data is a row.
+    #[test]
+    fn title_lines_above_a_headerless_table() {
+        let rows = "  .000  2.9  -.007\n  .050  2.99  -.0073\n  .100  3.05  -.0075\n";
+        let l = layout(&format!(
+            "HSVA, experimental data CPMC\nZigzag 10 / 10 starting to starboard, run 3\n{rows}"
+        ));
+        assert!(l.header.is_none());
+        assert_eq!(l.preamble, [0, 1]);
+        assert_eq!(l.data, [2, 3, 4]);
+        let l = layout(&format!("KVLCC2\n35 deg turn\n{rows}"));
+        assert_eq!(
+            l.data,
+            [1, 2, 3, 4],
+            "a line opening with a number is a row"
+        );
+    }
+
+    #[test]
+    fn commented_header() {
+        let l = layout("# time u v\n0 1 2\n1 2 3\n");
+        assert!(l.header.as_ref().is_some_and(|h| h.commented));
+    }
+}

@@ -1,0 +1,15 @@
+//! Layer 2, numerics: automatic differentiation, linear algebra, (constrained) least squares,
+//! the ODE integrator, signal statistics, sampling, reference frames, the printed precision of
+//! logged values, and the estimators (hybrid EKF, Kalman-Bucy, RTS smoother, NIS): generic,
+//! without I/O. Imports only the base layer.
+
+pub mod ad;
+pub mod constrained_lsq;
+pub mod estimation;
+pub(crate) mod frames;
+pub(crate) mod linalg;
+pub(crate) mod lsq;
+pub mod ode;
+pub mod printed;
+pub(crate) mod sampling;
+pub(crate) mod signal;
