@@ -7,12 +7,12 @@
 mod common;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use hydroid::numerics::estimation::System;
+use hydroid::dynamics::model_system::ModelSystem;
+use hydroid::dynamics::sim::{simulate, InputSeries};
 use hydroid::model::models::spheroid3::BOUNDED_TRUTH;
 use hydroid::model::models::{Model, Spheroid3};
-use hydroid::dynamics::sim::{simulate, InputSeries};
+use hydroid::numerics::estimation::System;
 use hydroid::stages::hekf::identify::{RunData, Setup};
-use hydroid::dynamics::model_system::ModelSystem;
 use rand::{rngs::StdRng, SeedableRng};
 use rand_distr::{Distribution, Normal};
 use std::hint::black_box;

@@ -9,9 +9,9 @@
 mod common;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use hydroid::dynamics::sim::{simulate, InputSeries};
 use hydroid::model::models::npsauv::{PAPER_17, PUBLISHED};
 use hydroid::model::models::{Model, NpsAuv};
-use hydroid::dynamics::sim::{simulate, InputSeries};
 use hydroid::stages::hekf::identify::RunData;
 use rand::{rngs::StdRng, SeedableRng};
 use rand_distr::{Distribution, Normal};

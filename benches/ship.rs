@@ -7,9 +7,9 @@
 mod common;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use hydroid::dynamics::sim::{simulate, InputSeries};
 use hydroid::model::models::mmg3::{KVLCC2, KVLCC2_RPS, KVLCC2_SPEED};
 use hydroid::model::models::{Mmg3, Model};
-use hydroid::dynamics::sim::{simulate, InputSeries};
 use hydroid::stages::hekf::identify::RunData;
 use rand::{rngs::StdRng, SeedableRng};
 use rand_distr::{Distribution, Normal};

@@ -3,10 +3,10 @@
 //!
 //! `cargo run --release --example twin_experiment`
 
-use hydroid::model::models::spheroid3::BOUNDED_TRUTH;
-use hydroid::model::models::{Model, Spheroid3};
 use hydroid::base::progress::Silent;
 use hydroid::dynamics::sim::{simulate, InputSeries};
+use hydroid::model::models::spheroid3::BOUNDED_TRUTH;
+use hydroid::model::models::{Model, Spheroid3};
 use hydroid::stages::hekf::identify::{identify, RunData, Setup};
 use rand::{rngs::StdRng, SeedableRng};
 use rand_distr::{Distribution, Normal};

@@ -48,9 +48,9 @@ pub mod model;
 pub mod numerics;
 pub mod stages;
 
-pub use config::{load, LoadedConfig};
 pub use app::pipeline::run;
 pub use app::results::{RunOutput, RunResult};
 pub use base::error::{Error, Result};
+pub use config::{load, LoadedConfig};
 pub use model::models::{with_model, Model, ModelName, ModelVisitor, Vehicle};
 pub use numerics::estimation::{HybridEkf, System};

@@ -2,8 +2,8 @@
 //! the orientation as a quaternion write it: read into roll, pitch and yaw, checked against
 //! nalgebra's own Euler-angle conversion, with earth-frame velocities rotated through them.
 
-use hydroid::config::InputSpec;
 use hydroid::base::quantity::Quantity;
+use hydroid::config::InputSpec;
 use hydroid::io::record::{self, Needs, Record};
 use nalgebra::{UnitQuaternion, Vector3};
 use std::f64::consts::PI;

@@ -6,9 +6,9 @@
 mod common;
 
 use common::{hydroid, root, text};
-use hydroid::base::quantity::Quantity;
 use hydroid::app::simulate::config::{load, load_str, LoadedSim};
 use hydroid::app::simulate::synth::{synthesize, Columns};
+use hydroid::base::quantity::Quantity;
 
 /// The bundled configurations and the exports they write.
 const BUNDLED: [(&str, &str); 3] = [

@@ -5,10 +5,10 @@
 //!
 //! The broken exports themselves (cut-off lines, decimal commas ...) are in tests/bad_files.rs.
 
+use hydroid::base::quantity::Quantity;
 use hydroid::config::InputSpec;
 use hydroid::io::formats::input::{self, Limits, MAX_LINE_ENV, MAX_SIZE_ENV};
 use hydroid::io::formats::{self, Format, FormatChoice, ReadOptions};
-use hydroid::base::quantity::Quantity;
 use hydroid::io::record::{self, Needs};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};

@@ -12,12 +12,12 @@
 //!    reads any export, and identify the example's coefficients from the noise-free data with
 //!    the hybrid EKF: each within 1 % of the truth.
 
-use hydroid::numerics::ad;
-use hydroid::model::coefficients::{Coefficient, CoefficientSet, Source, YawMoment};
 use hydroid::config::{FluidConfig, InputSpec, VehicleConfig};
-use hydroid::model::models::{with_model, Model, ModelName, ModelVisitor, Vehicle};
-use hydroid::io::record;
 use hydroid::dynamics::sim::{simulate, InputSeries};
+use hydroid::io::record;
+use hydroid::model::coefficients::{Coefficient, CoefficientSet, Source, YawMoment};
+use hydroid::model::models::{with_model, Model, ModelName, ModelVisitor, Vehicle};
+use hydroid::numerics::ad;
 use hydroid::stages::hekf::{self, system::ModelSystem, HekfConfig};
 
 /// Runs `check` on every registered model, built for its example vehicle; failures name the

@@ -2,8 +2,8 @@
 //! (tests/fixtures/freerunning/): title lines, headerless whitespace or tab columns, degrees,
 //! rpm, repeated time stamps of each kind, earth-frame velocities, Froude scaling.
 
-use hydroid::config::InputSpec;
 use hydroid::base::quantity::Quantity;
+use hydroid::config::InputSpec;
 use hydroid::io::record::{self, Needs, Record};
 use std::path::Path;
 

@@ -9,9 +9,9 @@
 //! file well under a minute in a debug build; `HYDROID_FUZZ_CASES=5000 HYDROID_FUZZ_SEED=7
 //! cargo test --release --test fuzz_readers` runs a longer search from another seed.
 
+use hydroid::base::quantity::Quantity;
 use hydroid::config::InputSpec;
 use hydroid::io::formats::{self, Format, FormatChoice, ReadOptions};
-use hydroid::base::quantity::Quantity;
 use hydroid::io::record::{self, Needs};
 use proptest::prelude::*;
 use proptest::test_runner::RngSeed;

@@ -144,7 +144,8 @@ fn measured_child(spec: &str) {
     set.push(format!("hekf.decimate={decimate}"));
     let loaded = hydroid::config::load(std::path::Path::new(config), &set).unwrap();
     let staging = hydroid::io::output::Staging::new(std::path::Path::new(out)).unwrap();
-    let output = hydroid::app::pipeline::run(&loaded, &mut hydroid::base::progress::Silent).unwrap();
+    let output =
+        hydroid::app::pipeline::run(&loaded, &mut hydroid::base::progress::Silent).unwrap();
     hydroid::app::report::write(&staging, &loaded, &output).unwrap();
     staging.commit().unwrap();
     println!("peak_bytes={}", peak_rss().unwrap_or(0));
@@ -258,7 +259,8 @@ fn a_million_rows_run_in_under_2_gb() {
     let before = peak_rss().unwrap_or(0);
     let loaded = hydroid::config::load(&cfg_path, &[]).unwrap();
     let staging = hydroid::io::output::Staging::new(&dir.path().join("out")).unwrap();
-    let output = hydroid::app::pipeline::run(&loaded, &mut hydroid::base::progress::Silent).unwrap();
+    let output =
+        hydroid::app::pipeline::run(&loaded, &mut hydroid::base::progress::Silent).unwrap();
     hydroid::app::report::write(&staging, &loaded, &output).unwrap();
     staging.commit().unwrap();
     let peak = peak_rss().unwrap_or(0);

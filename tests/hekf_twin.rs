@@ -5,13 +5,15 @@
 mod common;
 
 use common::accuracy::Accuracy;
-use hydroid::model::coefficients::{Coefficient, CoefficientSet, Source, YawMoment, SYMMETRY};
+use hydroid::app::simulate::config::{
+    ExportColumn, ExportConfig, Manoeuvre, NoiseConfig, SimConfig, Step,
+};
+use hydroid::app::simulate::synth::synthesize;
+use hydroid::base::quantity::Quantity;
 use hydroid::config::{Constant, FluidConfig, VehicleConfig};
 use hydroid::io::formats::Format;
-use hydroid::base::quantity::Quantity;
 use hydroid::io::record::Record;
-use hydroid::app::simulate::config::{ExportColumn, ExportConfig, Manoeuvre, NoiseConfig, SimConfig, Step};
-use hydroid::app::simulate::synth::synthesize;
+use hydroid::model::coefficients::{Coefficient, CoefficientSet, Source, YawMoment, SYMMETRY};
 use hydroid::stages::hekf::{
     self, Checks, HekfConfig, HekfResult, ModelName, Outliers, Preset, Prior,
 };

@@ -5,9 +5,9 @@
 mod common;
 
 use common::root;
-use hydroid::base::quantity::Quantity;
 use hydroid::app::simulate::config::{load as load_sim, Manoeuvre};
 use hydroid::app::simulate::synth::synthesize;
+use hydroid::base::quantity::Quantity;
 
 /// Truth of the bundled log: K = 0.18 1/s, T = 27 s, bias 1 deg.
 const K: f64 = 0.18;

@@ -25,10 +25,10 @@
 mod common;
 
 use common::root;
-use hydroid::dynamics::course_stability::SwayYaw;
-use hydroid::base::quantity::Quantity;
 use hydroid::app::simulate::config::load as load_sim;
 use hydroid::app::simulate::synth::synthesize;
+use hydroid::base::quantity::Quantity;
+use hydroid::dynamics::course_stability::SwayYaw;
 use rand::{rngs::StdRng, SeedableRng};
 use rand_distr::{Distribution, Normal};
 use std::path::Path;

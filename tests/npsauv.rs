@@ -5,9 +5,9 @@
 
 mod common;
 
+use hydroid::dynamics::sim::{simulate, InputSeries};
 use hydroid::model::models::npsauv::{nps_auv_vehicle, NpsAuv, ADDED_MASS, PUBLISHED};
 use hydroid::model::models::{Model, Vehicle};
-use hydroid::dynamics::sim::{simulate, InputSeries};
 
 /// The published vehicle and coefficient set.
 fn published() -> (NpsAuv, Vec<f64>) {
@@ -324,8 +324,8 @@ fn papers_helix_record(m: &NpsAuv, truth: &[f64]) -> hydroid::io::record::Record
 /// 76 known.
 #[test]
 fn the_papers_helix_identifies_its_17_coefficients() {
-    use hydroid::model::coefficients::{Coefficient, CoefficientSet, Source};
     use hydroid::config::{FluidConfig, VehicleConfig};
+    use hydroid::model::coefficients::{Coefficient, CoefficientSet, Source};
     use hydroid::model::models::npsauv::PAPER_17;
     use hydroid::stages::hekf::{self, HekfConfig};
 

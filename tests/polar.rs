@@ -3,10 +3,10 @@
 mod common;
 
 use common::{fluid, four_figures, record, vehicle};
-use hydroid::model::coefficients::YawMoment;
-use hydroid::config::{Config, Problems};
 use hydroid::base::quantity::Quantity;
+use hydroid::config::{Config, Problems};
 use hydroid::io::record::Record;
+use hydroid::model::coefficients::YawMoment;
 use hydroid::stages::polar::{self, PolarConfig, PolarResult};
 use nalgebra::{DMatrix, DVector};
 use rand::SeedableRng;

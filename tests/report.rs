@@ -5,10 +5,10 @@
 //! The pipeline runs twice (two output folders, for the determinism check); every other test
 //! reuses the first run.
 
-use hydroid::config::LoadedConfig;
-use hydroid::io::output::Staging;
 use hydroid::app::report::{self, plots, table};
 use hydroid::app::results::RunOutput;
+use hydroid::config::LoadedConfig;
+use hydroid::io::output::Staging;
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
@@ -25,8 +25,8 @@ fn example() -> PathBuf {
 
 fn run_into(name: &str) -> Run {
     let loaded = hydroid::config::load(&example(), &[]).expect("the example loads");
-    let output =
-        hydroid::app::pipeline::run(&loaded, &mut hydroid::base::progress::Silent).expect("the example runs");
+    let output = hydroid::app::pipeline::run(&loaded, &mut hydroid::base::progress::Silent)
+        .expect("the example runs");
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
         .join("report-test")
         .join(name);

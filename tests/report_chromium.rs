@@ -14,12 +14,12 @@
 //! HYDROID_REQUIRE_CHROMIUM=1 is set (CI sets it after installing Chromium): then it fails.
 
 use hydroid::app::catalogue;
-use hydroid::model::models::ModelName;
-use hydroid::io::output::Staging;
-use hydroid::base::quantity::Quantity;
 use hydroid::app::report;
 use hydroid::app::report::plots::panels::shown;
 use hydroid::app::results::RunOutput;
+use hydroid::base::quantity::Quantity;
+use hydroid::io::output::Staging;
+use hydroid::model::models::ModelName;
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};

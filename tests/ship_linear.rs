@@ -6,14 +6,14 @@
 mod common;
 
 use common::accuracy::Accuracy;
-use hydroid::model::coefficients::CoefficientSet;
-use hydroid::config::{FluidConfig, VehicleConfig};
-use hydroid::model::models::ship_linear::{ShipLinear, EXAMPLE};
-use hydroid::model::models::Model;
 use hydroid::base::quantity::Quantity;
-use hydroid::io::record::Record;
+use hydroid::config::{FluidConfig, VehicleConfig};
 use hydroid::dynamics::sim::inputs::Input;
 use hydroid::dynamics::sim::{simulate, InputSeries};
+use hydroid::io::record::Record;
+use hydroid::model::coefficients::CoefficientSet;
+use hydroid::model::models::ship_linear::{ShipLinear, EXAMPLE};
+use hydroid::model::models::Model;
 use hydroid::stages::hekf::{self, HekfConfig, HekfResult};
 use rand::{rngs::StdRng, SeedableRng};
 use rand_distr::{Distribution, Normal};

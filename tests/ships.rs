@@ -2,9 +2,9 @@
 //! resistance, the turning direction of a positive rudder, and the KVLCC2 35 deg turning
 //! circle against the published free-running model tests.
 
+use hydroid::dynamics::sim::{simulate, InputSeries};
 use hydroid::model::models::mmg3::{self, Mmg3};
 use hydroid::model::models::Model;
-use hydroid::dynamics::sim::{simulate, InputSeries};
 
 /// A run of `model` from `x0` with constant inputs, sampled every `dt` for `duration`.
 fn run<M: Model>(

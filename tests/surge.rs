@@ -3,9 +3,9 @@
 mod common;
 
 use common::{record, vehicle};
-use hydroid::model::coefficients::{Coefficient, CoefficientSet, Source};
 use hydroid::base::quantity::Quantity;
 use hydroid::io::record::Record;
+use hydroid::model::coefficients::{Coefficient, CoefficientSet, Source};
 use hydroid::stages::surge::{self, SurgeConfig, SurgeResult};
 use rand::SeedableRng;
 use rand_distr::{Distribution, Normal};

@@ -73,7 +73,8 @@ fn the_diameter_falls_as_the_rudder_rises_and_reruns_are_identical() {
 fn each_speed_case_holds_its_approach_speed_with_the_balanced_propeller() {
     // the paper's own study on the KCS (configs/simulate/kcs_sweep.toml), at its speeds
     let loaded =
-        hydroid::app::simulate::config::load(&root().join("configs/simulate/kcs_sweep.toml")).unwrap();
+        hydroid::app::simulate::config::load(&root().join("configs/simulate/kcs_sweep.toml"))
+            .unwrap();
     let result = hydroid::app::simulate::sweep::simulate_sweep(&loaded).unwrap();
     let speed_cases: Vec<_> = result
         .cases

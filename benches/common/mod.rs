@@ -3,8 +3,8 @@
 
 use criterion::measurement::WallTime;
 use criterion::BenchmarkGroup;
-use hydroid::model::models::Model;
 use hydroid::base::progress::Silent;
+use hydroid::model::models::Model;
 use hydroid::stages::hekf::identify::{identify, RunData, Setup};
 use std::hint::black_box;
 

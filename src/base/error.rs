@@ -200,18 +200,6 @@ impl From<InputError> for Error {
 }
 
 impl Error {
-    /// What the vehicle data lacks for a model (found by the configuration's validation
-    /// first, so met here only by library callers that skip it).
-    pub fn vehicle(problems: Vec<crate::model::models::VehicleProblem>) -> Self {
-        Error::Usage(
-            problems
-                .iter()
-                .map(|p| format!("{}: {}", p.key, p.message))
-                .collect::<Vec<_>>()
-                .join("; "),
-        )
-    }
-
     /// A numerical failure in `stage`.
     pub fn numerical(stage: &str, message: impl Into<String>) -> Self {
         Error::Numerical {

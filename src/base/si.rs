@@ -5,9 +5,11 @@
 //! Used with serde's `deserialize_with`, e.g.
 //! `#[serde(deserialize_with = "si::value::<_, si::Mass>")]`.
 
-use crate::config::Constant;
-use crate::base::units::Dim;
-use serde::de::{Deserialize, Deserializer, Error};
+use crate::base::quantity::Quantity;
+use crate::base::units::{check_dim, Dim, Unit};
+use serde::de::{self, Deserialize, Deserializer, Error, Visitor};
+use serde::{Serialize, Serializer};
+use std::fmt;
 
 /// A dimension a configuration key expects.
 pub trait Kind {
@@ -77,6 +79,124 @@ pub fn list<'de, D: Deserializer<'de>, K: Kind>(d: D) -> Result<Option<Vec<f64>>
         out.push(c.si);
     }
     Ok(Some(out))
+}
+
+/// A constant value, given as a number in SI or as a string with a unit (`"4 deg"`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Constant {
+    /// The value as written.
+    pub text: String,
+    /// The value in SI (radians for angles).
+    pub si: f64,
+    /// The unit written, if any.
+    pub unit: Option<Unit>,
+}
+
+impl Constant {
+    /// A constant given in SI.
+    pub fn si(value: f64) -> Self {
+        Constant {
+            text: format!("{value}"),
+            si: value,
+            unit: None,
+        }
+    }
+
+    /// Parses `"22 N"`, `"4 deg"` or `"3.0"` (a bare number is SI). The number must be
+    /// finite; the unit is only parsed here: [`Constant::expect_dim`] checks that it fits.
+    pub fn parse(text: &str) -> Result<Self, String> {
+        let t = text.trim();
+        let split = t
+            .find(|c: char| c.is_whitespace() || (c.is_alphabetic() && c != 'e' && c != 'E'))
+            .unwrap_or(t.len());
+        let (num, unit) = t.split_at(split);
+        let value: f64 = num.trim().parse().map_err(|_| {
+            format!("\"{t}\" is not a number with an optional unit, like \"4 deg\"")
+        })?;
+        let unit = unit.trim();
+        let (si, unit) = if unit.is_empty() {
+            (value, None)
+        } else {
+            let u = Unit::parse(unit).map_err(|e| e.to_string())?;
+            (u.to_si(value), Some(u))
+        };
+        if !si.is_finite() {
+            return Err(format!("\"{t}\" is not a finite number"));
+        }
+        Ok(Constant {
+            text: t.to_string(),
+            si,
+            unit,
+        })
+    }
+
+    /// [`Constant::expect_dim`] for the dimension of `q`, and a magnitude within
+    /// [`Quantity::plausible_bound`]: `"1e300 m/s"` for a speed is an error that says what
+    /// the bound is, not a run that overflows later.
+    pub fn expect_quantity(&self, q: Quantity) -> Result<(), String> {
+        self.expect_dim(q.dim())?;
+        match q.plausible_bound() {
+            Some((bound, what)) if self.si.abs() > bound => {
+                // a bare number's text is its full decimal expansion: shown short
+                let shown = match self.unit {
+                    Some(_) => self.text.clone(),
+                    None => crate::base::numfmt::short(self.si),
+                };
+                Err(format!(
+                    "{shown} is beyond any plausible {q}: at most {what} in magnitude; a unit or \
+                     typing mistake?"
+                ))
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// Checks that the value is finite and that its unit measures `dim` (a bare number is
+    /// SI and fits any dimension); the error names the unit, what it measures and what was
+    /// expected.
+    pub fn expect_dim(&self, dim: Dim) -> Result<(), String> {
+        if !self.si.is_finite() {
+            return Err(format!("must be a finite number, got {}", self.text));
+        }
+        match &self.unit {
+            Some(u) => check_dim(u, dim).map_err(|m| format!("\"{}\": {m}", self.text)),
+            None => Ok(()),
+        }
+    }
+}
+
+impl Serialize for Constant {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match &self.unit {
+            Some(_) => s.serialize_str(&self.text),
+            None => s.serialize_f64(self.si),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for Constant {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl Visitor<'_> for V {
+            type Value = Constant;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a number in SI units or a string with a unit, like \"4 deg\"")
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<Constant, E> {
+                Ok(Constant::si(v))
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<Constant, E> {
+                Ok(Constant::si(v as f64))
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<Constant, E> {
+                Ok(Constant::si(v as f64))
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<Constant, E> {
+                Constant::parse(v).map_err(E::custom)
+            }
+        }
+        d.deserialize_any(V)
+    }
 }
 
 #[cfg(test)]

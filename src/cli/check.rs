@@ -1,12 +1,12 @@
 //! `hydroid check CONFIG`: validate a configuration and every input it names.
 
 use super::{json, CmdResult};
-use hydroid::config::LoadedConfig;
-use hydroid::base::error::{ConfigProblem, Error};
-use hydroid::app::results::{InputSummary, LoadedInput};
-use hydroid::base::warning::Warning;
 use hydroid::app::pipeline;
+use hydroid::app::results::{InputSummary, LoadedInput};
+use hydroid::base::error::{ConfigProblem, Error};
+use hydroid::base::warning::Warning;
 use hydroid::config;
+use hydroid::config::LoadedConfig;
 use serde_json::{json, Value};
 use std::io::Write;
 use std::path::PathBuf;

@@ -1,9 +1,9 @@
 //! `hydroid compare A/results.json B/results.json`: coefficient-by-coefficient differences.
 
 use super::{json, CmdResult};
-use hydroid::model::coefficients::Coefficient;
 use hydroid::base::error::{Error, InputError, Place};
 use hydroid::base::numfmt::num;
+use hydroid::model::coefficients::Coefficient;
 use serde_json::{json, Value};
 use std::collections::BTreeSet;
 use std::io::Write;

@@ -207,7 +207,8 @@ fn uses_stage_coefficients(model: ModelName) -> bool {
                 && e.given_by.iter().any(|p| {
                     matches!(
                         p.source,
-                        hydroid::model::coefficients::Source::Polar | hydroid::model::coefficients::Source::Surge
+                        hydroid::model::coefficients::Source::Polar
+                            | hydroid::model::coefficients::Source::Surge
                     )
                 })
         })

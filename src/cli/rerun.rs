@@ -1,11 +1,11 @@
 //! `hydroid rerun OUTDIR`: run again exactly what made an output folder.
 
 use super::{progress, warning, CmdResult, Say};
-use hydroid::base::error::{Error, InputError, Place};
-use hydroid::io::output::{Protected, Replace, Staging};
-use hydroid::app::report::{self, RerunManifest};
 use hydroid::app::pipeline;
+use hydroid::app::report::{self, RerunManifest};
+use hydroid::base::error::{Error, InputError, Place};
 use hydroid::config;
+use hydroid::io::output::{Protected, Replace, Staging};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 

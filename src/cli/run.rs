@@ -1,9 +1,9 @@
 //! `hydroid run CONFIG`: run every enabled stage and write the output folder.
 
 use super::{progress, CmdResult, Say};
-use hydroid::io::output::{Protected, Replace, Staging};
 use hydroid::app::{pipeline, report};
 use hydroid::config;
+use hydroid::io::output::{Protected, Replace, Staging};
 use std::io::Write;
 use std::path::PathBuf;
 

@@ -1,9 +1,9 @@
 //! `[hekf]` configuration.
 
 use super::{yes, Config, Constant, InputSpec, Problems};
-pub use crate::numerics::estimation::FilterKind;
-use crate::model::models::ModelName;
 use crate::base::quantity::Quantity;
+use crate::model::models::ModelName;
+pub use crate::numerics::estimation::FilterKind;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 

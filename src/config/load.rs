@@ -128,8 +128,8 @@ pub fn load_lenient(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::coefficients::YawMoment;
     use crate::config::FluidConfig;
+    use crate::model::coefficients::YawMoment;
 
     const GOOD: &str = "[vehicle]\nmass = 50\nlength = 1.2\nizz = 3.7\nreference_area = 0.03\n\
         reference_length = 1\n[fluid]\nrho = 1025\nmu = 0.0009\n[hekf]\nestimate = [\"Yvd\"]\n\

@@ -7,20 +7,22 @@ pub mod autopilot;
 pub mod captive;
 mod collect;
 pub mod hekf;
+mod input_checks;
 mod load;
 mod overrides;
 mod paths;
 pub mod polar;
 mod problems;
+mod protected;
 mod reference;
 pub mod surge;
 
-pub(crate) use collect::read_collecting;
+pub use crate::base::si::Constant;
 pub(crate) use crate::io::input_spec::quantity_key;
 pub use crate::io::input_spec::{
-    Between, ColumnSpec, Constant, DataSource, FormatSetting, InputSpec, ManoeuvreSpec, Step,
-    VelocityFrame,
+    Between, ColumnSpec, DataSource, FormatSetting, InputSpec, ManoeuvreSpec, Step, VelocityFrame,
 };
+pub(crate) use collect::read_collecting;
 pub use load::{load, load_lenient, load_str, read, LoadedConfig};
 pub use problems::Problems;
 pub use reference::{ReferenceConfig, References};

@@ -18,9 +18,9 @@
 //! The ship is course-stable (straight-line stable) when det A > 0 and tr A < 0, i.e. both
 //! time constants positive (Fossen 2011, 7.1, the straight-line stability criterion).
 
+use crate::base::quantity::Quantity;
 use crate::model::coefficients::CoefficientSet;
 use crate::model::models::Model;
-use crate::base::quantity::Quantity;
 use serde::Serialize;
 
 /// Nomoto's indices at one speed.
@@ -95,7 +95,10 @@ pub fn sway_yaw<M: Model>(
         &x0,
         n,
         |xd, out| {
-            let cd: Vec<_> = c.iter().map(|&v| crate::numerics::ad::constant(v)).collect();
+            let cd: Vec<_> = c
+                .iter()
+                .map(|&v| crate::numerics::ad::constant(v))
+                .collect();
             model.derivatives(xd, &u0, &cd, out);
         },
         &mut f,
@@ -185,7 +188,11 @@ impl SteeringIndices {
     pub fn text(&self) -> String {
         let n = &self.nomoto;
         let pm = |v: f64, s: Option<f64>| match s {
-            Some(s) => format!("{} ± {}", crate::base::numfmt::num(v), crate::base::numfmt::num(s)),
+            Some(s) => format!(
+                "{} ± {}",
+                crate::base::numfmt::num(v),
+                crate::base::numfmt::num(s)
+            ),
             None => crate::base::numfmt::num(v),
         };
         let roots = match (n.t1, n.t2) {
@@ -339,7 +346,8 @@ pub fn at_approach(
                     })
                 })
                 .collect();
-            let series = crate::dynamics::sim::InputSeries::from_record(model.inputs(), self.rec).ok()?;
+            let series =
+                crate::dynamics::sim::InputSeries::from_record(model.inputs(), self.rec).ok()?;
             let mut u = vec![0.0; series.len()];
             let t0 = self
                 .rec

@@ -4,10 +4,10 @@
 //! outputs: of its states when it declares no measurement function (then the filter updates
 //! one state at a time), else of y = h(x, u, c) with H from automatic differentiation.
 
+use crate::dynamics::sim::InputSeries;
+use crate::model::models::Model;
 use crate::numerics::ad::{self, Dual, CHUNK};
 use crate::numerics::estimation::System;
-use crate::model::models::Model;
-use crate::dynamics::sim::InputSeries;
 
 /// The augmented system of one run.
 pub struct ModelSystem<'a, M: Model> {
@@ -192,12 +192,12 @@ impl<M: Model> System for ModelSystem<'_, M> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::numerics::ad::Scalar;
+    use crate::base::quantity::Quantity;
     use crate::model::coefficients::{CompiledRelations, Relation};
     use crate::model::models::{
         CoefDef, Example, InputDef, OutputDef, Spheroid3, StateDef, Vehicle, VehicleProblem,
     };
-    use crate::base::quantity::Quantity;
+    use crate::numerics::ad::Scalar;
 
     /// A surge model whose log reads the speed with a calibration error that grows with the
     /// distance run (y = u (1 + k x)) and whose position is measured: a measurement that is
@@ -309,7 +309,8 @@ mod tests {
         let truth = m.coefficient_vector(m.example().coefficients);
         let inputs = InputSeries::constant(&[]);
         let times: Vec<f64> = (0..2001).map(|k| k as f64 * 0.005).collect();
-        let xs = crate::dynamics::sim::simulate(&m, &truth, &[2.0, 0.0], &inputs, &times, 1).unwrap();
+        let xs =
+            crate::dynamics::sim::simulate(&m, &truth, &[2.0, 0.0], &inputs, &times, 1).unwrap();
         let (est, scale, measured) = ([0, 1], [1.3, 0.01], [0, 1]);
         let mut sys = ModelSystem::new(&m, vec![0.0; 2], &est, &scale, &inputs, &measured);
         let x0 = vec![2.0, 0.0, 0.0, 0.0];
@@ -378,9 +379,9 @@ mod tests {
     /// estimated part of the state, empty then, once left them at zero).
     #[test]
     fn with_nothing_estimated_the_prediction_is_the_models_motion() {
-        use crate::numerics::estimation::hybrid_ekf::HybridEkf;
-        use crate::model::models::nomoto_wave::{NomotoWave, FRIGATE_9MS};
         use crate::dynamics::sim::{simulate, InputSeries};
+        use crate::model::models::nomoto_wave::{NomotoWave, FRIGATE_9MS};
+        use crate::numerics::estimation::hybrid_ekf::HybridEkf;
         let m = NomotoWave::build(&NomotoWave::example_vehicle()).unwrap();
         let c = m.coefficient_vector(FRIGATE_9MS);
         let mut x = vec![0.0, 0.0, 0.01, 0.0];

@@ -1,8 +1,8 @@
 //! How a configuration names an input file: path, format, column map, constants.
 
-use crate::io::formats::{Format, FormatChoice};
 use crate::base::quantity::Quantity;
-use crate::base::units::{check_dim, Dim, Unit};
+use crate::base::si::Constant;
+use crate::io::formats::{Format, FormatChoice};
 use serde::de::{self, Deserializer, MapAccess, Visitor};
 use serde::{Deserialize, Serialize, Serializer};
 use std::collections::BTreeMap;
@@ -135,49 +135,6 @@ pub struct ManoeuvreSpec {
 /// Largest nominal rudder or check angle, deg (a bare number is in rad: 20 would be 1146 deg).
 pub const MAX_NOMINAL_ANGLE_DEG: f64 = 90.0;
 
-impl ManoeuvreSpec {
-    /// The nominal angles given, rad (magnitudes).
-    pub fn nominal(&self) -> crate::dynamics::manoeuvre::Nominal {
-        crate::dynamics::manoeuvre::Nominal {
-            rudder: self.rudder.as_ref().map(|c| c.si.abs()),
-            check: self.check.as_ref().map(|c| c.si.abs()),
-        }
-    }
-
-    /// Adds every problem with the angles (at key path `key`, e.g.
-    /// `hekf.runs[0].manoeuvre`) to `p`: each an angle, not zero, at most
-    /// [`MAX_NOMINAL_ANGLE_DEG`].
-    fn validate(&self, key: &str, p: &mut crate::config::Problems) {
-        for (name, c) in [("rudder", &self.rudder), ("check", &self.check)] {
-            let Some(c) = c else { continue };
-            let k = format!("{key}.{name}");
-            if let Err(m) = c.expect_dim([0, 0, 0, 1]) {
-                p.add(&k, m);
-                continue;
-            }
-            let deg = c.si.abs().to_degrees();
-            if !(deg > 0.0 && deg <= MAX_NOMINAL_ANGLE_DEG) {
-                p.add(
-                    &k,
-                    format!(
-                        "must be an angle above 0 and at most {MAX_NOMINAL_ANGLE_DEG} deg, got {} \
-                         ({} deg); a number without a unit is in rad: write e.g. \"20 deg\"",
-                        c.text,
-                        crate::base::numfmt::num(deg)
-                    ),
-                );
-            }
-        }
-        if self.rudder.is_none() && self.check.is_none() {
-            p.add(
-                key,
-                "gives no angle: give `rudder` and, for a zig-zag, `check` (e.g. \
-                 { rudder = \"20 deg\", check = \"10 deg\" }), or leave the key out",
-            );
-        }
-    }
-}
-
 /// Highest 1-based column number a column map may name (a CFD export has far fewer).
 pub const MAX_COLUMN_INDEX: u64 = 1_000_000;
 
@@ -185,112 +142,6 @@ pub const MAX_COLUMN_INDEX: u64 = 1_000_000;
 pub const MAX_SKIP_LINES: u64 = 100_000;
 
 impl InputSpec {
-    /// Adds every problem with this input (at key path `key`, e.g. `hekf.runs[0]`) to `p`,
-    /// except whether its file exists: constants finite and of their quantity's dimension,
-    /// column units known and of their quantity's dimension, column numbers from 1, scales
-    /// finite and not zero, names listed once, no quantity both a column and a constant.
-    pub fn validate(&self, key: &str, p: &mut crate::config::Problems) {
-        if self.file.as_os_str().is_empty() {
-            p.add(&format!("{key}.file"), "is empty; name the export to read");
-        }
-        for (q, c) in &self.constants {
-            if let Err(m) = c.expect_quantity(*q) {
-                p.add(&format!("{key}.constants.{q}"), m);
-            }
-            if self.columns.contains_key(q) {
-                p.add(
-                    &format!("{key}.constants.{q}"),
-                    format!("{q} is given both as a column (columns.{q}) and as a constant"),
-                );
-            }
-        }
-        for (i, step) in self.steps.iter().enumerate() {
-            for (q, c) in &step.values {
-                if let Err(m) = c.expect_quantity(*q) {
-                    p.add(&format!("{key}.steps[{i}].{q}"), m);
-                }
-            }
-        }
-        for (q, c) in &self.columns {
-            let k = format!("{key}.columns.{q}");
-            if let Some(i) = c.index {
-                p.count_within(
-                    &format!("{k}.index"),
-                    i as u64,
-                    1,
-                    MAX_COLUMN_INDEX,
-                    "1-based",
-                );
-            }
-            if let Some(f) = c.scale {
-                if !(f.is_finite() && f != 0.0) {
-                    p.add(
-                        &format!("{k}.scale"),
-                        format!("must be a finite number other than 0, got {f}"),
-                    );
-                }
-            }
-            if let Some(u) = &c.unit {
-                let dim = match Unit::parse(u) {
-                    Ok(unit) => {
-                        check_dim(&q.column_unit(unit), q.dim()).map_err(|m| format!("{q}: {m}"))
-                    }
-                    Err(e) => Err(e.to_string()),
-                };
-                if let Err(m) = dim {
-                    p.add(&format!("{k}.unit"), m);
-                }
-            }
-            if c.column.is_none() && c.index.is_none() {
-                p.add(
-                    &k,
-                    "names no column: give `column` (a name) or `index` (from 1)",
-                );
-            }
-        }
-        if let Some(names) = &self.names {
-            p.no_duplicates(&format!("{key}.names"), names.iter().map(String::as_str));
-        }
-        if let Some(n) = self.skip_lines {
-            p.count_within(
-                &format!("{key}.skip_lines"),
-                n as u64,
-                0,
-                MAX_SKIP_LINES,
-                "lines",
-            );
-        }
-        if let Some(dt) = &self.dt {
-            match dt.expect_dim([0, 0, 1, 0]) {
-                Ok(()) => p.positive(&format!("{key}.dt"), dt.si, "s"),
-                Err(m) => p.add(&format!("{key}.dt"), m),
-            }
-        }
-        if let Some(m) = &self.manoeuvre {
-            if key.starts_with("hekf.") {
-                m.validate(&format!("{key}.manoeuvre"), p);
-            } else {
-                p.add(
-                    &format!("{key}.manoeuvre"),
-                    "is read only for the runs of hekf.runs and hekf.validation (the manoeuvres \
-                     `hydroid manoeuvre` measures); leave it out here",
-                );
-            }
-        }
-        if let Some(f) = &self.froude {
-            if !(f.lambda.is_finite() && f.lambda > 1.0) {
-                p.add(
-                    &format!("{key}.froude.lambda"),
-                    format!(
-                        "must be the scale ratio L_ship / L_model, a number greater than 1 \
-                         (e.g. 45.7), got {}",
-                        f.lambda
-                    ),
-                );
-            }
-        }
-    }
-
     /// How the reader is to read the file: `names`, `skip_lines` and `dt` (in s).
     pub fn read_options(&self) -> crate::io::formats::ReadOptions {
         crate::io::formats::ReadOptions {
@@ -542,124 +393,6 @@ fn increasing_steps<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<Step>, D::Err
         )));
     }
     Ok(steps)
-}
-
-/// A constant value, given as a number in SI or as a string with a unit (`"4 deg"`).
-#[derive(Debug, Clone, PartialEq)]
-pub struct Constant {
-    /// The value as written.
-    pub text: String,
-    /// The value in SI (radians for angles).
-    pub si: f64,
-    /// The unit written, if any.
-    pub unit: Option<Unit>,
-}
-
-impl Constant {
-    /// A constant given in SI.
-    pub fn si(value: f64) -> Self {
-        Constant {
-            text: format!("{value}"),
-            si: value,
-            unit: None,
-        }
-    }
-
-    /// Parses `"22 N"`, `"4 deg"` or `"3.0"` (a bare number is SI). The number must be
-    /// finite; the unit is only parsed here: [`Constant::expect_dim`] checks that it fits.
-    pub fn parse(text: &str) -> Result<Self, String> {
-        let t = text.trim();
-        let split = t
-            .find(|c: char| c.is_whitespace() || (c.is_alphabetic() && c != 'e' && c != 'E'))
-            .unwrap_or(t.len());
-        let (num, unit) = t.split_at(split);
-        let value: f64 = num.trim().parse().map_err(|_| {
-            format!("\"{t}\" is not a number with an optional unit, like \"4 deg\"")
-        })?;
-        let unit = unit.trim();
-        let (si, unit) = if unit.is_empty() {
-            (value, None)
-        } else {
-            let u = Unit::parse(unit).map_err(|e| e.to_string())?;
-            (u.to_si(value), Some(u))
-        };
-        if !si.is_finite() {
-            return Err(format!("\"{t}\" is not a finite number"));
-        }
-        Ok(Constant {
-            text: t.to_string(),
-            si,
-            unit,
-        })
-    }
-
-    /// [`Constant::expect_dim`] for the dimension of `q`, and a magnitude within
-    /// [`Quantity::plausible_bound`]: `"1e300 m/s"` for a speed is an error that says what
-    /// the bound is, not a run that overflows later.
-    pub fn expect_quantity(&self, q: Quantity) -> Result<(), String> {
-        self.expect_dim(q.dim())?;
-        match q.plausible_bound() {
-            Some((bound, what)) if self.si.abs() > bound => {
-                // a bare number's text is its full decimal expansion: shown short
-                let shown = match self.unit {
-                    Some(_) => self.text.clone(),
-                    None => crate::base::numfmt::short(self.si),
-                };
-                Err(format!(
-                    "{shown} is beyond any plausible {q}: at most {what} in magnitude; a unit or \
-                     typing mistake?"
-                ))
-            }
-            _ => Ok(()),
-        }
-    }
-
-    /// Checks that the value is finite and that its unit measures `dim` (a bare number is
-    /// SI and fits any dimension); the error names the unit, what it measures and what was
-    /// expected.
-    pub fn expect_dim(&self, dim: Dim) -> Result<(), String> {
-        if !self.si.is_finite() {
-            return Err(format!("must be a finite number, got {}", self.text));
-        }
-        match &self.unit {
-            Some(u) => check_dim(u, dim).map_err(|m| format!("\"{}\": {m}", self.text)),
-            None => Ok(()),
-        }
-    }
-}
-
-impl Serialize for Constant {
-    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        match &self.unit {
-            Some(_) => s.serialize_str(&self.text),
-            None => s.serialize_f64(self.si),
-        }
-    }
-}
-
-impl<'de> Deserialize<'de> for Constant {
-    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct V;
-        impl Visitor<'_> for V {
-            type Value = Constant;
-            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-                f.write_str("a number in SI units or a string with a unit, like \"4 deg\"")
-            }
-            fn visit_f64<E: de::Error>(self, v: f64) -> Result<Constant, E> {
-                Ok(Constant::si(v))
-            }
-            fn visit_i64<E: de::Error>(self, v: i64) -> Result<Constant, E> {
-                Ok(Constant::si(v as f64))
-            }
-            fn visit_u64<E: de::Error>(self, v: u64) -> Result<Constant, E> {
-                Ok(Constant::si(v as f64))
-            }
-            fn visit_str<E: de::Error>(self, v: &str) -> Result<Constant, E> {
-                Constant::parse(v).map_err(E::custom)
-            }
-        }
-        d.deserialize_any(V)
-    }
 }
 
 #[cfg(test)]

@@ -7,5 +7,6 @@ pub mod froude;
 pub mod input_spec;
 pub mod output;
 pub mod record;
+pub mod steps;
 pub mod table;
 pub mod time_stamps;

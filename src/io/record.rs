@@ -1,12 +1,12 @@
 //! A CFD record: the quantities a stage needs, in SI, picked from a table by the
 //! configuration's column map, with the checks every stage relies on.
 
-use crate::config::{InputSpec, VelocityFrame};
 use crate::base::error::{InputError, Place};
-use crate::io::formats::{self, Format};
 use crate::base::quantity::Quantity;
-use crate::io::table::Table;
 use crate::base::units::{dim_to_string, unwrap_attitude, Unit};
+use crate::io::formats::{self, Format};
+use crate::io::input_spec::{InputSpec, VelocityFrame};
+use crate::io::table::Table;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -40,7 +40,7 @@ pub struct Record {
     pub resolution: BTreeMap<Quantity, Vec<f64>>,
     /// How an input is read between its samples, where the configuration says
     /// (`between`); `auto` for the others.
-    pub between: BTreeMap<Quantity, crate::config::Between>,
+    pub between: BTreeMap<Quantity, crate::io::input_spec::Between>,
 }
 
 /// Where a channel of a record came from.
@@ -240,7 +240,9 @@ pub fn from_table(mut table: Table, spec: &InputSpec, needs: &Needs) -> Result<R
     for (q, idx, unit, scale) in &picks {
         if *q != Quantity::Time {
             // the digits as printed, before any conversion
-            if let Some(res) = crate::numerics::printed::coarse_resolutions(&table.columns[*idx].values) {
+            if let Some(res) =
+                crate::numerics::printed::coarse_resolutions(&table.columns[*idx].values)
+            {
                 let header = table.columns[*idx].unit.as_ref().map_or(1.0, |u| u.factor);
                 let f = unit.as_ref().map_or(header, |u| u.factor) / q.internal_unit().factor
                     * scale.abs();
@@ -314,7 +316,7 @@ pub fn from_table(mut table: Table, spec: &InputSpec, needs: &Needs) -> Result<R
 
     // quantities given as steps: sampled at the time stamps, as if the file had a column
     let time = channels.get(&Quantity::Time).map(Vec::as_slice);
-    let sampled = crate::dynamics::sim::inputs::sampled_steps(spec, time)
+    let sampled = crate::io::steps::sampled_steps(spec, time)
         .map_err(|m| InputError::new(file_place.clone(), m))?;
     for (q, values) in sampled {
         constants.remove(&q);
@@ -550,7 +552,7 @@ fn rescale_column(table: &mut Table, idx: usize, unit: &Unit) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::config::ColumnSpec;
+    use crate::io::input_spec::ColumnSpec;
     use crate::io::table::Column;
 
     fn spec(cols: &[(Quantity, ColumnSpec)]) -> InputSpec {

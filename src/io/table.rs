@@ -2,8 +2,8 @@
 //! states the unit, the file line of every row, and the header metadata.
 
 use crate::base::error::{InputError, Place};
-use crate::io::formats::Format;
 use crate::base::units::Unit;
+use crate::io::formats::Format;
 use std::path::PathBuf;
 
 /// One column of a table.

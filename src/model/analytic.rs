@@ -26,8 +26,8 @@
 
 // crate::Error is large (its InputError variant); boxing it is a crate-wide choice.
 
-use crate::model::coefficients::{Coefficient, Source};
 use crate::base::error::{Error, Result};
+use crate::model::coefficients::{Coefficient, Source};
 use serde::Serialize;
 use std::f64::consts::PI;
 

@@ -6,9 +6,9 @@
 pub mod accuracy;
 pub mod parallel;
 
+use hydroid::base::quantity::Quantity;
 use hydroid::config::{FluidConfig, VehicleConfig};
 use hydroid::io::formats::Format;
-use hydroid::base::quantity::Quantity;
 use hydroid::io::record::Record;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

@@ -7,10 +7,10 @@
 mod guess;
 
 use crate::base::error::InputError;
-use crate::io::formats::{self, FormatChoice, ReadOptions};
 use crate::base::quantity::Quantity;
-use crate::io::table::Table;
 use crate::base::units::{dim_to_string, unwrap_attitude, Unit};
+use crate::io::formats::{self, FormatChoice, ReadOptions};
+use crate::io::table::Table;
 pub use guess::guess_quantity;
 use serde::Serialize;
 use std::io::{self, Write};

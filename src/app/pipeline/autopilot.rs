@@ -2,11 +2,11 @@
 //! placement, closed around the identified model in waves (the HEKF's process noise), once
 //! fed the raw compass and gyro and once the wave filter (src/autopilot/closed_loop.rs).
 
+use crate::base::error::{Error, Result};
+use crate::config::autopilot::AutopilotConfig;
 use crate::dynamics::autopilot::closed_loop::{self, Feed, Scenario};
 use crate::dynamics::autopilot::{AutopilotResult, Gains, RudderLimits};
 use crate::model::coefficients::CoefficientSet;
-use crate::config::autopilot::AutopilotConfig;
-use crate::base::error::{Error, Result};
 use crate::model::models::{with_model, Model, ModelName, ModelVisitor, RunVehicle};
 use crate::stages::hekf::HekfConfig;
 

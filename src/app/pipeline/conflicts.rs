@@ -2,10 +2,10 @@
 //! stage also gave is tested against it before it replaces it (docs/stages.md, "Stage
 //! conflicts").
 
-use crate::model::coefficients::{Coefficient, CoefficientSet, Conflict, Source};
-use crate::config::Config;
 use crate::base::numfmt::num;
 use crate::base::warning::Warning;
+use crate::config::Config;
+use crate::model::coefficients::{Coefficient, CoefficientSet, Conflict, Source};
 
 /// Combined sigmas apart beyond which two stages' estimates conflict.
 pub(super) const LIMIT: f64 = 3.0;

@@ -2,13 +2,12 @@
 //! once from the configuration, then read (each file checked and hashed) before any stage
 //! runs.
 
-use crate::config::{Config, DataSource, InputSpec, LoadedConfig};
-use crate::base::error::Result;
-use crate::io::record::{self, Needs};
 use crate::app::results::LoadedInput;
+use crate::base::error::Result;
+use crate::config::{Config, DataSource, InputSpec, LoadedConfig};
+use crate::io::formats::input::file_sha256;
+use crate::io::record::{self, Needs};
 use crate::stages::{captive, hekf, polar, surge};
-use sha2::{Digest, Sha256};
-use std::path::Path;
 
 /// The input files of the enabled stages, by what each stage reads them as, in the order of
 /// the configuration. `T` is what is known of each file: the plan ([`PlannedInput`]) or the
@@ -156,22 +155,6 @@ pub fn load_input(loaded: &LoadedConfig, input: &PlannedInput) -> Result<LoadedI
         sha256,
         source,
     })
-}
-
-/// SHA-256 of a file, hex. The file is read like every input (`formats::input`: a regular
-/// file within the size limit), in chunks.
-pub fn file_sha256(path: &Path) -> Result<String> {
-    use crate::io::formats::input::{stream, Limits};
-    let mut hasher = Sha256::new();
-    stream(path, &Limits::for_file(path)?, |chunk| {
-        hasher.update(chunk);
-        Ok(())
-    })?;
-    Ok(hasher
-        .finalize()
-        .iter()
-        .map(|b| format!("{b:02x}"))
-        .collect())
 }
 
 #[cfg(test)]

@@ -8,21 +8,22 @@ mod consider;
 mod inputs;
 mod preflight;
 
-pub use inputs::{file_sha256, load_input, load_inputs, stage_inputs, InputsByStage, PlannedInput};
+pub use crate::io::formats::input::file_sha256;
+pub use inputs::{load_input, load_inputs, stage_inputs, InputsByStage, PlannedInput};
 pub use preflight::{available_coefficients, preflight, Preflight};
 
-use crate::model::coefficients::{Coefficient, CoefficientSet, Source, YawMoment, SYMMETRY};
-use crate::config::{Config, LoadedConfig};
+use crate::app::resim::{resimulate, ResimMetrics, ResimTrace};
+use crate::app::results::{compare, InputSummary, LoadedInput, RunOutput, RunResult, StageResults};
 use crate::base::error::Result;
 use crate::base::progress::Progress;
 use crate::base::quantity::Quantity;
+use crate::base::warning::Warning;
+use crate::config::{Config, LoadedConfig};
 use crate::io::record::Record;
-use crate::app::resim::{resimulate, ResimMetrics, ResimTrace};
-use crate::app::results::{compare, InputSummary, LoadedInput, RunOutput, RunResult, StageResults};
+use crate::model::coefficients::{Coefficient, CoefficientSet, Source, YawMoment, SYMMETRY};
 use crate::stages::hekf::{self, HekfConfig, HekfResult, ModelName};
 use crate::stages::polar::{PolarConfig, PolarResult};
 use crate::stages::surge::{SurgeConfig, SurgeResult};
-use crate::base::warning::Warning;
 
 /// Analytic added mass of the vehicle when its geometry is a prolate spheroid (length and
 /// diameter given): Lamb's k-factors (Fossen 1994).
@@ -363,7 +364,7 @@ fn hekf_step(
     let nominal = |spec: &crate::config::InputSpec| {
         spec.manoeuvre
             .as_ref()
-            .map(crate::config::ManoeuvreSpec::nominal)
+            .map(crate::dynamics::manoeuvre::Nominal::given)
             .unwrap_or_default()
     };
     for ((rec, used), given) in fit

@@ -5,13 +5,13 @@
 //! before its work starts.
 
 use super::inputs::InputsByStage;
-use crate::model::coefficients::{Coefficient, CoefficientSet, Source, SYMMETRY};
-use crate::config::{Config, LoadedConfig};
-use crate::base::error::{ConfigProblem, Error};
-use crate::io::record::Record;
 use crate::app::results::LoadedInput;
-use crate::stages::{captive, hekf, polar, surge};
+use crate::base::error::{ConfigProblem, Error};
 use crate::base::warning::Warning;
+use crate::config::{Config, LoadedConfig};
+use crate::io::record::Record;
+use crate::model::coefficients::{Coefficient, CoefficientSet, Source, SYMMETRY};
+use crate::stages::{captive, hekf, polar, surge};
 
 /// Coefficient names that the configuration, the analytic formulas and the enabled stages
 /// will provide (so that a stage's needs can be checked before anything runs).

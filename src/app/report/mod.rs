@@ -8,10 +8,10 @@ pub mod markdown;
 pub mod plots;
 pub mod table;
 
-use crate::config::LoadedConfig;
-use crate::base::error::{Error, Result};
-use crate::io::output::{to_json, Staging};
 use crate::app::results::{RunOutput, RunResult};
+use crate::base::error::{Error, Result};
+use crate::config::LoadedConfig;
+use crate::io::output::{to_json, Staging};
 
 /// Files every run writes.
 pub const RESULTS_JSON: &str = "results.json";

@@ -1,11 +1,11 @@
 //! The comparison table (coefficient | hydroid +- sigma | analytic | reference | errors) as
 //! aligned text for the terminal and as Markdown for report.md.
 
-use crate::model::coefficients::Source;
-use crate::base::markdown_text::markdown_table;
-use crate::model::models::registry::all_coefficients;
-use crate::base::numfmt::num;
 use crate::app::results::{ComparisonRow, RunResult};
+use crate::base::markdown_text::markdown_table;
+use crate::base::numfmt::num;
+use crate::model::coefficients::Source;
+use crate::model::models::registry::all_coefficients;
 use std::io::{self, Write};
 
 /// A relative difference in percent: two decimals, or two significant digits in scientific
@@ -69,7 +69,11 @@ fn in_table_order(rows: &[ComparisonRow]) -> Vec<&ComparisonRow> {
 fn value(row: &ComparisonRow) -> String {
     match row.sigma {
         Some(s) => format!("{} ± {}", num(row.value), num(s)),
-        None if row.flags.iter().any(|f| f == crate::model::coefficients::HELD) => {
+        None if row
+            .flags
+            .iter()
+            .any(|f| f == crate::model::coefficients::HELD) =>
+        {
             format!("{} (held)", num(row.value))
         }
         None => num(row.value),

@@ -5,14 +5,14 @@
 //! zig-zag's rudder history would reverse the rudder at the run's times whatever heading the
 //! model has reached; steered, the model's overshoots are its own.
 
-use crate::dynamics::manoeuvre::{self, History, HistoryError, RunMeasures};
-use crate::model::models::Model;
 use crate::base::quantity::Quantity;
-use crate::io::record::Record;
+use crate::base::warning::Warning;
+use crate::dynamics::manoeuvre::{self, History, HistoryError, RunMeasures};
 use crate::dynamics::sim::inputs::Input;
 use crate::dynamics::sim::steering::{Steering, Surface};
 use crate::dynamics::sim::InputSeries;
-use crate::base::warning::Warning;
+use crate::io::record::Record;
+use crate::model::models::Model;
 use serde::Serialize;
 
 /// A tactical or steady turning diameter of the model further than this share from the run's
@@ -196,19 +196,25 @@ fn compare_on<M: Model>(
         .iter()
         .map(|s| rec.channel(s.quantity).map_or(0.0, |v| v[0]))
         .collect();
-    let (xs, note) =
-        match crate::app::simulate::synth::steered(model, c, &x0, &mut steered_inputs, steering, substeps) {
-            Ok(xs) => (xs, None),
-            Err(e) => {
-                return Some(ManoeuvreComparison {
-                    steering,
-                    measured,
-                    model: None,
-                    model_note: Some(format!("the steered model stopped: {e}")),
-                    model_history: None,
-                })
-            }
-        };
+    let (xs, note) = match crate::app::simulate::synth::steered(
+        model,
+        c,
+        &x0,
+        &mut steered_inputs,
+        steering,
+        substeps,
+    ) {
+        Ok(xs) => (xs, None),
+        Err(e) => {
+            return Some(ManoeuvreComparison {
+                steering,
+                measured,
+                model: None,
+                model_note: Some(format!("the steered model stopped: {e}")),
+                model_history: None,
+            })
+        }
+    };
     let helm = match &steered_inputs.inputs[input] {
         Input::Held(s) | Input::Series(s) => s.clone(),
         Input::Constant(v) => vec![*v; xs.len()],
@@ -419,10 +425,10 @@ mod tests {
     /// zig-zag (`check` given, rad), reversed each time the heading change from the execute
     /// reaches `check` beyond the side the rudder turns it to.
     fn kvlcc2_log(rudder: f64, check: Option<f64>, trim: f64, duration: f64) -> Record {
-        use crate::model::models::mmg3::{self, Mmg3};
-        use crate::model::models::Model;
         use crate::base::quantity::Quantity as Q;
         use crate::dynamics::sim::{simulate, InputSeries};
+        use crate::model::models::mmg3::{self, Mmg3};
+        use crate::model::models::Model;
         let m = Mmg3::build(&mmg3::kvlcc2_model_vehicle()).unwrap();
         let c = m.coefficient_vector(mmg3::KVLCC2);
         let (dt, execute, rate) = (0.1, 5.0, 2.32f64.to_radians());
@@ -523,7 +529,9 @@ mod tests {
             cmp.measured.zigzag.unwrap(),
             cmp.model.unwrap().zigzag.unwrap(),
         );
-        let first = |z: &crate::dynamics::manoeuvre::ZigZag| z.first_overshoot.value().unwrap().to_degrees();
+        let first = |z: &crate::dynamics::manoeuvre::ZigZag| {
+            z.first_overshoot.value().unwrap().to_degrees()
+        };
         assert!(
             (first(&run) - first(&model)).abs() < 1.0,
             "{} {}",

@@ -8,14 +8,14 @@
 
 pub mod manoeuvre;
 
-use crate::model::coefficients::CoefficientSet;
 use crate::base::error::{Error, Result};
-use crate::model::models::{with_model, Model, ModelName, ModelVisitor, RunVehicle};
 use crate::base::quantity::Quantity;
-use crate::io::record::Record;
-use crate::numerics::signal;
-use crate::dynamics::sim::{complete_coefficients, simulate, steps_for, InputSeries};
 use crate::base::warning::Warning;
+use crate::dynamics::sim::{complete_coefficients, simulate, steps_for, InputSeries};
+use crate::io::record::Record;
+use crate::model::coefficients::CoefficientSet;
+use crate::model::models::{with_model, Model, ModelName, ModelVisitor, RunVehicle};
+use crate::numerics::signal;
 use serde::Serialize;
 use std::collections::BTreeMap;
 
@@ -138,8 +138,8 @@ impl ModelVisitor for Resim<'_> {
         // integrate sample by sample so that a divergence keeps the part before it, in steps
         // no longer than the regular interval nor 10 ms (a gap is crossed in such steps)
         let regular = crate::numerics::sampling::median_interval(&times).unwrap_or(0.01);
-        let max_step =
-            regular / steps_for(regular, crate::numerics::ode::DEFAULT_MAX_STEP).unwrap_or(1) as f64;
+        let max_step = regular
+            / steps_for(regular, crate::numerics::ode::DEFAULT_MAX_STEP).unwrap_or(1) as f64;
         let mut xs = vec![x0.clone()];
         let mut stopped = None;
         for k in 1..times.len() {

@@ -1,16 +1,10 @@
 //! The comparison of every coefficient with Fossen's analytic value and the reference
 //! (paper) value, with the flags of a large sigma or a strong correlation.
 
-use crate::model::coefficients::{Coefficient, CoefficientSet};
 use crate::config::References;
+use crate::model::coefficients::{Coefficient, CoefficientSet, CORRELATED, UNCERTAIN};
 use serde::Serialize;
 use std::collections::BTreeMap;
-
-/// Relative standard deviation above which a coefficient is flagged as uncertain.
-pub const UNCERTAIN: f64 = 0.1;
-
-/// Correlation above which two estimates are flagged as not separately identifiable.
-pub const CORRELATED: f64 = 0.9;
 
 /// One line of the comparison table.
 #[derive(Debug, Clone, PartialEq, Serialize)]

@@ -5,13 +5,14 @@
 pub mod comparison;
 pub mod inputs;
 
-pub use comparison::{compare, ComparisonRow, CORRELATED, UNCERTAIN};
+pub use crate::model::coefficients::{CORRELATED, UNCERTAIN};
+pub use comparison::{compare, ComparisonRow};
 pub use inputs::{data_word, InputSummary, LoadedInput};
 
-use crate::model::coefficients::{Coefficient, CoefficientSet, Correlation};
+pub use crate::app::resim::{ResimMetrics, ResimTrace};
 use crate::config::{Config, LoadedConfig, ReferenceConfig};
 use crate::io::record::Record;
-pub use crate::app::resim::{ResimMetrics, ResimTrace};
+use crate::model::coefficients::{Coefficient, CoefficientSet, Correlation};
 use crate::stages::hekf::HekfResult;
 use crate::stages::polar::PolarResult;
 use crate::stages::surge::SurgeResult;

@@ -4,10 +4,10 @@
 use super::config::{ExportColumn, ExportConfig};
 use super::synth::Columns;
 use crate::base::error::{Error, Result};
-use crate::io::formats::Format;
-use crate::numerics::frames::rotation_zyx;
 use crate::base::quantity::Quantity;
 use crate::base::units::{wrap_pi, Unit};
+use crate::io::formats::Format;
+use crate::numerics::frames::rotation_zyx;
 use std::fmt::Write;
 
 /// Renders the export as text.

@@ -5,13 +5,13 @@
 //! included), so that every harmonic captive path has a twin experiment.
 
 use super::config::{Manoeuvre, SimConfig};
-use crate::dynamics::sim::integrate::complete_coefficients;
 use super::synth::Columns;
-use crate::model::coefficients::CoefficientSet;
-use crate::config::{Constant, Problems};
 use crate::base::error::{Error, Result};
-use crate::model::models::{Model, ModelVisitor};
 use crate::base::quantity::Quantity;
+use crate::config::{Constant, Problems};
+use crate::dynamics::sim::integrate::complete_coefficients;
+use crate::model::coefficients::CoefficientSet;
+use crate::model::models::{Model, ModelVisitor};
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
 
@@ -207,7 +207,8 @@ impl ModelVisitor for History<'_> {
         })?;
         let omega = 2.0 * PI * pmm.frequency;
         let forces = model.force_quantities();
-        let u = crate::dynamics::sim::inputs::constant_inputs(&model.input_quantities(), &pmm.inputs);
+        let u =
+            crate::dynamics::sim::inputs::constant_inputs(&model.input_quantities(), &pmm.inputs);
         let rows = (pmm.duration / pmm.dt + 1e-9).floor() as usize + 1;
         let mut cols = Columns::new();
         let mut x = vec![0.0; model.nx()];

@@ -2,12 +2,12 @@
 //! coefficients imply), with seeded measurement noise, as SI columns ready to export.
 
 use super::config::{Manoeuvre, SimConfig};
+use crate::base::error::{Error, Result};
+use crate::base::quantity::Quantity;
 use crate::dynamics::sim::inputs::{changes_of, rate_limited, stepped, Input, InputSeries};
 use crate::dynamics::sim::integrate::{complete_coefficients, simulate};
 use crate::model::coefficients::{Coefficient, CoefficientSet, Source, YawMoment, SYMMETRY};
-use crate::base::error::{Error, Result};
 use crate::model::models::{with_model, InputRule, Model, ModelVisitor};
-use crate::base::quantity::Quantity;
 use rand::{rngs::StdRng, SeedableRng};
 use rand_distr::{Distribution, Normal};
 use std::collections::BTreeMap;
@@ -291,7 +291,11 @@ fn per_sample<M: Model>(
                     ),
                 });
             };
-            Some((crate::dynamics::sim::steering::Helm::new(law), watched, moved))
+            Some((
+                crate::dynamics::sim::steering::Helm::new(law),
+                watched,
+                moved,
+            ))
         }
     };
     let times = inputs.t.clone();

@@ -5,11 +5,11 @@
 //! rate of a wave filter, the hybrid EKF on the same model run online.
 
 use super::{Autopilot, Gains, ReferenceModel, RudderLimits};
-use crate::numerics::estimation::hybrid_ekf::HybridEkf;
-use crate::model::models::Model;
 use crate::base::quantity::Quantity;
-use crate::dynamics::sim::{simulate, InputSeries};
 use crate::dynamics::model_system::ModelSystem;
+use crate::dynamics::sim::{simulate, InputSeries};
+use crate::model::models::Model;
+use crate::numerics::estimation::hybrid_ekf::HybridEkf;
 use rand::{rngs::StdRng, SeedableRng};
 use rand_distr::{Distribution, Normal};
 use serde::Serialize;

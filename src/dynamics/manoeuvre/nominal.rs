@@ -128,6 +128,17 @@ pub fn nominal(given: Option<f64>, measured: f64, standard_deg: &[f64]) -> (f64,
     }
 }
 
+impl Nominal {
+    /// The nominal angles a run's configuration gives (`manoeuvre = { ... }`), rad
+    /// (magnitudes).
+    pub fn given(spec: &crate::io::input_spec::ManoeuvreSpec) -> Self {
+        Nominal {
+            rudder: spec.rudder.as_ref().map(|c| c.si.abs()),
+            check: spec.check.as_ref().map(|c| c.si.abs()),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

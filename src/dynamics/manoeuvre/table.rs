@@ -125,7 +125,10 @@ impl ComparisonTable {
         let header: Vec<String> = Self::HEADER.iter().map(|s| s.to_string()).collect();
         let mut s = markdown_table(&header, &self.cells(), &[false, false, true, true, false]);
         for n in &self.notes {
-            s.push_str(&format!("\n- {}", crate::base::markdown_text::escape_markdown(n)));
+            s.push_str(&format!(
+                "\n- {}",
+                crate::base::markdown_text::escape_markdown(n)
+            ));
         }
         if !self.notes.is_empty() {
             s.push('\n');

@@ -168,7 +168,9 @@ impl TurningCircle {
             None => "rudder held to the end of the run".to_string(),
         };
         match self.steady_from {
-            Measure::Value(t) => format!("{held}; steady from t = {} s", crate::base::numfmt::num(t)),
+            Measure::Value(t) => {
+                format!("{held}; steady from t = {} s", crate::base::numfmt::num(t))
+            }
             Measure::Missing(_) => held,
         }
     }

@@ -1,35 +1,19 @@
 //! Model inputs (thrust, rudder, rpm ...) over time: constants or sampled series, linearly
 //! interpolated between samples and held beyond the ends; inputs given as steps, sampled.
 
-use crate::config::{Between, Constant, InputSpec, Step};
-use crate::model::models::{InputDef, InputRule};
 use crate::base::quantity::Quantity;
+use crate::base::si::Constant;
+use crate::io::input_spec::Between;
+pub use crate::io::steps::{changes_of, sampled_steps, stepped};
+use crate::model::models::{InputDef, InputRule};
 
-/// One input held between steps, at each of `times`: `start` until the first change, then
-/// each change's value from its time on (a change within 1e-12 s after a sample applies from
-/// that sample). `changes` are (time, value) in the order they apply.
-pub fn stepped(start: f64, changes: &[(f64, f64)], times: &[f64]) -> Vec<f64> {
-    // one pass over the times (changes in time order)
-    let mut value = start;
-    let mut next = changes.iter().peekable();
-    times
-        .iter()
-        .map(|t| {
-            while let Some((_, v)) = next.next_if(|(at, _)| *t >= at - 1e-12) {
-                value = *v;
-            }
-            value
-        })
-        .collect()
-}
-
-/// Like [`stepped`], through an actuator of largest rate `rate` (per second, > 0): from
+/// Like [`stepped`](crate::io::steps::stepped), through an actuator of largest rate `rate` (per second, > 0): from
 /// `start`, the value moves towards the latest commanded value at most at `rate` and stops on
 /// it, so that each step becomes a ramp of slope `rate` lasting |change| / rate (a first-order
 /// rate limiter, the steering-gear model of IMO MSC.137(76) and ITTC 7.5-04-02-01 applied to
 /// any input). The command is piecewise constant, so the ramp is exact at every sample time,
 /// whatever the step times; a change within 1e-12 s after a sample applies from that sample,
-/// as in [`stepped`].
+/// as in [`stepped`](crate::io::steps::stepped).
 pub fn rate_limited(start: f64, changes: &[(f64, f64)], times: &[f64], rate: f64) -> Vec<f64> {
     let (mut value, mut command) = (start, start);
     let mut clock = times.first().copied().unwrap_or(0.0);
@@ -53,67 +37,6 @@ pub fn rate_limited(start: f64, changes: &[(f64, f64)], times: &[f64], rate: f64
             value
         })
         .collect()
-}
-
-/// The changes of `q` in `steps`, (time, SI value), in time order (steps at the same time in
-/// the order given).
-pub fn changes_of(steps: &[Step], q: Quantity) -> Vec<(f64, f64)> {
-    let mut changes: Vec<(f64, f64)> = steps
-        .iter()
-        .filter_map(|s| s.values.get(&q).map(|c| (s.time, c.si)))
-        .collect();
-    changes.sort_by(|a, b| a.0.total_cmp(&b.0));
-    changes
-}
-
-/// The quantities an input gives as `steps`, each sampled at the record's time stamps `time`
-/// (s) in hydroid's internal unit, starting from its value in `constants`. An error says
-/// what is wrong: steps without a time column, a quantity also mapped to a column, or one
-/// with no value before its first step.
-pub fn sampled_steps(
-    spec: &InputSpec,
-    time: Option<&[f64]>,
-) -> Result<Vec<(Quantity, Vec<f64>)>, String> {
-    let mut quantities: Vec<Quantity> = spec
-        .steps
-        .iter()
-        .flat_map(|s| s.values.keys().copied())
-        .collect();
-    quantities.sort();
-    quantities.dedup();
-    if quantities.is_empty() {
-        return Ok(Vec::new());
-    }
-    let Some(time) = time.filter(|t| !t.is_empty()) else {
-        return Err("`steps` need a time column to be sampled at".into());
-    };
-    let mut out = Vec::new();
-    for q in quantities {
-        if spec.columns.contains_key(&q) {
-            return Err(format!(
-                "{q} is given both as a column and as steps: keep one"
-            ));
-        }
-        let changes = changes_of(&spec.steps, q);
-        let start = match spec.constants.get(&q) {
-            Some(c) => c.si,
-            None if changes[0].0 <= time[0] + 1e-12 => changes[0].1,
-            None => {
-                return Err(format!(
-                    "{q} changes first at {} s but the run starts at {} s: give its value from \
-                     the start in `constants` ({q} = ...) or a step at the start",
-                    changes[0].0, time[0]
-                ))
-            }
-        };
-        let factor = q.internal_unit().factor;
-        let values = stepped(start, &changes, time)
-            .into_iter()
-            .map(|v| v / factor)
-            .collect();
-        out.push((q, values));
-    }
-    Ok(out)
 }
 
 /// The model inputs `quantities` held at the constants `given` (`inputs = { rpm = ... }`),

@@ -2,8 +2,8 @@
 //! reader collects, and the assembly into a [`Table`] with its time column.
 
 use crate::base::error::{InputError, Place};
-use crate::io::table::{Column, Table};
 use crate::base::units::Unit;
+use crate::io::table::{Column, Table};
 use std::path::{Path, PathBuf};
 
 /// A unit written in a header, interpreted.

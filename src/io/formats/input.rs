@@ -360,6 +360,22 @@ fn line_too_long(path: &Path, line: usize, limits: &Limits) -> InputError {
     .expected("a text export with line ends (a file without them is binary data or a stream)")
 }
 
+/// SHA-256 of a file, hex. The file is read like every input (`formats::input`: a regular
+/// file within the size limit), in chunks.
+pub fn file_sha256(path: &Path) -> crate::base::error::Result<String> {
+    use sha2::{Digest, Sha256};
+    let mut hasher = Sha256::new();
+    stream(path, &Limits::for_file(path)?, |chunk| {
+        hasher.update(chunk);
+        Ok(())
+    })?;
+    Ok(hasher
+        .finalize()
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

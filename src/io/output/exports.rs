@@ -7,7 +7,7 @@
 use super::paths::resolve;
 use super::{write_atomic, Replace};
 use crate::base::error::{Error, Result};
-use crate::app::pipeline::file_sha256;
+use crate::io::formats::input::file_sha256;
 use std::collections::BTreeMap;
 use std::fs::File;
 use std::path::{Path, PathBuf};

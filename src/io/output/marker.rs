@@ -3,7 +3,7 @@
 //! when it carries a valid marker and holds exactly the files it lists, unchanged.
 
 use crate::base::error::{Error, Result};
-use crate::app::pipeline::file_sha256;
+use crate::io::formats::input::file_sha256;
 use std::collections::BTreeMap;
 use std::path::{Component, Path, PathBuf};
 

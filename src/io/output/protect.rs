@@ -3,7 +3,6 @@
 //! them. Checked on resolved paths (see [`super::paths`]) before any stage runs.
 
 use super::paths::{contains, read_locations, resolve};
-use crate::config::LoadedConfig;
 use crate::base::error::{Error, Result};
 use std::path::{Path, PathBuf};
 
@@ -38,24 +37,6 @@ impl Protected {
         }
         if let Some(home) = std::env::home_dir().and_then(|h| std::fs::canonicalize(h).ok()) {
             p.add(home, "your home folder".into(), false);
-        }
-        p
-    }
-
-    /// Everything a run configuration reads: the configuration file, its folder, and every
-    /// input file it names (those of disabled stages too).
-    pub fn for_config(loaded: &LoadedConfig) -> Self {
-        let mut p = Self::for_inputs(loaded);
-        p.config(&loaded.path);
-        p
-    }
-
-    /// Every input file a configuration names (those of disabled stages too), but not the
-    /// configuration itself (a rerun reads it from the output folder it replaces).
-    pub fn for_inputs(loaded: &LoadedConfig) -> Self {
-        let mut p = Self::new();
-        for (key, spec) in loaded.config.inputs() {
-            p.input(&loaded.resolve(&spec.file), &key);
         }
         p
     }

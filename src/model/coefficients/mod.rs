@@ -18,6 +18,12 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::fmt;
 
+/// Relative standard deviation above which a coefficient is flagged as uncertain.
+pub const UNCERTAIN: f64 = 0.1;
+
+/// Correlation above which two estimates are flagged as not separately identifiable.
+pub const CORRELATED: f64 = 0.9;
+
 /// Where a coefficient value came from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, PartialOrd, Ord)]
 #[serde(rename_all = "snake_case")]

@@ -16,9 +16,9 @@ pub mod rigid_body;
 pub mod sname;
 pub mod vehicle;
 
-use crate::numerics::ad::Scalar;
-use crate::model::coefficients::{CompiledRelations, Relation, YawMoment};
 use crate::base::quantity::Quantity;
+use crate::model::coefficients::{CompiledRelations, Relation, YawMoment};
+use crate::numerics::ad::Scalar;
 
 pub use coefficient::{AddedMass, AddedMassTerm, CoefDef, Range, Scales, Size};
 pub use registry::ModelVisitor;

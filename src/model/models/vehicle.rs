@@ -175,7 +175,8 @@ impl Vehicle {
     pub fn spheroid_scales(&self) -> Scales {
         let added = self.diameter.and_then(|d| {
             let s =
-                crate::model::analytic::Spheroid::from_length_diameter(self.length, d, self.rho).ok()?;
+                crate::model::analytic::Spheroid::from_length_diameter(self.length, d, self.rho)
+                    .ok()?;
             Some(AddedMass {
                 xud: s.xud(),
                 yvd: s.yvd(),
@@ -187,6 +188,20 @@ impl Vehicle {
             length: self.length,
             added,
         }
+    }
+}
+
+impl crate::base::error::Error {
+    /// What the vehicle data lacks for a model (found by the configuration's validation
+    /// first, so met here only by library callers that skip it).
+    pub fn vehicle(problems: Vec<VehicleProblem>) -> Self {
+        Self::Usage(
+            problems
+                .iter()
+                .map(|p| format!("{}: {}", p.key, p.message))
+                .collect::<Vec<_>>()
+                .join("; "),
+        )
     }
 }
 

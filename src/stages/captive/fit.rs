@@ -9,9 +9,9 @@
 //! more than they explain (Birge 1932).
 
 use super::harmonic::HarmonicMotion;
+use crate::model::models::Model;
 use crate::numerics::ad::{self, Scalar};
 use crate::numerics::lsq::scaled_least_squares;
-use crate::model::models::Model;
 use nalgebra::{DMatrix, DVector};
 
 /// One steady captive condition: the prescribed motion, the inputs and the measured forces.

@@ -10,11 +10,11 @@
 //! added mass in the quadrature part of the first (v_dot leads v by 90 deg).
 
 use super::fit::Condition;
-use crate::numerics::ad::Scalar;
-use crate::model::models::Model;
 use crate::base::numfmt::num;
-use crate::numerics::signal::range;
 use crate::base::warning::Warning;
+use crate::model::models::Model;
+use crate::numerics::ad::Scalar;
+use crate::numerics::signal::range;
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 

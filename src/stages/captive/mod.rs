@@ -11,16 +11,16 @@ pub mod plausibility;
 
 pub use crate::config::captive::CaptiveConfig;
 
+use crate::base::error::{Error, Result};
+use crate::base::quantity::Quantity;
+use crate::base::warning::Warning;
+use crate::config::FluidConfig;
+use crate::config::VehicleConfig;
+use crate::io::record::{Needs, Record};
 use crate::model::coefficients::{
     directions_of, Coefficient, CoefficientSet, Correlation, Direction, Source,
 };
-use crate::config::FluidConfig;
-use crate::config::VehicleConfig;
-use crate::base::error::{Error, Result};
 use crate::model::models::{with_model, Model, ModelVisitor};
-use crate::base::quantity::Quantity;
-use crate::io::record::{Needs, Record};
-use crate::base::warning::Warning;
 use fit::Condition;
 use serde::Serialize;
 
@@ -869,7 +869,12 @@ fn history(
     let names: Vec<&str> = held.velocities.iter().map(|(n, _)| *n).collect();
     let forces: Vec<&str> = held.forces.iter().map(|q| q.key()).collect();
     let (c, periods, w) = harmonic::reduce(&rec.name, &samples, &oscillating, &names, &forces)
-        .map_err(|m| fail(format!("from t = {} s: {m}", crate::base::numfmt::num(after))))?;
+        .map_err(|m| {
+            fail(format!(
+                "from t = {} s: {m}",
+                crate::base::numfmt::num(after)
+            ))
+        })?;
     Ok((c, w, Some(periods)))
 }
 
@@ -922,7 +927,8 @@ fn averaged(
     let mut drifting = Vec::new();
     for i in 0..kept[0].f.len() {
         let series: Vec<f64> = kept.iter().map(|c| c.f[i]).collect();
-        let (m, se) = crate::numerics::signal::mean_and_standard_error(&series).unwrap_or((series[0], 0.0));
+        let (m, se) =
+            crate::numerics::signal::mean_and_standard_error(&series).unwrap_or((series[0], 0.0));
         let half = series.len() / 2;
         if let (Some((m1, s1)), Some((m2, s2))) = (
             crate::numerics::signal::mean_and_standard_error(&series[..half]),
@@ -960,7 +966,11 @@ fn averaged(
             u,
             f,
             sigma: Some(sigma),
-            place: format!("{} from t = {} s", rec.name, crate::base::numfmt::num(after)),
+            place: format!(
+                "{} from t = {} s",
+                rec.name,
+                crate::base::numfmt::num(after)
+            ),
             harmonic: None,
         },
         warning,

@@ -13,10 +13,10 @@
 
 use super::fit::Condition;
 use super::harmonic::PER_FORCE;
-use crate::model::models::Model;
 use crate::base::numfmt::num;
 use crate::base::quantity::Quantity;
 use crate::base::warning::Warning;
+use crate::model::models::Model;
 
 /// Where the sway velocity, yaw rate, sway force and yaw moment sit in a model's state and
 /// force vectors (None: the model has no such entry and the checks of it are skipped).
@@ -79,9 +79,11 @@ impl Reference {
                     "strip theory from the draught",
                 ))
             }
-            (None, Some(dia)) => crate::model::analytic::Spheroid::from_length_diameter(length, dia, rho)
-                .ok()
-                .map(|s| (-s.yvd(), -s.nrd(), "Lamb's k-factors of the spheroid")),
+            (None, Some(dia)) => {
+                crate::model::analytic::Spheroid::from_length_diameter(length, dia, rho)
+                    .ok()
+                    .map(|s| (-s.yvd(), -s.nrd(), "Lamb's k-factors of the spheroid"))
+            }
             _ => None,
         };
         Reference {

@@ -182,8 +182,8 @@ fn propagated<M: Model>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::models::surge1::Surge1;
     use crate::dynamics::sim::InputSeries;
+    use crate::model::models::surge1::Surge1;
     use rand::{rngs::StdRng, SeedableRng};
     use rand_distr::{Distribution, Normal};
 

@@ -8,9 +8,9 @@
 //! (`Model::surge_balance`: R'_0 for the MMG model); when the data contradict it, the stage
 //! estimates it by default and says so.
 
-use crate::model::models::Model;
 use crate::base::quantity::Quantity;
 use crate::io::record::Record;
+use crate::model::models::Model;
 
 /// Fewest samples of an approach that are judged.
 const MIN_SAMPLES: usize = 10;

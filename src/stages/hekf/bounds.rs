@@ -21,8 +21,8 @@
 //! more passes follow runs unprojected, as it runs ungated, and only its end is brought into
 //! range ([`Bounds::clamp`]; docs/hekf.md, "The first pass").
 
-use crate::model::models::{CoefDef, Range};
 use crate::base::warning::Warning;
+use crate::model::models::{CoefDef, Range};
 
 /// An open bound (`w0 > 0`) is held this share of the coefficient's expected size inside
 /// the range: a wave period of hours for w0, where the wave model is a double integrator.

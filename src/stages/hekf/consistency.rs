@@ -5,8 +5,8 @@
 use super::identify::{Excursion, Rejection, RunData};
 use super::result::RunSummary;
 use super::STAGE;
-use crate::model::models::Model;
 use crate::base::warning::Warning;
+use crate::model::models::Model;
 
 /// The warning for one run whose mean NIS lies outside its 95 % bounds, or None.
 pub fn nis_warning(run: &RunSummary) -> Option<Warning> {
@@ -189,8 +189,8 @@ fn sig3(v: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::numerics::estimation::nis::summarize;
     use crate::base::quantity::Quantity;
+    use crate::numerics::estimation::nis::summarize;
     use crate::stages::hekf::tuning::NoiseChoice;
 
     fn run(nis: &[f64], rms: Vec<f64>) -> RunSummary {

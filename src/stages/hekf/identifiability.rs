@@ -14,10 +14,10 @@
 
 use super::identify::RunData;
 use super::result::RunTraces;
-use crate::numerics::ad;
-use crate::model::models::Model;
 use crate::base::quantity::Quantity;
-use crate::app::results::{CORRELATED, UNCERTAIN};
+use crate::model::coefficients::{CORRELATED, UNCERTAIN};
+use crate::model::models::Model;
+use crate::numerics::ad;
 use serde::Serialize;
 
 /// A correlated estimate is flagged only when its sigma is above this share of its value:

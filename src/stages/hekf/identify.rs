@@ -9,13 +9,13 @@
 
 use super::bounds::{BoundLog, BoundSummary, Bounds};
 use super::history::{History, HistoryBuilder};
+use crate::base::progress::{Progress, Silent};
 use crate::dynamics::model_system::ModelSystem;
+use crate::dynamics::sim::InputSeries;
+use crate::model::models::{Model, Range};
 use crate::numerics::estimation::hybrid_ekf::GateEvent;
 use crate::numerics::estimation::rts::{self, SmoothError, Trace};
 use crate::numerics::estimation::{Divergence, FilterKind, HybridEkf};
-use crate::model::models::{Model, Range};
-use crate::base::progress::{Progress, Silent};
-use crate::dynamics::sim::InputSeries;
 
 /// One run, ready for the filter.
 #[derive(Debug, Clone)]
@@ -1088,9 +1088,9 @@ fn filter_sample<M: Model>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::numerics::estimation::rts::tests::dense_smooth;
-    use crate::model::models::spheroid3::{Spheroid3, BOUNDED_TRUTH};
     use crate::dynamics::sim::simulate;
+    use crate::model::models::spheroid3::{Spheroid3, BOUNDED_TRUTH};
+    use crate::numerics::estimation::rts::tests::dense_smooth;
 
     const ESTIMATED: [&str; 6] = ["Yvd", "Yrd", "Nrd", "Nvv", "Nrr", "Yrr"];
 

@@ -23,14 +23,14 @@ pub use history::History;
 mod plausibility;
 pub use result::{HekfResult, PassSummary, RunSummary, RunTraces};
 
-use crate::model::coefficients::CoefficientSet;
-use crate::config::{FluidConfig, VehicleConfig};
 use crate::base::error::{Error, Result};
-use crate::model::models::{with_model, Model, ModelVisitor};
 use crate::base::progress::Progress;
 use crate::base::quantity::Quantity;
-use crate::io::record::{Needs, Record};
 use crate::base::warning::Warning;
+use crate::config::{FluidConfig, VehicleConfig};
+use crate::io::record::{Needs, Record};
+use crate::model::coefficients::CoefficientSet;
+use crate::model::models::{with_model, Model, ModelVisitor};
 use identify::{identify, IdentifyError};
 
 /// The stage's name in messages and warnings.
@@ -592,10 +592,13 @@ fn divergence_error<M: Model>(
         .map(|w| format!("{}; {}", w.message, w.meaning))
         .collect();
     if let Some(run) = runs.iter().find(|r| r.name == e.run) {
-        if let Some(g) = crate::numerics::sampling::gaps(&run.times).into_iter().rfind(|g| {
-            let after = e.divergence.time - (g.start + g.length);
-            g.start <= e.divergence.time && after <= 5.0 * g.length
-        }) {
+        if let Some(g) = crate::numerics::sampling::gaps(&run.times)
+            .into_iter()
+            .rfind(|g| {
+                let after = e.divergence.time - (g.start + g.length);
+                g.start <= e.divergence.time && after <= 5.0 * g.length
+            })
+        {
             likely.push(format!(
                 "the failure came {} s after a gap of {} s in the time axis at t = {} s",
                 crate::base::numfmt::num(e.divergence.time - g.start - g.length),

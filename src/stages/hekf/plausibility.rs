@@ -32,10 +32,10 @@ mod travel;
 pub use inputs::{constant_inputs, Start};
 
 use super::STAGE;
-use crate::model::models::{Model, Vehicle};
 use crate::base::quantity::Quantity;
-use crate::io::record::Record;
 use crate::base::warning::Warning;
+use crate::io::record::Record;
+use crate::model::models::{Model, Vehicle};
 
 /// A finding of a check: a warning, and whether it is a clear mistake that stops the run
 /// (with `hekf.checks = "error"`).

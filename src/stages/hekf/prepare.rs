@@ -8,15 +8,15 @@ use super::noise;
 use super::result::RunSummary;
 use super::tuning::{NoiseChoice, Resolved};
 use super::STAGE;
-use crate::model::coefficients::{Coefficient, CoefficientSet};
 use crate::base::error::{Error, Result};
-use crate::model::models::Model;
 use crate::base::quantity::Quantity;
+use crate::base::warning::Warning;
+use crate::dynamics::sim::inputs::InputSeries;
 use crate::io::record::Record;
+use crate::model::coefficients::{Coefficient, CoefficientSet};
+use crate::model::models::Model;
 use crate::numerics::sampling::median_interval;
 use crate::numerics::signal::{self, noise_floor};
-use crate::dynamics::sim::inputs::InputSeries;
-use crate::base::warning::Warning;
 
 /// Which coefficients the filter estimates, which it holds fixed, and their priors.
 #[derive(Debug, Clone)]
@@ -279,7 +279,8 @@ pub fn coefficient_problems<M: Model>(
                 let range = M::COEFFICIENTS[i].range;
                 match cfg.prior.get(n).and_then(|p| p.initial) {
                     Some(v) if !range.contains(v) => {
-                        let unit = crate::model::models::registry::coefficient(n).map_or("", |c| c.unit);
+                        let unit =
+                            crate::model::models::registry::coefficient(n).map_or("", |c| c.unit);
                         problems.push(start_outside(n, unit, v, &range));
                     }
                     _ => {}

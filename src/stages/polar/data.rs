@@ -2,11 +2,11 @@
 //! point per file, the mean over the last part of the run), in body-axis coefficients.
 
 use super::config::{PolarAxes, PolarConfig, PolarData};
-use crate::config::{FluidConfig, VehicleConfig};
 use crate::base::error::{InputError, Place, Result};
 use crate::base::quantity::Quantity;
-use crate::io::record::Record;
 use crate::base::warning::Warning;
+use crate::config::{FluidConfig, VehicleConfig};
+use crate::io::record::Record;
 use serde::Serialize;
 
 /// One point of the polar, in body-axis coefficients.

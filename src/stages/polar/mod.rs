@@ -25,13 +25,13 @@ pub use config::{
 pub use data::{steady_mean, PolarPoint};
 pub use result::{ChannelFit, PolarFit, PolarResult, Reference, Residual, SpeedFit};
 
-use crate::model::coefficients::Coefficient;
-use crate::config::{FluidConfig, VehicleConfig};
 use crate::base::error::{Error, Result};
 use crate::base::quantity::Quantity;
-use crate::io::record::{Needs, Record};
-use crate::stages::spread::{spread, Spread};
 use crate::base::warning::Warning;
+use crate::config::{FluidConfig, VehicleConfig};
+use crate::io::record::{Needs, Record};
+use crate::model::coefficients::Coefficient;
+use crate::stages::spread::{spread, Spread};
 use channel::fit_all;
 
 pub(crate) const STAGE: &str = "polar";

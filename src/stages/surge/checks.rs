@@ -3,8 +3,8 @@
 
 use super::estimate::Stack;
 use super::{Estimate, MomentumCheck, RunResiduals, STAGE};
-use crate::stages::spread::Spread;
 use crate::base::warning::Warning;
+use crate::stages::spread::Spread;
 
 /// The warning when X_udot differs between the speed bins by more than their standard errors
 /// explain (chi-squared test at 1 %).

@@ -30,12 +30,12 @@ pub use result::{
     BinFit, Constants, Estimate, MomentumCheck, PartFit, RunFit, RunResiduals, SurgeResult, XuuUsed,
 };
 
-use crate::model::coefficients::{Coefficient, CoefficientSet, Source};
-use crate::config::VehicleConfig;
 use crate::base::error::{Error, Result};
 use crate::base::quantity::Quantity;
-use crate::io::record::{Needs, Record};
 use crate::base::warning::Warning;
+use crate::config::VehicleConfig;
+use crate::io::record::{Needs, Record};
+use crate::model::coefficients::{Coefficient, CoefficientSet, Source};
 use estimate::{part, solve, stack, Stack};
 use regress::SegmentFit;
 use std::ops::Range;

@@ -1,7 +1,7 @@
 //! The captive runs stage: the tables fitted, the residuals and the noise per force component.
 
-use crate::base::numfmt::num;
 use crate::app::report::doc::{text, Col, Document, Table};
+use crate::base::numfmt::num;
 use crate::stages::captive::CaptiveResult;
 
 pub fn write(d: &mut Document, c: &CaptiveResult) {

@@ -2,11 +2,11 @@
 
 use super::fmt::pct;
 use super::Figures;
-use crate::base::numfmt::num;
 use crate::app::report::doc::{code, text, Col, Document, Table};
 use crate::app::report::plots::budget::{lines, stages_of};
 use crate::app::report::table::{comparison_header, comparison_rows, ordered, Columns};
 use crate::app::results::RunResult;
+use crate::base::numfmt::num;
 
 pub fn write<'a>(d: &mut Document<'a>, r: &RunResult, figs: &Figures<'a>) {
     d.heading(2, "Coefficients");

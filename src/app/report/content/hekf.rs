@@ -3,9 +3,9 @@
 
 use super::fmt::{opt, pct, pm};
 use super::Figures;
-use crate::base::numfmt::num;
 use crate::app::report::doc::{text, Col, Document, Table};
 use crate::app::results::CORRELATED;
+use crate::base::numfmt::num;
 use crate::stages::hekf::HekfResult;
 
 pub fn write<'a>(d: &mut Document<'a>, h: &HekfResult, figs: &Figures<'a>) {

@@ -2,10 +2,10 @@
 //! ran and on which files.
 
 use super::fmt::{opt, serde_name};
-use crate::config::DataSource;
-use crate::base::numfmt::num;
 use crate::app::report::doc::{code, text, Col, Document, Table};
 use crate::app::results::RunResult;
+use crate::base::numfmt::num;
+use crate::config::DataSource;
 
 pub fn write(d: &mut Document, r: &RunResult, plots: bool) {
     let analytic = if r.analytic.is_empty() {

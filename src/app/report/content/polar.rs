@@ -2,8 +2,8 @@
 
 use super::fmt::{opt, serde_name};
 use super::Figures;
-use crate::base::numfmt::num;
 use crate::app::report::doc::{text, Col, Document, Table};
+use crate::base::numfmt::num;
 use crate::stages::polar::{ChannelFit, PolarResult};
 
 fn constants(f: &ChannelFit) -> String {

@@ -2,10 +2,10 @@
 
 use super::fmt::opt;
 use super::Figures;
-use crate::base::quantity::Quantity;
 use crate::app::report::doc::{strong, text, Col, Document, Table};
 use crate::app::report::plots::panels::{shown, unit_of};
 use crate::app::results::{data_word, RunResult};
+use crate::base::quantity::Quantity;
 
 pub fn write<'a>(d: &mut Document<'a>, r: &RunResult, figs: &Figures<'a>) {
     if r.resimulation.is_empty() {

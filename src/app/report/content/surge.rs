@@ -2,8 +2,8 @@
 
 use super::fmt::{opt, pm};
 use super::Figures;
-use crate::base::numfmt::num;
 use crate::app::report::doc::{strong, text, Col, Document, Table};
+use crate::base::numfmt::num;
 use crate::stages::surge::SurgeResult;
 
 pub fn write<'a>(d: &mut Document<'a>, s: &SurgeResult, figs: &Figures<'a>) {

@@ -52,24 +52,25 @@ impl Plot for Histories<'_> {
                 .map(|(t, v)| (t[1], ((v[1] - v[0]) / (t[1] - t[0])).to_degrees()))
                 .collect()
         };
-        let series =
-            |c: &crate::dynamics::autopilot::closed_loop::ClosedLoop, which: usize| -> Vec<(f64, f64)> {
-                match which {
-                    0 => c
-                        .times
-                        .iter()
-                        .zip(&c.heading_error)
-                        .map(|(t, v)| (*t, v.to_degrees()))
-                        .collect(),
-                    1 => c
-                        .times
-                        .iter()
-                        .zip(&c.rudder)
-                        .map(|(t, v)| (*t, v.to_degrees()))
-                        .collect(),
-                    _ => rate(&c.rudder, &c.times),
-                }
-            };
+        let series = |c: &crate::dynamics::autopilot::closed_loop::ClosedLoop,
+                      which: usize|
+         -> Vec<(f64, f64)> {
+            match which {
+                0 => c
+                    .times
+                    .iter()
+                    .zip(&c.heading_error)
+                    .map(|(t, v)| (*t, v.to_degrees()))
+                    .collect(),
+                1 => c
+                    .times
+                    .iter()
+                    .zip(&c.rudder)
+                    .map(|(t, v)| (*t, v.to_degrees()))
+                    .collect(),
+                _ => rate(&c.rudder, &c.times),
+            }
+        };
         let descs = ["heading error (deg)", "rudder (deg)", "rudder rate (deg/s)"];
         for (i, (area, desc)) in panels.iter().zip(descs).enumerate() {
             let raw = series(&a.raw, i);
@@ -131,7 +132,9 @@ impl Plot for Spectrum<'_> {
                 .map(|(w, p)| (*w, p.max(floor).log10()))
                 .collect()
         };
-        let raw = log(crate::numerics::signal::periodogram(&c.times, &c.compass, &ws));
+        let raw = log(crate::numerics::signal::periodogram(
+            &c.times, &c.compass, &ws,
+        ));
         let fil = log(crate::numerics::signal::periodogram(&c.times, &c.seen, &ws));
         let x = Range::new(ws[0], ws[ws.len() - 1]);
         let y = Range::require(raw.iter().chain(&fil).map(|p| p.1), "spectrum")?;

@@ -3,8 +3,8 @@
 
 use super::style::{self, anchored, colour, size, Key, Mark};
 use super::{FigureMeta, Plot, PlotError, Section};
-use crate::base::numfmt::num;
 use crate::app::results::ComparisonRow;
+use crate::base::numfmt::num;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};

@@ -2,8 +2,8 @@
 
 use super::style::{self, anchored, colour, size};
 use super::{FigureMeta, Plot, PlotError, Section};
-use crate::model::coefficients::Correlation;
 use crate::app::results::CORRELATED;
+use crate::model::coefficients::Correlation;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, VPos};

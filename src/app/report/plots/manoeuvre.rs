@@ -14,10 +14,12 @@ use super::axes::{self, Axes, Chart, Range};
 use super::runs::{without_outliers, RunView};
 use super::style::{self, colour, size, Key, Mark};
 use super::{FigureMeta, Plot, PlotError, Section};
-use crate::dynamics::manoeuvre::{self, ComparisonTable, Criterion, History, Measure, TurningCircle, ZigZag};
+use crate::app::resim::manoeuvre::ManoeuvreComparison;
 use crate::base::numfmt::num;
 use crate::base::quantity::Quantity;
-use crate::app::resim::manoeuvre::ManoeuvreComparison;
+use crate::dynamics::manoeuvre::{
+    self, ComparisonTable, Criterion, History, Measure, TurningCircle, ZigZag,
+};
 use plotters::coord::Shift;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;

@@ -23,8 +23,8 @@ pub mod surge;
 pub mod sweep;
 pub mod tracks;
 
-use crate::base::error::{Error, Result};
 use crate::app::results::RunOutput;
+use crate::base::error::{Error, Result};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use rayon::prelude::*;

@@ -5,8 +5,8 @@
 use super::axes::{self, Axes, Range};
 use super::style::{self, colour, Key, Mark};
 use super::{FigureMeta, Plot, PlotError, Section};
-use crate::numerics::estimation::nis::{chi2_bounds, NisSummary};
 use crate::base::numfmt::num;
+use crate::numerics::estimation::nis::{chi2_bounds, NisSummary};
 use crate::stages::hekf::{RunSummary, RunTraces};
 use plotters::coord::Shift;
 use plotters::prelude::*;

@@ -2,11 +2,11 @@
 //! with the data, the identified model re-simulated on it, the filter's smoothed estimate of
 //! a fit run, and where its data come from.
 
-use crate::config::DataSource;
-use crate::base::quantity::Quantity;
-use crate::io::record::Record;
 use crate::app::resim::{ResimMetrics, ResimTrace};
 use crate::app::results::RunOutput;
+use crate::base::quantity::Quantity;
+use crate::config::DataSource;
+use crate::io::record::Record;
 use crate::numerics::signal;
 
 /// One manoeuvre with everything the figures show of it.

@@ -4,8 +4,8 @@
 use super::axes::{self, Axes, Range};
 use super::style::{self, colour, Key, Mark};
 use super::{FigureMeta, Plot, PlotError, Section};
-use crate::base::numfmt::num;
 use crate::app::results::RunResult;
+use crate::base::numfmt::num;
 use crate::stages::surge::SurgeResult;
 use plotters::coord::Shift;
 use plotters::prelude::*;

@@ -5,8 +5,8 @@
 use super::axes::{self, Axes, Range};
 use super::style::{self, colour, Key, Mark};
 use super::{FigureMeta, Plot, PlotError, Section};
-use crate::dynamics::manoeuvre::Side;
 use crate::app::simulate::sweep::{Case, SweepResult, Varies};
+use crate::dynamics::manoeuvre::Side;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 

@@ -256,9 +256,9 @@ fn exaggeration((w, h): (u32, u32), x: Range, y: Range) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::app::resim::ResimTrace;
     use crate::config::DataSource;
     use crate::io::record::Record;
-    use crate::app::resim::ResimTrace;
     use std::collections::BTreeMap;
 
     #[test]

@@ -282,7 +282,12 @@ pub(in crate::numerics::estimation) struct UpdateWork {
 
 impl UpdateWork {
     /// H P, P H^T, H^T and S = H P H^T + R (with its diagonal) from H and P.
-    pub(in crate::numerics::estimation) fn innovation_covariance(&mut self, p: &[f64], r: &[f64], n: usize) {
+    pub(in crate::numerics::estimation) fn innovation_covariance(
+        &mut self,
+        p: &[f64],
+        r: &[f64],
+        n: usize,
+    ) {
         let m = self.m;
         matmul(&self.h, p, m, n, n, &mut self.hp);
         transpose(&self.hp, m, n, &mut self.pht);

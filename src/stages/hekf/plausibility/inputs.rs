@@ -9,13 +9,13 @@
 //! filter would otherwise turn into confidently wrong coefficients.
 
 use super::{Finding, STAGE};
-use crate::numerics::estimation::System;
-use crate::model::models::Model;
-use crate::io::record::Record;
-use crate::dynamics::sim::inputs::{Input, InputSeries};
-use crate::stages::hekf::identify::RunData;
-use crate::dynamics::model_system::ModelSystem;
 use crate::base::warning::Warning;
+use crate::dynamics::model_system::ModelSystem;
+use crate::dynamics::sim::inputs::{Input, InputSeries};
+use crate::io::record::Record;
+use crate::model::models::Model;
+use crate::numerics::estimation::System;
+use crate::stages::hekf::identify::RunData;
 use nalgebra::{DMatrix, DVector};
 
 /// Samples used at most (evenly spread): enough for a precise fit, bounded for long runs.
@@ -165,9 +165,11 @@ fn check_one<M: Model>(
             .collect();
         let xm = DMatrix::from_fn(kk, cols.len(), |r, c| eq[r].1[cols[c]]);
         let ym = DVector::from_fn(kk, |r, _| eq[r].0);
-        let Some(fit) =
-            crate::numerics::lsq::scaled_least_squares(&xm, &ym, kk.saturating_sub(cols.len()).max(1))
-        else {
+        let Some(fit) = crate::numerics::lsq::scaled_least_squares(
+            &xm,
+            &ym,
+            kk.saturating_sub(cols.len()).max(1),
+        ) else {
             continue;
         };
         let last = cols.len() - 1;

@@ -15,9 +15,9 @@
 use super::{
     approach, file, integral, median_of, named, sig, window_lengths, windows, Expectation, Finding,
 };
-use crate::model::models::Model;
 use crate::base::quantity::Quantity;
 use crate::io::record::Record;
+use crate::model::models::Model;
 use nalgebra::{DMatrix, DVector};
 
 const DEG: f64 = 180.0 / std::f64::consts::PI;
