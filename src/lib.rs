@@ -1,20 +1,30 @@
 //! hydroid: CFD exports of marine vehicles to manoeuvring models.
 //!
-//! The pipeline (see docs/architecture.md): configuration -> readers -> [`table::Table`] ->
-//! [`record::Record`] -> stages (polar, surge, captive, hekf) -> [`coefficients::CoefficientSet`] ->
-//! reports. The command-line program `hydroid` is a thin shell over this library.
+//! The pipeline (see docs/architecture.md): configuration -> readers -> [`io::table::Table`]
+//! -> [`io::record::Record`] -> stages (polar, surge, captive, hekf) ->
+//! [`model::coefficients::CoefficientSet`] -> reports. The command-line program `hydroid` is
+//! a thin shell over this library.
+//!
+//! The modules are eight layers, lowest first: [`base`], [`numerics`], [`io`], [`model`],
+//! [`dynamics`], [`config`], [`stages`], [`app`]; each imports only from those below it
+//! (docs/layers.txt, checked by tests/layers.rs).
 //!
 //! What a Rust user calls, re-exported here:
 //!
 //! * a configured run: [`load`] a configuration, [`run`] its stages, write the output folder
-//!   with [`report::write`] into a [`output::Staging`] folder (written whole or not at all);
+//!   with [`app::report::write`] into a [`io::output::Staging`] folder (written whole or not
+//!   at all); the result is a [`RunOutput`] ([`RunResult`] is what results.json holds);
+//! * a record: [`io::record::Record`] read from any export with a column map
+//!   ([`config::InputSpec`], docs/formats.md);
 //! * a model of your own: implement [`Model`] (states, inputs, coefficient table, dynamics and
 //!   optionally a measurement function, generic over the scalar so that AD gives the
-//!   Jacobians), add it to the registry in `src/models/mod.rs` (see docs/architecture.md,
-//!   "How to add a model"), and the stages, `hydroid simulate` and the conformance suite pick
-//!   it up;
+//!   Jacobians), add it to the registry in `src/model/models/mod.rs` (see
+//!   docs/architecture.md, "How to add a model"), and the stages, `hydroid simulate` and the
+//!   conformance suite pick it up; [`with_model`] builds a named model for a [`Vehicle`];
+//! * a simulation: [`dynamics::sim::simulate`] of any model, or a synthetic export with
+//!   [`app::simulate::run_file`];
 //! * a filter of your own: [`HybridEkf`] over any [`System`], for instance
-//!   [`stages::hekf::system::ModelSystem`], a model with coefficients appended to its state.
+//!   [`dynamics::model_system::ModelSystem`], a model with coefficients appended to its state.
 //!
 //! ```no_run
 //! use hydroid::{load, run, io::output::Staging, base::progress::Silent};
@@ -32,8 +42,9 @@
 //! }
 //! ```
 //!
-//! Numerical helpers (linear algebra, least squares, signal statistics, sampling, frames)
-//! and the re-simulation are internal to the crate.
+//! Numerical helpers (linear algebra, least squares, the ODE stepper, signal statistics,
+//! sampling, frames, printed precision), the input specification's internals, time-stamp
+//! repair, Froude scaling and the re-simulation are internal to the crate.
 
 // Numerical kernels index several arrays with one loop variable; iterator chains would hide
 // the linear algebra.

@@ -3,7 +3,7 @@
 //! labelled N, u = 0, a PMM force record of pure noise, a PMM amplitude twice too large, a
 //! model that misses the table) ends as a warning or error naming the cause; the clean
 //! table and runs give none. The data come from the independent KVLCC2 generator
-//! (tests/independent/mmg.rs: Yasukawa & Yoshimura 2015 equations, not src/models), the
+//! (tests/independent/mmg.rs: Yasukawa & Yoshimura 2015 equations, not src/model/models), the
 //! forces on the hull held in the motion, with noise from a fixed seed.
 //!
 //!   cargo test --test captive_plausibility

@@ -13,12 +13,13 @@
 //!    the hybrid EKF: each within 1 % of the truth.
 
 use hydroid::config::{FluidConfig, InputSpec, VehicleConfig};
+use hydroid::dynamics::model_system::ModelSystem;
 use hydroid::dynamics::sim::{simulate, InputSeries};
 use hydroid::io::record;
 use hydroid::model::coefficients::{Coefficient, CoefficientSet, Source, YawMoment};
 use hydroid::model::models::{with_model, Model, ModelName, ModelVisitor, Vehicle};
 use hydroid::numerics::ad;
-use hydroid::stages::hekf::{self, system::ModelSystem, HekfConfig};
+use hydroid::stages::hekf::{self, HekfConfig};
 
 /// Runs `check` on every registered model, built for its example vehicle; failures name the
 /// model.

@@ -234,7 +234,7 @@ fn assert_calibrated(study: &Study, error_percent: f64) {
 /// beyond 2 sigma (2801: Y'v +2.9 % at z -3.0 and Y'r -4.1 % at z -3.2; 2901: 2.5; 2921:
 /// 2.1). Another 20 seeds (10001 + 10 k): Y'v +0.26 % (mean z -0.25, rms 0.98), 97.5 % within
 /// 2 sigma. Seed 2801 is noise, not a difference of the models' forms (tests/independent/mmg.rs
-/// and src/models/mmg3.rs agree term by term, Y&Y 2015 eq. 4-26): the same seed with the
+/// and src/model/models/mmg3.rs agree term by term, Y&Y 2015 eq. 4-26): the same seed with the
 /// sensor noise scaled by 0.1 gives Y'v +0.23 %, by 0.01 -0.02 %; with the hull feeling the
 /// rudder held, the same as with it moving (the last test). The undetermined cubic terms stay
 /// near their start, 0 (Y'rrr -103 %, N'vvv -84 %, mean z -0.91 and +0.89 with a spread of
@@ -337,7 +337,7 @@ fn with_a_hundredth_of_the_noise_the_linear_derivatives_come_within_0_05_percent
 
 /// The same with the hull feeling the rudder held at its samples and the log read held: the
 /// physics are then exactly the zero-order hold hydroid assumes, and the estimates should
-/// come as close. They do not: hydroid's RK4 (src/ode.rs) evaluates the last stage of each
+/// come as close. They do not: hydroid's RK4 (src/numerics/ode.rs) evaluates the last stage of each
 /// step at t + h, which for the last step of a sample interval is the next sample time, where
 /// a held input already has its next value, so a sixth of each step's rudder change acts
 /// early (or not, as the rounding of t + h falls). Evaluating that stage's inputs just before

@@ -3,7 +3,7 @@
 //! Read from the source (tests/layers/), without the hydroid crate and without the project's
 //! hand tool `../shared/tools/layers.py`, which does the same check.
 //!
-//! `LAYERS_TABLE=/path/to/table cargo test --test layers -- --ignored` checks src/ against
+//! `LAYERS_TABLE=/path/to/table cargo test --test layers` checks src/ against
 //! another table (a proposed one) instead of docs/layers.txt.
 //!
 //! The unit tests below check the reading on small crates written to a temporary folder.
@@ -18,7 +18,6 @@ use std::path::Path;
 
 /// The crate's src/ against its layer table: every fault listed in one failure.
 #[test]
-#[ignore = "until the layer move lands (issue 23)"]
 fn src_keeps_its_layers() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let table_path = std::env::var("LAYERS_TABLE")

@@ -1,5 +1,5 @@
 //! The cross-check of Nomoto's indices (docs/models/nomoto.md): K and T of an identified ship
-//! model, linearised (src/course_stability.rs), against K and T identified directly from a
+//! model, linearised (src/dynamics/course_stability.rs), against K and T identified directly from a
 //! heading and rudder log of the same ship with the nomoto_wave filter.
 //!
 //! The ship: configs/vehicles/ship150_clarke.toml, a course-stable 150 m ship at 8 m/s from

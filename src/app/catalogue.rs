@@ -392,7 +392,7 @@ pub fn markdown() -> String {
     use crate::base::markdown_text::markdown_table;
     let mut s = String::from(
         "# Coefficients\n\n\
-         <!-- Generated from the code by `hydroid coefficients` (src/catalogue.rs): do not edit. \
+         <!-- Generated from the code by `hydroid coefficients` (src/app/catalogue.rs): do not edit. \
          After a change, HYDROID_BLESS=1 cargo test --lib catalogue rewrites it. -->\n\n\
          Every coefficient hydroid knows, by its ASCII SNAME name (`Xud` = X_udot, `Nrr` = \
          N_r|r|, `Yuvl` = lift part of Y_uv, `Nuva` = Munk part of N_uv), in SI units (kg, m, s; \

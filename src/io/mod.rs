@@ -3,10 +3,10 @@
 //! scaling, and safe writing of output folders. Imports base and numerics.
 
 pub mod formats;
-pub mod froude;
-pub mod input_spec;
+pub(crate) mod froude;
+pub(crate) mod input_spec;
 pub mod output;
 pub mod record;
-pub mod steps;
+pub(crate) mod steps;
 pub mod table;
-pub mod time_stamps;
+pub(crate) mod time_stamps;

@@ -4,12 +4,12 @@
 //! without I/O. Imports only the base layer.
 
 pub mod ad;
-pub mod constrained_lsq;
+pub(crate) mod constrained_lsq;
 pub mod estimation;
 pub(crate) mod frames;
 pub(crate) mod linalg;
 pub(crate) mod lsq;
-pub mod ode;
-pub mod printed;
+pub(crate) mod ode;
+pub(crate) mod printed;
 pub(crate) mod sampling;
 pub(crate) mod signal;

@@ -4,7 +4,7 @@
 //! model code that identifies it, so no model-form, sampling or convention error can show.
 //! The generators here are written from the published equations (the papers' text in
 //! ../shared/docs and the published coefficient sets in ../shared/data, copied with their
-//! sources into tests/fixtures/independent/), NOT from src/models and NOT through `hydroid
+//! sources into tests/fixtures/independent/), NOT from src/model/models and NOT through `hydroid
 //! simulate`:
 //!
 //! * their own integrator: classical RK4 at a fine fixed step, many steps per logged sample;

@@ -2,7 +2,7 @@
 //! rudder bias (Dinh, Hoang & Pham 2016, eq. 20; ../shared/docs/nomoto-wave-ekf.md; Fossen
 //! 2011, section 7.2) and Fossen's linear wave-induced yaw (Fossen 2011, section 8.2.1, the
 //! form the shared document names as the default), written from those texts, not from
-//! src/models:
+//! src/model/models:
 //!
 //!     psi_L_dot = r_L,   T r_L_dot + r_L = K (delta - delta_0)
 //!     xi_dot = psi_H,    psi_H_dot = -w0^2 xi - 2 zeta w0 psi_H + w(t)

@@ -1,6 +1,6 @@
 //! The 6:1 prolate spheroid in the horizontal plane, from the paper's equations: Rasekh &
 //! Mahdi (2020), eq. 2-4 as ../shared/docs/spheroid-hekf.md reads them (section 1), written
-//! from that text, not from src/models:
+//! from that text, not from src/model/models:
 //!
 //!     (m - Xud) u_dot                = F_X
 //!     (m - Yvd) v_dot - Yrd r_dot    = F_Y
@@ -12,7 +12,7 @@
 //! with the symmetry relations of eq. 4 (Nvd = Yrd, Xrr = -Yrd, Xvr = -Yvd, Yur = Xud,
 //! Nur = Yrd, Nuva = -(Xud - Yvd)), Yuv = Yuvd + Yuvl, Nuv = Nuva + Nuvl, and the planar
 //! kinematics. Vehicle (paper Table 1): m = 50 kg, Izz = 3.7 kg m^2. Truth: hydroid's
-//! bundled "bounded truth" (src/models/spheroid3.rs BOUNDED_TRUTH, values only: the paper's
+//! bundled "bounded truth" (src/model/models/spheroid3.rs BOUNDED_TRUTH, values only: the paper's
 //! Table 3 polar coefficients, Lamb's added masses, and a restoring Nvv = +10, Nrr = -5,
 //! Yrr = +0.5 with which the paper's manoeuvre stays bounded, as the shared document says).
 

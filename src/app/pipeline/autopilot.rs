@@ -1,6 +1,6 @@
 //! The autopilot step: the PID tuned from the identified model's Nomoto K and T by pole
 //! placement, closed around the identified model in waves (the HEKF's process noise), once
-//! fed the raw compass and gyro and once the wave filter (src/autopilot/closed_loop.rs).
+//! fed the raw compass and gyro and once the wave filter (src/dynamics/autopilot/closed_loop.rs).
 
 use crate::base::error::{Error, Result};
 use crate::config::autopilot::AutopilotConfig;

@@ -2,7 +2,7 @@
 //! angle and to the approach speed (Hajizadeh, Seif & Mehdigholi 2015, ../shared/docs/
 //! ship-3dof-ekf.md method step 4; ITTC 7.5-04-02-01 turning-circle test). Each case is the
 //! configuration's steered turn with one rudder angle or one approach speed, simulated
-//! without noise and measured (src/manoeuvre/); at another speed the propeller (rpm or
+//! without noise and measured (src/dynamics/manoeuvre/); at another speed the propeller (rpm or
 //! thrust) is set to the self-propulsion balance of that speed. The sweep is written as a
 //! folder: `sweep.csv`, `sweep.md` and the figures.
 

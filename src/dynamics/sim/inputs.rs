@@ -233,6 +233,7 @@ impl InputSeries {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::io::input_spec::InputSpec;
     use crate::io::record::{self, Needs};
 
     /// What `between` reports: held and linear inputs by key, constants left out.

@@ -1,4 +1,4 @@
-//! The model registry: the `registry!` list in `src/models/mod.rs` names every model once
+//! The model registry: the `registry!` list in `src/model/models/mod.rs` names every model once
 //! (its module, its type); this module turns the list into [`ModelName`] (the configuration's
 //! `model = "..."`), [`with_model`](super::with_model) (build the named model for a vehicle and run generic code
 //! with it) and the catalogue of every model's coefficients. `hydroid coefficients`, the

@@ -920,7 +920,7 @@ pub fn setup<M: Model>(
         substeps,
         max_step: dt / substeps as f64,
         // the RTS smoother needs a transition per interval, which the continuous
-        // (Kalman-Bucy) filter does not have (src/estimation/kalman_bucy.rs)
+        // (Kalman-Bucy) filter does not have (src/numerics/estimation/kalman_bucy.rs)
         smoother: tuning.smoother && cfg.filter != FilterKind::Continuous,
         gate: tuning.gate,
         gate_from_pass: 1,

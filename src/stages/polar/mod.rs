@@ -13,7 +13,7 @@ mod channel;
 use crate::config::polar as config;
 mod data;
 /// The constrained least squares the polar fits use (shared with the captive stage).
-pub use crate::numerics::constrained_lsq as fit;
+pub(crate) use crate::numerics::constrained_lsq as fit;
 mod mapping;
 mod plausibility;
 mod result;
