@@ -198,8 +198,10 @@ impl HybridEkf {
         if !diag_ok || self.updates_since_check >= CHECK_EVERY {
             self.check_covariance(t)?;
         }
-        sys.check(&self.x)
-            .map_err(|reason| Divergence { time: t, reason })?;
+        sys.check(&self.x).map_err(|e| Divergence {
+            time: t,
+            reason: e.to_string(),
+        })?;
         Ok(nis)
     }
 
