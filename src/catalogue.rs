@@ -113,15 +113,15 @@ pub struct ModelEntry {
     pub captive_forces: Vec<&'static str>,
 }
 
-/// The model `name` names (`spheroid3`), or a message listing the models.
-pub fn model_named(name: &str) -> Result<ModelName, String> {
+/// The model `name` names (`spheroid3`), or a usage error listing the models.
+pub fn model_named(name: &str) -> Result<ModelName, crate::error::Error> {
     ModelName::from_name(name).ok_or_else(|| {
         let names: Vec<String> = ModelName::ALL.iter().map(ToString::to_string).collect();
-        format!(
+        crate::error::Error::Usage(format!(
             "unknown model '{name}'; hydroid has {}{}",
             names.join(", "),
             crate::suggest::did_you_mean(name, names.iter().map(String::as_str))
-        )
+        ))
     })
 }
 
@@ -556,6 +556,7 @@ mod tests {
         assert_eq!(xvr.derived_by, Some("paper eq. 4: Xvr = -Yvd"));
         assert!(model_named("spheroid7")
             .unwrap_err()
+            .to_string()
             .contains("did you mean"));
     }
 }
