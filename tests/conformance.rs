@@ -195,7 +195,7 @@ impl ModelVisitor for Check {
                 ));
             }
         }
-        m.check(&ex.state, &c)
+        m.check(&ex.state, &c).map_err(|e| e.to_string())
     }
 }
 

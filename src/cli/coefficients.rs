@@ -2,7 +2,6 @@
 
 use super::{json, CmdResult};
 use hydroid::app::catalogue::{self, Entry};
-use hydroid::Error;
 use std::io::Write;
 
 /// List every coefficient hydroid knows: name, meaning, SI unit, the stages that can give it
@@ -35,7 +34,7 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
         }
         return Ok(0);
     };
-    let model = catalogue::model(catalogue::model_named(name).map_err(Error::Usage)?);
+    let model = catalogue::model(catalogue::model_named(name)?);
     let of_model: Vec<&Entry> = entries
         .iter()
         .filter(|e| model.coefficients.iter().any(|c| c.name == e.name))

@@ -43,7 +43,7 @@ pub struct Args {
 
 /// Runs the command.
 pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
-    let model = catalogue::model_named(&args.model).map_err(Error::Usage)?;
+    let model = catalogue::model_named(&args.model)?;
     let stages = args.stages.clone().unwrap_or_else(|| {
         if uses_stage_coefficients(model) {
             vec![Stage::Polar, Stage::Surge, Stage::Hekf]

@@ -17,6 +17,37 @@ impl InputSpec {
         if self.file.as_os_str().is_empty() {
             p.add(&format!("{key}.file"), "is empty; name the export to read");
         }
+        self.validate_constants(key, p);
+        self.validate_columns(key, p);
+        self.validate_reading(key, p);
+        if let Some(m) = &self.manoeuvre {
+            if key.starts_with("hekf.") {
+                m.validate(&format!("{key}.manoeuvre"), p);
+            } else {
+                p.add(
+                    &format!("{key}.manoeuvre"),
+                    "is read only for the runs of hekf.runs and hekf.validation (the manoeuvres \
+                     `hydroid manoeuvre` measures); leave it out here",
+                );
+            }
+        }
+        if let Some(f) = &self.froude {
+            if !(f.lambda.is_finite() && f.lambda > 1.0) {
+                p.add(
+                    &format!("{key}.froude.lambda"),
+                    format!(
+                        "must be the scale ratio L_ship / L_model, a number greater than 1 \
+                         (e.g. 45.7), got {}",
+                        f.lambda
+                    ),
+                );
+            }
+        }
+    }
+
+    /// The constants and the steps' values: each of its quantity's dimension, and no
+    /// constant also a column.
+    fn validate_constants(&self, key: &str, p: &mut Problems) {
         for (q, c) in &self.constants {
             if let Err(m) = c.expect_quantity(*q) {
                 p.add(&format!("{key}.constants.{q}"), m);
@@ -35,6 +66,11 @@ impl InputSpec {
                 }
             }
         }
+    }
+
+    /// The column mappings: column numbers from 1, scales finite and not zero, units of the
+    /// quantity's dimension, and each naming a column.
+    fn validate_columns(&self, key: &str, p: &mut Problems) {
         for (q, c) in &self.columns {
             let k = format!("{key}.columns.{q}");
             if let Some(i) = c.index {
@@ -72,6 +108,11 @@ impl InputSpec {
                 );
             }
         }
+    }
+
+    /// The reading options: names listed once, lines to skip within the limit, a positive
+    /// sample interval.
+    fn validate_reading(&self, key: &str, p: &mut Problems) {
         if let Some(names) = &self.names {
             p.no_duplicates(&format!("{key}.names"), names.iter().map(String::as_str));
         }
@@ -88,29 +129,6 @@ impl InputSpec {
             match dt.expect_dim([0, 0, 1, 0]) {
                 Ok(()) => p.positive(&format!("{key}.dt"), dt.si, "s"),
                 Err(m) => p.add(&format!("{key}.dt"), m),
-            }
-        }
-        if let Some(m) = &self.manoeuvre {
-            if key.starts_with("hekf.") {
-                m.validate(&format!("{key}.manoeuvre"), p);
-            } else {
-                p.add(
-                    &format!("{key}.manoeuvre"),
-                    "is read only for the runs of hekf.runs and hekf.validation (the manoeuvres \
-                     `hydroid manoeuvre` measures); leave it out here",
-                );
-            }
-        }
-        if let Some(f) = &self.froude {
-            if !(f.lambda.is_finite() && f.lambda > 1.0) {
-                p.add(
-                    &format!("{key}.froude.lambda"),
-                    format!(
-                        "must be the scale ratio L_ship / L_model, a number greater than 1 \
-                         (e.g. 45.7), got {}",
-                        f.lambda
-                    ),
-                );
             }
         }
     }

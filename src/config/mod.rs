@@ -6,8 +6,8 @@
 pub mod autopilot;
 pub mod captive;
 mod collect;
-pub mod hekf;
 mod input_checks;
+pub mod hekf;
 mod load;
 mod overrides;
 mod paths;
@@ -17,12 +17,13 @@ mod protected;
 mod reference;
 pub mod surge;
 
-pub use crate::base::si::Constant;
-pub(crate) use crate::io::input_spec::quantity_key;
-pub use crate::io::input_spec::{
-    Between, ColumnSpec, DataSource, FormatSetting, InputSpec, ManoeuvreSpec, Step, VelocityFrame,
-};
 pub(crate) use collect::read_collecting;
+pub(crate) use crate::io::input_spec::quantity_key;
+pub use crate::base::si::Constant;
+pub use crate::io::input_spec::{
+    Between, ColumnSpec, DataSource, FormatSetting, InputSpec, ManoeuvreSpec, Step,
+    VelocityFrame,
+};
 pub use load::{load, load_lenient, load_str, read, LoadedConfig};
 pub use problems::Problems;
 pub use reference::{ReferenceConfig, References};
@@ -332,7 +333,7 @@ impl VehicleConfig {
         }
         if let Some(lambda) = self.scale {
             if let Err(m) = check_scale(lambda) {
-                p.add("vehicle.scale", m);
+                p.add("vehicle.scale", m.to_string());
             }
         }
         if let Some(bg) = self.bg {
@@ -529,31 +530,44 @@ impl Config {
 pub const SCALE_RANGE: (f64, f64) = (1.0, 1000.0);
 
 /// Checks a scale ratio against [`SCALE_RANGE`]; the error says what was expected.
-pub fn check_scale(lambda: f64) -> std::result::Result<(), String> {
+pub fn check_scale(lambda: f64) -> std::result::Result<(), ScaleOutOfRange> {
     let (lo, hi) = SCALE_RANGE;
     if lambda.is_finite() && (lo..=hi).contains(&lambda) {
         Ok(())
     } else {
-        Err(format!(
-            "{lambda} is not a scale ratio L_ship / L_model: expected a number from {lo} (full \
-             scale) to {hi}"
-        ))
+        Err(ScaleOutOfRange(lambda))
     }
 }
 
+/// A scale ratio outside [`SCALE_RANGE`].
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+#[error(
+    "{0} is not a scale ratio L_ship / L_model: expected a number from {lo} (full scale) to {hi}",
+    lo = SCALE_RANGE.0,
+    hi = SCALE_RANGE.1
+)]
+pub struct ScaleOutOfRange(pub f64);
+
 /// Checks a coefficient name against the catalogue.
-pub(crate) fn check_coefficient_name(name: &str) -> Result<(), String> {
+pub(crate) fn check_coefficient_name(name: &str) -> Result<(), UnknownCoefficient> {
     if crate::model::models::registry::coefficient(name).is_some() {
         Ok(())
     } else {
-        Err(format!(
-            "unknown coefficient '{name}'{}",
-            crate::base::suggest::did_you_mean(
-                name,
-                crate::model::models::registry::all_coefficients()
-                    .iter()
-                    .map(|c| c.name)
-            )
-        ))
+        Err(UnknownCoefficient(name.to_string()))
     }
+}
+
+/// A coefficient name the catalogue does not hold; the message suggests the nearest names.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("unknown coefficient '{0}'{hint}", hint = nearest_coefficients(.0))]
+pub struct UnknownCoefficient(pub String);
+
+/// "did you mean" with the catalogue's coefficient names nearest to `name`.
+fn nearest_coefficients(name: &str) -> String {
+    crate::base::suggest::did_you_mean(
+        name,
+        crate::model::models::registry::all_coefficients()
+            .iter()
+            .map(|c| c.name),
+    )
 }

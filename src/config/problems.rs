@@ -276,7 +276,7 @@ impl Problems {
     /// Requires a coefficient name from the catalogue.
     pub fn known_coefficient(&mut self, key: &str, name: &str) {
         if let Err(m) = super::check_coefficient_name(name) {
-            self.add(key, m);
+            self.add(key, m.to_string());
         }
     }
 

@@ -182,7 +182,7 @@ impl<M: Model> System for ModelSystem<'_, M> {
         self.model.outputs().is_empty().then_some(self.measured)
     }
 
-    fn check(&mut self, x: &[f64]) -> Result<(), String> {
+    fn check(&mut self, x: &[f64]) -> Result<(), crate::model::models::Unphysical> {
         let nx = self.model.nx();
         self.coefficients(x);
         self.model.check(&x[..nx], &self.c)
@@ -258,7 +258,7 @@ mod tests {
             dx[0] = c[0] * x[0] * x[0].abs() / 50.0;
             dx[1] = x[0];
         }
-        fn check(&self, _: &[f64], _: &[f64]) -> Result<(), String> {
+        fn check(&self, _: &[f64], _: &[f64]) -> Result<(), crate::model::models::Unphysical> {
             Ok(())
         }
         fn example_vehicle() -> Vehicle {

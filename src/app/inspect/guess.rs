@@ -43,8 +43,34 @@ pub fn guess_quantity(name: &str, unit: Option<&Unit>) -> Option<Quantity> {
     guess_words(name, unit)
 }
 
+/// The quantity a column's name (and unit, when given) names: by a single word, or by the
+/// words of a phrase; None when the unit's dimension contradicts the guess.
 fn guess_words(name: &str, unit: Option<&Unit>) -> Option<Quantity> {
     use Quantity::*;
+    let w = name_words(name);
+    let has = |s: &str| w.iter().any(|x| x == s);
+    let dim = unit.map(|u| u.dim);
+    let axis = ["x", "y", "z"].iter().position(|a| has(a));
+    let pick = |qs: [Quantity; 3]| axis.map(|a| qs[a]);
+    // `total_x` (ESI force.dat and moment.dat): force or moment by the unit.
+    if words(name).iter().any(|x| x == "total") && axis.is_some() {
+        return match dim {
+            Some(d) if d == Fx.dim() => pick([Fx, Fy, Fz]),
+            Some(d) if d == Mx.dim() => pick([Mx, My, Mz]),
+            _ => None,
+        };
+    }
+    let single = if w.len() == 1 { w[0].as_str() } else { "" };
+    let guess = single_word(single, axis).or_else(|| phrase(&w, axis))?;
+    match dim {
+        Some(d) if d != guess.dim() => None,
+        _ => Some(guess),
+    }
+}
+
+/// The words of a column's name that may name a quantity: without filler words
+/// (`monitor`, `report`, `of`, ...), numbers and repeats.
+fn name_words(name: &str) -> Vec<String> {
     const NOISE: &[&str] = &[
         "monitor",
         "point",
@@ -66,23 +92,15 @@ fn guess_words(name: &str, unit: Option<&Unit>) -> Option<Quantity> {
             w.push(x);
         }
     }
-    let has = |s: &str| w.iter().any(|x| x == s);
-    let only = |s: &[&str]| w.len() == s.len() && s.iter().all(|x| has(x));
-    let dim = unit.map(|u| u.dim);
-    let axis = ["x", "y", "z"].iter().position(|a| has(a));
-    let pick = |qs: [Quantity; 3]| axis.map(|a| qs[a]);
-    // `total_x` (ESI force.dat and moment.dat): force or moment by the unit.
-    if words(name).iter().any(|x| x == "total") && axis.is_some() {
-        return match dim {
-            Some(d) if d == Fx.dim() => pick([Fx, Fy, Fz]),
-            Some(d) if d == Mx.dim() => pick([Mx, My, Mz]),
-            _ => None,
-        };
-    }
-    let single = if w.len() == 1 { w[0].as_str() } else { "" };
-    let guess = match single {
+    w
+}
+
+/// The quantity a single word names (`x`, `y`, `z` a position along `axis`).
+fn single_word(single: &str, axis: Option<usize>) -> Option<Quantity> {
+    use Quantity::*;
+    match single {
         "time" | "t" => Some(Time),
-        "x" | "y" | "z" => pick([X, Y, Z]),
+        "x" | "y" | "z" => axis.map(|a| [X, Y, Z][a]),
         "roll" | "phi" => Some(Roll),
         "pitch" | "theta" => Some(Pitch),
         "yaw" | "psi" | "heading" => Some(Yaw),
@@ -111,63 +129,66 @@ fn guess_words(name: &str, unit: Option<&Unit>) -> Option<Quantity> {
         "bow_planes" | "bowplanes" | "delta_b" => Some(BowPlanes),
         "rpm" | "rps" | "revs" => Some(Rpm),
         _ => None,
-    };
-    let guess = guess.or_else(|| {
-        if only(&["cm", "pitch"]) {
-            Some(Cm)
-        } else if only(&["u", "dot"]) || only(&["surge", "acceleration"]) {
-            Some(UDot)
-        } else if has("omega") || (has("angular") && has("velocity")) || has("rate") {
-            match (
-                axis,
-                w.iter()
-                    .find(|x| ["p", "q", "r", "roll", "pitch", "yaw"].contains(&x.as_str())),
-            ) {
-                (Some(_), _) => pick([P, Q, R]),
-                (None, Some(s)) => match s.as_str() {
-                    "p" | "roll" => Some(P),
-                    "q" | "pitch" => Some(Q),
-                    _ => Some(R),
-                },
-                _ => None,
-            }
-        } else if has("thrust") {
-            Some(Thrust)
-        } else if has("velocity") || has("vel") {
-            if has("magnitude") || has("inlet") || has("freestream") || has("inflow") {
-                Some(Speed)
-            } else if let Some(a) = axis {
-                Some([U, V, W][a])
-            } else {
-                ["u", "v", "w"]
-                    .iter()
-                    .position(|s| has(s))
-                    .map(|k| [U, V, W][k])
-            }
-        } else if has("force") && !has("pressure") && !has("viscous") && !has("porous") {
-            pick([Fx, Fy, Fz])
-        } else if has("moment") && !has("pressure") && !has("viscous") && !has("porous") {
-            pick([Mx, My, Mz])
-        } else if has("position") || has("centre") || has("center") || has("cog") {
-            pick([X, Y, Z])
-        } else if only(&["angle", "attack"]) || only(&["drift", "angle"]) {
-            Some(Alpha)
-        } else if only(&["rudder", "angle"]) {
-            Some(Rudder)
-        } else if only(&["propeller", "speed"]) {
-            Some(Rpm)
-        } else if only(&["stern", "planes"]) || only(&["stern", "plane"]) {
-            // `stern_planes`, `Stern Planes`: the words of the single names above
-            Some(SternPlanes)
-        } else if only(&["bow", "planes"]) || only(&["bow", "plane"]) {
-            Some(BowPlanes)
-        } else {
-            None
+    }
+}
+
+/// The quantity the words of a phrase name (`angular velocity z`, `rudder angle`, ...), with
+/// `axis` the component an x, y or z among them picks.
+fn phrase(w: &[String], axis: Option<usize>) -> Option<Quantity> {
+    use Quantity::*;
+    let has = |s: &str| w.iter().any(|x| x == s);
+    let only = |s: &[&str]| w.len() == s.len() && s.iter().all(|x| has(x));
+    let pick = |qs: [Quantity; 3]| axis.map(|a| qs[a]);
+    if only(&["cm", "pitch"]) {
+        Some(Cm)
+    } else if only(&["u", "dot"]) || only(&["surge", "acceleration"]) {
+        Some(UDot)
+    } else if has("omega") || (has("angular") && has("velocity")) || has("rate") {
+        match (
+            axis,
+            w.iter()
+                .find(|x| ["p", "q", "r", "roll", "pitch", "yaw"].contains(&x.as_str())),
+        ) {
+            (Some(_), _) => pick([P, Q, R]),
+            (None, Some(s)) => match s.as_str() {
+                "p" | "roll" => Some(P),
+                "q" | "pitch" => Some(Q),
+                _ => Some(R),
+            },
+            _ => None,
         }
-    })?;
-    match dim {
-        Some(d) if d != guess.dim() => None,
-        _ => Some(guess),
+    } else if has("thrust") {
+        Some(Thrust)
+    } else if has("velocity") || has("vel") {
+        if has("magnitude") || has("inlet") || has("freestream") || has("inflow") {
+            Some(Speed)
+        } else if let Some(a) = axis {
+            Some([U, V, W][a])
+        } else {
+            ["u", "v", "w"]
+                .iter()
+                .position(|s| has(s))
+                .map(|k| [U, V, W][k])
+        }
+    } else if has("force") && !has("pressure") && !has("viscous") && !has("porous") {
+        pick([Fx, Fy, Fz])
+    } else if has("moment") && !has("pressure") && !has("viscous") && !has("porous") {
+        pick([Mx, My, Mz])
+    } else if has("position") || has("centre") || has("center") || has("cog") {
+        pick([X, Y, Z])
+    } else if only(&["angle", "attack"]) || only(&["drift", "angle"]) {
+        Some(Alpha)
+    } else if only(&["rudder", "angle"]) {
+        Some(Rudder)
+    } else if only(&["propeller", "speed"]) {
+        Some(Rpm)
+    } else if only(&["stern", "planes"]) || only(&["stern", "plane"]) {
+        // `stern_planes`, `Stern Planes`: the words of the single names above
+        Some(SternPlanes)
+    } else if only(&["bow", "planes"]) || only(&["bow", "plane"]) {
+        Some(BowPlanes)
+    } else {
+        None
     }
 }
 

@@ -268,15 +268,8 @@ pub fn num(v: f64) -> String {
 }
 
 impl InspectReport {
-    /// Writes the report for people: a summary, an aligned column table, metadata and
-    /// warnings.
-    pub fn write_text(&self, out: &mut impl Write) -> io::Result<()> {
-        writeln!(out, "file      {}", self.file)?;
-        writeln!(out, "format    {}", self.format)?;
-        match self.data_lines {
-            Some((a, b)) => writeln!(out, "rows      {} (lines {a}-{b})", self.rows)?,
-            None => writeln!(out, "rows      {}", self.rows)?,
-        }
+    /// Writes the time column's span and sampling.
+    fn write_time(&self, out: &mut impl Write) -> io::Result<()> {
         match &self.time {
             Some(t) => {
                 let u = if t.unitless { "" } else { " s" };
@@ -304,7 +297,11 @@ impl InspectReport {
             }
             None => writeln!(out, "time      no time column")?,
         }
-        writeln!(out)?;
+        Ok(())
+    }
+
+    /// Writes the aligned column table: numbers right-aligned, text left-aligned.
+    fn write_columns(&self, out: &mut impl Write) -> io::Result<()> {
         let head = [
             "#", "name", "header", "unit", "SI", "quantity", "missing", "min (SI)", "max (SI)",
         ];
@@ -356,6 +353,21 @@ impl InspectReport {
         for r in &rows {
             writeln!(out, "{}", line(r))?;
         }
+        Ok(())
+    }
+
+    /// Writes the report for people: a summary, an aligned column table, metadata and
+    /// warnings.
+    pub fn write_text(&self, out: &mut impl Write) -> io::Result<()> {
+        writeln!(out, "file      {}", self.file)?;
+        writeln!(out, "format    {}", self.format)?;
+        match self.data_lines {
+            Some((a, b)) => writeln!(out, "rows      {} (lines {a}-{b})", self.rows)?,
+            None => writeln!(out, "rows      {}", self.rows)?,
+        }
+        self.write_time(out)?;
+        writeln!(out)?;
+        self.write_columns(out)?;
         if !self.meta.is_empty() {
             writeln!(out)?;
             writeln!(out, "metadata")?;

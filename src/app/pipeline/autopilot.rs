@@ -67,8 +67,10 @@ impl ModelVisitor for Step<'_> {
             seed: a.seed,
             rate_noise: a.rate_noise,
         };
-        let raw = closed_loop::run(model, &c, &scenario, Feed::Compass).map_err(fail)?;
-        let filtered = closed_loop::run(model, &c, &scenario, Feed::Filtered).map_err(fail)?;
+        let raw = closed_loop::run(model, &c, &scenario, Feed::Compass)
+            .map_err(|e| fail(e.to_string()))?;
+        let filtered = closed_loop::run(model, &c, &scenario, Feed::Filtered)
+            .map_err(|e| fail(e.to_string()))?;
         Ok(AutopilotResult {
             k,
             t,

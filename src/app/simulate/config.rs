@@ -5,17 +5,17 @@
 //! checked against each key's dimension), then checked against limits that keep a
 //! simulation finite in time and memory: see [`limits`].
 
-use crate::base::error::{Error, Result};
-use crate::base::quantity::Quantity;
-use crate::base::si;
-use crate::base::units::{check_dim, Unit};
+use crate::model::coefficients::YawMoment;
 use crate::config::{
     quantity_key, read_collecting, Constant, FluidConfig, Problems, VehicleConfig,
 };
+use crate::base::error::{Error, Result};
+use crate::base::si;
 use crate::io::formats::Format;
-use crate::model::coefficients::YawMoment;
 use crate::model::models::{with_model, Model, ModelVisitor};
+use crate::base::quantity::Quantity;
 use crate::stages::hekf::ModelName;
+use crate::base::units::{check_dim, Unit};
 use serde::de::{Deserializer, MapAccess, Visitor};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -360,6 +360,94 @@ pub(super) struct Produces {
     pub(super) all: Vec<Quantity>,
 }
 
+impl Produces {
+    /// What a manoeuvre of `kind` produces from a model with these states, inputs and
+    /// forces.
+    fn of(kind: Kind, states: Vec<Quantity>, inputs: Vec<Quantity>, forces: Vec<Quantity>) -> Self {
+        match kind {
+            Kind::TimeHistory => Produces {
+                all: std::iter::once(Quantity::Time)
+                    .chain(states.iter().copied())
+                    .chain(inputs.iter().copied())
+                    .collect(),
+                states,
+                inputs,
+                forces: Vec::new(),
+            },
+            Kind::PolarSweep => Produces {
+                states: Vec::new(),
+                inputs: Vec::new(),
+                forces: Vec::new(),
+                all: vec![
+                    Quantity::Speed,
+                    Quantity::Alpha,
+                    Quantity::Cd,
+                    Quantity::Cl,
+                    Quantity::Cm,
+                ],
+            },
+            Kind::Captive | Kind::Pmm => Produces {
+                // a PMM run is a history in time, a captive programme a table of conditions
+                all: (kind == Kind::Pmm)
+                    .then_some(Quantity::Time)
+                    .into_iter()
+                    .chain(
+                        states
+                            .iter()
+                            .copied()
+                            .filter(|q| Quantity::MOTION[..6].contains(q)),
+                    )
+                    .chain(inputs.iter().copied())
+                    .chain(forces.iter().copied())
+                    .collect(),
+                states,
+                inputs,
+                forces,
+            },
+        }
+    }
+}
+
+/// What the configuration writes: the export's format, or a sweep (checked against the
+/// manoeuvre); exactly one of `[export]` and `[sweep]`.
+fn output(
+    export: Option<&ExportConfig>,
+    sweep: Option<super::sweep::SweepFile>,
+    noise: &NoiseConfig,
+    manoeuvre: Option<&Manoeuvre>,
+    produces: &Produces,
+    p: &mut Problems,
+) -> (Option<Format>, Option<super::sweep::Sweep>) {
+    match (export, sweep) {
+        (Some(e), None) => (check_export(e, produces, p), None),
+        (None, Some(s)) => {
+            if !noise.sigma.is_empty() {
+                p.add(
+                    "noise",
+                    "is not used by a sweep: its turning circles are measured without noise",
+                );
+            }
+            (Some(Format::Delimited), s.check(manoeuvre, produces, p))
+        }
+        (Some(_), Some(_)) => {
+            p.add(
+                "sweep",
+                "a configuration writes either an export (`[export]`) or a sweep \
+                 (`[sweep]`), not both",
+            );
+            (None, None)
+        }
+        (None, None) => {
+            p.add(
+                "export",
+                "the required section `[export]` is missing (or give `[sweep]` for a \
+                 turning-circle sweep)",
+            );
+            (None, None)
+        }
+    }
+}
+
 struct Signature;
 
 impl ModelVisitor for Signature {
@@ -394,80 +482,17 @@ impl SimFile {
                     return None;
                 }
             };
-        let produces = match self.manoeuvre.kind {
-            Kind::TimeHistory => Produces {
-                all: std::iter::once(Quantity::Time)
-                    .chain(states.iter().copied())
-                    .chain(inputs.iter().copied())
-                    .collect(),
-                states,
-                inputs,
-                forces: Vec::new(),
-            },
-            Kind::PolarSweep => Produces {
-                states: Vec::new(),
-                inputs: Vec::new(),
-                forces: Vec::new(),
-                all: vec![
-                    Quantity::Speed,
-                    Quantity::Alpha,
-                    Quantity::Cd,
-                    Quantity::Cl,
-                    Quantity::Cm,
-                ],
-            },
-            Kind::Captive | Kind::Pmm => Produces {
-                // a PMM run is a history in time, a captive programme a table of conditions
-                all: (self.manoeuvre.kind == Kind::Pmm)
-                    .then_some(Quantity::Time)
-                    .into_iter()
-                    .chain(
-                        states
-                            .iter()
-                            .copied()
-                            .filter(|q| Quantity::MOTION[..6].contains(q)),
-                    )
-                    .chain(inputs.iter().copied())
-                    .chain(forces.iter().copied())
-                    .collect(),
-                states,
-                inputs,
-                forces,
-            },
-        };
+        let produces = Produces::of(self.manoeuvre.kind, states, inputs, forces);
         let manoeuvre = self.manoeuvre.check(self.model, &produces, p);
         check_noise(&self.noise, &produces, p);
-        let (layout, sweep) = match (&self.export, self.sweep) {
-            (Some(e), None) => (check_export(e, &produces, p), None),
-            (None, Some(s)) => {
-                if !self.noise.sigma.is_empty() {
-                    p.add(
-                        "noise",
-                        "is not used by a sweep: its turning circles are measured without noise",
-                    );
-                }
-                (
-                    Some(Format::Delimited),
-                    s.check(manoeuvre.as_ref(), &produces, p),
-                )
-            }
-            (Some(_), Some(_)) => {
-                p.add(
-                    "sweep",
-                    "a configuration writes either an export (`[export]`) or a sweep \
-                     (`[sweep]`), not both",
-                );
-                (None, None)
-            }
-            (None, None) => {
-                p.add(
-                    "export",
-                    "the required section `[export]` is missing (or give `[sweep]` for a \
-                     turning-circle sweep)",
-                );
-                (None, None)
-            }
-        };
+        let (layout, sweep) = output(
+            self.export.as_ref(),
+            self.sweep,
+            &self.noise,
+            manoeuvre.as_ref(),
+            &produces,
+            p,
+        );
         // the truth's yaw-moment reading, as a run's known coefficients give it
         let mut vehicle = self.vehicle;
         match YawMoment::of_names(self.coefficients.keys().map(String::as_str)) {
@@ -524,6 +549,7 @@ impl ManoeuvreFile {
         ]
     }
 
+    /// Checks the manoeuvre: keys its kind does not use, then the keys of its kind.
     fn check(self, model: ModelName, produces: &Produces, p: &mut Problems) -> Option<Manoeuvre> {
         let kind = self.kind.name();
         for (key, given) in self.given() {
@@ -534,230 +560,9 @@ impl ManoeuvreFile {
                 );
             }
         }
-        let required = |p: &mut Problems, key: &str, unit: &str| {
-            p.add(
-                &format!("manoeuvre.{key}"),
-                format!("a {kind} manoeuvre needs `{key}` ({unit})"),
-            );
-        };
         match self.kind {
-            Kind::TimeHistory => {
-                let (Some(duration), Some(dt)) = (self.duration, self.dt) else {
-                    if self.duration.is_none() {
-                        required(p, "duration", "s");
-                    }
-                    if self.dt.is_none() {
-                        required(p, "dt", "s");
-                    }
-                    return None;
-                };
-                let substeps = self.substeps.unwrap_or(10);
-                let initial = self.initial.unwrap_or_default();
-                let inputs = self.inputs.unwrap_or_default();
-                let steps = self.steps.unwrap_or_default();
-                let mut ok = check_timing(duration, dt, substeps, p);
-                let model_name = model.to_string();
-                let steering = match &self.steering {
-                    None => None,
-                    Some(s) => match s.check("manoeuvre.steering") {
-                        Ok(law) => Some(law),
-                        Err(problems) => {
-                            for (k, m) in problems {
-                                p.add(&k, m);
-                            }
-                            ok = false;
-                            None
-                        }
-                    },
-                };
-                let rates = check_rates(self.rates.unwrap_or_default(), produces, &model_name, p);
-                ok &= rates.is_some();
-                let rates = rates.unwrap_or_default();
-                if let Some(file) = &self.steering {
-                    // the helm needs a surface to move and an angle to watch (the rudder and
-                    // the heading, or the stern planes and the pitch), and is the only one to
-                    // move that surface
-                    let surface = file.surface;
-                    let (input, watched) = (surface.input(), surface.watched());
-                    if !produces.inputs.contains(&input) || !produces.states.contains(&watched) {
-                        let key = if surface == crate::dynamics::sim::steering::Surface::Rudder {
-                            "manoeuvre.steering"
-                        } else {
-                            "manoeuvre.steering.surface"
-                        };
-                        p.add(
-                            key,
-                            format!(
-                                "the {model_name} model has no {} input or no {} state to steer",
-                                surface.words(),
-                                surface.watched_words()
-                            ),
-                        );
-                        ok = false;
-                    }
-                    let moved = inputs.contains_key(&input)
-                        || steps.iter().any(|s| s.values.contains_key(&input));
-                    if moved {
-                        p.add(
-                            "manoeuvre.steering",
-                            format!(
-                                "the helm moves the {0}: remove {input} from `inputs` and \
-                                 `steps`",
-                                surface.words()
-                            ),
-                        );
-                        ok = false;
-                    }
-                    if rates.contains_key(&input) {
-                        p.add(
-                            &format!("manoeuvre.rates.{input}"),
-                            format!(
-                                "the helm moves the {} at `manoeuvre.steering.rate`: remove \
-                                 {input} from `rates`",
-                                surface.words()
-                            ),
-                        );
-                        ok = false;
-                    }
-                }
-                for (q, c) in &initial {
-                    let key = format!("manoeuvre.initial.{q}");
-                    member(p, &key, *q, &produces.states, "a state", &model_name);
-                    if let Err(m) = c.expect_quantity(*q) {
-                        p.add(&key, m);
-                    }
-                }
-                for (q, c) in &inputs {
-                    let key = format!("manoeuvre.inputs.{q}");
-                    member(p, &key, *q, &produces.inputs, "an input", &model_name);
-                    if let Err(m) = c.expect_quantity(*q) {
-                        p.add(&key, m);
-                    }
-                }
-                for (i, s) in steps.iter().enumerate() {
-                    let key = format!("manoeuvre.steps[{i}]");
-                    if !(s.time >= 0.0 && s.time <= duration) {
-                        p.add(
-                            &format!("{key}.time"),
-                            format!(
-                                "must be within the manoeuvre, 0 to {duration} s, got {}",
-                                s.time
-                            ),
-                        );
-                    }
-                    if s.values.is_empty() {
-                        p.add(&key, "changes no input: give e.g. thrust = \"30 N\"");
-                    }
-                    for (q, c) in &s.values {
-                        let k = format!("{key}.{q}");
-                        member(p, &k, *q, &produces.inputs, "an input", &model_name);
-                        if let Err(m) = c.expect_quantity(*q) {
-                            p.add(&k, m);
-                        }
-                        if let Some(j) = steps[..i]
-                            .iter()
-                            .position(|o| o.time == s.time && o.values.contains_key(q))
-                        {
-                            p.add(
-                                &k,
-                                format!(
-                                    "steps {} and {} both set {q} at {} s",
-                                    j + 1,
-                                    i + 1,
-                                    s.time
-                                ),
-                            );
-                        }
-                    }
-                }
-                let process_noise = self.process_noise.unwrap_or_default();
-                for (q, v) in &process_noise {
-                    let key = format!("manoeuvre.process_noise.{q}");
-                    member(p, &key, *q, &produces.states, "a state", &model_name);
-                    if !(v.is_finite() && *v >= 0.0) {
-                        p.add(
-                            &key,
-                            format!(
-                                "a white-noise intensity (variance per second, SI), 0 or more, \
-                                 got {v}"
-                            ),
-                        );
-                        ok = false;
-                    }
-                }
-                ok.then_some(Manoeuvre::TimeHistory {
-                    duration,
-                    dt,
-                    substeps: substeps as usize,
-                    initial,
-                    inputs,
-                    steps,
-                    rates,
-                    steering,
-                    process_noise,
-                })
-            }
-            Kind::PolarSweep => {
-                if self.alpha_deg.is_none() {
-                    required(p, "alpha_deg", "a list of angles in degrees");
-                }
-                if self.speeds.is_none() {
-                    required(p, "speeds", "a list of speeds in m/s");
-                }
-                let (Some(alpha_deg), Some(speeds), Some(l_ref)) =
-                    (self.alpha_deg, self.speeds, self.moment_reference_length)
-                else {
-                    if self.moment_reference_length.is_none() {
-                        required(p, "moment_reference_length", "m");
-                    }
-                    return None;
-                };
-                let mut ok = true;
-                for (key, list) in [("alpha_deg", &alpha_deg), ("speeds", &speeds)] {
-                    if list.is_empty() {
-                        p.add(&format!("manoeuvre.{key}"), "is empty");
-                        ok = false;
-                    }
-                    let text: Vec<String> = list.iter().map(|v| v.to_string()).collect();
-                    p.no_duplicates(&format!("manoeuvre.{key}"), text.iter().map(String::as_str));
-                }
-                for (i, a) in alpha_deg.iter().enumerate() {
-                    if !(a.is_finite() && a.abs() <= 180.0) {
-                        p.add(
-                            &format!("manoeuvre.alpha_deg[{i}]"),
-                            format!("must be an angle from -180 to 180 degrees, got {a}"),
-                        );
-                        ok = false;
-                    }
-                }
-                for (i, u) in speeds.iter().enumerate() {
-                    if !(u.is_finite() && *u > 0.0) {
-                        p.positive(&format!("manoeuvre.speeds[{i}]"), *u, "m/s");
-                        ok = false;
-                    }
-                }
-                p.positive("manoeuvre.moment_reference_length", l_ref, "m");
-                let cubic = self.cubic.unwrap_or_default();
-                for (q, v) in &cubic {
-                    let key = format!("manoeuvre.cubic.{q}");
-                    if !matches!(q, Quantity::Cl | Quantity::Cm) {
-                        p.add(
-                            &key,
-                            format!("cubic terms exist for cl and cm only, not {q}"),
-                        );
-                    }
-                    p.finite(&key, *v);
-                }
-                let rows = alpha_deg.len() as u64 * speeds.len() as u64;
-                ok &= rows_within_limit(p, "manoeuvre.alpha_deg", rows, "angles times speeds");
-                ok.then_some(Manoeuvre::PolarSweep {
-                    alpha_deg,
-                    speeds,
-                    moment_reference_length: l_ref,
-                    cubic,
-                    moment: self.moment.unwrap_or(YawMoment::LiftOnly),
-                })
-            }
+            Kind::TimeHistory => self.time_history(model, produces, p),
+            Kind::PolarSweep => self.polar_sweep(p),
             Kind::Captive => self.captive(produces, p),
             Kind::Pmm => super::pmm::check(
                 super::pmm::PmmKeys {
@@ -774,6 +579,135 @@ impl ManoeuvreFile {
                 p,
             ),
         }
+    }
+
+    /// The keys of a time history: timing, helm, rates, initial state, inputs, steps and
+    /// process noise.
+    fn time_history(
+        self,
+        model: ModelName,
+        produces: &Produces,
+        p: &mut Problems,
+    ) -> Option<Manoeuvre> {
+        let kind = self.kind;
+        let (Some(duration), Some(dt)) = (self.duration, self.dt) else {
+            if self.duration.is_none() {
+                required(p, kind, "duration", "s");
+            }
+            if self.dt.is_none() {
+                required(p, kind, "dt", "s");
+            }
+            return None;
+        };
+        let substeps = self.substeps.unwrap_or(10);
+        let initial = self.initial.unwrap_or_default();
+        let inputs = self.inputs.unwrap_or_default();
+        let steps = self.steps.unwrap_or_default();
+        let mut ok = check_timing(duration, dt, substeps, p);
+        let model_name = model.to_string();
+        let steering = match &self.steering {
+            None => None,
+            Some(s) => match s.check("manoeuvre.steering") {
+                Ok(law) => Some(law),
+                Err(problems) => {
+                    for (k, m) in problems {
+                        p.add(&k, m);
+                    }
+                    ok = false;
+                    None
+                }
+            },
+        };
+        let rates = check_rates(self.rates.unwrap_or_default(), produces, &model_name, p);
+        ok &= rates.is_some();
+        let rates = rates.unwrap_or_default();
+        if let Some(file) = &self.steering {
+            let moves = Moves {
+                inputs: &inputs,
+                steps: &steps,
+                rates: &rates,
+            };
+            ok &= check_helm(file.surface, produces, &model_name, &moves, p);
+        }
+        check_initial_and_inputs(&initial, &inputs, produces, &model_name, p);
+        check_steps(&steps, duration, produces, &model_name, p);
+        let process_noise = self.process_noise.unwrap_or_default();
+        ok &= check_process_noise(&process_noise, produces, &model_name, p);
+        ok.then_some(Manoeuvre::TimeHistory {
+            duration,
+            dt,
+            substeps: substeps as usize,
+            initial,
+            inputs,
+            steps,
+            rates,
+            steering,
+            process_noise,
+        })
+    }
+
+    /// The keys of a polar sweep: angles, speeds, moment reference length and cubic terms.
+    fn polar_sweep(self, p: &mut Problems) -> Option<Manoeuvre> {
+        let kind = self.kind;
+        if self.alpha_deg.is_none() {
+            required(p, kind, "alpha_deg", "a list of angles in degrees");
+        }
+        if self.speeds.is_none() {
+            required(p, kind, "speeds", "a list of speeds in m/s");
+        }
+        let (Some(alpha_deg), Some(speeds), Some(l_ref)) =
+            (self.alpha_deg, self.speeds, self.moment_reference_length)
+        else {
+            if self.moment_reference_length.is_none() {
+                required(p, kind, "moment_reference_length", "m");
+            }
+            return None;
+        };
+        let mut ok = true;
+        for (key, list) in [("alpha_deg", &alpha_deg), ("speeds", &speeds)] {
+            if list.is_empty() {
+                p.add(&format!("manoeuvre.{key}"), "is empty");
+                ok = false;
+            }
+            let text: Vec<String> = list.iter().map(|v| v.to_string()).collect();
+            p.no_duplicates(&format!("manoeuvre.{key}"), text.iter().map(String::as_str));
+        }
+        for (i, a) in alpha_deg.iter().enumerate() {
+            if !(a.is_finite() && a.abs() <= 180.0) {
+                p.add(
+                    &format!("manoeuvre.alpha_deg[{i}]"),
+                    format!("must be an angle from -180 to 180 degrees, got {a}"),
+                );
+                ok = false;
+            }
+        }
+        for (i, u) in speeds.iter().enumerate() {
+            if !(u.is_finite() && *u > 0.0) {
+                p.positive(&format!("manoeuvre.speeds[{i}]"), *u, "m/s");
+                ok = false;
+            }
+        }
+        p.positive("manoeuvre.moment_reference_length", l_ref, "m");
+        let cubic = self.cubic.unwrap_or_default();
+        for (q, v) in &cubic {
+            let key = format!("manoeuvre.cubic.{q}");
+            if !matches!(q, Quantity::Cl | Quantity::Cm) {
+                p.add(
+                    &key,
+                    format!("cubic terms exist for cl and cm only, not {q}"),
+                );
+            }
+            p.finite(&key, *v);
+        }
+        let rows = alpha_deg.len() as u64 * speeds.len() as u64;
+        ok &= rows_within_limit(p, "manoeuvre.alpha_deg", rows, "angles times speeds");
+        ok.then_some(Manoeuvre::PolarSweep {
+            alpha_deg,
+            speeds,
+            moment_reference_length: l_ref,
+            cubic,
+            moment: self.moment.unwrap_or(YawMoment::LiftOnly),
+        })
     }
 
     /// The keys of a captive programme: speeds, drift angles, yaw rates r' and rudder
@@ -920,6 +854,171 @@ fn check_timing(duration: f64, dt: f64, substeps: u64, p: &mut Problems) -> bool
     ok
 }
 
+/// Reports a key a manoeuvre of this kind needs and lacks.
+fn required(p: &mut Problems, kind: Kind, key: &str, unit: &str) {
+    let kind = kind.name();
+    p.add(
+        &format!("manoeuvre.{key}"),
+        format!("a {kind} manoeuvre needs `{key}` ({unit})"),
+    );
+}
+
+/// What else moves the inputs of a time history: constant inputs, steps and rate limits.
+struct Moves<'a> {
+    inputs: &'a BTreeMap<Quantity, Constant>,
+    steps: &'a [Step],
+    rates: &'a BTreeMap<Quantity, f64>,
+}
+
+/// Checks the helm of a time history; false if it cannot steer or shares its surface.
+fn check_helm(
+    surface: crate::dynamics::sim::steering::Surface,
+    produces: &Produces,
+    model_name: &str,
+    moves: &Moves,
+    p: &mut Problems,
+) -> bool {
+    let mut ok = true;
+    // the helm needs a surface to move and an angle to watch (the rudder and
+    // the heading, or the stern planes and the pitch), and is the only one to
+    // move that surface
+    let (input, watched) = (surface.input(), surface.watched());
+    if !produces.inputs.contains(&input) || !produces.states.contains(&watched) {
+        let key = if surface == crate::dynamics::sim::steering::Surface::Rudder {
+            "manoeuvre.steering"
+        } else {
+            "manoeuvre.steering.surface"
+        };
+        p.add(
+            key,
+            format!(
+                "the {model_name} model has no {} input or no {} state to steer",
+                surface.words(),
+                surface.watched_words()
+            ),
+        );
+        ok = false;
+    }
+    let moved = moves.inputs.contains_key(&input)
+        || moves.steps.iter().any(|s| s.values.contains_key(&input));
+    if moved {
+        p.add(
+            "manoeuvre.steering",
+            format!(
+                "the helm moves the {0}: remove {input} from `inputs` and \
+                 `steps`",
+                surface.words()
+            ),
+        );
+        ok = false;
+    }
+    if moves.rates.contains_key(&input) {
+        p.add(
+            &format!("manoeuvre.rates.{input}"),
+            format!(
+                "the helm moves the {} at `manoeuvre.steering.rate`: remove \
+                 {input} from `rates`",
+                surface.words()
+            ),
+        );
+        ok = false;
+    }
+    ok
+}
+
+/// Checks the initial state and the constant inputs of a time history: each a state or an
+/// input of the model, in its quantity's unit.
+fn check_initial_and_inputs(
+    initial: &BTreeMap<Quantity, Constant>,
+    inputs: &BTreeMap<Quantity, Constant>,
+    produces: &Produces,
+    model_name: &str,
+    p: &mut Problems,
+) {
+    for (q, c) in initial {
+        let key = format!("manoeuvre.initial.{q}");
+        member(p, &key, *q, &produces.states, "a state", model_name);
+        if let Err(m) = c.expect_quantity(*q) {
+            p.add(&key, m);
+        }
+    }
+    for (q, c) in inputs {
+        let key = format!("manoeuvre.inputs.{q}");
+        member(p, &key, *q, &produces.inputs, "an input", model_name);
+        if let Err(m) = c.expect_quantity(*q) {
+            p.add(&key, m);
+        }
+    }
+}
+
+/// Checks the input steps of a time history: within the manoeuvre, each changing some
+/// input of the model, no two setting the same input at the same time.
+fn check_steps(
+    steps: &[Step],
+    duration: f64,
+    produces: &Produces,
+    model_name: &str,
+    p: &mut Problems,
+) {
+    for (i, s) in steps.iter().enumerate() {
+        let key = format!("manoeuvre.steps[{i}]");
+        if !(s.time >= 0.0 && s.time <= duration) {
+            p.add(
+                &format!("{key}.time"),
+                format!(
+                    "must be within the manoeuvre, 0 to {duration} s, got {}",
+                    s.time
+                ),
+            );
+        }
+        if s.values.is_empty() {
+            p.add(&key, "changes no input: give e.g. thrust = \"30 N\"");
+        }
+        for (q, c) in &s.values {
+            let k = format!("{key}.{q}");
+            member(p, &k, *q, &produces.inputs, "an input", model_name);
+            if let Err(m) = c.expect_quantity(*q) {
+                p.add(&k, m);
+            }
+            if let Some(j) = steps[..i]
+                .iter()
+                .position(|o| o.time == s.time && o.values.contains_key(q))
+            {
+                p.add(
+                    &k,
+                    format!("steps {} and {} both set {q} at {} s", j + 1, i + 1, s.time),
+                );
+            }
+        }
+    }
+}
+
+/// Checks the process-noise intensities of a time history; false if one is negative or not
+/// finite.
+fn check_process_noise(
+    process_noise: &BTreeMap<Quantity, f64>,
+    produces: &Produces,
+    model_name: &str,
+    p: &mut Problems,
+) -> bool {
+    let mut ok = true;
+    for (q, v) in process_noise {
+        let key = format!("manoeuvre.process_noise.{q}");
+        member(p, &key, *q, &produces.states, "a state", model_name);
+        if !(v.is_finite() && *v >= 0.0) {
+            p.add(
+                &key,
+                format!(
+                    "a white-noise intensity (variance per second, SI), 0 or more, \
+                     got {v}"
+                ),
+            );
+            ok = false;
+        }
+    }
+    ok
+}
+
 /// The inputs' rates (`manoeuvre.rates`) in SI per second, or None when one is unusable: each
 /// an input of the model, of its quantity's dimension per second, positive and finite.
 fn check_rates(
@@ -1028,6 +1127,32 @@ fn check_export(e: &ExportConfig, produces: &Produces, p: &mut Problems) -> Opti
         limits::MAX_DIGITS,
         "significant digits; 17 keep every bit of a number",
     );
+    let separator = export_separator(e, layout, p);
+    if e.columns.is_empty() {
+        p.add("export.columns", "lists no column to write");
+    }
+    p.no_duplicates("export.columns", e.columns.iter().map(|c| c.name.as_str()));
+    let name_breaks = match layout {
+        Some(Format::Delimited) => Some(separator),
+        Some(Format::Cfx) => Some(','),
+        _ => None,
+    };
+    for (i, c) in e.columns.iter().enumerate() {
+        check_export_column(
+            &format!("export.columns[{i}]"),
+            c,
+            layout,
+            name_breaks,
+            produces,
+            p,
+        );
+    }
+    layout
+}
+
+/// The delimited layout's separator (`,` by default): one character that cannot occur in a
+/// number or a name, and given for the delimited layout only.
+fn export_separator(e: &ExportConfig, layout: Option<Format>, p: &mut Problems) -> char {
     let mut separator = ',';
     if let Some(s) = &e.separator {
         let mut chars = s.chars();
@@ -1049,77 +1174,77 @@ fn check_export(e: &ExportConfig, produces: &Produces, p: &mut Problems) -> Opti
             );
         }
     }
-    if e.columns.is_empty() {
-        p.add("export.columns", "lists no column to write");
-    }
-    p.no_duplicates("export.columns", e.columns.iter().map(|c| c.name.as_str()));
-    let name_breaks = match layout {
-        Some(Format::Delimited) => Some(separator),
-        Some(Format::Cfx) => Some(','),
-        _ => None,
-    };
-    for (i, c) in e.columns.iter().enumerate() {
-        let key = format!("export.columns[{i}]");
-        let written = matches!(
-            c.quantity,
-            Quantity::Time
-                | Quantity::Fx
-                | Quantity::Fy
-                | Quantity::Fz
-                | Quantity::Mx
-                | Quantity::My
-                | Quantity::Mz
+    separator
+}
+
+/// Checks one column of the export: a quantity the manoeuvre produces (and the layout
+/// holds), a name the layout can write, a unit of the quantity's dimension.
+fn check_export_column(
+    key: &str,
+    c: &ExportColumn,
+    layout: Option<Format>,
+    name_breaks: Option<char>,
+    produces: &Produces,
+    p: &mut Problems,
+) {
+    let written = matches!(
+        c.quantity,
+        Quantity::Time
+            | Quantity::Fx
+            | Quantity::Fy
+            | Quantity::Fz
+            | Quantity::Mx
+            | Quantity::My
+            | Quantity::Mz
+    );
+    if layout == Some(Format::OpenFoamForcesLegacy) && !written {
+        p.add(
+            &format!("{key}.quantity"),
+            format!(
+                "the openfoam-forces layout holds the time, the force and the moment \
+                 only, not {}: give the prescribed motion in the fitting configuration \
+                 (captive.oscillations) or write another layout",
+                c.quantity
+            ),
         );
-        if layout == Some(Format::OpenFoamForcesLegacy) && !written {
-            p.add(
-                &format!("{key}.quantity"),
-                format!(
-                    "the openfoam-forces layout holds the time, the force and the moment \
-                     only, not {}: give the prescribed motion in the fitting configuration \
-                     (captive.oscillations) or write another layout",
-                    c.quantity
-                ),
-            );
-        }
-        // the attitude quaternion is written from the Euler angles of a run that has a heading
-        let from_attitude =
-            Quantity::QUATERNION.contains(&c.quantity) && produces.all.contains(&Quantity::Yaw);
-        if !produces.all.contains(&c.quantity) && !from_attitude {
-            let names: Vec<&str> = produces.all.iter().map(|q| q.key()).collect();
-            p.add(
-                &format!("{key}.quantity"),
-                format!(
-                    "this manoeuvre does not produce {} (it gives {})",
-                    c.quantity,
-                    names.join(", ")
-                ),
-            );
-        }
-        if c.name.trim().is_empty()
-            || c.name.contains(['"', '\n', '\r'])
-            || name_breaks.is_some_and(|s| c.name.contains(s))
-        {
-            p.add(
-                &format!("{key}.name"),
-                format!(
-                    "{:?} cannot be written as a column name: it must not be empty nor hold a \
-                     quote, a line end or the separator",
-                    c.name
-                ),
-            );
-        }
-        if let Some(u) = &c.unit {
-            match Unit::parse(u) {
-                Ok(unit) => {
-                    if let Err(m) = check_dim(&unit, c.quantity.dim()) {
-                        p.add(&format!("{key}.unit"), format!("{} {m}", c.quantity));
-                    }
+    }
+    // the attitude quaternion is written from the Euler angles of a run that has a heading
+    let from_attitude =
+        Quantity::QUATERNION.contains(&c.quantity) && produces.all.contains(&Quantity::Yaw);
+    if !produces.all.contains(&c.quantity) && !from_attitude {
+        let names: Vec<&str> = produces.all.iter().map(|q| q.key()).collect();
+        p.add(
+            &format!("{key}.quantity"),
+            format!(
+                "this manoeuvre does not produce {} (it gives {})",
+                c.quantity,
+                names.join(", ")
+            ),
+        );
+    }
+    if c.name.trim().is_empty()
+        || c.name.contains(['"', '\n', '\r'])
+        || name_breaks.is_some_and(|s| c.name.contains(s))
+    {
+        p.add(
+            &format!("{key}.name"),
+            format!(
+                "{:?} cannot be written as a column name: it must not be empty nor hold a \
+                 quote, a line end or the separator",
+                c.name
+            ),
+        );
+    }
+    if let Some(u) = &c.unit {
+        match Unit::parse(u) {
+            Ok(unit) => {
+                if let Err(m) = check_dim(&unit, c.quantity.dim()) {
+                    p.add(&format!("{key}.unit"), format!("{} {m}", c.quantity));
                 }
-                Err(err) => p.add(&format!("{key}.unit"), err.to_string()),
             }
+            Err(err) => p.add(&format!("{key}.unit"), err.to_string()),
         }
     }
-    layout
 }
 
 /// A key of `[noise]`: `seed`, or a quantity.

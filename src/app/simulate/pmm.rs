@@ -60,13 +60,48 @@ pub(super) fn check(
         );
         return None;
     }
-    let mut ok = true;
-    let mut need = |p: &mut Problems, key: &str, what: &str| {
+    missing_keys(&keys, p);
+    let (Some(speed), Some(frequency), Some(duration), Some(dt), Some(given)) = (
+        keys.speed,
+        keys.frequency,
+        keys.duration,
+        keys.dt,
+        keys.amplitude,
+    ) else {
+        return None;
+    };
+    p.positive("manoeuvre.speed", speed, "m/s");
+    p.positive("manoeuvre.frequency", frequency, "Hz");
+    p.positive("manoeuvre.duration", duration, "s");
+    p.positive("manoeuvre.dt", dt, "s");
+    if !(speed > 0.0 && frequency > 0.0 && duration > 0.0 && dt > 0.0) {
+        return None;
+    }
+    let mut ok = sampling_fits(frequency, duration, dt, p);
+    let amplitude = amplitudes(&given, states, &mut ok, p);
+    if given.is_empty() {
+        p.add("manoeuvre.amplitude", "names no oscillating velocity");
+        ok = false;
+    }
+    let inputs_given = keys.inputs.unwrap_or_default();
+    ok &= inputs_match(inputs, &inputs_given, p);
+    ok.then_some(Manoeuvre::Pmm(Pmm {
+        speed,
+        amplitude,
+        frequency,
+        duration,
+        dt,
+        inputs: inputs_given,
+    }))
+}
+
+/// Reports each key a PMM needs and lacks.
+fn missing_keys(keys: &PmmKeys, p: &mut Problems) {
+    let need = |p: &mut Problems, key: &str, what: &str| {
         p.add(
             &format!("manoeuvre.{key}"),
             format!("a pmm manoeuvre needs `{key}` ({what})"),
         );
-        ok = false;
     };
     if keys.speed.is_none() {
         need(p, "speed", "the carriage speed U, m/s");
@@ -88,22 +123,12 @@ pub(super) fn check(
              `{ r = \"10 deg/s\" }` (pure yaw)",
         );
     }
-    let (Some(speed), Some(frequency), Some(duration), Some(dt), Some(given)) = (
-        keys.speed,
-        keys.frequency,
-        keys.duration,
-        keys.dt,
-        keys.amplitude,
-    ) else {
-        return None;
-    };
-    p.positive("manoeuvre.speed", speed, "m/s");
-    p.positive("manoeuvre.frequency", frequency, "Hz");
-    p.positive("manoeuvre.duration", duration, "s");
-    p.positive("manoeuvre.dt", dt, "s");
-    if !(speed > 0.0 && frequency > 0.0 && duration > 0.0 && dt > 0.0) {
-        return None;
-    }
+}
+
+/// Whether the sampling resolves the oscillation (20 samples a period or more) within the
+/// row limit; reports what does not.
+fn sampling_fits(frequency: f64, duration: f64, dt: f64, p: &mut Problems) -> bool {
+    let mut ok = true;
     if dt > 0.05 / frequency {
         p.add(
             "manoeuvre.dt",
@@ -121,8 +146,19 @@ pub(super) fn check(
         );
         ok = false;
     }
+    ok
+}
+
+/// The oscillating velocities' amplitudes in SI: each a velocity of the model, in its
+/// quantity's unit, positive (clears `ok` at a problem).
+fn amplitudes(
+    given: &BTreeMap<Quantity, Constant>,
+    states: &[Quantity],
+    ok: &mut bool,
+    p: &mut Problems,
+) -> BTreeMap<Quantity, f64> {
     let mut amplitude = BTreeMap::new();
-    for (q, c) in &given {
+    for (q, c) in given {
         let key = format!("manoeuvre.amplitude.{q}");
         if !OSCILLATING.contains(q) || !states.contains(q) {
             p.add(
@@ -137,25 +173,31 @@ pub(super) fn check(
                         .join(", ")
                 ),
             );
-            ok = false;
+            *ok = false;
             continue;
         }
         if let Err(m) = c.expect_quantity(*q) {
             p.add(&key, m);
-            ok = false;
+            *ok = false;
             continue;
         }
         if !(c.si.is_finite() && c.si > 0.0) {
             p.add(&key, format!("must be positive, got {}", c.text));
-            ok = false;
+            *ok = false;
         }
         amplitude.insert(*q, c.si);
     }
-    if given.is_empty() {
-        p.add("manoeuvre.amplitude", "names no oscillating velocity");
-        ok = false;
-    }
-    let inputs_given = keys.inputs.unwrap_or_default();
+    amplitude
+}
+
+/// Whether the constant inputs are exactly the model's inputs; reports a missing or foreign
+/// one.
+fn inputs_match(
+    inputs: &[Quantity],
+    inputs_given: &BTreeMap<Quantity, Constant>,
+    p: &mut Problems,
+) -> bool {
+    let mut ok = true;
     for q in inputs {
         if !inputs_given.contains_key(q) {
             p.add(
@@ -174,14 +216,7 @@ pub(super) fn check(
             ok = false;
         }
     }
-    ok.then_some(Manoeuvre::Pmm(Pmm {
-        speed,
-        amplitude,
-        frequency,
-        duration,
-        dt,
-        inputs: inputs_given,
-    }))
+    ok
 }
 
 /// Synthesises the force history of a PMM run.

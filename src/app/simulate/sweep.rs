@@ -7,15 +7,15 @@
 //! folder: `sweep.csv`, `sweep.md` and the figures.
 
 use super::config::{LoadedSim, Manoeuvre, Produces, SimConfig};
-use crate::base::error::{Error, Result};
-use crate::base::quantity::Quantity;
+use crate::dynamics::sim::steering::Steering;
+use crate::model::coefficients::{Coefficient, CoefficientSet, Source};
 use crate::base::si;
 use crate::config::{Constant, Problems};
+use crate::base::error::{Error, Result};
 use crate::dynamics::manoeuvre::{self, TurningCircle};
-use crate::dynamics::sim::steering::Steering;
-use crate::io::output::{Protected, Replace, Staging};
-use crate::model::coefficients::{Coefficient, CoefficientSet, Source};
 use crate::model::models::{with_model, Model, ModelVisitor};
+use crate::io::output::{Protected, Replace, Staging};
+use crate::base::quantity::Quantity;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -232,13 +232,29 @@ pub fn simulate_sweep(loaded: &LoadedSim) -> Result<SweepResult> {
     else {
         return Err(Error::Usage("a sweep needs a turning circle".into()));
     };
+    let base_speed = initial.get(&Quantity::U).map_or(0.0, |c| c.si);
+    let plan = cases(sweep, configured, base_speed);
+    let mut result = SweepResult {
+        length: cfg.vehicle.length,
+        cases: Vec::new(),
+        warnings: Vec::new(),
+    };
+    for (varies, rudder, speed) in plan {
+        let case = run_case(cfg, inputs, varies, rudder, speed, &mut result.warnings)?;
+        result.cases.push(case);
+    }
+    Ok(result)
+}
+
+/// The sweep's cases in order (varied rudder, then varied speed; each on the configured
+/// side, then the other when both are swept): what varies, the rudder angle and the speed.
+fn cases(sweep: &Sweep, configured: f64, base_speed: f64) -> Vec<(Varies, f64, f64)> {
     let sign = if configured < 0.0 { -1.0 } else { 1.0 };
     let signs: &[f64] = if sweep.sides == Sides::Both {
         &[1.0, -1.0]
     } else {
         &[1.0]
     };
-    let base_speed = initial.get(&Quantity::U).map_or(0.0, |c| c.si);
     let mut plan: Vec<(Varies, f64, f64)> = Vec::new();
     for &s in signs {
         for a in &sweep.rudder {
@@ -250,71 +266,76 @@ pub fn simulate_sweep(loaded: &LoadedSim) -> Result<SweepResult> {
             plan.push((Varies::Speed, sign * s * sweep.speed_rudder, *u));
         }
     }
-    let mut result = SweepResult {
-        length: cfg.vehicle.length,
-        cases: Vec::new(),
-        warnings: Vec::new(),
+    plan
+}
+
+/// Simulates one case without noise (at the self-propulsion point when the speed varies)
+/// and measures its turning circle; a tactical diameter the run does not reach is a warning.
+fn run_case(
+    cfg: &SimConfig,
+    inputs: &std::collections::BTreeMap<Quantity, Constant>,
+    varies: Varies,
+    rudder: f64,
+    speed: f64,
+    warnings: &mut Vec<String>,
+) -> Result<Case> {
+    let mut case_cfg = cfg.clone();
+    case_cfg.noise.sigma.clear();
+    let propeller = match varies {
+        Varies::Speed => Some(balance(cfg, speed, inputs)?),
+        Varies::Rudder => None,
     };
-    for (varies, rudder, speed) in plan {
-        let mut case_cfg = cfg.clone();
-        case_cfg.noise.sigma.clear();
-        let propeller = match varies {
-            Varies::Speed => Some(balance(cfg, speed, inputs)?),
-            Varies::Rudder => None,
-        };
-        if let Manoeuvre::TimeHistory {
-            initial,
-            inputs,
-            steering: Some(Steering::Turn { rudder: r, .. }),
-            ..
-        } = &mut case_cfg.manoeuvre
-        {
-            *r = rudder;
-            initial.insert(Quantity::U, Constant::si(speed));
-            if let Some((q, v)) = propeller {
-                inputs.insert(q, Constant::si(v * q.internal_unit().factor));
-            }
+    if let Manoeuvre::TimeHistory {
+        initial,
+        inputs,
+        steering: Some(Steering::Turn { rudder: r, .. }),
+        ..
+    } = &mut case_cfg.manoeuvre
+    {
+        *r = rudder;
+        initial.insert(Quantity::U, Constant::si(speed));
+        if let Some((q, v)) = propeller {
+            inputs.insert(q, Constant::si(v * q.internal_unit().factor));
         }
-        let cols = super::synth::synthesize(&case_cfg)?;
-        let col = |q: Quantity| cols.get(&q).cloned();
-        let label = format!(
-            "rudder {:.1} deg at {} m/s",
-            rudder.to_degrees(),
-            crate::base::numfmt::num(speed)
-        );
-        let history = manoeuvre::history_of(col)
-            .map_err(|e| Error::numerical("sweep", format!("{label}: {e}")))?
-            .ok_or_else(|| Error::Usage(format!("{label}: the model has no heading")))?;
-        let nominal = manoeuvre::Nominal {
-            rudder: Some(rudder.abs()),
-            check: None,
-        };
-        let measured = manoeuvre::measure_history(&history, cfg.vehicle.length, None, nominal)
-            .map_err(|e| Error::numerical("sweep", format!("{label}: {e}")))?;
-        let Some(turn) = measured.turning_circle else {
-            return Err(Error::numerical("sweep", format!("{label}: not a turn")));
-        };
-        if turn.tactical_diameter.value().is_none() {
-            result.warnings.push(format!(
-                "{label}: the heading changed by {:.0} deg only, so the tactical diameter is \
-                 missing; lengthen `manoeuvre.duration`",
-                turn.max_heading_change.to_degrees()
-            ));
-        }
-        let track = (
-            cols.get(&Quantity::X).cloned().unwrap_or_default(),
-            cols.get(&Quantity::Y).cloned().unwrap_or_default(),
-        );
-        result.cases.push(Case {
-            varies,
-            rudder,
-            speed,
-            propeller,
-            turn,
-            track,
-        });
     }
-    Ok(result)
+    let cols = super::synth::synthesize(&case_cfg)?;
+    let col = |q: Quantity| cols.get(&q).cloned();
+    let label = format!(
+        "rudder {:.1} deg at {} m/s",
+        rudder.to_degrees(),
+        crate::base::numfmt::num(speed)
+    );
+    let history = manoeuvre::history_of(col)
+        .map_err(|e| Error::numerical("sweep", format!("{label}: {e}")))?
+        .ok_or_else(|| Error::Usage(format!("{label}: the model has no heading")))?;
+    let nominal = manoeuvre::Nominal {
+        rudder: Some(rudder.abs()),
+        check: None,
+    };
+    let measured = manoeuvre::measure_history(&history, cfg.vehicle.length, None, nominal)
+        .map_err(|e| Error::numerical("sweep", format!("{label}: {e}")))?;
+    let Some(turn) = measured.turning_circle else {
+        return Err(Error::numerical("sweep", format!("{label}: not a turn")));
+    };
+    if turn.tactical_diameter.value().is_none() {
+        warnings.push(format!(
+            "{label}: the heading changed by {:.0} deg only, so the tactical diameter is \
+             missing; lengthen `manoeuvre.duration`",
+            turn.max_heading_change.to_degrees()
+        ));
+    }
+    let track = (
+        cols.get(&Quantity::X).cloned().unwrap_or_default(),
+        cols.get(&Quantity::Y).cloned().unwrap_or_default(),
+    );
+    Ok(Case {
+        varies,
+        rudder,
+        speed,
+        propeller,
+        turn,
+        track,
+    })
 }
 
 /// The propeller input (its quantity and value in the internal unit) at which the model's
@@ -441,9 +462,7 @@ pub fn write_sweep(
 /// The measures of a case as numbers (m, s, m/s), or empty cells.
 fn cells(c: &Case, l: f64) -> Vec<String> {
     let t = &c.turn;
-    let v = |m: &crate::dynamics::manoeuvre::Measure| {
-        m.value().map_or(String::new(), |x| format!("{x:.6}"))
-    };
+    let v = |m: &crate::dynamics::manoeuvre::Measure| m.value().map_or(String::new(), |x| format!("{x:.6}"));
     let in_l = |m: &crate::dynamics::manoeuvre::Measure| {
         m.value().map_or(String::new(), |x| format!("{:.6}", x / l))
     };
@@ -526,10 +545,7 @@ fn table_markdown(loaded: &LoadedSim, r: &SweepResult) -> String {
     if !r.warnings.is_empty() {
         s.push_str("\n## Warnings\n\n");
         for w in &r.warnings {
-            s.push_str(&format!(
-                "- {}\n",
-                crate::base::markdown_text::escape_markdown(w)
-            ));
+            s.push_str(&format!("- {}\n", crate::base::markdown_text::escape_markdown(w)));
         }
     }
     s.push_str(

@@ -2,12 +2,14 @@
 //! coefficients imply), with seeded measurement noise, as SI columns ready to export.
 
 use super::config::{Manoeuvre, SimConfig};
-use crate::base::error::{Error, Result};
-use crate::base::quantity::Quantity;
 use crate::dynamics::sim::inputs::{changes_of, rate_limited, stepped, Input, InputSeries};
 use crate::dynamics::sim::integrate::{complete_coefficients, simulate};
+use crate::dynamics::sim::steering::Steering;
 use crate::model::coefficients::{Coefficient, CoefficientSet, Source, YawMoment, SYMMETRY};
+use crate::config::{Constant, Step};
+use crate::base::error::{Error, Result};
 use crate::model::models::{with_model, InputRule, Model, ModelVisitor};
+use crate::base::quantity::Quantity;
 use rand::{rngs::StdRng, SeedableRng};
 use rand_distr::{Distribution, Normal};
 use std::collections::BTreeMap;
@@ -104,57 +106,12 @@ impl ModelVisitor for History<'_> {
                 missing.join(", ")
             ))
         })?;
-        let mut x0 = vec![0.0; model.nx()];
-        for (q, v) in initial {
-            let i = model.state_index(*q).ok_or_else(|| {
-                Error::Usage(format!(
-                    "initial {q} is not a state of the {} model",
-                    model.name()
-                ))
-            })?;
-            x0[i] = v.si;
-        }
+        let x0 = initial_state(model, initial)?;
         // bounded by the loader (sim::config::limits)
         let n = (duration / dt).round() as usize + 1;
         let times: Vec<f64> = (0..n).map(|k| k as f64 * dt).collect();
-        for q in inputs
-            .keys()
-            .chain(steps.iter().flat_map(|s| s.values.keys()))
-        {
-            if !model.input_quantities().contains(q) {
-                return Err(Error::Usage(format!(
-                    "{q} is not an input of the {} model (inputs: {})",
-                    model.name(),
-                    model
-                        .input_quantities()
-                        .iter()
-                        .map(|q| q.key())
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                )));
-            }
-        }
-        // inputs: start values, then steps (held between steps, or ramped at the input's
-        // rate), in one sweep per input
-        let series: Vec<Input> = model
-            .inputs()
-            .iter()
-            .map(|def| {
-                let q = &def.quantity;
-                let start = inputs.get(q).map_or(0.0, |c| c.si);
-                // in hydroid's internal unit, as a record holds it (rev/s for rpm)
-                let factor = q.internal_unit().factor;
-                let changes = changes_of(steps, *q);
-                let si = match rates.get(q) {
-                    Some(rate) => rate_limited(start, &changes, &times, *rate),
-                    None => stepped(start, &changes, &times),
-                };
-                let samples: Vec<f64> = si.into_iter().map(|v| v / factor).collect();
-                let moved =
-                    rates.contains_key(q) || steering.is_some_and(|l| l.surface().input() == *q);
-                between_samples(def.rule, moved, samples)
-            })
-            .collect();
+        check_inputs(model, inputs, steps)?;
+        let series = input_samples(model, inputs, steps, rates, *steering, &times);
         let mut input_series = InputSeries {
             t: times,
             inputs: series,
@@ -194,43 +151,140 @@ impl ModelVisitor for History<'_> {
             t: times,
             inputs: series,
         } = input_series;
-        // what the sensors read: the model's outputs where it declares a measurement
-        // function (a compass reads psi_L + psi_H), its states elsewhere
-        let output_cols: Vec<(Quantity, Vec<f64>)> = if model.outputs().is_empty() {
-            Vec::new()
-        } else {
-            let replay = InputSeries {
-                t: times.clone(),
-                inputs: series.clone(),
+        let output_cols = sensor_outputs(model, &c, &xs, &times, &series);
+        Ok(columns(model, times, &xs, output_cols, series))
+    }
+}
+
+/// The export's columns: time, the states, the sensors' outputs and the inputs that vary.
+fn columns<M: Model>(
+    model: &M,
+    times: Vec<f64>,
+    xs: &[Vec<f64>],
+    output_cols: Vec<(Quantity, Vec<f64>)>,
+    series: Vec<Input>,
+) -> Columns {
+    let mut cols = Columns::new();
+    cols.insert(Quantity::Time, times);
+    for (i, s) in model.states().iter().enumerate() {
+        cols.insert(s.quantity, xs.iter().map(|x| x[i]).collect());
+    }
+    cols.extend(output_cols);
+    for (def, v) in model.inputs().iter().zip(series) {
+        if let Input::Series(v) | Input::Held(v) = v {
+            cols.insert(def.quantity, v);
+        }
+    }
+    cols
+}
+
+/// The initial state: zero but for the states the manoeuvre sets.
+fn initial_state<M: Model>(model: &M, initial: &BTreeMap<Quantity, Constant>) -> Result<Vec<f64>> {
+    let mut x0 = vec![0.0; model.nx()];
+    for (q, v) in initial {
+        let i = model.state_index(*q).ok_or_else(|| {
+            Error::Usage(format!(
+                "initial {q} is not a state of the {} model",
+                model.name()
+            ))
+        })?;
+        x0[i] = v.si;
+    }
+    Ok(x0)
+}
+
+/// Refuses an input or a step setting a quantity that is not an input of the model.
+fn check_inputs<M: Model>(
+    model: &M,
+    inputs: &BTreeMap<Quantity, Constant>,
+    steps: &[Step],
+) -> Result<()> {
+    for q in inputs
+        .keys()
+        .chain(steps.iter().flat_map(|s| s.values.keys()))
+    {
+        if !model.input_quantities().contains(q) {
+            return Err(Error::Usage(format!(
+                "{q} is not an input of the {} model (inputs: {})",
+                model.name(),
+                model
+                    .input_quantities()
+                    .iter()
+                    .map(|q| q.key())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Each input of the model sampled at `times`: its start value, then its steps (held between
+/// steps, or ramped at the input's rate), in hydroid's internal unit.
+fn input_samples<M: Model>(
+    model: &M,
+    inputs: &BTreeMap<Quantity, Constant>,
+    steps: &[Step],
+    rates: &BTreeMap<Quantity, f64>,
+    steering: Option<Steering>,
+    times: &[f64],
+) -> Vec<Input> {
+    // inputs: start values, then steps (held between steps, or ramped at the input's
+    // rate), in one sweep per input
+    model
+        .inputs()
+        .iter()
+        .map(|def| {
+            let q = &def.quantity;
+            let start = inputs.get(q).map_or(0.0, |c| c.si);
+            // in hydroid's internal unit, as a record holds it (rev/s for rpm)
+            let factor = q.internal_unit().factor;
+            let changes = changes_of(steps, *q);
+            let si = match rates.get(q) {
+                Some(rate) => rate_limited(start, &changes, times, *rate),
+                None => stepped(start, &changes, times),
             };
-            let mut u = vec![0.0; replay.len()];
-            let ys: Vec<Vec<f64>> = xs
-                .iter()
-                .zip(&times)
-                .map(|(x, &t)| {
-                    replay.at(t, &mut u);
-                    model.output_values(x, &u, &c)
-                })
-                .collect();
-            model
-                .output_quantities()
-                .into_iter()
-                .enumerate()
-                .map(|(a, q)| (q, ys.iter().map(|y| y[a]).collect()))
-                .collect()
+            let samples: Vec<f64> = si.into_iter().map(|v| v / factor).collect();
+            let moved =
+                rates.contains_key(q) || steering.is_some_and(|l| l.surface().input() == *q);
+            between_samples(def.rule, moved, samples)
+        })
+        .collect()
+}
+
+/// What the sensors read: the model's outputs where it declares a measurement function (a
+/// compass reads psi_L + psi_H); empty when the states are read directly.
+fn sensor_outputs<M: Model>(
+    model: &M,
+    c: &[f64],
+    xs: &[Vec<f64>],
+    times: &[f64],
+    series: &[Input],
+) -> Vec<(Quantity, Vec<f64>)> {
+    // what the sensors read: the model's outputs where it declares a measurement
+    // function (a compass reads psi_L + psi_H), its states elsewhere
+    if model.outputs().is_empty() {
+        Vec::new()
+    } else {
+        let replay = InputSeries {
+            t: times.to_vec(),
+            inputs: series.to_vec(),
         };
-        let mut cols = Columns::new();
-        cols.insert(Quantity::Time, times);
-        for (i, s) in model.states().iter().enumerate() {
-            cols.insert(s.quantity, xs.iter().map(|x| x[i]).collect());
-        }
-        cols.extend(output_cols);
-        for (def, v) in model.inputs().iter().zip(series) {
-            if let Input::Series(v) | Input::Held(v) = v {
-                cols.insert(def.quantity, v);
-            }
-        }
-        Ok(cols)
+        let mut u = vec![0.0; replay.len()];
+        let ys: Vec<Vec<f64>> = xs
+            .iter()
+            .zip(times)
+            .map(|(x, &t)| {
+                replay.at(t, &mut u);
+                model.output_values(x, &u, c)
+            })
+            .collect();
+        model
+            .output_quantities()
+            .into_iter()
+            .enumerate()
+            .map(|(a, q)| (q, ys.iter().map(|y| y[a]).collect()))
+            .collect()
     }
 }
 
@@ -291,11 +345,7 @@ fn per_sample<M: Model>(
                     ),
                 });
             };
-            Some((
-                crate::dynamics::sim::steering::Helm::new(law),
-                watched,
-                moved,
-            ))
+            Some((crate::dynamics::sim::steering::Helm::new(law), watched, moved))
         }
     };
     let times = inputs.t.clone();

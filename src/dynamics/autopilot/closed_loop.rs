@@ -83,83 +83,76 @@ pub struct ClosedLoop {
     pub seen: Vec<f64>,
 }
 
+impl ClosedLoop {
+    /// No samples yet, room for `n`.
+    fn empty(feed: Feed, n: usize) -> Self {
+        ClosedLoop {
+            feed,
+            heading_error_rms: 0.0,
+            rudder_rms: 0.0,
+            rudder_rate_rms: 0.0,
+            times: Vec::with_capacity(n),
+            heading_error: Vec::with_capacity(n),
+            rudder: Vec::with_capacity(n),
+            compass: Vec::with_capacity(n),
+            seen: Vec::with_capacity(n),
+        }
+    }
+}
+
+/// Why the closed loop cannot run, or stopped.
+#[derive(Debug, thiserror::Error)]
+pub enum LoopError {
+    /// The model lacks a state or an output the loop reads (`heading state`, ...).
+    #[error("the model has no {0}")]
+    Missing(&'static str),
+    /// The model has an input other than the rudder.
+    #[error("the closed loop drives models whose only input is the rudder")]
+    NotRudderOnly,
+    /// A noise's standard deviation is unusable.
+    #[error("{0}")]
+    Noise(rand_distr::NormalError),
+    /// The plant's simulation stopped.
+    #[error("{0}")]
+    Simulation(crate::dynamics::sim::SimError),
+    /// The wave filter diverged (the filter's reason).
+    #[error("the wave filter diverged: {0}")]
+    FilterDiverged(String),
+}
+
 /// Runs the scenario on `model` with coefficients `c`, feeding the autopilot `feed`. The
 /// wave filter (for [`Feed::Filtered`]) is the hybrid EKF on the same model and
 /// coefficients, with the scenario's process noise and compass noise.
-pub fn run<M: Model>(model: &M, c: &[f64], s: &Scenario, feed: Feed) -> Result<ClosedLoop, String> {
+pub fn run<M: Model>(
+    model: &M,
+    c: &[f64],
+    s: &Scenario,
+    feed: Feed,
+) -> Result<ClosedLoop, LoopError> {
     let nx = model.nx();
-    let psi_i = model
-        .state_index(Quantity::Yaw)
-        .ok_or("the model has no heading state")?;
-    let r_i = model
-        .state_index(Quantity::R)
-        .ok_or("the model has no yaw-rate state")?;
-    let compass_i = model
-        .output_index(Quantity::Yaw)
-        .ok_or("the model has no compass output")?;
-    let gyro_i = model
-        .output_index(Quantity::R)
-        .ok_or("the model has no yaw-rate output")?;
-    if model.input_quantities() != [Quantity::Rudder] {
-        return Err("the closed loop drives models whose only input is the rudder".into());
-    }
+    let Channels {
+        psi_i,
+        r_i,
+        compass_i,
+        gyro_i,
+    } = channels(model)?;
     let n = (s.duration / s.dt).round() as usize + 1;
     let mut rng = StdRng::seed_from_u64(s.seed);
-    let noise = Normal::new(0.0, s.compass_noise.max(0.0)).map_err(|e| e.to_string())?;
-    let gyro_noise = Normal::new(0.0, s.gyro_noise.max(0.0)).map_err(|e| e.to_string())?;
+    let noise = Normal::new(0.0, s.compass_noise.max(0.0)).map_err(LoopError::Noise)?;
+    let gyro_noise = Normal::new(0.0, s.gyro_noise.max(0.0)).map_err(LoopError::Noise)?;
     let mut x = vec![0.0; nx];
     let mut ap = Autopilot::new(s.gains, s.limits);
     let mut reference = ReferenceModel::new(s.reference.0, s.reference.1, 0.0);
     // the wave filter: the model's states only (no coefficient estimated)
     let measured = [compass_i];
-    let mut ekf = HybridEkf::new(
-        nx,
-        nx,
-        vec![0.0; nx],
-        {
-            let mut p0 = vec![0.0; nx * nx];
-            for i in 0..nx {
-                p0[i * nx + i] = 1.0;
-            }
-            p0
-        },
-        // the plant's process noise, and on every other state a small one (1e-9 SI^2/s) so
-        // that no state's covariance collapses to zero and the filter keeps listening
-        s.process_noise
-            .iter()
-            .enumerate()
-            .map(|(i, q)| q.max(if i == r_i { s.rate_noise } else { 1e-9 }))
-            .collect(),
-        s.dt,
-    );
+    let mut ekf = wave_filter(nx, r_i, s);
     let r_var = [s.compass_noise.powi(2).max(1e-12)];
-    let mut out = ClosedLoop {
-        feed,
-        heading_error_rms: 0.0,
-        rudder_rms: 0.0,
-        rudder_rate_rms: 0.0,
-        times: Vec::with_capacity(n),
-        heading_error: Vec::with_capacity(n),
-        rudder: Vec::with_capacity(n),
-        compass: Vec::with_capacity(n),
-        seen: Vec::with_capacity(n),
-    };
+    let mut out = ClosedLoop::empty(feed, n);
     let mut delta = 0.0;
     for k in 0..n {
         let t = k as f64 * s.dt;
         if k > 0 {
-            // the plant over the last interval with the rudder held, then its process noise
-            // (Euler-Maruyama, as hydroid simulate forces a state)
-            let held = InputSeries::constant(&[delta]);
-            let xs = simulate(model, c, &x, &held, &[t - s.dt, t], 4).map_err(|e| e.to_string())?;
-            x.clone_from(&xs[1]);
-            for (i, q) in s.process_noise.iter().enumerate() {
-                if *q > 0.0 {
-                    x[i] += Normal::new(0.0, (q * s.dt).sqrt())
-                        .map_err(|e| e.to_string())?
-                        .sample(&mut rng);
-                }
-            }
+            plant_step(model, c, &mut x, delta, t, s, &mut rng)?;
         }
         let y = model.output_values(&x, &[delta], c);
         let compass = y[compass_i] + noise.sample(&mut rng);
@@ -174,12 +167,12 @@ pub fn run<M: Model>(model: &M, c: &[f64], s: &Scenario, feed: Feed) -> Result<C
                 let mut sys = ModelSystem::new(model, c.to_vec(), &[], &[], &inputs, &measured);
                 if k > 0 {
                     ekf.predict(&mut sys, t - s.dt, t, None)
-                        .map_err(|d| format!("the wave filter diverged: {}", d.reason))?;
+                        .map_err(|d| LoopError::FilterDiverged(d.reason))?;
                 } else {
                     ekf.x[psi_i] = compass;
                 }
                 ekf.update(&mut sys, t, &[compass], &r_var)
-                    .map_err(|d| format!("the wave filter diverged: {}", d.reason))?;
+                    .map_err(|d| LoopError::FilterDiverged(d.reason))?;
                 (ekf.x[psi_i], ekf.x[r_i])
             }
         };
@@ -198,16 +191,101 @@ pub fn run<M: Model>(model: &M, c: &[f64], s: &Scenario, feed: Feed) -> Result<C
         out.seen.push(heading);
         delta = ap.step(heading - reference.heading, rate - reference.rate, s.dt);
     }
+    summarize(&mut out, s.dt);
+    Ok(out)
+}
+
+/// Where the closed loop reads the model: its heading and yaw-rate states, its compass and
+/// yaw-rate outputs.
+struct Channels {
+    psi_i: usize,
+    r_i: usize,
+    compass_i: usize,
+    gyro_i: usize,
+}
+
+/// The model's heading and yaw-rate states and outputs; refuses a model without them or with
+/// an input other than the rudder.
+fn channels<M: Model>(model: &M) -> Result<Channels, LoopError> {
+    let psi_i = model
+        .state_index(Quantity::Yaw)
+        .ok_or(LoopError::Missing("heading state"))?;
+    let r_i = model
+        .state_index(Quantity::R)
+        .ok_or(LoopError::Missing("yaw-rate state"))?;
+    let compass_i = model
+        .output_index(Quantity::Yaw)
+        .ok_or(LoopError::Missing("compass output"))?;
+    let gyro_i = model
+        .output_index(Quantity::R)
+        .ok_or(LoopError::Missing("yaw-rate output"))?;
+    if model.input_quantities() != [Quantity::Rudder] {
+        return Err(LoopError::NotRudderOnly);
+    }
+    Ok(Channels {
+        psi_i,
+        r_i,
+        compass_i,
+        gyro_i,
+    })
+}
+
+/// The wave filter: the hybrid EKF on the model's states only (no coefficient estimated),
+/// unit initial variances, the plant's process noise and on every other state a small one.
+fn wave_filter(nx: usize, r_i: usize, s: &Scenario) -> HybridEkf {
+    HybridEkf::new(
+        nx,
+        nx,
+        vec![0.0; nx],
+        {
+            let mut p0 = vec![0.0; nx * nx];
+            for i in 0..nx {
+                p0[i * nx + i] = 1.0;
+            }
+            p0
+        },
+        // the plant's process noise, and on every other state a small one (1e-9 SI^2/s) so
+        // that no state's covariance collapses to zero and the filter keeps listening
+        s.process_noise
+            .iter()
+            .enumerate()
+            .map(|(i, q)| q.max(if i == r_i { s.rate_noise } else { 1e-9 }))
+            .collect(),
+        s.dt,
+    )
+}
+
+/// The plant over the interval ending at `t` with the rudder held at `delta`, then its
+/// process noise (Euler-Maruyama, as hydroid simulate forces a state).
+fn plant_step<M: Model>(
+    model: &M,
+    c: &[f64],
+    x: &mut [f64],
+    delta: f64,
+    t: f64,
+    s: &Scenario,
+    rng: &mut StdRng,
+) -> Result<(), LoopError> {
+    let held = InputSeries::constant(&[delta]);
+    let xs = simulate(model, c, x, &held, &[t - s.dt, t], 4).map_err(LoopError::Simulation)?;
+    x.copy_from_slice(&xs[1]);
+    for (i, q) in s.process_noise.iter().enumerate() {
+        if *q > 0.0 {
+            x[i] += Normal::new(0.0, (q * s.dt).sqrt())
+                .map_err(LoopError::Noise)?
+                .sample(rng);
+        }
+    }
+    Ok(())
+}
+
+/// The RMS heading error, rudder angle and rudder rate of the recorded loop.
+fn summarize(out: &mut ClosedLoop, dt: f64) {
     let rms = |v: &[f64]| (v.iter().map(|x| x * x).sum::<f64>() / v.len().max(1) as f64).sqrt();
     out.heading_error_rms = rms(&out.heading_error);
     out.rudder_rms = rms(&out.rudder);
-    let rates: Vec<f64> = out
-        .rudder
-        .windows(2)
-        .map(|w| (w[1] - w[0]) / s.dt)
-        .collect();
+    let rates: Vec<f64> = out.rudder.windows(2).map(|w| (w[1] - w[0]) / dt).collect();
     out.rudder_rate_rms = rms(&rates);
-    Ok(out)
 }
 
 #[cfg(test)]

@@ -65,9 +65,10 @@ pub fn simulate<M: Model>(
     let mut u = vec![0.0; inputs.len()];
     let mut rk4 = Rk4::new(nx, nx);
     if let Some(&t0) = times.first() {
-        model
-            .check(&x, coefficients)
-            .map_err(|reason| SimError { time: t0, reason })?;
+        model.check(&x, coefficients).map_err(|e| SimError {
+            time: t0,
+            reason: e.to_string(),
+        })?;
         out.push(x.clone());
     }
     for w in times.windows(2) {
@@ -77,9 +78,10 @@ pub fn simulate<M: Model>(
                 model.derivatives(x, &u, coefficients, dx);
             });
         }
-        model
-            .check(&x, coefficients)
-            .map_err(|reason| SimError { time: w[1], reason })?;
+        model.check(&x, coefficients).map_err(|e| SimError {
+            time: w[1],
+            reason: e.to_string(),
+        })?;
         out.push(x.clone());
     }
     Ok(out)

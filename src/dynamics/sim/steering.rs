@@ -267,12 +267,30 @@ impl SteeringFile {
             &mut p,
         );
         let first = first.unwrap_or(f64::NAN);
+        let execute = self.check_limits(key, first, first_key, &mut p);
+        let law = self.law(key, first, change, change_key, execute, &mut p);
+        if p.is_empty() {
+            Ok(law)
+        } else {
+            Err(p)
+        }
+    }
+
+    /// Checks the first deflection, the rate and the time of execution; the execution time
+    /// (0 s when not given).
+    fn check_limits(
+        &self,
+        key: &str,
+        first: f64,
+        first_key: &str,
+        p: &mut Vec<(String, String)>,
+    ) -> f64 {
         if !(first.is_finite() && first != 0.0 && first.abs() <= 1.0) {
             p.push((
                 format!("{key}.{first_key}"),
                 format!(
                     "must be a {} angle other than 0 and at most 57 deg either side, got {} deg",
-                    surface.words(),
+                    self.surface.words(),
                     first.to_degrees()
                 ),
             ));
@@ -282,7 +300,7 @@ impl SteeringFile {
                 format!("{key}.rate"),
                 format!(
                     "must be a positive {} rate, e.g. \"2.32 deg/s\"",
-                    surface.words()
+                    self.surface.words()
                 ),
             ));
         }
@@ -293,7 +311,22 @@ impl SteeringFile {
                 "must be a time from 0 s on".to_string(),
             ));
         }
-        let law = match self.kind {
+        execute
+    }
+
+    /// The law of the helm's kind: a turn (which uses no heading change) or a zigzag
+    /// (which needs one within the surface's largest change).
+    fn law(
+        &self,
+        key: &str,
+        first: f64,
+        change: Option<f64>,
+        change_key: &str,
+        execute: f64,
+        p: &mut Vec<(String, String)>,
+    ) -> Steering {
+        let surface = self.surface;
+        match self.kind {
             SteeringKind::Turn => {
                 if change.is_some() {
                     p.push((
@@ -332,11 +365,6 @@ impl SteeringFile {
                     surface,
                 }
             }
-        };
-        if p.is_empty() {
-            Ok(law)
-        } else {
-            Err(p)
         }
     }
 }

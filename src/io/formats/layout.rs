@@ -138,9 +138,59 @@ pub(crate) fn scan(src: &Source) -> Result<Layout, InputError> {
         .filter(|(_, l)| comment(l).is_none())
         .map(|(i, _)| i)
         .collect();
-    // The first line that is all numbers, confirmed by the next two, with the delimiter
-    // that gives the most cells (a tab-separated row with an empty cell is still two cells).
-    let mut found = None;
+    let Some((k0, delim, dc, mut ncols)) = first_data(src, &cand) else {
+        return Err(no_data(src, &cand));
+    };
+    let found = find_header(src, cand[k0], delim, dc, ncols);
+    let mut header = found.header.or(found.commented);
+    let mut unfit_header = found.unfit_header;
+    let mut data_start = found.data_start;
+    // a header found after all (a commented one): the line above is no header
+    if header.is_some() {
+        unfit_header = None;
+    }
+    let decimal_comma_suspect =
+        split_by_decimal_commas(src, &cand[k0..], delim, ncols, &header, found.names_above)?;
+    if let Some(h) = &header {
+        data_start = h.index + 1;
+    }
+    let trailing_delim = trailing_delimiter(src.lines[cand[k0]], delim, ncols, &header);
+    if trailing_delim {
+        ncols -= 1;
+    }
+    if let Some(h) = &mut header {
+        if h.fields.len() > ncols {
+            h.fields.truncate(ncols);
+        }
+    }
+    let (data, repeated_headers) = data_rows(src, &cand, data_start, &header);
+    // In semicolon- or tab-separated numbers a comma can only be a decimal comma, even when
+    // the first rows happen to have none.
+    let dc = dc
+        || (matches!(delim, Delim::Char(b';' | b'\t'))
+            && data.iter().any(|&i| src.lines[i].contains(',')));
+    let preamble_end = header.as_ref().map_or(data_start, |h| h.index);
+    let preamble = (0..preamble_end)
+        .filter(|&i| !src.lines[i].trim().is_empty())
+        .collect();
+    Ok(Layout {
+        delim,
+        decimal_comma: dc,
+        ncols,
+        trailing_delim,
+        header,
+        preamble,
+        data,
+        repeated_headers,
+        decimal_comma_suspect,
+        unfit_header,
+    })
+}
+
+/// The first line that is all numbers, confirmed by the next two, with the delimiter that
+/// gives the most cells (a tab-separated row with an empty cell is still two cells): its
+/// index in `cand`, the delimiter, whether commas are decimal and the cell count.
+fn first_data(src: &Source, cand: &[usize]) -> Option<(usize, Delim, bool, usize)> {
     for (k, &i) in cand.iter().enumerate() {
         let mut best: Option<(Delim, bool, usize)> = None;
         for (delim, dc) in CANDIDATES {
@@ -156,17 +206,30 @@ pub(crate) fn scan(src: &Source) -> Result<Layout, InputError> {
             }
         }
         if let Some((delim, dc, n)) = best {
-            found = Some((k, delim, dc, n));
-            break;
+            return Some((k, delim, dc, n));
         }
     }
-    let Some((k0, delim, dc, mut ncols)) = found else {
-        return Err(no_data(src, &cand));
-    };
+    None
+}
 
-    // The header: the nearest line above the data whose cells are all names. Lines opening
-    // with a number between it and the confirmed data are data rows (with a problem to
-    // report); lines opening with a word are titles.
+/// What the lines above the first confirmed data row say.
+struct HeaderSearch {
+    /// The nearest bare line above the data whose cells are names fitting the data.
+    header: Option<HeaderLine>,
+    /// A header written as a comment (`# time u v`) right above the data.
+    commented: Option<HeaderLine>,
+    /// The line right above the data when it is all names (line, cell count).
+    names_above: Option<(usize, usize)>,
+    /// That line when it looks like a header that does not fit the data (line, cell count).
+    unfit_header: Option<(usize, usize)>,
+    /// The first data row, counting rows opening with a number above the confirmed ones.
+    data_start: usize,
+}
+
+/// The header: the nearest line above the data whose cells are all names. Lines opening
+/// with a number between it and the confirmed data are data rows (with a problem to
+/// report); lines opening with a word are titles.
+fn find_header(src: &Source, first: usize, delim: Delim, dc: bool, ncols: usize) -> HeaderSearch {
     let fits = |f: &[Field]| {
         let named =
             f.len() - usize::from(f.len() > ncols && f.last().is_some_and(|c| c.text.is_empty()));
@@ -181,9 +244,9 @@ pub(crate) fn scan(src: &Source) -> Result<Layout, InputError> {
     let mut names_above: Option<(usize, usize)> = None;
     let mut unfit_header: Option<(usize, usize)> = None;
     let mut nearest = true;
-    let mut data_start = cand[k0];
+    let mut data_start = first;
     let mut absorbing = true;
-    for i in (0..cand[k0]).rev() {
+    for i in (0..first).rev() {
         let line = src.lines[i];
         if line.trim().is_empty() {
             continue;
@@ -232,13 +295,27 @@ pub(crate) fn scan(src: &Source) -> Result<Layout, InputError> {
             absorbing = false;
         }
     }
-    let mut header = header.or(commented);
-    // a header found after all (a commented one): the line above is no header
-    if header.is_some() {
-        unfit_header = None;
+    HeaderSearch {
+        header,
+        commented,
+        names_above,
+        unfit_header,
+        data_start,
     }
-    // `time,u` over `0,5,1,25`: every number split in two by a comma separator.
-    let names = match &header {
+}
+
+/// `time,u` over `0,5,1,25`: every number split in two by a comma separator. An error when
+/// several names head twice as many values; true (a suspicion to report) for one name over
+/// two integers, as likely a title over a table without header.
+fn split_by_decimal_commas(
+    src: &Source,
+    rows: &[usize],
+    delim: Delim,
+    ncols: usize,
+    header: &Option<HeaderLine>,
+    names_above: Option<(usize, usize)>,
+) -> Result<bool, InputError> {
+    let names = match header {
         Some(h) => Some((
             h.index,
             h.fields.iter().filter(|f| !f.text.is_empty()).count(),
@@ -247,7 +324,7 @@ pub(crate) fn scan(src: &Source) -> Result<Layout, InputError> {
     };
     let mut decimal_comma_suspect = false;
     if let Some((i, m)) = names.filter(|&(_, m)| delim == Delim::Char(b',') && 2 * m == ncols) {
-        let split = cand[k0..]
+        let split = rows
             .iter()
             .take(3)
             .all(|&j| decimal_commas_likely(src.lines[j]));
@@ -265,13 +342,18 @@ pub(crate) fn scan(src: &Source) -> Result<Layout, InputError> {
             .expected(format!("{m} values per row separated by commas")));
         }
     }
-    if let Some(h) = &header {
-        data_start = h.index + 1;
-    }
+    Ok(decimal_comma_suspect)
+}
 
-    // A delimiter at the end of every line makes an extra empty column.
-    let first_fields = split_fields(src.lines[cand[k0]], delim);
-    let mut trailing_delim = false;
+/// Whether a delimiter at the end of every line makes an extra empty column (judged on the
+/// first data line and the header's cell count).
+fn trailing_delimiter(
+    first_line: &str,
+    delim: Delim,
+    ncols: usize,
+    header: &Option<HeaderLine>,
+) -> bool {
+    let first_fields = split_fields(first_line, delim);
     if let (Delim::Char(_), Some(last)) = (delim, first_fields.last()) {
         if last.text.is_empty() && !last.quoted && ncols > 1 {
             let hn = header.as_ref().map(|h| {
@@ -279,17 +361,20 @@ pub(crate) fn scan(src: &Source) -> Result<Layout, InputError> {
                 f.len() - usize::from(f.last().is_some_and(|c| c.text.is_empty()))
             });
             if hn.is_none_or(|n| n == ncols - 1) {
-                trailing_delim = true;
-                ncols -= 1;
+                return true;
             }
         }
     }
-    if let Some(h) = &mut header {
-        if h.fields.len() > ncols {
-            h.fields.truncate(ncols);
-        }
-    }
+    false
+}
 
+/// The data rows from `data_start` on, and the lines repeating a bare header among them.
+fn data_rows(
+    src: &Source,
+    cand: &[usize],
+    data_start: usize,
+    header: &Option<HeaderLine>,
+) -> (Vec<usize>, Vec<usize>) {
     let header_text = header.as_ref().map(|h| src.lines[h.index].trim());
     let mut data = Vec::new();
     let mut repeated_headers = Vec::new();
@@ -301,27 +386,7 @@ pub(crate) fn scan(src: &Source) -> Result<Layout, InputError> {
             data.push(i);
         }
     }
-    // In semicolon- or tab-separated numbers a comma can only be a decimal comma, even when
-    // the first rows happen to have none.
-    let dc = dc
-        || (matches!(delim, Delim::Char(b';' | b'\t'))
-            && data.iter().any(|&i| src.lines[i].contains(',')));
-    let preamble_end = header.as_ref().map_or(data_start, |h| h.index);
-    let preamble = (0..preamble_end)
-        .filter(|&i| !src.lines[i].trim().is_empty())
-        .collect();
-    Ok(Layout {
-        delim,
-        decimal_comma: dc,
-        ncols,
-        trailing_delim,
-        header,
-        preamble,
-        data,
-        repeated_headers,
-        decimal_comma_suspect,
-        unfit_header,
-    })
+    (data, repeated_headers)
 }
 
 fn no_data(src: &Source, cand: &[usize]) -> InputError {

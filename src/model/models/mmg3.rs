@@ -12,7 +12,7 @@
 //! Equation numbers are Yasukawa & Yoshimura (2015); "Y&Y" below.
 
 use super::{
-    positive_inertia, CoefDef, Example, InputDef, InputRule, Model, Scales, StateDef,
+    positive_inertia, CoefDef, Example, InputDef, InputRule, Model, Scales, StateDef, Unphysical,
     Vehicle, VehicleProblem,
 };
 use crate::numerics::ad::Scalar;
@@ -497,7 +497,7 @@ impl Model for Mmg3 {
         out[2] = f.n - jz * x_dot[2];
     }
 
-    fn check(&self, x: &[f64], c: &[f64]) -> Result<(), String> {
+    fn check(&self, x: &[f64], c: &[f64]) -> Result<(), Unphysical> {
         let s = &self.ship;
         let (mx, my, jz) = self.added(c);
         positive_inertia("m + m_x", s.mass + mx)?;
@@ -508,7 +508,7 @@ impl Model for Mmg3 {
             (s.mass + my) * (s.izz + jz) - (s.x_g * s.mass).powi(2),
         )?;
         if x.iter().any(|v| !v.is_finite()) {
-            return Err("the state is not finite".into());
+            return Err(Unphysical::NotFinite("state"));
         }
         Ok(())
     }

@@ -20,7 +20,7 @@
 //! estimates; the paper lets them wander as random walks (`hekf.process_noise`).
 
 use super::{
-    CoefDef, Example, InputDef, InputRule, Model, OutputDef, Size, StateDef, Vehicle,
+    CoefDef, Example, InputDef, InputRule, Model, OutputDef, Size, StateDef, Unphysical, Vehicle,
     VehicleProblem,
 };
 use crate::numerics::ad::Scalar;
@@ -190,11 +190,11 @@ impl Model for NomotoWave {
         dx[3] = Self::wave_rate(x, c);
     }
 
-    fn check(&self, x: &[f64], c: &[f64]) -> Result<(), String> {
+    fn check(&self, x: &[f64], c: &[f64]) -> Result<(), Unphysical> {
         // a filter's 1/T may pass through zero on its way (the equations stay finite there):
         // only non-finite values are an error
         if x.iter().chain(c).any(|v| !v.is_finite()) {
-            return Err("the state or a coefficient is not finite".into());
+            return Err(Unphysical::NotFinite("state or a coefficient"));
         }
         Ok(())
     }

@@ -45,7 +45,9 @@ pub use coefficients::{ADDED_MASS, COEFFICIENTS, PAPER_17, PUBLISHED};
 use coefficients::*;
 
 use super::rigid_body::{cross, kinematics, solve};
-use super::{CoefDef, Example, InputDef, InputRule, Model, Size, StateDef, Vehicle, VehicleProblem};
+use super::{
+    CoefDef, Example, InputDef, InputRule, Model, Size, StateDef, Unphysical, Vehicle, VehicleProblem,
+};
 use crate::numerics::ad::Scalar;
 use crate::model::coefficients::{CompiledRelations, Relation};
 use crate::base::si;
@@ -516,23 +518,20 @@ impl Model for NpsAuv {
         dx[6..12].copy_from_slice(&kinematics(&nu, phi, theta, psi));
     }
 
-    fn check(&self, x: &[f64], c: &[f64]) -> Result<(), String> {
+    fn check(&self, x: &[f64], c: &[f64]) -> Result<(), Unphysical> {
         if let Some((i, pivot)) = not_positive_definite(&self.mass_matrix(c)) {
-            return Err(format!(
-                "the mass matrix M_RB + M_A is not positive definite (Cholesky pivot {pivot:.4e} \
-                 in {}): the added-mass coefficients (Xudot, Yvdot, Zwdot, Kpdot, Mqdot, Nrdot \
-                 and their couplings) outweigh the rigid body",
-                ["surge", "sway", "heave", "roll", "pitch", "yaw"][i]
-            ));
+            return Err(Unphysical::IndefiniteMassMatrix {
+                pivot,
+                direction: ["surge", "sway", "heave", "roll", "pitch", "yaw"][i],
+            });
         }
         if x.iter().any(|v| !v.is_finite()) {
-            return Err("the state is not finite".into());
+            return Err(Unphysical::NotFinite("state"));
         }
         if x[10].abs() > 85f64.to_radians() {
-            return Err(format!(
-                "pitch {:.1} deg is too close to 90 deg for Euler angles",
-                x[10].to_degrees()
-            ));
+            return Err(Unphysical::PitchNearVertical {
+                degrees: x[10].to_degrees(),
+            });
         }
         Ok(())
     }
@@ -599,7 +598,7 @@ mod tests {
     fn check_refuses_an_indefinite_mass_matrix() {
         let (m, mut c) = model();
         c[ZWDOT] = 1.0; // a "negative added mass" far above the rigid body
-        let e = m.check(&[0.0; 12], &c).unwrap_err();
+        let e = m.check(&[0.0; 12], &c).unwrap_err().to_string();
         assert!(e.contains("not positive definite") && e.contains("heave"), "{e}");
     }
 

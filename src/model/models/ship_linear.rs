@@ -16,7 +16,7 @@
 //! paper's Table 3 in each unit gives.
 
 use super::{
-    CoefDef, Example, InputDef, InputRule, Model, StateDef, Vehicle, VehicleProblem,
+    CoefDef, Example, InputDef, InputRule, Model, StateDef, Unphysical, Vehicle, VehicleProblem,
 };
 use crate::numerics::ad::Scalar;
 use crate::model::coefficients::{CompiledRelations, Relation};
@@ -200,9 +200,9 @@ impl Model for ShipLinear {
         super::mmg3::planar_kinematics(u, v, r, psi, &mut dx[3..6]);
     }
 
-    fn check(&self, x: &[f64], c: &[f64]) -> Result<(), String> {
+    fn check(&self, x: &[f64], c: &[f64]) -> Result<(), Unphysical> {
         if x.iter().chain(c).any(|v| !v.is_finite()) {
-            return Err("the state or a parameter is not finite".into());
+            return Err(Unphysical::NotFinite("state or a parameter"));
         }
         Ok(())
     }

@@ -4,7 +4,7 @@
 //! also the centre of gravity (x_G = 0).
 
 use super::{
-    names, positive_inertia, sname, CoefDef, Example, InputDef, InputRule, Model, Scales, StateDef,
+    names, positive_inertia, sname, CoefDef, Example, InputDef, InputRule, Model, Scales, StateDef, Unphysical,
     Vehicle, VehicleProblem,
 };
 use crate::numerics::ad::Scalar;
@@ -206,14 +206,14 @@ impl Model for Spheroid3 {
         out[2] = hn + c[NVD] * x_dot[1] + c[NRD] * x_dot[2];
     }
 
-    fn check(&self, x: &[f64], c: &[f64]) -> Result<(), String> {
+    fn check(&self, x: &[f64], c: &[f64]) -> Result<(), Unphysical> {
         positive_inertia("m - Xud", self.mass - c[XUD])?;
         positive_inertia("m - Yvd", self.mass - c[YVD])?;
         positive_inertia("Izz - Nrd", self.izz - c[NRD])?;
         let det = (self.mass - c[YVD]) * (self.izz - c[NRD]) - c[YRD] * c[NVD];
         positive_inertia("det of the sway-yaw mass matrix", det)?;
         if x.iter().any(|v| !v.is_finite()) {
-            return Err("the state is not finite".into());
+            return Err(Unphysical::NotFinite("state"));
         }
         Ok(())
     }

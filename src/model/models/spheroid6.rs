@@ -10,7 +10,7 @@ use super::rigid_body::{
     added_mass_coriolis, kinematics, restoring, rigid_body_coriolis, rigid_body_mass, solve,
 };
 use super::{
-    positive_inertia, sname, CoefDef, Example, InputDef, InputRule, Model, Scales, StateDef,
+    positive_inertia, sname, CoefDef, Example, InputDef, InputRule, Model, Scales, StateDef, Unphysical,
     Vehicle, VehicleProblem,
 };
 use crate::numerics::ad::Scalar;
@@ -243,7 +243,7 @@ impl Model for Spheroid6 {
         dx[6..12].copy_from_slice(&eta_dot);
     }
 
-    fn check(&self, x: &[f64], c: &[f64]) -> Result<(), String> {
+    fn check(&self, x: &[f64], c: &[f64]) -> Result<(), Unphysical> {
         positive_inertia("m - Xud", self.mass - c[XUD])?;
         positive_inertia("m - Yvd", self.mass - c[YVD])?;
         positive_inertia("m - Zwd", self.mass - c[ZWD])?;
@@ -251,13 +251,12 @@ impl Model for Spheroid6 {
         positive_inertia("Iyy - Mqd", self.inertia[1] - c[MQD])?;
         positive_inertia("Izz - Nrd", self.inertia[2] - c[NRD])?;
         if x.iter().any(|v| !v.is_finite()) {
-            return Err("the state is not finite".into());
+            return Err(Unphysical::NotFinite("state"));
         }
         if x[10].abs() > 85f64.to_radians() {
-            return Err(format!(
-                "pitch {:.1} deg is too close to 90 deg for Euler angles",
-                x[10].to_degrees()
-            ));
+            return Err(Unphysical::PitchNearVertical {
+                degrees: x[10].to_degrees(),
+            });
         }
         Ok(())
     }

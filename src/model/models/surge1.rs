@@ -4,7 +4,7 @@
 //! docs/architecture.md ("how to add a model").
 
 use super::{
-    positive_inertia, sname, CoefDef, Example, InputDef, InputRule, Model, Scales, StateDef,
+    positive_inertia, sname, CoefDef, Example, InputDef, InputRule, Model, Scales, StateDef, Unphysical,
     Vehicle, VehicleProblem,
 };
 use crate::numerics::ad::Scalar;
@@ -80,10 +80,10 @@ impl Model for Surge1 {
         dx[1] = speed;
     }
 
-    fn check(&self, x: &[f64], c: &[f64]) -> Result<(), String> {
+    fn check(&self, x: &[f64], c: &[f64]) -> Result<(), Unphysical> {
         positive_inertia("m - Xud", self.mass - c[XUD])?;
         if x.iter().any(|v| !v.is_finite()) {
-            return Err("the state is not finite".into());
+            return Err(Unphysical::NotFinite("state"));
         }
         Ok(())
     }

@@ -90,5 +90,5 @@ pub trait System {
 
     /// A physical check of the state (e.g. positive effective masses); the message says what
     /// is wrong.
-    fn check(&mut self, x: &[f64]) -> Result<(), String>;
+    fn check(&mut self, x: &[f64]) -> Result<(), crate::model::models::Unphysical>;
 }

@@ -42,7 +42,7 @@ impl System for Linear {
         h.fill(0.0);
         h[0] = 1.0;
     }
-    fn check(&mut self, _x: &[f64]) -> Result<(), String> {
+    fn check(&mut self, _x: &[f64]) -> Result<(), crate::model::models::Unphysical> {
         Ok(())
     }
 }

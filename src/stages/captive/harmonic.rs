@@ -131,6 +131,62 @@ pub struct Sample<'a> {
     pub row: &'a Condition,
 }
 
+/// Why a harmonic run's history cannot be reduced to Fourier parts.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ReduceError {
+    /// No velocity state moves.
+    #[error("no state oscillates")]
+    NoOscillation,
+    /// The leading state does not cross its mean often enough to give a period.
+    #[error(
+        "{state} does not cross its mean often enough to find the period of the motion: a \
+         harmonic run needs at least {MIN_PERIODS} whole periods after the transient"
+    )]
+    NoPeriod {
+        /// The state's name.
+        state: String,
+    },
+    /// Fewer than [`MIN_PERIODS`] whole periods after the transient.
+    #[error(
+        "the motion has a period of {} s and the run holds {} of them from t = {} s: at \
+         least {MIN_PERIODS} whole periods are needed (incomplete periods are not used)",
+        num(*.period),
+        num(*.held),
+        num(*.from)
+    )]
+    TooFewPeriods {
+        /// The period, s.
+        period: f64,
+        /// The periods the run holds (a fraction).
+        held: f64,
+        /// Where the used samples start, s.
+        from: f64,
+    },
+    /// The samples do not resolve the period (the Fourier fit is singular).
+    #[error("the samples do not resolve the motion's period")]
+    Unresolved,
+    /// An oscillating state is not one sine.
+    #[error(
+        "the motion is not harmonic: {state} has a first harmonic of amplitude {} at {} Hz \
+         but its higher harmonics and the rest hold {} (more than {} % of it); a \
+         harmonic (PMM) run is reduced only when its prescribed motion is one sine",
+        num(*.first),
+        num(*.frequency),
+        num(*.rest),
+        100.0 * HARMONIC_TOLERANCE
+    )]
+    NotHarmonic {
+        /// The state's name.
+        state: String,
+        /// Its first harmonic's amplitude, SI.
+        first: f64,
+        /// The motion's frequency, Hz.
+        frequency: f64,
+        /// The amplitude of the higher harmonics and the rest, SI.
+        rest: f64,
+    },
+}
+
 /// Reduces the history of a harmonic run (samples from the end of its transient on) to one
 /// condition of Fourier parts. `oscillating` are the indices of the velocity states that
 /// move; `names` names every state.
@@ -140,119 +196,25 @@ pub fn reduce(
     oscillating: &[usize],
     names: &[&str],
     forces: &[&str],
-) -> Result<(Condition, Periods, Option<Warning>), String> {
+) -> Result<(Condition, Periods, Option<Warning>), ReduceError> {
     let t: Vec<f64> = samples.iter().map(|s| s.t).collect();
-    // the largest relative swing: a rate and a velocity compared by their RMS
-    let swing = |i: usize| {
-        let (lo, hi) = range(samples.iter().map(|s| s.row.x[i]));
-        (hi - lo) / rms(samples.iter().map(|s| s.row.x[i])).max(1e-300)
-    };
-    let (lead, _) = oscillating
-        .iter()
-        .map(|&i| (i, swing(i)))
-        .max_by(|a, b| a.1.total_cmp(&b.1))
-        .ok_or("no state oscillates")?;
-    let lead_series: Vec<f64> = samples.iter().map(|s| s.row.x[lead]).collect();
-    let omega = frequency(&t, &lead_series).ok_or_else(|| {
-        format!(
-            "{} does not cross its mean often enough to find the period of the motion: a \
-             harmonic run needs at least {MIN_PERIODS} whole periods after the transient",
-            names[lead]
-        )
-    })?;
+    let omega = motion_frequency(samples, &t, oscillating, names)?;
     let period = 2.0 * std::f64::consts::PI / omega;
     let t0 = t[0];
     let dt = median_step(&t);
     let whole = ((t[t.len() - 1] - t0 + dt) / period + 1e-6).floor() as usize;
     if whole < MIN_PERIODS {
-        return Err(format!(
-            "the motion has a period of {} s and the run holds {} of them from t = {} s: at \
-             least {MIN_PERIODS} whole periods are needed (incomplete periods are not used)",
-            num(period),
-            num((t[t.len() - 1] - t0 + dt) / period),
-            num(t0)
-        ));
+        return Err(ReduceError::TooFewPeriods {
+            period,
+            held: (t[t.len() - 1] - t0 + dt) / period,
+            from: t0,
+        });
     }
     let end = t0 + whole as f64 * period;
     let used: Vec<usize> = (0..t.len()).filter(|&k| t[k] < end - 0.5 * dt).collect();
     let phases: Vec<f64> = used.iter().map(|&k| omega * (t[k] - t0)).collect();
-    // the motion: mean and first harmonic of every oscillating state, the mean of the rest
-    let nx = samples[0].row.x.len();
-    let mut states = vec![[0.0; 3]; nx];
-    let mut amplitudes = Vec::new();
-    for (i, state) in states.iter_mut().enumerate() {
-        let y: Vec<f64> = used.iter().map(|&k| samples[k].row.x[i]).collect();
-        if !oscillating.contains(&i) {
-            state[0] = y.iter().sum::<f64>() / y.len() as f64;
-            continue;
-        }
-        let f = fourier(&phases, &y).ok_or("the samples do not resolve the motion's period")?;
-        let first = f.values[1].hypot(f.values[2]);
-        let higher: f64 = (2..=HARMONICS)
-            .map(|k| f.values[2 * k - 1].powi(2) + f.values[2 * k].powi(2))
-            .sum::<f64>()
-            .sqrt();
-        let rest = (2.0 * f.rss / y.len() as f64).sqrt();
-        if higher.hypot(rest) > HARMONIC_TOLERANCE * first {
-            return Err(format!(
-                "the motion is not harmonic: {} has a first harmonic of amplitude {} at {} Hz \
-                 but its higher harmonics and the rest hold {} (more than {} % of it); a \
-                 harmonic (PMM) run is reduced only when its prescribed motion is one sine",
-                names[i],
-                num(first),
-                num(omega / (2.0 * std::f64::consts::PI)),
-                num(higher.hypot(rest)),
-                100.0 * HARMONIC_TOLERANCE
-            ));
-        }
-        *state = [f.values[0], f.values[1], f.values[2]];
-        amplitudes.push((names[i].to_string(), first));
-    }
-    // the forces: mean and harmonics with their standard errors
-    let nf = samples[0].row.f.len();
-    let mut values = Vec::with_capacity(nf * PER_FORCE);
-    let mut sigma = Vec::with_capacity(nf * PER_FORCE);
-    let mut changing = Vec::new();
-    let half = used.len() / 2;
-    for i in 0..nf {
-        let y: Vec<f64> = used.iter().map(|&k| samples[k].row.f[i]).collect();
-        let f = fourier(&phases, &y).ok_or("the samples do not resolve the motion's period")?;
-        let mut se = f.standard_errors();
-        if whole >= 3 {
-            // the spread of the periods' own parts, when it says more than white noise
-            let spread = period_spread(&phases, &y, whole);
-            for (s, p) in se.iter_mut().zip(spread) {
-                *s = s.max(p);
-            }
-        }
-        // the first and the second half of the periods (at least MIN_PERIODS = 2 of them)
-        // must agree: no transient left
-        let split = (whole / 2) as f64 * 2.0 * std::f64::consts::PI;
-        let cut = phases.iter().position(|p| *p >= split).unwrap_or(half);
-        if let (Some(a), Some(b)) = (
-            fourier(&phases[..cut], &y[..cut]),
-            fourier(&phases[cut..], &y[cut..]),
-        ) {
-            let (sa, sb) = (a.standard_errors(), b.standard_errors());
-            // beyond the noise, and beyond rounding (a noise-free history)
-            let floor = 1e-9 * rms(y.iter().copied());
-            for k in 0..3 {
-                let d = (a.values[k] - b.values[k]).abs();
-                if d > 4.0 * sa[k].hypot(sb[k]) && d > floor {
-                    changing.push(format!(
-                        "{} ({}: {}, then {})",
-                        forces.get(i).copied().unwrap_or("a force"),
-                        part_name(k),
-                        num(a.values[k]),
-                        num(b.values[k])
-                    ));
-                    break;
-                }
-            }
-        }
-        values.extend_from_slice(&f.values);
-        sigma.extend(se);
-    }
+    let (states, amplitudes) = motion_parts(samples, &used, &phases, oscillating, names, omega)?;
+    let (values, sigma, changing) = force_parts(samples, &used, &phases, whole, forces)?;
     let nu = samples[0].row.u.len();
     let u = (0..nu)
         .map(|j| used.iter().map(|&k| samples[k].row.u[j]).sum::<f64>() / used.len() as f64)
@@ -292,6 +254,131 @@ pub fn reduce(
         },
         warning,
     ))
+}
+
+/// The angular frequency of the motion (rad/s), from the state that swings most relative
+/// to its RMS.
+fn motion_frequency(
+    samples: &[Sample],
+    t: &[f64],
+    oscillating: &[usize],
+    names: &[&str],
+) -> Result<f64, ReduceError> {
+    // the largest relative swing: a rate and a velocity compared by their RMS
+    let swing = |i: usize| {
+        let (lo, hi) = range(samples.iter().map(|s| s.row.x[i]));
+        (hi - lo) / rms(samples.iter().map(|s| s.row.x[i])).max(1e-300)
+    };
+    let (lead, _) = oscillating
+        .iter()
+        .map(|&i| (i, swing(i)))
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .ok_or(ReduceError::NoOscillation)?;
+    let lead_series: Vec<f64> = samples.iter().map(|s| s.row.x[lead]).collect();
+    frequency(t, &lead_series).ok_or_else(|| ReduceError::NoPeriod {
+        state: names[lead].to_string(),
+    })
+}
+
+/// The motion's parts per state: mean and first harmonic of each oscillating state (refused
+/// when it is not one sine), the mean of the rest; and the oscillating states' amplitudes.
+#[allow(clippy::type_complexity)]
+fn motion_parts(
+    samples: &[Sample],
+    used: &[usize],
+    phases: &[f64],
+    oscillating: &[usize],
+    names: &[&str],
+    omega: f64,
+) -> Result<(Vec<[f64; 3]>, Vec<(String, f64)>), ReduceError> {
+    // the motion: mean and first harmonic of every oscillating state, the mean of the rest
+    let nx = samples[0].row.x.len();
+    let mut states = vec![[0.0; 3]; nx];
+    let mut amplitudes = Vec::new();
+    for (i, state) in states.iter_mut().enumerate() {
+        let y: Vec<f64> = used.iter().map(|&k| samples[k].row.x[i]).collect();
+        if !oscillating.contains(&i) {
+            state[0] = y.iter().sum::<f64>() / y.len() as f64;
+            continue;
+        }
+        let f = fourier(phases, &y).ok_or(ReduceError::Unresolved)?;
+        let first = f.values[1].hypot(f.values[2]);
+        let higher: f64 = (2..=HARMONICS)
+            .map(|k| f.values[2 * k - 1].powi(2) + f.values[2 * k].powi(2))
+            .sum::<f64>()
+            .sqrt();
+        let rest = (2.0 * f.rss / y.len() as f64).sqrt();
+        if higher.hypot(rest) > HARMONIC_TOLERANCE * first {
+            return Err(ReduceError::NotHarmonic {
+                state: names[i].to_string(),
+                first,
+                frequency: omega / (2.0 * std::f64::consts::PI),
+                rest: higher.hypot(rest),
+            });
+        }
+        *state = [f.values[0], f.values[1], f.values[2]];
+        amplitudes.push((names[i].to_string(), first));
+    }
+    Ok((states, amplitudes))
+}
+
+/// The forces' Fourier parts and their standard errors (widened to the spread of the
+/// periods' own parts), and the forces whose parts change from the first to the second half
+/// of the periods.
+#[allow(clippy::type_complexity)]
+fn force_parts(
+    samples: &[Sample],
+    used: &[usize],
+    phases: &[f64],
+    whole: usize,
+    forces: &[&str],
+) -> Result<(Vec<f64>, Vec<f64>, Vec<String>), ReduceError> {
+    // the forces: mean and harmonics with their standard errors
+    let nf = samples[0].row.f.len();
+    let mut values = Vec::with_capacity(nf * PER_FORCE);
+    let mut sigma = Vec::with_capacity(nf * PER_FORCE);
+    let mut changing = Vec::new();
+    let half = used.len() / 2;
+    for i in 0..nf {
+        let y: Vec<f64> = used.iter().map(|&k| samples[k].row.f[i]).collect();
+        let f = fourier(phases, &y).ok_or(ReduceError::Unresolved)?;
+        let mut se = f.standard_errors();
+        if whole >= 3 {
+            // the spread of the periods' own parts, when it says more than white noise
+            let spread = period_spread(phases, &y, whole);
+            for (s, p) in se.iter_mut().zip(spread) {
+                *s = s.max(p);
+            }
+        }
+        // the first and the second half of the periods (at least MIN_PERIODS = 2 of them)
+        // must agree: no transient left
+        let split = (whole / 2) as f64 * 2.0 * std::f64::consts::PI;
+        let cut = phases.iter().position(|p| *p >= split).unwrap_or(half);
+        if let (Some(a), Some(b)) = (
+            fourier(&phases[..cut], &y[..cut]),
+            fourier(&phases[cut..], &y[cut..]),
+        ) {
+            let (sa, sb) = (a.standard_errors(), b.standard_errors());
+            // beyond the noise, and beyond rounding (a noise-free history)
+            let floor = 1e-9 * rms(y.iter().copied());
+            for k in 0..3 {
+                let d = (a.values[k] - b.values[k]).abs();
+                if d > 4.0 * sa[k].hypot(sb[k]) && d > floor {
+                    changing.push(format!(
+                        "{} ({}: {}, then {})",
+                        forces.get(i).copied().unwrap_or("a force"),
+                        part_name(k),
+                        num(a.values[k]),
+                        num(b.values[k])
+                    ));
+                    break;
+                }
+            }
+        }
+        values.extend_from_slice(&f.values);
+        sigma.extend(se);
+    }
+    Ok((values, sigma, changing))
 }
 
 /// The name of the k-th Fourier value of a force.

@@ -77,6 +77,26 @@ pub fn advise<M: Model>(
         return Vec::new();
     }
     let candidates = candidates(model);
+    let (g, peaks) = zeroed_regressors(model, runs, traces, e, &candidates);
+    let drivers = drivers_of(model, &candidates, &g);
+    flagged
+        .into_iter()
+        .map(|(j, finding)| advice_for(model, runs, e, &candidates, &drivers, &peaks, j, finding))
+        .collect()
+}
+
+/// The regressors of the estimates with each candidate quantity zeroed in turn (index 0:
+/// nothing zeroed), flattened over the runs' samples, and each candidate's peak magnitude
+/// per run.
+#[allow(clippy::type_complexity)]
+fn zeroed_regressors<M: Model>(
+    model: &M,
+    runs: &[RunData],
+    traces: &[RunTraces],
+    e: &Estimates,
+    candidates: &[Zero],
+) -> (Vec<Vec<Vec<f64>>>, Vec<Vec<f64>>) {
+    let nb = e.est.len();
     // regressors per candidate zeroed (index 0: nothing zeroed), flattened over samples
     let mut g: Vec<Vec<Vec<f64>>> = vec![vec![Vec::new(); nb]; candidates.len() + 1];
     let mut peaks = vec![vec![0.0f64; runs.len()]; candidates.len()];
@@ -109,8 +129,15 @@ pub fn advise<M: Model>(
             }
         }
     }
+    (g, peaks)
+}
+
+/// Per estimate, the candidate quantities whose zeroing makes its regressor vanish (the
+/// quantities its term acts through); speed only when it is the only one.
+fn drivers_of<M: Model>(model: &M, candidates: &[Zero], g: &[Vec<Vec<f64>>]) -> Vec<Vec<usize>> {
     let rms = |v: &[f64]| (v.iter().map(|a| a * a).sum::<f64>() / v.len().max(1) as f64).sqrt();
-    let drivers: Vec<Vec<usize>> = (0..nb)
+    let nb = g[0].len();
+    (0..nb)
         .map(|j| {
             let full = rms(&g[0][j]);
             let d: Vec<usize> = (0..candidates.len())
@@ -128,67 +155,78 @@ pub fn advise<M: Model>(
                 without_u
             }
         })
-        .collect();
-    flagged
-        .into_iter()
-        .map(|(j, finding)| {
-            if let Some(rate) = acceleration_term(&e.names[j]) {
-                return added_mass(&e.names[j], rate, finding);
-            }
-            let qs: Vec<Quantity> = drivers[j]
-                .iter()
-                .map(|&ci| quantity(model, candidates[ci]))
-                .collect();
-            let in_these_runs = drivers[j]
-                .iter()
-                .map(|&ci| {
-                    let q = quantity(model, candidates[ci]);
-                    let per_run = peaks[ci]
-                        .iter()
-                        .zip(runs)
-                        .map(|(p, run)| format!("{} in '{}'", magnitude(q, *p), run.name))
-                        .collect::<Vec<_>>()
-                        .join(", ");
-                    format!("|{q}| at most {per_run}")
-                })
-                .collect::<Vec<_>>()
-                .join("; ");
-            let why = match partner(e, j).filter(|_| finding.contains("correlation")) {
-                Some(b) => {
-                    let through: Vec<&str> = drivers[b]
-                        .iter()
-                        .map(|&ci| quantity(model, candidates[ci]).key())
-                        .collect();
-                    format!(
-                        "its term and {}'s{} move together in these runs, so the data trade \
-                         one for the other",
-                        e.names[b],
-                        if through.is_empty() {
-                            String::new()
-                        } else {
-                            format!(" (through {})", through.join(" and "))
-                        }
-                    )
-                }
-                None => "its term stays small next to the noise in these runs".to_string(),
-            };
-            Advice {
-                coefficient: e.names[j].clone(),
-                finding,
-                acts_through: qs.iter().map(|q| q.key().to_string()).collect(),
-                in_these_runs: if in_these_runs.is_empty() {
-                    "its term does not vanish with any single motion quantity".into()
-                } else {
-                    in_these_runs
-                },
-                why,
-                separate_by: qs
-                    .first()
-                    .map_or(GENERAL, |q| manoeuvre_for(*q, &model.input_quantities()))
-                    .to_string(),
-            }
-        })
         .collect()
+}
+
+/// The advice for one flagged estimate: what its term acts through, how large those
+/// quantities are in these runs, why the runs leave it undetermined and which manoeuvre
+/// would determine it.
+#[allow(clippy::too_many_arguments)]
+fn advice_for<M: Model>(
+    model: &M,
+    runs: &[RunData],
+    e: &Estimates,
+    candidates: &[Zero],
+    drivers: &[Vec<usize>],
+    peaks: &[Vec<f64>],
+    j: usize,
+    finding: String,
+) -> Advice {
+    if let Some(rate) = acceleration_term(&e.names[j]) {
+        return added_mass(&e.names[j], rate, finding);
+    }
+    let qs: Vec<Quantity> = drivers[j]
+        .iter()
+        .map(|&ci| quantity(model, candidates[ci]))
+        .collect();
+    let in_these_runs = drivers[j]
+        .iter()
+        .map(|&ci| {
+            let q = quantity(model, candidates[ci]);
+            let per_run = peaks[ci]
+                .iter()
+                .zip(runs)
+                .map(|(p, run)| format!("{} in '{}'", magnitude(q, *p), run.name))
+                .collect::<Vec<_>>()
+                .join(", ");
+            format!("|{q}| at most {per_run}")
+        })
+        .collect::<Vec<_>>()
+        .join("; ");
+    let why = match partner(e, j).filter(|_| finding.contains("correlation")) {
+        Some(b) => {
+            let through: Vec<&str> = drivers[b]
+                .iter()
+                .map(|&ci| quantity(model, candidates[ci]).key())
+                .collect();
+            format!(
+                "its term and {}'s{} move together in these runs, so the data trade \
+                 one for the other",
+                e.names[b],
+                if through.is_empty() {
+                    String::new()
+                } else {
+                    format!(" (through {})", through.join(" and "))
+                }
+            )
+        }
+        None => "its term stays small next to the noise in these runs".to_string(),
+    };
+    Advice {
+        coefficient: e.names[j].clone(),
+        finding,
+        acts_through: qs.iter().map(|q| q.key().to_string()).collect(),
+        in_these_runs: if in_these_runs.is_empty() {
+            "its term does not vanish with any single motion quantity".into()
+        } else {
+            in_these_runs
+        },
+        why,
+        separate_by: qs
+            .first()
+            .map_or(GENERAL, |q| manoeuvre_for(*q, &model.input_quantities()))
+            .to_string(),
+    }
 }
 
 /// The rate whose derivative an added-mass (acceleration) coefficient multiplies, from its

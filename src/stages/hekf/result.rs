@@ -6,10 +6,10 @@ use super::history::History;
 use super::identify::{Identification, RunData, Setup};
 use super::prepare::Plan;
 use super::tuning::NoiseChoice;
-use crate::base::warning::Warning;
 use crate::model::coefficients::{directions_of, Coefficient, Correlation, Direction, Source};
-use crate::model::models::Model;
 use crate::numerics::estimation::nis::{summarize, NisSummary};
+use crate::model::models::Model;
+use crate::base::warning::Warning;
 use serde::Serialize;
 use std::collections::BTreeMap;
 
@@ -214,16 +214,7 @@ pub fn build<M: Model>(
     upstream: Upstream,
 ) -> HekfResult {
     let nb = plan.est.len();
-    let id_passes: Vec<PassSummary> = id
-        .passes
-        .iter()
-        .enumerate()
-        .map(|(i, p)| PassSummary {
-            pass: i + 1,
-            values: p.values.clone(),
-            sigmas: p.sigmas.clone(),
-        })
-        .collect();
+    let id_passes = pass_summaries(&id.passes);
     let last = id
         .passes
         .last()
@@ -232,109 +223,27 @@ pub fn build<M: Model>(
             values: plan.initial.clone(),
             sigmas: plan.prior_sigma.clone(),
         });
-    // total covariance: the filter's plus each fixed coefficient's share (consider analysis)
-    let mut total = id.covariance.clone();
-    for d in &upstream.directions {
-        for (a, na) in plan.est_names.iter().enumerate() {
-            for (b, nb_) in plan.est_names.iter().enumerate() {
-                if let (Some(da), Some(db)) = (d.deltas.get(na), d.deltas.get(nb_)) {
-                    total[a * nb + b] += da * db;
-                }
-            }
-        }
-    }
-    let coefficients: Vec<Coefficient> = plan
-        .est_names
-        .iter()
-        .enumerate()
-        .map(|(j, n)| {
-            let sigma = total[j * nb + j].max(0.0).sqrt();
-            let num = crate::base::numfmt::num;
-            // joint: the filter's sigma holds the earlier stage's prior as well as the data
-            let from = if plan.held_prior.get(j).copied().unwrap_or(false) {
-                format!(
-                    "joint with the earlier stage's {} ± {} as prior: sigma {} from it and the data",
-                    num(plan.initial[j]),
-                    num(plan.prior_sigma[j]),
-                    num(last.sigmas[j])
-                )
-            } else {
-                format!("sigma {} from the data alone", num(last.sigmas[j]))
-            };
-            Coefficient::new(n, last.values[j], Some(sigma), Source::Hekf).with_note(format!(
-                "{} model, {} pass{}; {from}",
-                model.name(),
-                id.passes.len(),
-                if id.passes.len() == 1 { "" } else { "es" },
-            ))
-        })
-        .collect();
+    let total = total_covariance(plan, &id.covariance, &upstream);
+    let coefficients = coefficient_list(model, plan, &id, &last, &total);
     let cov_rows: Vec<Vec<f64>> = (0..nb)
         .map(|a| (0..nb).map(|b| id.covariance[a * nb + b]).collect())
         .collect();
     let est: Vec<&str> = plan.est_names.iter().map(String::as_str).collect();
     let mut directions = upstream.directions.clone();
     directions.extend(directions_of("hekf", &est, &cov_rows));
-    let mut warnings = Vec::new();
-    if !upstream.failed.is_empty() {
-        warnings.push(Warning::new(
-            super::STAGE,
-            format!(
-                "the sensitivity to {} could not be computed (the filter failed with the fixed \
-                 coefficients moved by one sigma)",
-                upstream.failed.join(", ")
-            ),
-            "the sigmas leave that uncertainty out and are too small",
-        ));
-    }
+    let warnings = upstream_warnings(&upstream);
     let correlation =
         Correlation::from_covariance(plan.est_names.clone(), |a, b| id.covariance[a * nb + b]);
     let pass_count = id.passes.len();
     let calibration = id.calibration.clone();
-    let mut passes = id.traces;
-    let last_traces = passes.pop().unwrap_or_default();
-    let mut traces = Vec::new();
-    for (r, (tr, summary)) in last_traces
-        .into_iter()
-        .zip(summaries.iter_mut())
-        .enumerate()
-    {
-        // a held state's measurement (the run's constant) is predicted exactly: its
-        // innovation adds nothing to the test
-        let held = summary
-            .noise
-            .iter()
-            .filter(|n| n.source == super::prepare::HELD_SOURCE)
-            .count();
-        let m = runs[r].measured.len() - held;
-        let states = model.states();
-        summary.process_noise = setup
-            .adaptable
-            .iter()
-            .enumerate()
-            .filter(|(j, a)| **a && id.process_noise[r][*j] > 0.0)
-            .map(|(j, _)| (states[j].name.to_string(), id.process_noise[r][j]))
-            .collect();
-        summary.nis = summarize(&tr.nis, m);
-        summary.innovation_rms = tr
-            .innovation_squares
-            .iter()
-            .map(|s| (s / tr.samples.max(1) as f64).sqrt())
-            .collect();
-        let mut history: Vec<History> = passes
-            .iter_mut()
-            .map(|p| std::mem::take(&mut p[r].history))
-            .collect();
-        history.push(tr.history);
-        traces.push(RunTraces {
-            times: tr.times,
-            measured: summary.measured.clone(),
-            filtered: tr.states,
-            smoothed: tr.smoothed,
-            history,
-            nis: tr.nis,
-        });
-    }
+    let traces = run_traces(
+        model,
+        setup,
+        runs,
+        &mut summaries,
+        id.traces,
+        &id.process_noise,
+    );
     HekfResult {
         model: model.name().to_string(),
         preset: cfg.preset.to_string(),
@@ -366,4 +275,145 @@ pub fn build<M: Model>(
         traces,
         directions,
     }
+}
+
+/// Each pass's estimates, numbered from 1.
+fn pass_summaries(passes: &[super::identify::PassEstimate]) -> Vec<PassSummary> {
+    passes
+        .iter()
+        .enumerate()
+        .map(|(i, p)| PassSummary {
+            pass: i + 1,
+            values: p.values.clone(),
+            sigmas: p.sigmas.clone(),
+        })
+        .collect()
+}
+
+/// The total covariance of the estimates: the filter's plus each fixed coefficient's share
+/// (consider analysis: the change along each upstream direction, outer product).
+fn total_covariance(plan: &Plan, covariance: &[f64], upstream: &Upstream) -> Vec<f64> {
+    let nb = plan.est.len();
+    let mut total = covariance.to_vec();
+    for d in &upstream.directions {
+        for (a, na) in plan.est_names.iter().enumerate() {
+            for (b, nb_) in plan.est_names.iter().enumerate() {
+                if let (Some(da), Some(db)) = (d.deltas.get(na), d.deltas.get(nb_)) {
+                    total[a * nb + b] += da * db;
+                }
+            }
+        }
+    }
+    total
+}
+
+/// The estimated coefficients with their total sigmas and a note on where the sigma comes
+/// from.
+fn coefficient_list<M: Model>(
+    model: &M,
+    plan: &Plan,
+    id: &Identification,
+    last: &super::identify::PassEstimate,
+    total: &[f64],
+) -> Vec<Coefficient> {
+    let nb = plan.est.len();
+    plan
+        .est_names
+        .iter()
+        .enumerate()
+        .map(|(j, n)| {
+            let sigma = total[j * nb + j].max(0.0).sqrt();
+            let num = crate::base::numfmt::num;
+            // joint: the filter's sigma holds the earlier stage's prior as well as the data
+            let from = if plan.held_prior.get(j).copied().unwrap_or(false) {
+                format!(
+                    "joint with the earlier stage's {} ± {} as prior: sigma {} from it and the data",
+                    num(plan.initial[j]),
+                    num(plan.prior_sigma[j]),
+                    num(last.sigmas[j])
+                )
+            } else {
+                format!("sigma {} from the data alone", num(last.sigmas[j]))
+            };
+            Coefficient::new(n, last.values[j], Some(sigma), Source::Hekf).with_note(format!(
+                "{} model, {} pass{}; {from}",
+                model.name(),
+                id.passes.len(),
+                if id.passes.len() == 1 { "" } else { "es" },
+            ))
+        })
+        .collect()
+}
+
+/// The warning for upstream directions whose repeated identification failed.
+fn upstream_warnings(upstream: &Upstream) -> Vec<Warning> {
+    let mut warnings = Vec::new();
+    if !upstream.failed.is_empty() {
+        warnings.push(Warning::new(
+            super::STAGE,
+            format!(
+                "the sensitivity to {} could not be computed (the filter failed with the fixed \
+                 coefficients moved by one sigma)",
+                upstream.failed.join(", ")
+            ),
+            "the sigmas leave that uncertainty out and are too small",
+        ));
+    }
+    warnings
+}
+
+/// Per run, the last pass's traces with every pass's coefficient history, and the run's
+/// summary completed (process noise, NIS, innovation RMS).
+fn run_traces<M: Model>(
+    model: &M,
+    setup: &Setup,
+    runs: &[RunData],
+    summaries: &mut [RunSummary],
+    mut passes: Vec<Vec<super::identify::RunTrace>>,
+    process_noise: &[Vec<f64>],
+) -> Vec<RunTraces> {
+    let last_traces = passes.pop().unwrap_or_default();
+    let mut traces = Vec::new();
+    for (r, (tr, summary)) in last_traces
+        .into_iter()
+        .zip(summaries.iter_mut())
+        .enumerate()
+    {
+        // a held state's measurement (the run's constant) is predicted exactly: its
+        // innovation adds nothing to the test
+        let held = summary
+            .noise
+            .iter()
+            .filter(|n| n.source == super::prepare::HELD_SOURCE)
+            .count();
+        let m = runs[r].measured.len() - held;
+        let states = model.states();
+        summary.process_noise = setup
+            .adaptable
+            .iter()
+            .enumerate()
+            .filter(|(j, a)| **a && process_noise[r][*j] > 0.0)
+            .map(|(j, _)| (states[j].name.to_string(), process_noise[r][j]))
+            .collect();
+        summary.nis = summarize(&tr.nis, m);
+        summary.innovation_rms = tr
+            .innovation_squares
+            .iter()
+            .map(|s| (s / tr.samples.max(1) as f64).sqrt())
+            .collect();
+        let mut history: Vec<History> = passes
+            .iter_mut()
+            .map(|p| std::mem::take(&mut p[r].history))
+            .collect();
+        history.push(tr.history);
+        traces.push(RunTraces {
+            times: tr.times,
+            measured: summary.measured.clone(),
+            filtered: tr.states,
+            smoothed: tr.smoothed,
+            history,
+            nis: tr.nis,
+        });
+    }
+    traces
 }

@@ -25,20 +25,9 @@ fn constants(f: &ChannelFit) -> String {
         .join("; ")
 }
 
-pub fn write<'a>(d: &mut Document<'a>, p: &PolarResult, word: &str, figs: &Figures<'a>) {
-    d.heading(2, "Static polars");
-    let rf = &p.reference;
-    d.text(format!(
-        "Constrained least squares on the steady {word} points (data as {}, {} axes, {} \
-         weights, fitting range {}), each channel separately; standard errors from the \
-         residual variance; a constant an active constraint holds is marked (held): it is \
-         imposed, not estimated.",
-        serde_name(&rf.data),
-        serde_name(&rf.axes),
-        serde_name(&rf.weights),
-        rf.alpha_max_deg
-            .map_or_else(|| "all angles".into(), |a| format!("|α| ≤ {} deg", num(a)))
-    ));
+/// The fitted channels: model, constants, points, R², residual SD and active constraints
+/// (binding ones marked).
+fn fits_table(p: &PolarResult) -> Table {
     let mut t = Table::new([
         "channel",
         "model",
@@ -76,6 +65,62 @@ pub fn write<'a>(d: &mut Document<'a>, p: &PolarResult, word: &str, figs: &Figur
             },
         ]);
     }
+    t
+}
+
+/// The section comparing each speed fitted alone with the pooled fit.
+fn speeds_agreement(d: &mut Document<'_>, p: &PolarResult) {
+    d.heading(3, "Agreement between speeds");
+    d.text(
+        "Each speed fitted alone. A small p-value says the speeds differ by more than their \
+         standard errors explain (a Reynolds-number effect rather than noise).",
+    );
+    let mut header = vec!["coefficient".to_string(), "unit".into()];
+    header.extend(
+        p.per_speed
+            .iter()
+            .map(|s| format!("U = {} m/s", num(s.speed))),
+    );
+    header.extend(["pooled".to_string(), "χ² (dof)".into(), "p-value".into()]);
+    let mut t = Table::new(header).numeric_from(2);
+    for s in &p.spread {
+        let mut row = vec![s.name.clone(), s.unit.clone()];
+        row.extend(
+            s.values
+                .iter()
+                .zip(&s.sigmas)
+                .map(|(v, e)| super::fmt::pm(*v, *e)),
+        );
+        let pooled = p.coefficients.iter().find(|c| c.name == s.name);
+        row.push(pooled.map_or("-".into(), |c| super::fmt::pm(c.value, c.sigma)));
+        row.push(s.chi2.map_or("-".into(), |c| format!("{c:.2} ({})", s.dof)));
+        row.push(s.p_value.map_or("-".into(), super::fmt::p_value));
+        if s.p_value.is_some_and(|v| v < 0.01) {
+            t.marked_row(row);
+        } else {
+            t.row(row);
+        }
+    }
+    d.table(t);
+}
+
+/// Writes the static polars' section: the fits, the yaw moment's reading, the agreement
+/// between speeds and the warnings.
+pub fn write<'a>(d: &mut Document<'a>, p: &PolarResult, word: &str, figs: &Figures<'a>) {
+    d.heading(2, "Static polars");
+    let rf = &p.reference;
+    d.text(format!(
+        "Constrained least squares on the steady {word} points (data as {}, {} axes, {} \
+         weights, fitting range {}), each channel separately; standard errors from the \
+         residual variance; a constant an active constraint holds is marked (held): it is \
+         imposed, not estimated.",
+        serde_name(&rf.data),
+        serde_name(&rf.axes),
+        serde_name(&rf.weights),
+        rf.alpha_max_deg
+            .map_or_else(|| "all angles".into(), |a| format!("|α| ≤ {} deg", num(a)))
+    ));
+    let t = fits_table(p);
     d.table(t);
     d.text(format!(
         "Yaw moment (polar.moment.part = \"{}\"): {}.",
@@ -83,38 +128,7 @@ pub fn write<'a>(d: &mut Document<'a>, p: &PolarResult, word: &str, figs: &Figur
         rf.moment.statement()
     ));
     if p.per_speed.len() > 1 && !p.spread.is_empty() {
-        d.heading(3, "Agreement between speeds");
-        d.text(
-            "Each speed fitted alone. A small p-value says the speeds differ by more than their \
-             standard errors explain (a Reynolds-number effect rather than noise).",
-        );
-        let mut header = vec!["coefficient".to_string(), "unit".into()];
-        header.extend(
-            p.per_speed
-                .iter()
-                .map(|s| format!("U = {} m/s", num(s.speed))),
-        );
-        header.extend(["pooled".to_string(), "χ² (dof)".into(), "p-value".into()]);
-        let mut t = Table::new(header).numeric_from(2);
-        for s in &p.spread {
-            let mut row = vec![s.name.clone(), s.unit.clone()];
-            row.extend(
-                s.values
-                    .iter()
-                    .zip(&s.sigmas)
-                    .map(|(v, e)| super::fmt::pm(*v, *e)),
-            );
-            let pooled = p.coefficients.iter().find(|c| c.name == s.name);
-            row.push(pooled.map_or("-".into(), |c| super::fmt::pm(c.value, c.sigma)));
-            row.push(s.chi2.map_or("-".into(), |c| format!("{c:.2} ({})", s.dof)));
-            row.push(s.p_value.map_or("-".into(), super::fmt::p_value));
-            if s.p_value.is_some_and(|v| v < 0.01) {
-                t.marked_row(row);
-            } else {
-                t.row(row);
-            }
-        }
-        d.table(t);
+        speeds_agreement(d, p);
     }
     if !p.warnings.is_empty() {
         d.list(

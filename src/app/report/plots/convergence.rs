@@ -5,8 +5,9 @@
 use super::axes::{self, Axes, Range};
 use super::style::{self, anchored, colour, size, Key, Mark};
 use super::{FigureMeta, Plot, PlotError, Section};
-use crate::app::results::RunResult;
+use crate::model::coefficients::Coefficient;
 use crate::base::numfmt::num;
+use crate::app::results::RunResult;
 use crate::stages::hekf::HekfResult;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -129,6 +130,35 @@ impl<'a> Convergence<'a> {
         self.h.estimated.len().div_ceil(self.cols())
     }
 
+    /// The vertical range of a coefficient's panel: the settled estimate, its final 2-sigma
+    /// band, the reference and the analytic value.
+    fn y_range(
+        &self,
+        name: &str,
+        c: &Coefficient,
+        hist: &History,
+        pass_starts: &[f64],
+    ) -> Result<Range, PlotError> {
+        let end = *pass_starts.last().unwrap_or(&0.0);
+        let total = c.sigma.unwrap_or(0.0);
+        // the vertical range leaves out the first tenth of the first pass, where the estimate
+        // leaves its starting value; the line is clipped there
+        let settle = 0.1 * pass_starts.get(1).map_or(end, |p1| p1 - pass_starts[0]);
+        let settled = hist
+            .x
+            .iter()
+            .zip(&hist.value)
+            .filter(|(t, _)| **t >= settle)
+            .map(|(_, v)| *v);
+        Ok(Range::require(settled, name)?
+            .include(c.value - 2.0 * total)
+            .include(c.value + 2.0 * total)
+            .include(self.reference(name).unwrap_or(f64::NAN))
+            .include(self.analytic(name).unwrap_or(f64::NAN))
+            .pad(0.08)
+            .headroom(0.1))
+    }
+
     fn draw_one<DB: DrawingBackend>(
         &self,
         area: &DrawingArea<DB, Shift>,
@@ -143,22 +173,7 @@ impl<'a> Convergence<'a> {
         let end = *pass_starts.last().unwrap_or(&0.0);
         let x = Range::new(0.0, end.max(1e-9) * 1.04);
         let total = c.sigma.unwrap_or(0.0);
-        // the vertical range leaves out the first tenth of the first pass, where the estimate
-        // leaves its starting value; the line is clipped there
-        let settle = 0.1 * pass_starts.get(1).map_or(end, |p1| p1 - pass_starts[0]);
-        let settled = hist
-            .x
-            .iter()
-            .zip(&hist.value)
-            .filter(|(t, _)| **t >= settle)
-            .map(|(_, v)| *v);
-        let y = Range::require(settled, name)?
-            .include(c.value - 2.0 * total)
-            .include(c.value + 2.0 * total)
-            .include(self.reference(name).unwrap_or(f64::NAN))
-            .include(self.analytic(name).unwrap_or(f64::NAN))
-            .pad(0.08)
-            .headroom(0.1);
+        let y = self.y_range(name, c, &hist, pass_starts)?;
         let y_desc = format!("{name} ({})", c.unit);
         let title = format!(
             "{name} = {} ± {} {} (1σ, total)",
@@ -193,27 +208,7 @@ impl<'a> Convergence<'a> {
             .map(|(v, s)| v + 2.0 * s)
             .collect();
         axes::band(&mut chart, &hist.x, &lower, &upper, y, colour::BLUE)?;
-        for s in &pass_starts[1..pass_starts.len().saturating_sub(1)] {
-            axes::dashed(
-                &mut chart,
-                [(*s, y.lo), (*s, y.hi)],
-                colour::GREY.stroke_width(2),
-            )?;
-        }
-        for s in run_starts {
-            axes::dashed(
-                &mut chart,
-                [(*s, y.lo), (*s, y.hi)],
-                colour::GRID.stroke_width(1),
-            )?;
-        }
-        for (p, w) in pass_starts.windows(2).enumerate() {
-            chart.draw_series(std::iter::once(Text::new(
-                format!("pass {}", p + 1),
-                (w[0] + 0.01 * x.span(), y.hi),
-                anchored(size::TICK, HPos::Left, VPos::Top).color(&colour::GREY),
-            )))?;
-        }
+        pass_marks(&mut chart, x, y, pass_starts, run_starts)?;
         if let Some(r) = self.reference(name) {
             axes::hline(&mut chart, x, r, colour::GREEN.stroke_width(2), true)?;
         }
@@ -240,6 +235,38 @@ impl<'a> Convergence<'a> {
         axes::dots(&mut chart, [(xe, c.value)], 4, colour::DATA.filled())?;
         Ok(())
     }
+}
+
+/// The passes' boundaries (dashed grey) and labels, and the runs' starts (dashed grid).
+fn pass_marks<DB: DrawingBackend>(
+    chart: &mut axes::Chart<'_, DB>,
+    x: Range,
+    y: Range,
+    pass_starts: &[f64],
+    run_starts: &[f64],
+) -> Result<(), PlotError> {
+    for s in &pass_starts[1..pass_starts.len().saturating_sub(1)] {
+        axes::dashed(
+            chart,
+            [(*s, y.lo), (*s, y.hi)],
+            colour::GREY.stroke_width(2),
+        )?;
+    }
+    for s in run_starts {
+        axes::dashed(
+            chart,
+            [(*s, y.lo), (*s, y.hi)],
+            colour::GRID.stroke_width(1),
+        )?;
+    }
+    for (p, w) in pass_starts.windows(2).enumerate() {
+        chart.draw_series(std::iter::once(Text::new(
+            format!("pass {}", p + 1),
+            (w[0] + 0.01 * x.span(), y.hi),
+            anchored(size::TICK, HPos::Left, VPos::Top).color(&colour::GREY),
+        )))?;
+    }
+    Ok(())
 }
 
 impl Plot for Convergence<'_> {

@@ -251,8 +251,10 @@ impl HybridEkf {
                 reason: "the covariance became non-finite during prediction".into(),
             });
         }
-        sys.check(&self.x)
-            .map_err(|reason| Divergence { time: t1, reason })
+        sys.check(&self.x).map_err(|e| Divergence {
+            time: t1,
+            reason: e.to_string(),
+        })
     }
 
     /// The top `nd` rows of Phi = I + hF + (hF)^2/2 + (hF)^3/6 + (hF)^4/24 into `phi_step`
@@ -498,7 +500,7 @@ mod tests {
             h[0] = 1.0;
             h[1] = 0.0;
         }
-        fn check(&mut self, _x: &[f64]) -> Result<(), String> {
+        fn check(&mut self, _x: &[f64]) -> Result<(), crate::model::models::Unphysical> {
             Ok(())
         }
     }

@@ -45,29 +45,8 @@ impl HybridEkf {
         }
         // H P (m x n), its transpose P H^T (n x m), S = H P H^T + R (m x m)
         w.innovation_covariance(&self.p, r, n);
-        // A missing (NaN) or gated measurement: a zero row of H with a zero innovation is
-        // exactly no measurement (S is then block diagonal with r_k for that row).
-        let mut dropped = false;
-        for k in 0..m {
-            let missing = !w.nu[k].is_finite();
-            let gated = !missing
-                && self.gate > 0.0
-                && w.nu[k].powi(2) > self.gate.powi(2) * w.s_diag[k]
-                && note_beyond(
-                    &mut self.beyond,
-                    &self.ungated,
-                    k,
-                    w.nu[k].abs() / w.s_diag[k].sqrt(),
-                );
-            if missing || gated {
-                w.nu[k] = 0.0;
-                w.h[k * n..(k + 1) * n].fill(0.0);
-                dropped = true;
-            }
-        }
-        if dropped {
-            w.innovation_covariance(&self.p, r, n);
-        }
+        self.drop_unusable(r);
+        let w = &mut self.upd;
         w.ls.copy_from_slice(&w.s);
         cholesky(&mut w.ls, m).map_err(|i| Divergence {
             time: t,
@@ -92,6 +71,47 @@ impl HybridEkf {
             }
             self.x[i] += dx;
         }
+        self.joseph(r);
+        self.finish_update(sys, t, nis)
+    }
+
+    /// Drops a missing (NaN) or gated measurement from the matrix update, recomputing the
+    /// innovation covariance when one was dropped.
+    fn drop_unusable(&mut self, r: &[f64]) {
+        let n = self.n;
+        let w = &mut self.upd;
+        let m = w.m;
+        // A missing (NaN) or gated measurement: a zero row of H with a zero innovation is
+        // exactly no measurement (S is then block diagonal with r_k for that row).
+        let mut dropped = false;
+        for k in 0..m {
+            let missing = !w.nu[k].is_finite();
+            let gated = !missing
+                && self.gate > 0.0
+                && w.nu[k].powi(2) > self.gate.powi(2) * w.s_diag[k]
+                && note_beyond(
+                    &mut self.beyond,
+                    &self.ungated,
+                    k,
+                    w.nu[k].abs() / w.s_diag[k].sqrt(),
+                );
+            if missing || gated {
+                w.nu[k] = 0.0;
+                w.h[k * n..(k + 1) * n].fill(0.0);
+                dropped = true;
+            }
+        }
+        if dropped {
+            w.innovation_covariance(&self.p, r, n);
+        }
+    }
+
+    /// The covariance of the matrix update in Joseph form, from the gain K and H P in the
+    /// workspace.
+    fn joseph(&mut self, r: &[f64]) {
+        let n = self.n;
+        let w = &mut self.upd;
+        let m = w.m;
         // Joseph form: P = B P B^T + K R K^T with B = I - K H.
         // B P = P - K (H P)
         let bp = &mut self.tmp;
@@ -110,7 +130,6 @@ impl HybridEkf {
         for i in 0..n * n {
             self.p[i] = self.tmp[i] + self.tmp2[i];
         }
-        self.finish_update(sys, t, nis)
     }
 
     /// Sequential scalar updates for a selection H: for each measured state j,
@@ -198,8 +217,10 @@ impl HybridEkf {
         if !diag_ok || self.updates_since_check >= CHECK_EVERY {
             self.check_covariance(t)?;
         }
-        sys.check(&self.x)
-            .map_err(|reason| Divergence { time: t, reason })?;
+        sys.check(&self.x).map_err(|e| Divergence {
+            time: t,
+            reason: e.to_string(),
+        })?;
         Ok(nis)
     }
 

@@ -103,6 +103,51 @@ fn check_one<M: Model>(
     j: usize,
     value: f64,
 ) -> Option<Finding> {
+    let rows = equation_rows(model, run, start, z0, samples, j, value)?;
+    let (correction, sigma, state) = best_equation(model, &rows, start.est.len())?;
+    let significant = correction.abs() > SIGNIFICANT * sigma;
+    if !(significant && correction.abs() > RELATIVE * value.abs()) {
+        return None;
+    }
+    let q = model.inputs()[j].quantity;
+    let unit = q.si_symbol();
+    Some(Finding {
+        warning: Warning::new(
+            STAGE,
+            format!(
+                "the constant {q} of {} {unit} does not fit the motion: an equation-error fit \
+                 of the {state} equation, with the estimated coefficients free, implies {} \
+                 +- {} {unit}",
+                num(value),
+                num(value + correction),
+                num(sigma)
+            ),
+            format!(
+                "either the {q} is wrong or a coefficient held fixed in the {state} equation \
+                 (from an earlier stage or the configuration) is; either way the filter makes \
+                 the estimated coefficients absorb the difference and reports them with small \
+                 sigmas: check the {q} of this run (or map a column for it) and the fixed \
+                 coefficients"
+            ),
+        )
+        .for_run(&rec.name),
+        blocking: false,
+    })
+}
+
+/// Per state equation, the equation-error rows at the sampled times: the residual of the
+/// measured central-difference derivative and the regressors (the estimated coefficients,
+/// then input `j` by central differences). None when the model gives no finite value.
+#[allow(clippy::type_complexity)]
+fn equation_rows<M: Model>(
+    model: &M,
+    run: &RunData,
+    start: &Start,
+    z0: &[f64],
+    samples: &[usize],
+    j: usize,
+    value: f64,
+) -> Option<Vec<Vec<(f64, Vec<f64>)>>> {
     let nx = model.nx();
     let nb = start.est.len();
     let n = nx + nb;
@@ -151,7 +196,16 @@ fn check_one<M: Model>(
             rows[i].push((measured - f[i], reg));
         }
     }
-    // the equation that determines the input best
+    Some(rows)
+}
+
+/// The equation that determines the input best: its least-squares correction to the input,
+/// the correction's sigma, and the state it is the equation of.
+fn best_equation<M: Model>(
+    model: &M,
+    rows: &[Vec<(f64, Vec<f64>)>],
+    nb: usize,
+) -> Option<(f64, f64, String)> {
     let mut best: Option<(f64, f64, String)> = None;
     for (i, eq) in rows.iter().enumerate() {
         if eq.iter().all(|(_, reg)| reg[nb] == 0.0) {
@@ -183,35 +237,7 @@ fn check_one<M: Model>(
             best = Some((correction, sigma, state));
         }
     }
-    let (correction, sigma, state) = best?;
-    let significant = correction.abs() > SIGNIFICANT * sigma;
-    if !(significant && correction.abs() > RELATIVE * value.abs()) {
-        return None;
-    }
-    let q = model.inputs()[j].quantity;
-    let unit = q.si_symbol();
-    Some(Finding {
-        warning: Warning::new(
-            STAGE,
-            format!(
-                "the constant {q} of {} {unit} does not fit the motion: an equation-error fit \
-                 of the {state} equation, with the estimated coefficients free, implies {} \
-                 +- {} {unit}",
-                num(value),
-                num(value + correction),
-                num(sigma)
-            ),
-            format!(
-                "either the {q} is wrong or a coefficient held fixed in the {state} equation \
-                 (from an earlier stage or the configuration) is; either way the filter makes \
-                 the estimated coefficients absorb the difference and reports them with small \
-                 sigmas: check the {q} of this run (or map a column for it) and the fixed \
-                 coefficients"
-            ),
-        )
-        .for_run(&rec.name),
-        blocking: false,
-    })
+    best
 }
 
 fn num(v: f64) -> String {
