@@ -10,6 +10,7 @@ use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use hydroid::estimation::System;
 use hydroid::models::spheroid3::BOUNDED_TRUTH;
 use hydroid::models::{Model, Spheroid3};
+use hydroid::ode::StageTime;
 use hydroid::sim::{simulate, InputSeries};
 use hydroid::stages::hekf::identify::{RunData, Setup};
 use hydroid::stages::hekf::system::ModelSystem;
@@ -93,7 +94,7 @@ fn bench(c: &mut Criterion) {
     let mut dx = [0.0; 6];
     let mut f = [0.0; 72];
     c.bench_function("augmented Jacobian (AD), 6 x 12", |b| {
-        b.iter(|| sys.jacobian(0.0, black_box(&x), &mut dx, &mut f))
+        b.iter(|| sys.jacobian(StageTime::at(0.0), black_box(&x), &mut dx, &mut f))
     });
 }
 

@@ -11,6 +11,7 @@
 use super::{Finding, STAGE};
 use crate::estimation::System;
 use crate::models::Model;
+use crate::ode::StageTime;
 use crate::record::Record;
 use crate::sim::inputs::{Input, InputSeries};
 use crate::stages::hekf::identify::RunData;
@@ -136,7 +137,7 @@ fn check_one<M: Model>(
             x[i] = run.y[k * m + a];
         }
         x[nx..].copy_from_slice(z0);
-        let t = run.times[k];
+        let t = StageTime::at(run.times[k]);
         sys.jacobian(t, &x, &mut f, &mut jac);
         sys_p.derivative(t, &x, &mut fp);
         sys_m.derivative(t, &x, &mut fm);
