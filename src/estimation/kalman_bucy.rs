@@ -293,8 +293,7 @@ impl HybridEkf {
                     }
                 }
                 let (xs, ps) = (std::mem::take(&mut w.xs), std::mem::take(&mut w.ps));
-                // a held input is read at the step's start, also in the last stage
-                // (crate::ode::StageTime)
+                // held inputs at the step's start, also in the last stage (ode::StageTime)
                 w.rates(
                     sys,
                     StageTime {
