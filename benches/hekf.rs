@@ -7,11 +7,11 @@
 mod common;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use hydroid::dynamics::model_system::ModelSystem;
-use hydroid::dynamics::sim::{simulate, InputSeries};
+use hydroid::numerics::estimation::System;
 use hydroid::model::models::spheroid3::BOUNDED_TRUTH;
 use hydroid::model::models::{Model, Spheroid3};
-use hydroid::numerics::estimation::System;
+use hydroid::numerics::ode::StageTime;
+use hydroid::dynamics::sim::{simulate, InputSeries};
 use hydroid::stages::hekf::identify::{RunData, Setup};
 use rand::{rngs::StdRng, SeedableRng};
 use rand_distr::{Distribution, Normal};
@@ -93,7 +93,7 @@ fn bench(c: &mut Criterion) {
     let mut dx = [0.0; 6];
     let mut f = [0.0; 72];
     c.bench_function("augmented Jacobian (AD), 6 x 12", |b| {
-        b.iter(|| sys.jacobian(0.0, black_box(&x), &mut dx, &mut f))
+        b.iter(|| sys.jacobian(StageTime::at(0.0), black_box(&x), &mut dx, &mut f))
     });
 }
 

@@ -89,12 +89,25 @@ fn jacobians_at<M: Model>(m: &M, x0: &[f64], dz: f64) -> Result<(), String> {
     // the dynamics
     let mut dx = vec![0.0; nx];
     let mut fa = vec![0.0; nx * n];
-    hydroid::numerics::estimation::System::jacobian(&mut sys, 0.0, &x, &mut dx, &mut fa);
+    hydroid::numerics::estimation::System::jacobian(
+        &mut sys,
+        hydroid::numerics::ode::StageTime::at(0.0),
+        &x,
+        &mut dx,
+        &mut fa,
+    );
     let mut ff = vec![0.0; nx * n];
     ad::jacobian_fd(
         &x,
         nx,
-        |xs, out| hydroid::numerics::estimation::System::derivative(&mut sys, 0.0, xs, out),
+        |xs, out| {
+            hydroid::numerics::estimation::System::derivative(
+                &mut sys,
+                hydroid::numerics::ode::StageTime::at(0.0),
+                xs,
+                out,
+            )
+        },
         &mut ff,
     );
     for (k, (a, b)) in fa.iter().zip(&ff).enumerate() {
@@ -109,13 +122,27 @@ fn jacobians_at<M: Model>(m: &M, x0: &[f64], dz: f64) -> Result<(), String> {
     // the measurement function
     let ny = outputs.len();
     let (mut y, mut ha) = (vec![0.0; ny], vec![0.0; ny * n]);
-    hydroid::numerics::estimation::System::observe(&mut sys, 0.0, &x, &mut y, &mut ha);
+    hydroid::numerics::estimation::System::observe(
+        &mut sys,
+        hydroid::numerics::ode::StageTime::at(0.0),
+        &x,
+        &mut y,
+        &mut ha,
+    );
     let mut hf = vec![0.0; ny * n];
     let mut h = vec![0.0; ny * n];
     ad::jacobian_fd(
         &x,
         ny,
-        |xs, out| hydroid::numerics::estimation::System::observe(&mut sys, 0.0, xs, out, &mut h),
+        |xs, out| {
+            hydroid::numerics::estimation::System::observe(
+                &mut sys,
+                hydroid::numerics::ode::StageTime::at(0.0),
+                xs,
+                out,
+                &mut h,
+            )
+        },
         &mut hf,
     );
     for (k, (a, b)) in ha.iter().zip(&hf).enumerate() {

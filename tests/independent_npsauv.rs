@@ -133,8 +133,8 @@ fn helix_and_zigzag_at_50_hz_with_moving_fins() {
 /// MSS's 11-station sum and the fins held at each logged sample as the hull feels them, read
 /// with `cross_flow = "stations"` and `between = "hold"`: the generator and hydroid's model
 /// then agree in form, and this checks the generator (kinetics, signs, units, the column maps)
-/// against hydroid. Measured: 17/17 within 2 sigma, worst |z| 1.57 (Kv); asserted at 1.5
-/// times.
+/// against hydroid. Measured: 17/17 within 2 sigma, worst |z| 1.53 (Kv; 1.57 while the last
+/// RK4 stage of each interval read the held fins' next sample); asserted at 1.5 times.
 #[test]
 fn helix_and_zigzag_with_the_station_sum_and_held_fins() {
     npsauv::HOLD_FINS.with(|h| h.set(true));
@@ -143,7 +143,7 @@ fn helix_and_zigzag_with_the_station_sum_and_held_fins() {
     o.assert_undetermined_flagged();
     let (k, n) = o.within_two_sigma();
     assert_eq!(k, n, "{}", o.table());
-    assert!(o.worst_z() < 2.36, "{}", o.table());
+    assert!(o.worst_z() < 2.3, "{}", o.table());
 }
 
 /// MSS npsauv.m's form as written (11 stations, pitch integrand w + x q), fins moving, read

@@ -4,10 +4,11 @@
 //! outputs: of its states when it declares no measurement function (then the filter updates
 //! one state at a time), else of y = h(x, u, c) with H from automatic differentiation.
 
-use crate::dynamics::sim::InputSeries;
-use crate::model::models::Model;
 use crate::numerics::ad::{self, Dual, CHUNK};
 use crate::numerics::estimation::System;
+use crate::model::models::Model;
+use crate::numerics::ode::StageTime;
+use crate::dynamics::sim::InputSeries;
 
 /// The augmented system of one run.
 pub struct ModelSystem<'a, M: Model> {
@@ -133,16 +134,16 @@ impl<M: Model> System for ModelSystem<'_, M> {
         self.measured.len()
     }
 
-    fn derivative(&mut self, t: f64, x: &[f64], dx: &mut [f64]) {
+    fn derivative(&mut self, at: StageTime, x: &[f64], dx: &mut [f64]) {
         let nx = self.model.nx();
-        self.inputs.at(t, &mut self.u);
+        self.inputs.in_step(at, &mut self.u);
         self.coefficients(x);
         self.model.derivatives(&x[..nx], &self.u, &self.c, dx);
     }
 
-    fn jacobian(&mut self, t: f64, x: &[f64], dx: &mut [f64], f: &mut [f64]) {
+    fn jacobian(&mut self, at: StageTime, x: &[f64], dx: &mut [f64], f: &mut [f64]) {
         let n = self.n();
-        self.inputs.at(t, &mut self.u);
+        self.inputs.in_step(at, &mut self.u);
         self.for_each_chunk(x, |s, start, end| {
             s.model.derivatives(&s.xd, &s.u, &s.cd, &mut s.outd);
             for (r, o) in s.outd.iter().enumerate() {
@@ -154,7 +155,7 @@ impl<M: Model> System for ModelSystem<'_, M> {
         });
     }
 
-    fn observe(&mut self, t: f64, x: &[f64], y: &mut [f64], h: &mut [f64]) {
+    fn observe(&mut self, at: StageTime, x: &[f64], y: &mut [f64], h: &mut [f64]) {
         let n = self.n();
         h.fill(0.0);
         if self.model.outputs().is_empty() {
@@ -165,7 +166,7 @@ impl<M: Model> System for ModelSystem<'_, M> {
             return;
         }
         // y = h(x, u, c) and its Jacobian by chunked forward-mode AD, as the dynamics'
-        self.inputs.at(t, &mut self.u);
+        self.inputs.in_step(at, &mut self.u);
         self.for_each_chunk(x, |s, start, end| {
             s.model.measure(&s.xd, &s.u, &s.cd, &mut s.yd);
             for (k, &o) in s.measured.iter().enumerate() {
@@ -275,6 +276,45 @@ mod tests {
         }
     }
 
+    /// The filter's prediction reads a held input as the simulation does: x_dot = T / m
+    /// (surge1 without drag or added mass) with T held at its samples gains exactly h T_k / m
+    /// over the interval from t_k, in each form of the filter, in one step or four (it used
+    /// to gain (5 T_k + T_k+1) h / (6 m) in one RK4 step).
+    #[test]
+    fn every_filter_form_holds_a_held_input_over_its_interval() {
+        use crate::estimation::{FilterKind, HybridEkf};
+        use crate::models::Surge1;
+        use crate::sim::inputs::Input;
+        let m = Surge1::build(&Vehicle::paper_spheroid()).unwrap();
+        let base = m.coefficient_vector(&[("Xud", 0.0), ("Xuu", 0.0)]);
+        let inputs = InputSeries {
+            t: vec![0.0, 0.5, 1.0],
+            inputs: vec![Input::Held(vec![1.0, 7.0, -2.0])],
+        };
+        for kind in [
+            FilterKind::Hybrid,
+            FilterKind::Discrete,
+            FilterKind::Continuous,
+        ] {
+            for max_step in [0.5, 0.125] {
+                let mut sys = ModelSystem::new(&m, base.clone(), &[], &[], &inputs, &[0]);
+                let p0 = vec![1e-4, 0.0, 0.0, 1e-4];
+                let mut f = HybridEkf::new(2, 2, vec![0.25, 0.0], p0, vec![0.0; 2], max_step);
+                f.kind = kind;
+                for (k, gain) in [1.0, 7.0].iter().enumerate() {
+                    let (t0, u0) = (0.5 * k as f64, f.x[0]);
+                    f.predict(&mut sys, t0, t0 + 0.5, None).unwrap();
+                    let want = u0 + 0.5 * gain / m.mass;
+                    assert!(
+                        (f.x[0] - want).abs() < 1e-14,
+                        "{kind}, steps of {max_step} s, interval {k}: {} for {want}",
+                        f.x[0]
+                    );
+                }
+            }
+        }
+    }
+
     #[test]
     fn a_measurement_function_gives_its_values_and_ad_jacobian() {
         let m = LoggedSurge::build(&Vehicle::paper_spheroid()).unwrap();
@@ -284,7 +324,7 @@ mod tests {
         assert!(sys.selection().is_none(), "not a selection of states");
         let x = [2.0, 15.0, -1.0, 1.0];
         let (mut y, mut h) = ([0.0; 2], [0.0; 8]);
-        sys.observe(0.0, &x, &mut y, &mut h);
+        sys.observe(StageTime::at(0.0), &x, &mut y, &mut h);
         // y0 = u (1 + k x) with k = z1 * 0.01 = 0.01
         assert!((y[0] - 2.0 * 1.15).abs() < 1e-12 && y[1] == 15.0);
         let mut hf = [0.0; 8];
@@ -292,7 +332,7 @@ mod tests {
         ad::jacobian_fd(
             &x,
             2,
-            |xs, out| sys.observe(0.0, xs, out, &mut scratch),
+            |xs, out| sys.observe(StageTime::at(0.0), xs, out, &mut scratch),
             &mut hf,
         );
         for (a, b) in h.iter().zip(&hf) {
@@ -361,9 +401,14 @@ mod tests {
         let n = 12;
         let mut dx = vec![0.0; 6];
         let mut fa = vec![0.0; 6 * n];
-        sys.jacobian(0.0, &x, &mut dx, &mut fa);
+        sys.jacobian(StageTime::at(0.0), &x, &mut dx, &mut fa);
         let mut ff = vec![0.0; 6 * n];
-        ad::jacobian_fd(&x, 6, |xs, out| sys.derivative(0.0, xs, out), &mut ff);
+        ad::jacobian_fd(
+            &x,
+            6,
+            |xs, out| sys.derivative(StageTime::at(0.0), xs, out),
+            &mut ff,
+        );
         for (i, (a, b)) in fa.iter().zip(&ff).enumerate() {
             assert!(
                 (a - b).abs() < 1e-6 * (1.0 + b.abs()),

@@ -17,6 +17,15 @@
 //! The state may be augmented with constants (the filter's estimated coefficients): only its
 //! first `nd` components evolve, the others are passed to f unchanged. Nothing here knows of
 //! models or filters, so both `sim` and `estimation` use it without depending on each other.
+//!
+//! Each evaluation of f gets a [`StageTime`]: its time and the start of its step. An input
+//! held between samples (a zero-order hold: u(t) = u_k for t_k <= t < t_k+1; Astrom &
+//! Wittenmark, "Computer-Controlled Systems", 3rd ed. 1997, section 2.3)
+//! is constant over a step, which never crosses a sample time (each interval is divided into
+//! whole steps), so it is read at the step's start: the last stage, at t + h = t_k+1, sees
+//! the interval's value u_k (the left limit), not the next sample's, and one step of
+//! x_dot = u gives x + h u_k exactly. Reading it at the step's start, rather than just
+//! before t + h, holds whatever the rounding of t + h.
 
 /// Most RK4 steps one sample interval may take: a longer gap than `MAX_STEPS_PER_INTERVAL`
 /// times the step size is not integrated but reported (it would take hours, and no filter
@@ -45,6 +54,23 @@ pub fn substeps(t0: f64, t1: f64, steps: usize) -> impl Iterator<Item = (f64, f6
     (0..steps).map(move |s| (t0 + h * s as f64, h))
 }
 
+/// When one evaluation of the right-hand side is made: the stage's time and the start of the
+/// step it belongs to (module docs: a held input is read at the step's start).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StageTime {
+    /// The stage's time, s (t, t + h/2, t + h/2, t + h for the four stages of a step at t).
+    pub t: f64,
+    /// The start of its step, s: the sample interval a held input is read in.
+    pub step_start: f64,
+}
+
+impl StageTime {
+    /// An evaluation at `t` that is the start of its step (or is at a sample, not in a step).
+    pub fn at(t: f64) -> Self {
+        StageTime { t, step_start: t }
+    }
+}
+
 /// Classical RK4 for a state of `n` components whose first `nd` evolve (the rest are
 /// constants), with its work space: sizes are fixed at construction, a step allocates
 /// nothing.
@@ -69,28 +95,33 @@ impl Rk4 {
 
     /// One step of size `h` from time `t`: `x[..nd]` advances, `x[nd..]` stays.
     ///
-    /// `f(t, x, dx, at_start)` writes the derivative of the evolving states at (t, x) into
-    /// `dx` (length nd). `at_start` is true for the first of the four evaluations, at the
-    /// step's start state, where a caller may also take its Jacobian.
+    /// `f(at, x, dx, at_start)` writes the derivative of the evolving states at (at.t, x)
+    /// into `dx` (length nd); `at.step_start` is `t` for all four stages. `at_start` is true
+    /// for the first of the four evaluations, at the step's start state, where a caller may
+    /// also take its Jacobian.
     #[inline]
     pub fn step<F>(&mut self, t: f64, h: f64, x: &mut [f64], mut f: F)
     where
-        F: FnMut(f64, &[f64], &mut [f64], bool),
+        F: FnMut(StageTime, &[f64], &mut [f64], bool),
     {
+        let at = |t_stage: f64| StageTime {
+            t: t_stage,
+            step_start: t,
+        };
         let nd = self.nd;
         debug_assert_eq!(x.len(), self.xt.len());
         let [k1, k2, k3, k4] = &mut self.k;
-        f(t, x, k1, true);
+        f(at(t), x, k1, true);
         if nd < x.len() {
             self.xt[nd..].copy_from_slice(&x[nd..]);
         }
         // k2, k3, k4 at x + c h k_prev, c = 1/2, 1/2, 1
         stage_state(&mut self.xt[..nd], &x[..nd], 0.5 * h, k1);
-        f(t + 0.5 * h, &self.xt, k2, false);
+        f(at(t + 0.5 * h), &self.xt, k2, false);
         stage_state(&mut self.xt[..nd], &x[..nd], 0.5 * h, k2);
-        f(t + 0.5 * h, &self.xt, k3, false);
+        f(at(t + 0.5 * h), &self.xt, k3, false);
         stage_state(&mut self.xt[..nd], &x[..nd], h, k3);
-        f(t + h, &self.xt, k4, false);
+        f(at(t + h), &self.xt, k4, false);
         for ((((xi, a), b), c), d) in x[..nd].iter_mut().zip(&*k1).zip(&*k2).zip(&*k3).zip(&*k4) {
             *xi += h / 6.0 * (a + 2.0 * b + 2.0 * c + d);
         }
@@ -137,9 +168,10 @@ mod tests {
         let mut x = [2.0, a];
         let mut rk = Rk4::new(2, 1);
         let mut calls = Vec::new();
-        rk.step(1.0, h, &mut x, |t, x, dx, at_start| {
+        rk.step(1.0, h, &mut x, |at, x, dx, at_start| {
             assert_eq!(x[1], a);
-            calls.push((t, at_start));
+            assert_eq!(at.step_start, 1.0, "every stage knows its step's start");
+            calls.push((at.t, at_start));
             dx[0] = x[1] * x[0];
         });
         let ah: f64 = a * h;

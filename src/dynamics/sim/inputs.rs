@@ -6,6 +6,7 @@ use crate::base::si::Constant;
 use crate::io::input_spec::Between;
 pub use crate::io::steps::{changes_of, sampled_steps, stepped};
 use crate::model::models::{InputDef, InputRule};
+use crate::numerics::ode::StageTime;
 
 /// Like [`stepped`](crate::io::steps::stepped), through an actuator of largest rate `rate` (per second, > 0): from
 /// `start`, the value moves towards the latest commanded value at most at `rate` and stops on
@@ -186,9 +187,23 @@ impl InputSeries {
         self.inputs.is_empty()
     }
 
-    /// The inputs at time `t` into `out`.
+    /// The inputs at time `t` into `out` (a held input's sample at t_k from t_k on).
     pub fn at(&self, t: f64, out: &mut [f64]) {
-        let (i, w) = self.locate(t);
+        self.in_step(StageTime::at(t), out);
+    }
+
+    /// The inputs at one evaluation of an integration step into `out`: an interpolated input
+    /// at the stage's time, a held input (zero-order hold: u(t) = u_k for t_k <= t < t_k+1,
+    /// Astrom & Wittenmark 1997, section 2.3) at the step's start, so that every stage of a
+    /// step inside [t_k, t_k+1] reads u_k, also the last at t_k+1 (its left limit; the
+    /// module docs of [`crate::ode`]).
+    pub fn in_step(&self, at: StageTime, out: &mut [f64]) {
+        let (i, w) = self.locate(at.t);
+        let (ih, wh) = if at.step_start == at.t {
+            (i, w)
+        } else {
+            self.locate(at.step_start)
+        };
         for (o, input) in out.iter_mut().zip(&self.inputs) {
             *o = match input {
                 Input::Constant(v) => *v,
@@ -200,10 +215,10 @@ impl InputSeries {
                     }
                 }
                 Input::Held(s) => {
-                    if s.len() == 1 || w < 1.0 {
-                        s[i]
+                    if s.len() == 1 || wh < 1.0 {
+                        s[ih]
                     } else {
-                        s[i + 1]
+                        s[ih + 1]
                     }
                 }
             };
@@ -362,6 +377,34 @@ mod tests {
         assert_eq!(o[0], 0.0);
         s.at(9.0, &mut o);
         assert_eq!(o[0], 20.0);
+    }
+
+    /// Inside an integration step a held input has its value at the step's start, also at the
+    /// step's end on the next sample (the left limit); an interpolated one is read at the
+    /// stage's time; at a sample (`at`) a held input already has the sample's value.
+    #[test]
+    fn a_step_reads_a_held_input_at_its_start() {
+        let s = InputSeries {
+            t: vec![0.0, 1.0, 2.0],
+            inputs: vec![
+                Input::Held(vec![1.0, 7.0, 3.0]),
+                Input::Series(vec![1.0, 7.0, 3.0]),
+            ],
+        };
+        let mut o = [0.0; 2];
+        let stage = |t: f64, step_start: f64| StageTime { t, step_start };
+        s.in_step(stage(1.0, 0.5), &mut o);
+        assert_eq!(o, [1.0, 7.0], "the end of a step in [0, 1]");
+        s.in_step(stage(0.75, 0.5), &mut o);
+        assert_eq!(o, [1.0, 5.5]);
+        s.in_step(stage(2.0, 1.0), &mut o);
+        assert_eq!(o, [7.0, 3.0], "the end of the last interval");
+        s.in_step(stage(2.5, 2.0), &mut o);
+        assert_eq!(o, [3.0, 3.0], "beyond the samples: the last held");
+        s.at(1.0, &mut o);
+        assert_eq!(o, [7.0, 7.0], "at a sample, the sample");
+        s.in_step(StageTime::at(1.0), &mut o);
+        assert_eq!(o, [7.0, 7.0], "the start of a step on a sample");
     }
 
     /// A rudder moving at 2.32 deg/s sampled at 10 Hz ramps, also with noise, and also when

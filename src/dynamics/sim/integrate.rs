@@ -50,7 +50,9 @@ pub fn complete_coefficients<M: Model>(
 }
 
 /// Integrates the model from `x0` at `times[0]` and returns the state at every time in
-/// `times` (row per time). `substeps` RK4 steps are taken per interval.
+/// `times` (row per time). `substeps` RK4 steps are taken per interval. A held input is read
+/// at each step's start (zero-order hold, [`InputSeries::in_step`]), so `times` should
+/// include the input series' sample times for its jumps to fall on step boundaries.
 pub fn simulate<M: Model>(
     model: &M,
     coefficients: &[f64],
@@ -73,8 +75,10 @@ pub fn simulate<M: Model>(
     }
     for w in times.windows(2) {
         for (t, h) in ode::substeps(w[0], w[1], substeps) {
-            rk4.step(t, h, &mut x, |t, x, dx, _| {
-                inputs.at(t, &mut u);
+            // each step lies in one sample interval: its held inputs are that interval's
+            // (`InputSeries::in_step`), also at the step's end
+            rk4.step(t, h, &mut x, |at, x, dx, _| {
+                inputs.in_step(at, &mut u);
                 model.derivatives(x, &u, coefficients, dx);
             });
         }
@@ -92,6 +96,7 @@ mod tests {
     use super::*;
     use crate::model::coefficients::{Coefficient, Source};
     use crate::model::models::Spheroid3;
+    use crate::dynamics::sim::inputs::Input;
 
     #[test]
     fn surge_run_approaches_terminal_speed() {
@@ -116,6 +121,41 @@ mod tests {
         let u_end = xs.last().unwrap()[0];
         // terminal speed sqrt(22 / 1.33)
         assert!((u_end - (22.0f64 / 1.33).sqrt()).abs() < 1e-3, "{u_end}");
+    }
+
+    /// x_dot = T / m (surge1 without drag or added mass) with T held at its samples
+    /// (zero-order hold): each sample interval of length h adds exactly h T_k / m to the
+    /// speed, however many RK4 steps it takes; RK4 used to read T_k+1 in the last stage of an
+    /// interval's last step, adding (T_k+1 - T_k) h / (6 m) too much with one step. An
+    /// interpolated T adds the trapezoid h (T_k + T_k+1) / (2 m) (RK4 is exact for it).
+    #[test]
+    fn a_held_input_acts_over_its_own_interval() {
+        use crate::models::{Surge1, Vehicle};
+        let m = Surge1::build(&Vehicle::paper_spheroid()).unwrap();
+        let c = m.coefficient_vector(&[("Xud", 0.0), ("Xuu", 0.0)]);
+        let times = [0.0, 0.5, 1.0, 1.5];
+        let thrust = vec![1.0, 7.0, -2.0, 4.0];
+        for (input, gains) in [
+            (Input::Held(thrust.clone()), [1.0, 7.0, -2.0]),
+            (Input::Series(thrust.clone()), [4.0, 2.5, 1.0]),
+        ] {
+            let inputs = InputSeries {
+                t: times.to_vec(),
+                inputs: vec![input],
+            };
+            for substeps in [1, 4] {
+                let xs = simulate(&m, &c, &[0.25, 0.0], &inputs, &times, substeps).unwrap();
+                for (k, g) in gains.iter().enumerate() {
+                    let want = xs[k][0] + 0.5 * g / m.mass;
+                    assert!(
+                        (xs[k + 1][0] - want).abs() < 1e-14,
+                        "{:?}, {substeps} steps, interval {k}: {} for {want}",
+                        inputs.inputs[0],
+                        xs[k + 1][0]
+                    );
+                }
+            }
+        }
     }
 
     #[test]

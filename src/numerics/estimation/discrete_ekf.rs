@@ -29,6 +29,7 @@
 use super::hybrid_ekf::{congruence_blocks, Divergence, HybridEkf};
 use super::{FilterKind, System};
 use crate::numerics::linalg::matmul;
+use crate::numerics::ode::StageTime;
 
 /// Largest h ||F_x||_inf an Euler step may take: explicit Euler on x_dot = lambda x is stable
 /// for |1 + h lambda| <= 1, which for a real negative lambda is h |lambda| <= 2, and
@@ -56,7 +57,7 @@ impl HybridEkf {
         let mut dx = std::mem::take(&mut self.kb.dx);
         dx.resize(nd, 0.0);
         // f(x_k) and F_k = df/dx at x_k (Simon 2006, section 13.1)
-        sys.jacobian(t, &self.x, &mut dx, &mut self.f);
+        sys.jacobian(StageTime::at(t), &self.x, &mut dx, &mut self.f);
         let norm = dynamic_row_sum_norm(&self.f, nd, n);
         let stable = h * norm <= EULER_LIMIT;
         if !stable {

@@ -40,7 +40,7 @@
 use super::hybrid_ekf::{note_beyond, Divergence, HybridEkf};
 use super::{FilterKind, System};
 use crate::numerics::linalg::{cholesky, cholesky_solve, matmul, symmetrize};
-use crate::numerics::ode::MAX_STEPS_PER_INTERVAL;
+use crate::numerics::ode::{StageTime, MAX_STEPS_PER_INTERVAL};
 
 /// The held measurement and the work space of the Kalman-Bucy filter (and the Euler step's
 /// derivative).
@@ -108,14 +108,14 @@ impl Work {
     }
 
     /// The predicted measurement at x into `yhat` (and H into `h` unless a selection).
-    fn observe<S: System>(&mut self, sys: &mut S, t: f64, x: &[f64]) {
+    fn observe<S: System>(&mut self, sys: &mut S, at: StageTime, x: &[f64]) {
         match &self.sel {
             Some(sel) => {
                 for (y, &j) in self.yhat.iter_mut().zip(sel) {
                     *y = x[j];
                 }
             }
-            None => sys.observe(t, x, &mut self.yhat, &mut self.h),
+            None => sys.observe(at, x, &mut self.yhat, &mut self.h),
         }
     }
 
@@ -142,7 +142,7 @@ impl Work {
         if m == 0 {
             return 0.0;
         }
-        self.observe(sys, t, x);
+        self.observe(sys, StageTime::at(t), x);
         let mut rate: f64 = 0.0;
         for a in 0..m {
             if !self.y[a].is_finite() {
@@ -169,7 +169,7 @@ impl Work {
     fn rates<S: System>(
         &mut self,
         sys: &mut S,
-        t: f64,
+        t: StageTime,
         x: &[f64],
         p: &[f64],
         q: &[f64],
@@ -293,9 +293,13 @@ impl HybridEkf {
                     }
                 }
                 let (xs, ps) = (std::mem::take(&mut w.xs), std::mem::take(&mut w.ps));
+                // held inputs at the step's start, also in the last stage (ode::StageTime)
                 w.rates(
                     sys,
-                    t + c,
+                    StageTime {
+                        t: t + c,
+                        step_start: t,
+                    },
                     &xs,
                     &ps,
                     &self.q,
@@ -361,7 +365,7 @@ impl HybridEkf {
         kb.r.clear();
         kb.r.extend_from_slice(r);
         kb.size(n, nd, m);
-        kb.observe(sys, t, &self.x);
+        kb.observe(sys, StageTime::at(t), &self.x);
         let w = &mut self.upd;
         w.resize(n, m);
         match &kb.sel {

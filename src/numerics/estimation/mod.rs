@@ -19,6 +19,8 @@ mod test_systems;
 
 pub use hybrid_ekf::{Divergence, HybridEkf};
 
+use crate::ode::StageTime;
+
 /// Which form of the extended Kalman filter runs (`hekf.filter`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -71,15 +73,17 @@ pub trait System {
     /// Number of measurements.
     fn m(&self) -> usize;
 
-    /// dx (length `nd`) = f(t, x) for the dynamic states.
-    fn derivative(&mut self, t: f64, x: &[f64], dx: &mut [f64]);
+    /// dx (length `nd`) = f(t, x) for the dynamic states, at `at.t` in the integration step
+    /// that starts at `at.step_start` (an input held between samples is read there:
+    /// [`crate::ode::StageTime`]; `StageTime::at(t)` at a sample).
+    fn derivative(&mut self, at: StageTime, x: &[f64], dx: &mut [f64]);
 
     /// dx as in [`System::derivative`] and its Jacobian F = df/dx (`nd x n`, row-major).
-    fn jacobian(&mut self, t: f64, x: &[f64], dx: &mut [f64], f: &mut [f64]);
+    fn jacobian(&mut self, at: StageTime, x: &[f64], dx: &mut [f64], f: &mut [f64]);
 
-    /// y = h(t, x) (length `m`) and H = dh/dx (`m x n`, row-major), at time `t` (inputs
-    /// may enter the measurement).
-    fn observe(&mut self, t: f64, x: &[f64], y: &mut [f64], h: &mut [f64]);
+    /// y = h(t, x) (length `m`) and H = dh/dx (`m x n`, row-major), at `at` as in
+    /// [`System::derivative`] (inputs may enter the measurement).
+    fn observe(&mut self, at: StageTime, x: &[f64], y: &mut [f64], h: &mut [f64]);
 
     /// When every measurement is one state (H a selection of rows of the identity), the
     /// state indices; the filter then skips [`System::observe`] and updates one measurement

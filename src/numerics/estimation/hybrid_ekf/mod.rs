@@ -166,11 +166,11 @@ impl HybridEkf {
                 // state: classical RK4 of the dynamic states (the parameters have zero
                 // derivative); F = df/dx at the step's start, for the covariance below
                 let jac = &mut f.f;
-                f.rk4.step(t, h, &mut f.x, |t, x, dx, at_start| {
+                f.rk4.step(t, h, &mut f.x, |at, x, dx, at_start| {
                     if at_start {
-                        sys.jacobian(t, x, dx, jac);
+                        sys.jacobian(at, x, dx, jac);
                     } else {
-                        sys.derivative(t, x, dx);
+                        sys.derivative(at, x, dx);
                     }
                 });
                 // covariance: P <- Phi P Phi^T + Q_d with Phi the RK4 propagator (module docs)
@@ -406,6 +406,7 @@ pub(super) use update::{note_beyond, UpdateWork};
 mod tests {
     use super::*;
     use crate::numerics::linalg::simd_check;
+    use crate::numerics::ode::StageTime;
 
     /// Numbers of dynamic states tried with `n` states in all: one, about half, all.
     fn dynamic_sizes(n: usize) -> Vec<usize> {
@@ -486,16 +487,16 @@ mod tests {
         fn m(&self) -> usize {
             1
         }
-        fn derivative(&mut self, _t: f64, x: &[f64], dx: &mut [f64]) {
+        fn derivative(&mut self, _at: StageTime, x: &[f64], dx: &mut [f64]) {
             self.calls += 1;
             dx[0] = -x[1] * x[0];
         }
-        fn jacobian(&mut self, t: f64, x: &[f64], dx: &mut [f64], f: &mut [f64]) {
-            self.derivative(t, x, dx);
+        fn jacobian(&mut self, at: StageTime, x: &[f64], dx: &mut [f64], f: &mut [f64]) {
+            self.derivative(at, x, dx);
             f[0] = -x[1];
             f[1] = -x[0];
         }
-        fn observe(&mut self, _t: f64, x: &[f64], y: &mut [f64], h: &mut [f64]) {
+        fn observe(&mut self, _at: StageTime, x: &[f64], y: &mut [f64], h: &mut [f64]) {
             y[0] = x[0];
             h[0] = 1.0;
             h[1] = 0.0;

@@ -4,6 +4,7 @@
 use super::{transpose, Divergence, HybridEkf, CHECK_EVERY};
 use crate::numerics::estimation::System;
 use crate::numerics::linalg::{cholesky, matmul, rank_two_update, symmetrize};
+use crate::numerics::ode::StageTime;
 
 impl HybridEkf {
     /// Measurement update with measurement `y` and diagonal measurement noise variance `r`.
@@ -36,7 +37,7 @@ impl HybridEkf {
             }
             return self.update_sequential(sys, t, r);
         }
-        sys.observe(t, &self.x, &mut w.yhat, &mut w.h);
+        sys.observe(StageTime::at(t), &self.x, &mut w.yhat, &mut w.h);
         for k in 0..m {
             w.nu[k] = y[k] - w.yhat[k];
         }

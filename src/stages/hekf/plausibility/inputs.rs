@@ -9,12 +9,11 @@
 //! filter would otherwise turn into confidently wrong coefficients.
 
 use super::{Finding, STAGE};
-use crate::base::warning::Warning;
-use crate::dynamics::model_system::ModelSystem;
-use crate::dynamics::sim::inputs::{Input, InputSeries};
-use crate::io::record::Record;
-use crate::model::models::Model;
 use crate::numerics::estimation::System;
+use crate::model::models::Model;
+use crate::numerics::ode::StageTime;
+use crate::io::record::Record;
+use crate::dynamics::sim::inputs::{Input, InputSeries};
 use crate::stages::hekf::identify::RunData;
 use nalgebra::{DMatrix, DVector};
 
@@ -181,7 +180,7 @@ fn equation_rows<M: Model>(
             x[i] = run.y[k * m + a];
         }
         x[nx..].copy_from_slice(z0);
-        let t = run.times[k];
+        let t = StageTime::at(run.times[k]);
         sys.jacobian(t, &x, &mut f, &mut jac);
         sys_p.derivative(t, &x, &mut fp);
         sys_m.derivative(t, &x, &mut fm);
