@@ -7,11 +7,12 @@
 mod common;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use hydroid::numerics::estimation::System;
+use hydroid::dynamics::model_system::ModelSystem;
+use hydroid::dynamics::sim::{simulate, InputSeries};
 use hydroid::model::models::spheroid3::BOUNDED_TRUTH;
 use hydroid::model::models::{Model, Spheroid3};
+use hydroid::numerics::estimation::System;
 use hydroid::numerics::ode::StageTime;
-use hydroid::dynamics::sim::{simulate, InputSeries};
 use hydroid::stages::hekf::identify::{RunData, Setup};
 use rand::{rngs::StdRng, SeedableRng};
 use rand_distr::{Distribution, Normal};

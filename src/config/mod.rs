@@ -6,8 +6,8 @@
 pub mod autopilot;
 pub mod captive;
 mod collect;
-mod input_checks;
 pub mod hekf;
+mod input_checks;
 mod load;
 mod overrides;
 mod paths;
@@ -17,13 +17,12 @@ mod protected;
 mod reference;
 pub mod surge;
 
-pub(crate) use collect::read_collecting;
-pub(crate) use crate::io::input_spec::quantity_key;
 pub use crate::base::si::Constant;
+pub(crate) use crate::io::input_spec::quantity_key;
 pub use crate::io::input_spec::{
-    Between, ColumnSpec, DataSource, FormatSetting, InputSpec, ManoeuvreSpec, Step,
-    VelocityFrame,
+    Between, ColumnSpec, DataSource, FormatSetting, InputSpec, ManoeuvreSpec, Step, VelocityFrame,
 };
+pub(crate) use collect::read_collecting;
 pub use load::{load, load_lenient, load_str, read, LoadedConfig};
 pub use problems::Problems;
 pub use reference::{ReferenceConfig, References};

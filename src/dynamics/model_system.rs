@@ -4,11 +4,11 @@
 //! outputs: of its states when it declares no measurement function (then the filter updates
 //! one state at a time), else of y = h(x, u, c) with H from automatic differentiation.
 
+use crate::dynamics::sim::InputSeries;
+use crate::model::models::Model;
 use crate::numerics::ad::{self, Dual, CHUNK};
 use crate::numerics::estimation::System;
-use crate::model::models::Model;
 use crate::numerics::ode::StageTime;
-use crate::dynamics::sim::InputSeries;
 
 /// The augmented system of one run.
 pub struct ModelSystem<'a, M: Model> {
@@ -282,9 +282,9 @@ mod tests {
     /// to gain (5 T_k + T_k+1) h / (6 m) in one RK4 step).
     #[test]
     fn every_filter_form_holds_a_held_input_over_its_interval() {
-        use crate::estimation::{FilterKind, HybridEkf};
-        use crate::models::Surge1;
-        use crate::sim::inputs::Input;
+        use crate::dynamics::sim::inputs::Input;
+        use crate::model::models::Surge1;
+        use crate::numerics::estimation::{FilterKind, HybridEkf};
         let m = Surge1::build(&Vehicle::paper_spheroid()).unwrap();
         let base = m.coefficient_vector(&[("Xud", 0.0), ("Xuu", 0.0)]);
         let inputs = InputSeries {

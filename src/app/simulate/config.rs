@@ -5,17 +5,17 @@
 //! checked against each key's dimension), then checked against limits that keep a
 //! simulation finite in time and memory: see [`limits`].
 
-use crate::model::coefficients::YawMoment;
+use crate::base::error::{Error, Result};
+use crate::base::quantity::Quantity;
+use crate::base::si;
+use crate::base::units::{check_dim, Unit};
 use crate::config::{
     quantity_key, read_collecting, Constant, FluidConfig, Problems, VehicleConfig,
 };
-use crate::base::error::{Error, Result};
-use crate::base::si;
 use crate::io::formats::Format;
+use crate::model::coefficients::YawMoment;
 use crate::model::models::{with_model, Model, ModelVisitor};
-use crate::base::quantity::Quantity;
 use crate::stages::hekf::ModelName;
-use crate::base::units::{check_dim, Unit};
 use serde::de::{Deserializer, MapAccess, Visitor};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;

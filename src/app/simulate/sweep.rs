@@ -7,15 +7,15 @@
 //! folder: `sweep.csv`, `sweep.md` and the figures.
 
 use super::config::{LoadedSim, Manoeuvre, Produces, SimConfig};
-use crate::dynamics::sim::steering::Steering;
-use crate::model::coefficients::{Coefficient, CoefficientSet, Source};
+use crate::base::error::{Error, Result};
+use crate::base::quantity::Quantity;
 use crate::base::si;
 use crate::config::{Constant, Problems};
-use crate::base::error::{Error, Result};
 use crate::dynamics::manoeuvre::{self, TurningCircle};
-use crate::model::models::{with_model, Model, ModelVisitor};
+use crate::dynamics::sim::steering::Steering;
 use crate::io::output::{Protected, Replace, Staging};
-use crate::base::quantity::Quantity;
+use crate::model::coefficients::{Coefficient, CoefficientSet, Source};
+use crate::model::models::{with_model, Model, ModelVisitor};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -462,7 +462,9 @@ pub fn write_sweep(
 /// The measures of a case as numbers (m, s, m/s), or empty cells.
 fn cells(c: &Case, l: f64) -> Vec<String> {
     let t = &c.turn;
-    let v = |m: &crate::dynamics::manoeuvre::Measure| m.value().map_or(String::new(), |x| format!("{x:.6}"));
+    let v = |m: &crate::dynamics::manoeuvre::Measure| {
+        m.value().map_or(String::new(), |x| format!("{x:.6}"))
+    };
     let in_l = |m: &crate::dynamics::manoeuvre::Measure| {
         m.value().map_or(String::new(), |x| format!("{:.6}", x / l))
     };
@@ -545,7 +547,10 @@ fn table_markdown(loaded: &LoadedSim, r: &SweepResult) -> String {
     if !r.warnings.is_empty() {
         s.push_str("\n## Warnings\n\n");
         for w in &r.warnings {
-            s.push_str(&format!("- {}\n", crate::base::markdown_text::escape_markdown(w)));
+            s.push_str(&format!(
+                "- {}\n",
+                crate::base::markdown_text::escape_markdown(w)
+            ));
         }
     }
     s.push_str(

@@ -2,14 +2,14 @@
 //! coefficients imply), with seeded measurement noise, as SI columns ready to export.
 
 use super::config::{Manoeuvre, SimConfig};
+use crate::base::error::{Error, Result};
+use crate::base::quantity::Quantity;
+use crate::config::{Constant, Step};
 use crate::dynamics::sim::inputs::{changes_of, rate_limited, stepped, Input, InputSeries};
 use crate::dynamics::sim::integrate::{complete_coefficients, simulate};
 use crate::dynamics::sim::steering::Steering;
 use crate::model::coefficients::{Coefficient, CoefficientSet, Source, YawMoment, SYMMETRY};
-use crate::config::{Constant, Step};
-use crate::base::error::{Error, Result};
 use crate::model::models::{with_model, InputRule, Model, ModelVisitor};
-use crate::base::quantity::Quantity;
 use rand::{rngs::StdRng, SeedableRng};
 use rand_distr::{Distribution, Normal};
 use std::collections::BTreeMap;
@@ -345,7 +345,11 @@ fn per_sample<M: Model>(
                     ),
                 });
             };
-            Some((crate::dynamics::sim::steering::Helm::new(law), watched, moved))
+            Some((
+                crate::dynamics::sim::steering::Helm::new(law),
+                watched,
+                moved,
+            ))
         }
     };
     let times = inputs.t.clone();

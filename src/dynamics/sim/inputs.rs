@@ -196,7 +196,7 @@ impl InputSeries {
     /// at the stage's time, a held input (zero-order hold: u(t) = u_k for t_k <= t < t_k+1,
     /// Astrom & Wittenmark 1997, section 2.3) at the step's start, so that every stage of a
     /// step inside [t_k, t_k+1] reads u_k, also the last at t_k+1 (its left limit; the
-    /// module docs of [`crate::ode`]).
+    /// module docs of [`crate::numerics::ode`]).
     pub fn in_step(&self, at: StageTime, out: &mut [f64]) {
         let (i, w) = self.locate(at.t);
         let (ih, wh) = if at.step_start == at.t {

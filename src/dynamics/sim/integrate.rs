@@ -94,9 +94,9 @@ pub fn simulate<M: Model>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::dynamics::sim::inputs::Input;
     use crate::model::coefficients::{Coefficient, Source};
     use crate::model::models::Spheroid3;
-    use crate::dynamics::sim::inputs::Input;
 
     #[test]
     fn surge_run_approaches_terminal_speed() {
@@ -130,7 +130,7 @@ mod tests {
     /// interpolated T adds the trapezoid h (T_k + T_k+1) / (2 m) (RK4 is exact for it).
     #[test]
     fn a_held_input_acts_over_its_own_interval() {
-        use crate::models::{Surge1, Vehicle};
+        use crate::model::models::{Surge1, Vehicle};
         let m = Surge1::build(&Vehicle::paper_spheroid()).unwrap();
         let c = m.coefficient_vector(&[("Xud", 0.0), ("Xuu", 0.0)]);
         let times = [0.0, 0.5, 1.0, 1.5];

@@ -375,38 +375,4 @@ pub(crate) fn positive_inertia(what: &'static str, value: f64) -> Result<(), Unp
     }
 }
 
-/// Why a state or a set of coefficients is outside what a model can integrate: what
-/// [`Model::check`] and [`crate::numerics::estimation::System::check`] refuse.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum Unphysical {
-    /// A rigid-body mass or inertia minus its added mass (or a determinant of them) is not
-    /// positive.
-    #[error("{what} = {value:.4} is not positive: the mass matrix is singular or indefinite")]
-    NotPositive {
-        /// The expression, e.g. `m - Yvd`.
-        what: &'static str,
-        /// Its value, SI.
-        value: f64,
-    },
-    /// The 6-DOF mass matrix M_RB + M_A is not positive definite.
-    #[error(
-        "the mass matrix M_RB + M_A is not positive definite (Cholesky pivot {pivot:.4e} \
-         in {direction}): the added-mass coefficients (Xudot, Yvdot, Zwdot, Kpdot, Mqdot, Nrdot \
-         and their couplings) outweigh the rigid body"
-    )]
-    IndefiniteMassMatrix {
-        /// The pivot where the Cholesky factorisation failed.
-        pivot: f64,
-        /// The degree of freedom of that pivot (`surge` ... `yaw`).
-        direction: &'static str,
-    },
-    /// Something is not finite: `what` is `state`, `state or a coefficient`, ...
-    #[error("the {0} is not finite")]
-    NotFinite(&'static str),
-    /// The pitch angle is too close to 90 deg for Euler angles.
-    #[error("pitch {degrees:.1} deg is too close to 90 deg for Euler angles")]
-    PitchNearVertical {
-        /// The pitch angle, deg.
-        degrees: f64,
-    },
-}
+pub use crate::base::error::Unphysical;

@@ -19,7 +19,7 @@ mod test_systems;
 
 pub use hybrid_ekf::{Divergence, HybridEkf};
 
-use crate::ode::StageTime;
+use crate::numerics::ode::StageTime;
 
 /// Which form of the extended Kalman filter runs (`hekf.filter`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
@@ -75,7 +75,7 @@ pub trait System {
 
     /// dx (length `nd`) = f(t, x) for the dynamic states, at `at.t` in the integration step
     /// that starts at `at.step_start` (an input held between samples is read there:
-    /// [`crate::ode::StageTime`]; `StageTime::at(t)` at a sample).
+    /// [`crate::numerics::ode::StageTime`]; `StageTime::at(t)` at a sample).
     fn derivative(&mut self, at: StageTime, x: &[f64], dx: &mut [f64]);
 
     /// dx as in [`System::derivative`] and its Jacobian F = df/dx (`nd x n`, row-major).
@@ -94,5 +94,5 @@ pub trait System {
 
     /// A physical check of the state (e.g. positive effective masses); the message says what
     /// is wrong.
-    fn check(&mut self, x: &[f64]) -> Result<(), crate::model::models::Unphysical>;
+    fn check(&mut self, x: &[f64]) -> Result<(), crate::base::error::Unphysical>;
 }

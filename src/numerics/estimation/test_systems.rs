@@ -1,7 +1,7 @@
 //! Small linear systems for the filters' unit tests.
 
 use super::System;
-use crate::ode::StageTime;
+use crate::numerics::ode::StageTime;
 
 /// x_dot = A x for the first `nd` states (A is nd x nd, row-major), constant parameters
 /// after them; y = x_0.
@@ -43,7 +43,7 @@ impl System for Linear {
         h.fill(0.0);
         h[0] = 1.0;
     }
-    fn check(&mut self, _x: &[f64]) -> Result<(), crate::model::models::Unphysical> {
+    fn check(&mut self, _x: &[f64]) -> Result<(), crate::base::error::Unphysical> {
         Ok(())
     }
 }

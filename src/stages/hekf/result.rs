@@ -6,10 +6,10 @@ use super::history::History;
 use super::identify::{Identification, RunData, Setup};
 use super::prepare::Plan;
 use super::tuning::NoiseChoice;
-use crate::model::coefficients::{directions_of, Coefficient, Correlation, Direction, Source};
-use crate::numerics::estimation::nis::{summarize, NisSummary};
-use crate::model::models::Model;
 use crate::base::warning::Warning;
+use crate::model::coefficients::{directions_of, Coefficient, Correlation, Direction, Source};
+use crate::model::models::Model;
+use crate::numerics::estimation::nis::{summarize, NisSummary};
 use serde::Serialize;
 use std::collections::BTreeMap;
 

@@ -5,9 +5,9 @@
 use super::axes::{self, Axes, Range};
 use super::style::{self, anchored, colour, size, Key, Mark};
 use super::{FigureMeta, Plot, PlotError, Section};
-use crate::model::coefficients::Coefficient;
-use crate::base::numfmt::num;
 use crate::app::results::RunResult;
+use crate::base::numfmt::num;
+use crate::model::coefficients::Coefficient;
 use crate::stages::hekf::HekfResult;
 use plotters::coord::Shift;
 use plotters::prelude::*;

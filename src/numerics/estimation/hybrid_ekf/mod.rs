@@ -501,7 +501,7 @@ mod tests {
             h[0] = 1.0;
             h[1] = 0.0;
         }
-        fn check(&mut self, _x: &[f64]) -> Result<(), crate::model::models::Unphysical> {
+        fn check(&mut self, _x: &[f64]) -> Result<(), crate::base::error::Unphysical> {
             Ok(())
         }
     }

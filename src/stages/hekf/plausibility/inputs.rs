@@ -9,11 +9,13 @@
 //! filter would otherwise turn into confidently wrong coefficients.
 
 use super::{Finding, STAGE};
-use crate::numerics::estimation::System;
-use crate::model::models::Model;
-use crate::numerics::ode::StageTime;
-use crate::io::record::Record;
+use crate::base::warning::Warning;
+use crate::dynamics::model_system::ModelSystem;
 use crate::dynamics::sim::inputs::{Input, InputSeries};
+use crate::io::record::Record;
+use crate::model::models::Model;
+use crate::numerics::estimation::System;
+use crate::numerics::ode::StageTime;
 use crate::stages::hekf::identify::RunData;
 use nalgebra::{DMatrix, DVector};
 
