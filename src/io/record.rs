@@ -5,7 +5,7 @@ use crate::base::error::{InputError, Place};
 use crate::base::quantity::Quantity;
 use crate::base::units::{dim_to_string, unwrap_attitude, Unit};
 use crate::io::formats::{self, Format};
-use crate::io::input_spec::{InputSpec, VelocityFrame};
+use crate::io::input_spec::{ColumnSpec, InputSpec, VelocityFrame};
 use crate::io::table::Table;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -145,69 +145,124 @@ pub fn load(spec: &InputSpec, base: &Path, needs: &Needs) -> Result<Record, Inpu
 /// Picks the quantities `needs` asks for from an already read table.
 pub fn from_table(mut table: Table, spec: &InputSpec, needs: &Needs) -> Result<Record, InputError> {
     let file_place = Place::file(&table.source);
+    let mut constants = constants_of(spec, &file_place)?;
+    // An attitude quaternion mapped in full stands for roll, pitch and yaw.
+    let from_quaternion = attitude_from_quaternion(spec, &file_place)?;
+    let skip = |q: Quantity| {
+        constants.contains_key(&q)
+            || spec.steps.iter().any(|s| s.values.contains_key(&q))
+            || (from_quaternion && q.is_euler_angle())
+    };
+    let (picks, implicit_skipped) = pick_columns(&table, spec, needs, skip)?;
+
+    // Time first: dedupe restarts and check order on the mapped time column.
+    if let Some(&(_, t_idx, ref t_unit, _)) = picks.iter().find(|p| p.0 == Quantity::Time) {
+        if let Some(u) = t_unit {
+            rescale_column(&mut table, t_idx, u);
+        }
+        table.drop_repeated_times(t_idx, spec.dt.as_ref().map(|c| c.si))?;
+    }
+    let time_history = picks.iter().any(|p| p.0 == Quantity::Time);
+    let mut read = read_channels(&mut table, &picks, time_history)?;
+    if from_quaternion {
+        euler_from_quaternion(&table, time_history, &mut read.channels, &mut read.units)?;
+        for q in Quantity::QUATERNION {
+            read.columns.remove(&q);
+        }
+    }
+    check_rows_and_time(&table, &read.channels, needs, &file_place)?;
+
+    // quantities given as steps: sampled at the time stamps, as if the file had a column
+    let time = read.channels.get(&Quantity::Time).map(Vec::as_slice);
+    let sampled = crate::io::steps::sampled_steps(spec, time)
+        .map_err(|m| InputError::new(file_place.clone(), m))?;
+    for (q, values) in sampled {
+        constants.remove(&q);
+        read.units.insert(q, q.si_symbol().to_string());
+        read.channels.insert(q, values);
+    }
+
+    let mut warnings = table.warnings.clone();
+    warnings.extend(implicit_skipped);
+    if let Some(froude) = &spec.froude {
+        froude_scale(froude, &mut read, &mut constants);
+        warnings.push(froude.describe());
+    }
+    warnings.extend(to_body_frame(spec, &table, &mut read, &constants)?);
+
+    Ok(Record {
+        name: spec.display_name(),
+        source: table.source.clone(),
+        format: table.format,
+        channels: read.channels,
+        constants,
+        units: read.units,
+        columns: read.columns,
+        lines: table.lines.clone(),
+        meta: table.meta.clone(),
+        warnings,
+        resolution: read.resolution,
+        between: spec.between.clone(),
+    })
+}
+
+/// A quantity read from a column: (quantity, column index, the column's unit if any, scale).
+type Pick = (Quantity, usize, Option<Unit>, f64);
+
+/// The channels read from the picked columns, with what the record says about each.
+struct ReadChannels {
+    channels: BTreeMap<Quantity, Vec<f64>>,
+    units: BTreeMap<Quantity, String>,
+    columns: BTreeMap<Quantity, ColumnOrigin>,
+    resolution: BTreeMap<Quantity, Vec<f64>>,
+}
+
+/// The input's constants in hydroid's internal units; a quantity both a constant and a
+/// column is an error naming the file.
+fn constants_of(spec: &InputSpec, place: &Place) -> Result<BTreeMap<Quantity, f64>, InputError> {
     let mut constants = BTreeMap::new();
     for (q, c) in &spec.constants {
         if spec.columns.contains_key(q) {
             return Err(InputError::new(
-                file_place.clone(),
+                place.clone(),
                 format!("{q} is given both as a column and as a constant"),
             ));
         }
         constants.insert(*q, c.si / q.internal_unit().factor);
     }
+    Ok(constants)
+}
 
-    // An attitude quaternion mapped in full stands for roll, pitch and yaw.
-    let from_quaternion = attitude_from_quaternion(spec, &file_place)?;
-
-    // Resolve every wanted quantity to a column (explicit map first, then by name).
-    let mut picks: Vec<(Quantity, usize, Option<Unit>, f64)> = Vec::new();
+/// Resolves every wanted quantity (required, optional, then every mapped one) to a column:
+/// the explicit map first, then by name; `skip` says which are given otherwise (constants,
+/// steps, Euler angles from a quaternion). Returns the picks and a note for each column found
+/// by name but left out because nothing gives its unit.
+fn pick_columns(
+    table: &Table,
+    spec: &InputSpec,
+    needs: &Needs,
+    skip: impl Fn(Quantity) -> bool,
+) -> Result<(Vec<Pick>, Vec<String>), InputError> {
+    let mut picks: Vec<Pick> = Vec::new();
     let mut implicit_skipped = Vec::new();
     let wanted = needs.required.iter().chain(needs.optional).copied();
     let mut seen = Vec::new();
     for q in wanted.chain(spec.columns.keys().copied()) {
-        let stepped = spec.steps.iter().any(|s| s.values.contains_key(&q));
-        if seen.contains(&q)
-            || constants.contains_key(&q)
-            || stepped
-            || (from_quaternion && q.is_euler_angle())
-        {
+        if seen.contains(&q) || skip(q) {
             continue;
         }
         seen.push(q);
         let (idx, unit_text, scale) = match spec.columns.get(&q) {
-            Some(cs) => {
-                let idx = match (&cs.column, cs.index) {
-                    (Some(name), _) => table.column_index(name).ok_or_else(|| {
-                        missing_column(&table, q, &format!("'{name}'"), Some(name))
-                    })?,
-                    (None, Some(i)) if i >= 1 && i <= table.columns.len() => i - 1,
-                    (None, Some(i)) => {
-                        return Err(InputError::new(
-                            file_place.clone(),
-                            format!(
-                                "{q} is mapped to column number {i}, but the file has {} columns",
-                                table.columns.len()
-                            ),
-                        ))
-                    }
-                    (None, None) => {
-                        return Err(InputError::new(
-                            file_place.clone(),
-                            format!("the column map for {q} gives neither `column` nor `index`"),
-                        ))
-                    }
-                };
-                (idx, cs.unit.clone(), cs.scale.unwrap_or(1.0))
-            }
-            None => match implicit_column(&table, q) {
+            Some(cs) => mapped_column(table, q, cs)?,
+            None => match implicit_column(table, q) {
                 Some(i) => (i, None, 1.0),
                 None if needs.required.contains(&q) => {
-                    return Err(missing_column(&table, q, "not mapped", None));
+                    return Err(missing_column(table, q, "not mapped", None));
                 }
                 None => continue,
             },
         };
-        let unit = match column_unit(&table, idx, q, unit_text.as_deref()) {
+        let unit = match column_unit(table, idx, q, unit_text.as_deref()) {
             Ok(u) => u,
             // a column found only by its name, for a quantity the run can do without, whose
             // unit nothing gives: left out with a note rather than stopping the run
@@ -223,21 +278,56 @@ pub fn from_table(mut table: Table, spec: &InputSpec, needs: &Needs) -> Result<R
         };
         picks.push((q, idx, unit, scale));
     }
+    Ok((picks, implicit_skipped))
+}
 
-    // Time first: dedupe restarts and check order on the mapped time column.
-    if let Some(&(_, t_idx, ref t_unit, _)) = picks.iter().find(|p| p.0 == Quantity::Time) {
-        if let Some(u) = t_unit {
-            rescale_column(&mut table, t_idx, u);
+/// The column the map gives for `q` (by name or 1-based number), with the map's unit text
+/// and scale.
+fn mapped_column(
+    table: &Table,
+    q: Quantity,
+    cs: &ColumnSpec,
+) -> Result<(usize, Option<String>, f64), InputError> {
+    let file_place = || Place::file(&table.source);
+    let idx = match (&cs.column, cs.index) {
+        (Some(name), _) => table
+            .column_index(name)
+            .ok_or_else(|| missing_column(table, q, &format!("'{name}'"), Some(name)))?,
+        (None, Some(i)) if i >= 1 && i <= table.columns.len() => i - 1,
+        (None, Some(i)) => {
+            return Err(InputError::new(
+                file_place(),
+                format!(
+                    "{q} is mapped to column number {i}, but the file has {} columns",
+                    table.columns.len()
+                ),
+            ))
         }
-        table.drop_repeated_times(t_idx, spec.dt.as_ref().map(|c| c.si))?;
-    }
+        (None, None) => {
+            return Err(InputError::new(
+                file_place(),
+                format!("the column map for {q} gives neither `column` nor `index`"),
+            ))
+        }
+    };
+    Ok((idx, cs.unit.clone(), cs.scale.unwrap_or(1.0)))
+}
 
-    let time_history = picks.iter().any(|p| p.0 == Quantity::Time);
-    let mut channels = BTreeMap::new();
-    let mut units = BTreeMap::new();
-    let mut columns = BTreeMap::new();
-    let mut resolution = BTreeMap::new();
-    for (q, idx, unit, scale) in &picks {
+/// Reads the picked columns into channels in hydroid's internal units (the printed
+/// resolution of each kept, converted alike); a missing or non-finite value is an error
+/// naming its row and column. Attitude angles of a time history are unwrapped.
+fn read_channels(
+    table: &mut Table,
+    picks: &[Pick],
+    time_history: bool,
+) -> Result<ReadChannels, InputError> {
+    let mut read = ReadChannels {
+        channels: BTreeMap::new(),
+        units: BTreeMap::new(),
+        columns: BTreeMap::new(),
+        resolution: BTreeMap::new(),
+    };
+    for (q, idx, unit, scale) in picks {
         if *q != Quantity::Time {
             // the digits as printed, before any conversion
             if let Some(res) =
@@ -246,10 +336,11 @@ pub fn from_table(mut table: Table, spec: &InputSpec, needs: &Needs) -> Result<R
                 let header = table.columns[*idx].unit.as_ref().map_or(1.0, |u| u.factor);
                 let f = unit.as_ref().map_or(header, |u| u.factor) / q.internal_unit().factor
                     * scale.abs();
-                resolution.insert(*q, res.into_iter().map(|r| r * f).collect::<Vec<f64>>());
+                let res = res.into_iter().map(|r| r * f).collect::<Vec<f64>>();
+                read.resolution.insert(*q, res);
             }
             if let Some(u) = unit {
-                rescale_column(&mut table, *idx, u);
+                rescale_column(table, *idx, u);
             }
         }
         let col = &table.columns[*idx];
@@ -271,33 +362,32 @@ pub fn from_table(mut table: Table, spec: &InputSpec, needs: &Needs) -> Result<R
             .expected("a finite number"));
         }
         unwrap_attitude(*q, time_history, &mut values);
-        columns.insert(
-            *q,
-            ColumnOrigin {
-                name: col.name.clone(),
-                number: *idx + 1,
-                scale: *scale,
-            },
-        );
-        units.insert(
-            *q,
-            unit.as_ref()
-                .map_or_else(|| q.si_symbol().to_string(), |u| u.to_string()),
-        );
-        channels.insert(*q, values);
+        let origin = ColumnOrigin {
+            name: col.name.clone(),
+            number: *idx + 1,
+            scale: *scale,
+        };
+        read.columns.insert(*q, origin);
+        let unit = unit
+            .as_ref()
+            .map_or_else(|| q.si_symbol().to_string(), |u| u.to_string());
+        read.units.insert(*q, unit);
+        read.channels.insert(*q, values);
     }
+    Ok(read)
+}
 
-    if from_quaternion {
-        euler_from_quaternion(&table, time_history, &mut channels, &mut units)?;
-        for q in Quantity::QUATERNION {
-            columns.remove(&q);
-        }
-    }
-
+/// At least the rows the stage needs, and a time that increases.
+fn check_rows_and_time(
+    table: &Table,
+    channels: &BTreeMap<Quantity, Vec<f64>>,
+    needs: &Needs,
+    file_place: &Place,
+) -> Result<(), InputError> {
     let rows = table.rows();
     if rows < needs.min_rows {
         return Err(InputError::new(
-            file_place,
+            file_place.clone(),
             format!(
                 "only {rows} data row{} after the header",
                 if rows == 1 { "" } else { "s" }
@@ -313,67 +403,55 @@ pub fn from_table(mut table: Table, spec: &InputSpec, needs: &Needs) -> Result<R
             ));
         }
     }
+    Ok(())
+}
 
-    // quantities given as steps: sampled at the time stamps, as if the file had a column
-    let time = channels.get(&Quantity::Time).map(Vec::as_slice);
-    let sampled = crate::io::steps::sampled_steps(spec, time)
-        .map_err(|m| InputError::new(file_place.clone(), m))?;
-    for (q, values) in sampled {
-        constants.remove(&q);
-        units.insert(q, q.si_symbol().to_string());
-        channels.insert(q, values);
+/// Froude-scales every channel, constant and resolution of a model-scale run to full scale.
+fn froude_scale(
+    froude: &crate::io::froude::Froude,
+    read: &mut ReadChannels,
+    constants: &mut BTreeMap<Quantity, f64>,
+) {
+    for (q, values) in &mut read.channels {
+        let f = froude.factor(*q);
+        values.iter_mut().for_each(|v| *v *= f);
     }
+    for (q, v) in constants.iter_mut() {
+        *v *= froude.factor(*q);
+    }
+    for (q, values) in &mut read.resolution {
+        let f = froude.factor(*q).abs();
+        values.iter_mut().for_each(|v: &mut f64| *v *= f);
+    }
+}
 
-    let mut warnings = table.warnings.clone();
-    warnings.extend(implicit_skipped);
-    if let Some(froude) = &spec.froude {
-        for (q, values) in &mut channels {
-            let f = froude.factor(*q);
-            values.iter_mut().for_each(|v| *v *= f);
-        }
-        for (q, v) in &mut constants {
-            *v *= froude.factor(*q);
-        }
-        for (q, values) in &mut resolution {
-            let f = froude.factor(*q).abs();
-            values.iter_mut().for_each(|v: &mut f64| *v *= f);
-        }
-        warnings.push(froude.describe());
-    }
-    let groups = crate::numerics::frames::Groups {
+/// Rotates earth-frame velocities and/or rates into the body frame as the input says;
+/// returns the note saying what was rotated (none when nothing was).
+fn to_body_frame(
+    spec: &InputSpec,
+    table: &Table,
+    read: &mut ReadChannels,
+    constants: &BTreeMap<Quantity, f64>,
+) -> Result<Option<String>, InputError> {
+    use crate::numerics::frames;
+    let groups = frames::Groups {
         linear: spec.velocity_frame == VelocityFrame::Earth,
         angular: spec.rate_frame.unwrap_or(spec.velocity_frame) == VelocityFrame::Earth,
     };
-    if groups.linear || groups.angular {
-        crate::numerics::frames::rotate_resolution(&channels, &constants, &mut resolution, groups);
-        crate::numerics::frames::rotate_to_body(&mut channels, &constants, &table.source, groups)?;
-        warnings.push(
-            match (groups.linear, groups.angular) {
-                (true, true) => "velocities rotated from the earth frame into the body frame",
-                (true, false) => {
-                    "velocities rotated from the earth frame into the body frame; rates read \
-                     as body rates (rate_frame = \"body\")"
-                }
-                _ => "rates rotated from the earth frame into the body frame",
-            }
-            .into(),
-        );
+    if !(groups.linear || groups.angular) {
+        return Ok(None);
     }
-
-    Ok(Record {
-        name: spec.display_name(),
-        source: table.source.clone(),
-        format: table.format,
-        channels,
-        constants,
-        units,
-        columns,
-        lines: table.lines.clone(),
-        meta: table.meta.clone(),
-        warnings,
-        resolution,
-        between: spec.between.clone(),
-    })
+    frames::rotate_resolution(&read.channels, constants, &mut read.resolution, groups);
+    frames::rotate_to_body(&mut read.channels, constants, &table.source, groups)?;
+    let note = match (groups.linear, groups.angular) {
+        (true, true) => "velocities rotated from the earth frame into the body frame",
+        (true, false) => {
+            "velocities rotated from the earth frame into the body frame; rates read \
+             as body rates (rate_frame = \"body\")"
+        }
+        _ => "rates rotated from the earth frame into the body frame",
+    };
+    Ok(Some(note.into()))
 }
 
 /// Whether the column map gives the attitude as a quaternion: all four parts mapped, and no
