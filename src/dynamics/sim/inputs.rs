@@ -4,7 +4,6 @@
 use crate::base::quantity::Quantity;
 use crate::base::si::Constant;
 use crate::io::input_spec::Between;
-pub use crate::io::steps::{changes_of, sampled_steps, stepped};
 use crate::model::models::{InputDef, InputRule};
 use crate::numerics::ode::StageTime;
 
@@ -250,6 +249,7 @@ mod tests {
     use super::*;
     use crate::io::input_spec::InputSpec;
     use crate::io::record::{self, Needs};
+    use crate::io::steps::stepped;
 
     /// What `between` reports: held and linear inputs by key, constants left out.
     #[test]
