@@ -5,8 +5,9 @@
 //! [`model::coefficients::CoefficientSet`] -> reports. The command-line program `hydroid` is
 //! a thin shell over this library.
 //!
-//! The modules are eight layers, lowest first: [`base`], [`numerics`], [`io`], [`model`],
-//! [`dynamics`], [`config`], [`stages`], [`app`]; each imports only from those below it
+//! The modules are nine layers, lowest first: [`base`], [`numerics`], [`io`], [`model`],
+//! [`dynamics`], [`config`], [`stages`], [`app`] and the command line [`cli`] (whose
+//! [`cli::main`] is all that `src/main.rs` calls); each imports only from those below it
 //! (docs/layers.txt, checked by tests/layers.rs).
 //!
 //! What a Rust user calls, re-exported here:
@@ -42,9 +43,11 @@
 //! }
 //! ```
 //!
-//! Numerical helpers (linear algebra, least squares, the ODE stepper, signal statistics,
-//! sampling, frames, printed precision), the input specification's internals, time-stamp
-//! repair, Froude scaling and the re-simulation are internal to the crate.
+//! Numerical helpers (linear algebra, least squares, signal statistics, sampling, frames,
+//! printed precision), number and Markdown formatting, name suggestions, the input
+//! specification's internals, time-stamp repair, Froude scaling and the re-simulation are
+//! internal to the crate. The run's vehicle is built once, when the configuration is loaded
+//! ([`LoadedConfig::vehicle`]), and handed to every stage that builds a model.
 
 // Numerical kernels index several arrays with one loop variable; iterator chains would hide
 // the linear algebra.
@@ -52,6 +55,7 @@
 
 pub mod app;
 pub mod base;
+pub mod cli;
 pub mod config;
 pub mod dynamics;
 pub mod io;

@@ -316,8 +316,7 @@ impl ModelVisitor for RoundTrip {
         let result = hekf::run(
             &cfg,
             &hekf::StageInputs {
-                vehicle: &vehicle,
-                fluid: &fluid,
+                vehicle: &vehicle.for_model(&fluid),
                 known: &known,
                 runs: std::slice::from_ref(&rec),
                 base_dir: dir.path(),

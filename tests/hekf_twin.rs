@@ -220,8 +220,7 @@ fn identify(cfg: &HekfConfig, runs: &[Record]) -> hydroid::Result<HekfResult> {
     hekf::run(
         cfg,
         &hekf::StageInputs {
-            vehicle: &v,
-            fluid: &f,
+            vehicle: &v.for_model(&f),
             known: &known,
             runs,
             base_dir: std::path::Path::new(""),

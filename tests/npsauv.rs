@@ -365,8 +365,7 @@ fn the_papers_helix_identifies_its_17_coefficients() {
     let r = hekf::run(
         &cfg,
         &hekf::StageInputs {
-            vehicle: &vehicle,
-            fluid: &fluid,
+            vehicle: &vehicle.for_model(&fluid),
             known: &known,
             runs: std::slice::from_ref(&record),
             base_dir: std::path::Path::new(""),

@@ -395,7 +395,7 @@ fn infeasible_constraints_are_a_clear_error() {
                 c = { min = 0.2, max = 0.1 }\n[polar.lift.bounds]\nslpe = { max = 0 }\n";
     let cfg: Config = toml::from_str(text).unwrap();
     let mut p = Problems::new(Path::new("c.toml"), text);
-    cfg.validate(&mut p);
+    cfg.validate(&cfg.vehicle.for_model(&cfg.fluid), &mut p);
     let keys: Vec<&str> = p.list.iter().filter_map(|x| x.key.as_deref()).collect();
     assert!(keys.contains(&"polar.drag.bounds.b"), "{keys:?}");
     assert!(keys.contains(&"polar.drag.bounds.c"), "{keys:?}");
@@ -630,7 +630,7 @@ fn configuration_problems_have_key_paths() {
                 [polar.moment]\ncubic = false\n[polar.moment.bounds]\ncubic = { max = 1 }\n";
     let cfg: Config = toml::from_str(text).unwrap();
     let mut p = Problems::new(Path::new("c.toml"), text);
-    cfg.validate(&mut p);
+    cfg.validate(&cfg.vehicle.for_model(&cfg.fluid), &mut p);
     let keys: Vec<&str> = p.list.iter().filter_map(|x| x.key.as_deref()).collect();
     for k in [
         "polar.runs",

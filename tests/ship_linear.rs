@@ -158,8 +158,7 @@ fn identify(runs: &[Record]) -> HekfResult {
     hekf::run(
         &cfg,
         &hekf::StageInputs {
-            vehicle: &vehicle,
-            fluid: &fluid,
+            vehicle: &vehicle.for_model(&fluid),
             known: &CoefficientSet::new(),
             runs,
             base_dir: std::path::Path::new(""),

@@ -457,7 +457,7 @@ fn configuration_problems_have_key_paths() {
     );
     let cfg: hydroid::config::Config = toml::from_str(&text).unwrap();
     let mut p = hydroid::config::Problems::new(std::path::Path::new("c.toml"), &text);
-    cfg.validate(&mut p);
+    cfg.validate(&cfg.vehicle.for_model(&cfg.fluid), &mut p);
     let keys: Vec<&str> = p.list.iter().filter_map(|x| x.key.as_deref()).collect();
     for k in [
         "surge.runs",

@@ -3,12 +3,12 @@
 //! them. It imports nothing from the crate above it (docs/layers.txt).
 
 pub mod error;
-pub mod markdown_text;
-pub mod numfmt;
+pub(crate) mod markdown_text;
+pub(crate) mod numfmt;
 pub mod progress;
 pub mod quantity;
 pub(crate) mod si;
-pub mod suggest;
+pub(crate) mod suggest;
 pub mod units;
 pub mod warning;
 pub(crate) mod words;

@@ -82,7 +82,7 @@ pub enum Quantity {
     WaveYawIntegral,
     /// Scalar part eta of the body-to-earth attitude quaternion (unit quaternion, scalar
     /// first; Fossen 2011, section 2.2.2). The four parts are read together and turned into
-    /// roll, pitch and yaw ([`crate::numerics::frames::zyx_from_quaternion`]).
+    /// roll, pitch and yaw (`crate::numerics::frames::zyx_from_quaternion`).
     QuatW,
     /// First vector part eps_1 of the attitude quaternion.
     QuatX,

@@ -4,8 +4,8 @@
 // crate-wide choice.
 
 use super::CmdResult;
-use hydroid::model::analytic::Spheroid;
-use hydroid::model::coefficients::Coefficient;
+use crate::model::analytic::Spheroid;
+use crate::model::coefficients::Coefficient;
 use std::io::Write;
 
 /// Analytic added mass of simple shapes (Fossen 1994, section 2.4.1).
@@ -69,7 +69,7 @@ fn spheroid(args: SpheroidArgs, out: &mut impl Write) -> CmdResult {
                        (Lamb's k-factors)",
         });
         let text = serde_json::to_string_pretty(&value)
-            .map_err(|e| hydroid::Error::Usage(format!("cannot format JSON: {e}")))?;
+            .map_err(|e| crate::Error::Usage(format!("cannot format JSON: {e}")))?;
         writeln!(out, "{text}")?;
         return Ok(0);
     }

@@ -1,12 +1,12 @@
 //! `hydroid check CONFIG`: validate a configuration and every input it names.
 
 use super::{json, CmdResult};
-use hydroid::app::pipeline;
-use hydroid::app::results::{InputSummary, LoadedInput};
-use hydroid::base::error::{ConfigProblem, Error};
-use hydroid::base::warning::Warning;
-use hydroid::config;
-use hydroid::config::LoadedConfig;
+use crate::app::pipeline;
+use crate::app::results::{InputSummary, LoadedInput};
+use crate::base::error::{ConfigProblem, Error};
+use crate::base::warning::Warning;
+use crate::config;
+use crate::config::LoadedConfig;
 use serde_json::{json, Value};
 use std::io::Write;
 use std::path::PathBuf;
@@ -184,7 +184,7 @@ fn read_input(
         writeln!(out, "  {key}: not read (its configuration has a problem)")?;
         return Ok(None);
     }
-    if hydroid::io::formats::input::check_regular(&l.resolve(&spec.file)).is_err() {
+    if crate::io::formats::input::check_regular(&l.resolve(&spec.file)).is_err() {
         // already a configuration problem
         writeln!(out, "  {key}: {} (missing)", spec.file.display())?;
         let missing = json!({ "key": key, "file": spec.file, "status": "missing" });
@@ -304,7 +304,7 @@ fn output_check(
     l: &LoadedConfig,
     out: Option<&std::path::Path>,
 ) -> Result<Option<Warning>, ConfigProblem> {
-    use hydroid::io::output::{Protected, Staging};
+    use crate::io::output::{Protected, Staging};
     let dir = out.map_or_else(|| l.resolve(&l.config.output.dir), PathBuf::from);
     match Staging::preview(&dir, &Protected::for_config(l)) {
         Ok(None) => Ok(None),

@@ -1,7 +1,7 @@
 //! `hydroid coefficients [MODEL]`: the coefficient catalogue (docs/coefficients.md).
 
 use super::{json, CmdResult};
-use hydroid::app::catalogue::{self, Entry};
+use crate::app::catalogue::{self, Entry};
 use std::io::Write;
 
 /// List every coefficient hydroid knows: name, meaning, SI unit, the stages that can give it
@@ -21,7 +21,7 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
     let entries = catalogue::entries();
     let Some(name) = &args.model else {
         if args.json {
-            let models: Vec<_> = hydroid::model::models::ModelName::ALL
+            let models: Vec<_> = crate::model::models::ModelName::ALL
                 .iter()
                 .map(|m| catalogue::model(*m))
                 .collect();

@@ -1,9 +1,9 @@
 //! `hydroid compare A/results.json B/results.json`: coefficient-by-coefficient differences.
 
 use super::{json, CmdResult};
-use hydroid::base::error::{Error, InputError, Place};
-use hydroid::base::numfmt::num;
-use hydroid::model::coefficients::Coefficient;
+use crate::base::error::{Error, InputError, Place};
+use crate::base::numfmt::num;
+use crate::model::coefficients::Coefficient;
 use serde_json::{json, Value};
 use std::collections::BTreeSet;
 use std::io::Write;
@@ -81,13 +81,13 @@ fn differences(a: &Results, b: &Results) -> Vec<String> {
         .collect()
 }
 
-fn read(path: &Path) -> hydroid::Result<Results> {
+fn read(path: &Path) -> crate::Result<Results> {
     let file = if path.is_dir() {
         path.join("results.json")
     } else {
         path.to_path_buf()
     };
-    let text = hydroid::config::read(&file)?;
+    let text = crate::config::read(&file)?;
     let expected = "the results.json of a hydroid run, or its output folder";
     let results: Results = serde_json::from_str(&text).map_err(|e| -> Error {
         InputError::new(
@@ -103,9 +103,9 @@ fn read(path: &Path) -> hydroid::Result<Results> {
 
 /// Refuses what would make the comparison wrong without a word: a file of another schema
 /// version, a sigma that is negative or not finite, a coefficient listed twice.
-fn check(file: &Path, text: &str, r: &Results) -> hydroid::Result<()> {
-    let schema = hydroid::app::results::SCHEMA;
-    let fail = |place: Place, message: String, expected: String| -> hydroid::Result<()> {
+fn check(file: &Path, text: &str, r: &Results) -> crate::Result<()> {
+    let schema = crate::app::results::SCHEMA;
+    let fail = |place: Place, message: String, expected: String| -> crate::Result<()> {
         Err(InputError::new(place, message).expected(expected).into())
     };
     match r.schema.as_deref() {

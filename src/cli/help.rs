@@ -4,9 +4,9 @@
 //! registry appears in them without a change here; the kinds below must name it too (a test
 //! checks it).
 
+use crate::app::catalogue;
+use crate::model::models::ModelName;
 use clap::Command;
-use hydroid::app::catalogue;
-use hydroid::model::models::ModelName;
 
 /// Each kind of vehicle: what it is, its models, and what hydroid does for it.
 const KINDS: &[(&str, &[&str], &str)] = &[

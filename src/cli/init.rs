@@ -1,10 +1,10 @@
 //! `hydroid init [PATH]`: write a commented template run configuration, and nothing else.
 
 use super::{CmdResult, Say};
-use hydroid::app::catalogue;
-use hydroid::stages::hekf::ModelName;
-use hydroid::stages::surge::DragFrom;
-use hydroid::Error;
+use crate::app::catalogue;
+use crate::stages::hekf::ModelName;
+use crate::stages::surge::DragFrom;
+use crate::Error;
 use std::fmt::Write as _;
 use std::io::Write;
 use std::path::PathBuf;
@@ -64,7 +64,7 @@ pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
         has(Stage::Hekf),
         model,
     );
-    hydroid::io::output::write_new(&file, text.as_bytes())?;
+    crate::io::output::write_new(&file, text.as_bytes())?;
     writeln!(out, "wrote {}", file.display())?;
     say.note(&format!(
         "next: fill in the vehicle and every FILL-IN file name, then `hydroid check {}`",
@@ -207,8 +207,8 @@ fn uses_stage_coefficients(model: ModelName) -> bool {
                 && e.given_by.iter().any(|p| {
                     matches!(
                         p.source,
-                        hydroid::model::coefficients::Source::Polar
-                            | hydroid::model::coefficients::Source::Surge
+                        crate::model::coefficients::Source::Polar
+                            | crate::model::coefficients::Source::Surge
                     )
                 })
         })
@@ -245,12 +245,11 @@ fn coefficients(polar: bool, surge: bool, hekf: bool, model: ModelName) -> Strin
         e.is_some_and(|e| {
             e.given_by.iter().any(|p| match p.source {
                 // the template gives the diameter: Lamb's added mass is known
-                hydroid::model::coefficients::Source::Analytic => true,
-                hydroid::model::coefficients::Source::Polar => polar,
+                crate::model::coefficients::Source::Analytic => true,
+                crate::model::coefficients::Source::Polar => polar,
                 _ => false,
             })
-        }) || (surge
-            && hydroid::stages::surge::provides_with(DragFrom::Coefficients).contains(&name))
+        }) || (surge && crate::stages::surge::provides_with(DragFrom::Coefficients).contains(&name))
     };
     let mut needed: Vec<(&str, &str)> = Vec::new();
     if surge && !polar {

@@ -1,8 +1,8 @@
 //! `hydroid inspect FILE`: what hydroid reads from one export.
 
 use super::{warning, CmdResult};
-use hydroid::io::formats::{Format, FormatChoice};
-use hydroid::Error;
+use crate::io::formats::{Format, FormatChoice};
+use crate::Error;
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -31,10 +31,10 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
             "unknown format '{}'; expected one of {}{}",
             args.format,
             names.join(", "),
-            hydroid::base::suggest::did_you_mean(&args.format, names.iter().copied())
+            crate::base::suggest::did_you_mean(&args.format, names.iter().copied())
         ))
     })?;
-    let report = hydroid::app::inspect::inspect(&args.file, choice).map_err(Error::from)?;
+    let report = crate::app::inspect::inspect(&args.file, choice).map_err(Error::from)?;
     if args.json {
         let text = serde_json::to_string_pretty(&report)
             .map_err(|e| Error::Usage(format!("cannot write the report as JSON: {e}")))?;

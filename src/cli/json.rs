@@ -2,7 +2,7 @@
 //! command uses ({file, line, column, key, message}).
 
 use super::CmdResult;
-use hydroid::base::error::{ConfigProblem, Error};
+use crate::base::error::{ConfigProblem, Error};
 use serde_json::{json, Value};
 use std::io::Write;
 
@@ -50,7 +50,7 @@ fn input_problem_at(key: Option<&str>, e: &Error) -> Value {
             None,
             None,
             None,
-            hydroid::base::error::io_reason(source),
+            crate::base::error::io_reason(source),
         ),
         Error::Numerical { message, .. } => (None, None, None, None, message.clone()),
         other => (None, None, None, None, other.to_string()),

@@ -4,10 +4,10 @@
 //! the IMO criteria when the full-scale length and speed are known (docs/manoeuvres.md).
 
 use super::CmdResult;
-use hydroid::app::pipeline;
-use hydroid::dynamics::manoeuvre::{self, ComparisonTable, Nominal};
-use hydroid::io::record::Record;
-use hydroid::{config, Error};
+use crate::app::pipeline;
+use crate::dynamics::manoeuvre::{self, ComparisonTable, Nominal};
+use crate::io::record::Record;
+use crate::{config, Error};
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -80,7 +80,7 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
             .spec
             .manoeuvre
             .as_ref()
-            .map(hydroid::dynamics::manoeuvre::Nominal::given);
+            .map(crate::dynamics::manoeuvre::Nominal::given);
         let nominal = given.or(configured.unwrap_or_default());
         all.push(measure(&input.record, length, scale, nominal)?);
     }

@@ -1,4 +1,5 @@
-//! Command definitions (clap) and dispatch. Each command lives in its own file.
+//! The command line (the top layer): command definitions (clap) and dispatch. Each command
+//! lives in its own file; `src/main.rs` only calls [`main`].
 
 mod analytic;
 mod check;
@@ -15,8 +16,8 @@ mod run;
 mod simulate;
 mod warnings;
 
+use crate::Error;
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
-use hydroid::Error;
 use std::io::Write;
 
 /// hydroid: CFD exports and model-test logs of marine vehicles to manoeuvring models.

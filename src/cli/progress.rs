@@ -3,7 +3,7 @@
 //! `--quiet` shows none of it.
 
 use super::{Say, Verbosity};
-use hydroid::base::progress::Progress;
+use crate::base::progress::Progress;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::time::{Duration, Instant};
@@ -22,7 +22,7 @@ pub struct Cli {
     terminal: bool,
     lines: Lines,
     /// Warnings raised so far, said grouped when the run ends ([`super::warnings`]).
-    held: Vec<hydroid::base::warning::Warning>,
+    held: Vec<crate::base::warning::Warning>,
 }
 
 impl Cli {
@@ -80,7 +80,7 @@ impl Progress for Cli {
     }
 
     /// Kept, and said grouped by kind when the run ends or fails, whatever the verbosity.
-    fn warning(&mut self, w: &hydroid::base::warning::Warning) {
+    fn warning(&mut self, w: &crate::base::warning::Warning) {
         self.held.push(w.clone());
     }
 

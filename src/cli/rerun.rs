@@ -1,11 +1,11 @@
 //! `hydroid rerun OUTDIR`: run again exactly what made an output folder.
 
 use super::{progress, warning, CmdResult, Say};
-use hydroid::app::pipeline;
-use hydroid::app::report::{self, RerunManifest};
-use hydroid::base::error::{Error, InputError, Place};
-use hydroid::config;
-use hydroid::io::output::{Protected, Replace, Staging};
+use crate::app::pipeline;
+use crate::app::report::{self, RerunManifest};
+use crate::base::error::{Error, InputError, Place};
+use crate::config;
+use crate::io::output::{Protected, Replace, Staging};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -36,8 +36,8 @@ pub struct Args {
     strict: bool,
 }
 
-fn read_json<T: serde::de::DeserializeOwned>(path: &Path) -> hydroid::Result<T> {
-    let text = hydroid::config::read(path)?;
+fn read_json<T: serde::de::DeserializeOwned>(path: &Path) -> crate::Result<T> {
+    let text = crate::config::read(path)?;
     serde_json::from_str(&text).map_err(|e| {
         InputError::new(
             Place::line(path, e.line()),
@@ -63,8 +63,8 @@ const RECORDS: &[&str] = &[report::CONFIG_TOML, report::RERUN_JSON, report::INPU
 
 /// Refuses an output folder whose recorded files were edited since hydroid wrote them (their
 /// SHA-256 differs from the marker's), unless `--edited` accepts the edits; then says so.
-fn check_edits(dir: &Path, accept: bool) -> hydroid::Result<()> {
-    let edited = hydroid::io::output::marker::edited(dir, RECORDS)?;
+fn check_edits(dir: &Path, accept: bool) -> crate::Result<()> {
+    let edited = crate::io::output::marker::edited(dir, RECORDS)?;
     if edited.is_empty() {
         return Ok(());
     }
@@ -91,7 +91,7 @@ fn check_edits(dir: &Path, accept: bool) -> hydroid::Result<()> {
             "these files were"
         },
         if list.len() == 1 { "it" } else { "them" },
-        hydroid::io::output::marker::MARKER,
+        crate::io::output::marker::MARKER,
         list.join("\n  - "),
         dir.join(report::CONFIG_TOML).display()
     )))
@@ -99,7 +99,7 @@ fn check_edits(dir: &Path, accept: bool) -> hydroid::Result<()> {
 
 /// Runs the command.
 pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
-    hydroid::io::output::clean_up_on_signals()?;
+    crate::io::output::clean_up_on_signals()?;
     let dir = &args.outdir;
     check_edits(dir, args.edited)?;
     let manifest: RerunManifest = read_json(&dir.join(report::RERUN_JSON))?;

@@ -1,9 +1,9 @@
 //! `hydroid run CONFIG`: run every enabled stage and write the output folder.
 
 use super::{progress, CmdResult, Say};
-use hydroid::app::{pipeline, report};
-use hydroid::config;
-use hydroid::io::output::{Protected, Replace, Staging};
+use crate::app::{pipeline, report};
+use crate::config;
+use crate::io::output::{Protected, Replace, Staging};
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -35,7 +35,7 @@ pub struct Args {
 
 /// Runs the command.
 pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
-    hydroid::io::output::clean_up_on_signals()?;
+    crate::io::output::clean_up_on_signals()?;
     let loaded = config::load(&args.config, &args.set)?;
     let out_dir = args
         .out
@@ -78,7 +78,7 @@ pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
     }
     if args.json {
         // byte for byte the results.json written (it ends with a newline)
-        out.write_all(&hydroid::io::output::to_json(&output.result)?)?;
+        out.write_all(&crate::io::output::to_json(&output.result)?)?;
         say.note(&format!("wrote {}", dir.display()));
     } else {
         report::table::write_text(out, &output.result)?;

@@ -1,7 +1,7 @@
 //! `hydroid simulate SIMCONFIG`: write a synthetic CFD export from a model.
 
 use super::CmdResult;
-use hydroid::io::output::Replace;
+use crate::io::output::Replace;
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -22,11 +22,11 @@ pub struct Args {
 
 /// Runs the command.
 pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
-    hydroid::io::output::clean_up_on_signals()?;
-    let loaded = hydroid::app::simulate::config::load(&args.config)?;
+    crate::io::output::clean_up_on_signals()?;
+    let loaded = crate::app::simulate::config::load(&args.config)?;
     if loaded.config.sweep.is_some() {
-        let result = hydroid::app::simulate::sweep::simulate_sweep(&loaded)?;
-        let dir = hydroid::app::simulate::sweep::write_sweep(
+        let result = crate::app::simulate::sweep::simulate_sweep(&loaded)?;
+        let dir = crate::app::simulate::sweep::write_sweep(
             &loaded,
             &args.config,
             &result,
@@ -36,7 +36,7 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
         for w in &result.warnings {
             eprintln!("warning: {w}");
         }
-        writeln!(out, "{}", hydroid::app::simulate::sweep::summary(&result))?;
+        writeln!(out, "{}", crate::app::simulate::sweep::summary(&result))?;
         writeln!(
             out,
             "wrote {} ({} turning circles)",
@@ -45,7 +45,7 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
         )?;
         return Ok(0);
     }
-    let (path, rows) = hydroid::app::simulate::run_file(
+    let (path, rows) = crate::app::simulate::run_file(
         &args.config,
         args.out.as_deref(),
         Replace::forced(args.force),

@@ -3,7 +3,7 @@
 //! re-simulation's), the notes on how the inputs were read last. results.json and the report
 //! keep every warning as it was raised.
 
-use hydroid::base::warning::{Test, Warning};
+use crate::base::warning::{Test, Warning};
 use std::collections::BTreeSet;
 
 /// Exit status of `run --strict` when a warning reports a failed consistency test.

@@ -1,8 +1,8 @@
 //! `[captive]` configuration: steady captive runs (static drift, drift with rudder, circular
 //! motion) whose measured forces give a model's coefficients.
 
-use super::{si, yes, Config, InputSpec, Problems};
-use crate::model::models::ModelName;
+use super::{si, yes, InputSpec, Problems};
+use crate::model::models::{ModelName, RunVehicle};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
@@ -134,12 +134,11 @@ impl crate::model::models::ModelVisitor for ModelCheck<'_> {
 impl CaptiveConfig {
     /// The model's checks, as the stage makes them before it fits: what it needs of the
     /// vehicle (`[vehicle.particulars]`), forces to fit, the estimated coefficients its own.
-    fn validate_model(&self, config: &Config, p: &mut Problems) {
-        let vehicle = config.vehicle.for_model(&config.fluid);
+    fn validate_model(&self, vehicle: &RunVehicle, p: &mut Problems) {
         let check = ModelCheck {
             estimate: &self.estimate,
         };
-        match crate::model::models::with_model(self.model, &vehicle, check) {
+        match crate::model::models::with_model(self.model, vehicle, check) {
             Ok(found) => {
                 for (key, message) in found {
                     p.add(&key, message);
@@ -154,8 +153,8 @@ impl CaptiveConfig {
     }
 
     /// Adds every problem with this section to `p`.
-    pub fn validate(&self, config: &Config, p: &mut Problems) {
-        self.validate_model(config, p);
+    pub fn validate(&self, vehicle: &RunVehicle, p: &mut Problems) {
+        self.validate_model(vehicle, p);
         if self.estimate.is_empty() {
             p.add("captive.estimate", "lists no coefficient to fit");
         }

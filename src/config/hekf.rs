@@ -1,8 +1,8 @@
 //! `[hekf]` configuration.
 
-use super::{yes, Config, Constant, InputSpec, Problems};
+use super::{yes, Constant, InputSpec, Problems};
 use crate::base::quantity::Quantity;
-use crate::model::models::ModelName;
+use crate::model::models::{ModelName, RunVehicle};
 pub use crate::numerics::estimation::FilterKind;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -216,15 +216,14 @@ pub const MAX_SUBSTEPS: u64 = 1000;
 
 impl HekfConfig {
     /// Adds every problem with this section to `p`.
-    pub fn validate(&self, config: &Config, p: &mut Problems) {
+    pub fn validate(&self, vehicle: &RunVehicle, p: &mut Problems) {
         // the model says what it needs of the vehicle
         struct Built;
         impl crate::model::models::ModelVisitor for Built {
             type Output = ();
             fn visit<M: crate::model::models::Model>(self, _: &M) {}
         }
-        let vehicle = config.vehicle.for_model(&config.fluid);
-        if let Err(problems) = crate::model::models::with_model(self.model, &vehicle, Built) {
+        if let Err(problems) = crate::model::models::with_model(self.model, vehicle, Built) {
             for vp in problems {
                 p.add(&vp.key, vp.message);
             }

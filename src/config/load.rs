@@ -5,6 +5,7 @@
 use super::collect::read_collecting;
 use super::{Config, Problems};
 use crate::base::error::{ConfigProblem, Error, Result};
+use crate::model::models::RunVehicle;
 use std::path::{Path, PathBuf};
 
 /// A configuration that parsed and validated.
@@ -12,6 +13,9 @@ use std::path::{Path, PathBuf};
 pub struct LoadedConfig {
     /// The configuration.
     pub config: Config,
+    /// The run's vehicle (SI data and the yaw-moment reading), built once from
+    /// `config.vehicle` and `config.fluid` after the reading was resolved.
+    pub vehicle: RunVehicle,
     /// The file it came from.
     pub path: PathBuf,
     /// The folder paths in it are relative to.
@@ -110,12 +114,15 @@ pub fn load_lenient(
         Ok(reading) => config.vehicle.yaw_moment = reading,
         Err((key, message)) => p.add(&key, message),
     }
-    config.validate(&mut p);
+    // the run's vehicle, built once: validation, every stage and the re-simulation use it
+    let vehicle = config.vehicle.for_model(&config.fluid);
+    config.validate(&vehicle, &mut p);
     let base_dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
     let unusable = p.poisoned().to_vec();
     (
         Some(LoadedConfig {
             config,
+            vehicle,
             path: path.to_path_buf(),
             base_dir,
             overrides: overrides.to_vec(),
@@ -128,7 +135,6 @@ pub fn load_lenient(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::config::FluidConfig;
     use crate::model::coefficients::YawMoment;
 
     const GOOD: &str = "[vehicle]\nmass = 50\nlength = 1.2\nizz = 3.7\nreference_area = 0.03\n\
@@ -146,10 +152,7 @@ mod tests {
         let read = |text: &str| {
             let (c, p) = load_lenient(Path::new("src/config/c.toml"), text, &[]);
             assert!(p.is_empty(), "{p:?}");
-            c.unwrap().config.vehicle.for_model(&FluidConfig {
-                rho: 1025.0,
-                mu: 1e-3,
-            })
+            c.unwrap().vehicle
         };
         let with = |c: &str| GOOD.replace("[hekf]", &format!("[coefficients]\n{c}\n[hekf]"));
         assert_eq!(read(GOOD).yaw_moment, YawMoment::LiftOnly);

@@ -421,8 +421,9 @@ impl Config {
         })
     }
 
-    /// Checks values and names (not input files) and adds every problem to `p`.
-    pub fn validate(&self, p: &mut Problems) {
+    /// Checks values and names (not input files) and adds every problem to `p`; `vehicle`
+    /// is the run's vehicle built from this configuration (the models check it).
+    pub fn validate(&self, vehicle: &RunVehicle, p: &mut Problems) {
         self.vehicle.validate(p);
         self.fluid.validate(p);
         for (name, val) in &self.coefficients {
@@ -449,10 +450,10 @@ impl Config {
             s.validate(self, p);
         }
         if let Some(s) = &self.captive {
-            s.validate(self, p);
+            s.validate(vehicle, p);
         }
         if let Some(s) = &self.hekf {
-            s.validate(self, p);
+            s.validate(vehicle, p);
         }
         if let Some(a) = &self.autopilot {
             a.validate(p);

@@ -146,7 +146,7 @@ impl Problems {
         }
     }
 
-    /// Requires a finite coefficient-sized value: |value| at most [`MAX_COEFFICIENT`].
+    /// Requires a finite coefficient-sized value: |value| at most `MAX_COEFFICIENT`.
     pub fn coefficient_sized(&mut self, key: &str, value: f64) {
         if !value.is_finite() {
             self.finite(key, value);

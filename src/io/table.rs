@@ -131,7 +131,7 @@ impl Table {
         Ok(())
     }
 
-    /// Tidies repeated time stamps of time column `t` ([`crate::io::time_stamps`]): identical
+    /// Tidies repeated time stamps of time column `t` (`crate::io::time_stamps`): identical
     /// rows dropped, a restart's overlap reduced to its last rows, a time column printed with
     /// too few digits rebuilt from its uniform sampling (interval `dt` in s, or detected);
     /// anything else, or a time that goes back, is an error at its line.

@@ -69,7 +69,7 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutp
     if let Some(cc) = cfg.captive.as_ref().filter(|c| c.enabled) {
         stages.captive = Some(captive_step(
             cc,
-            cfg,
+            loaded,
             &inputs.captive,
             &mut known,
             &mut log,
@@ -88,10 +88,9 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutp
     complete_reported(&mut known, model_name, cfg.vehicle.yaw_moment, &mut log);
     let mut autopilot_result = None;
     if let (Some(a), Some(hc), Some(name)) = (&cfg.autopilot, &cfg.hekf, model_name) {
-        let vehicle = cfg.vehicle.for_model(&cfg.fluid);
         // the identification stands on its own: an autopilot that cannot be tuned or closed
         // (K not identified, an unstable model) is a warning, not the end of the run
-        match autopilot::run(name, &vehicle, &known, hc, a) {
+        match autopilot::run(name, &loaded.vehicle, &known, hc, a) {
             Ok(r) => {
                 log.stage(&format!(
                     "autopilot: rudder rate RMS {:.3} deg/s raw, {:.3} deg/s filtered",
@@ -237,15 +236,13 @@ fn surge_step(
 
 fn captive_step(
     cc: &crate::stages::captive::CaptiveConfig,
-    cfg: &Config,
+    loaded: &LoadedConfig,
     inputs: &[LoadedInput],
     known: &mut CoefficientSet,
     log: &mut Log,
 ) -> Result<crate::stages::captive::CaptiveResult> {
     let recs = records(inputs);
-    let fit = |set: &CoefficientSet| {
-        crate::stages::captive::run(cc, &cfg.vehicle, &cfg.fluid, set, &recs)
-    };
+    let fit = |set: &CoefficientSet| crate::stages::captive::run(cc, &loaded.vehicle, set, &recs);
     let mut r = fit(known)?;
     // the earlier stages' uncertainty of the coefficients the fit holds (consider analysis)
     let upstream = consider::upstream(known, &r.coefficients, |set| {
@@ -263,7 +260,12 @@ fn captive_step(
             "the sigmas leave that uncertainty out and are too small",
         ));
     }
-    log.say(conflicts::warnings(known, &r.coefficients, "captive", cfg));
+    log.say(conflicts::warnings(
+        known,
+        &r.coefficients,
+        "captive",
+        &loaded.config,
+    ));
     r.merge_into(known, upstream.directions);
     let harmonic = r.runs.iter().filter(|x| x.periods.is_some()).count();
     let conditions: usize = r
@@ -316,8 +318,7 @@ fn hekf_step(
     let validation = records(&inputs.hekf_validation);
     let for_filter = fixed_for_filter(known, analytic, cfg.vehicle.yaw_moment);
     let stage_inputs = hekf::StageInputs {
-        vehicle: &cfg.vehicle,
-        fluid: &cfg.fluid,
+        vehicle: &loaded.vehicle,
         known: &for_filter,
         runs: &fit,
         base_dir: &loaded.base_dir,
@@ -357,8 +358,8 @@ fn hekf_step(
     let mut final_set = for_filter.clone();
     final_set.merge_stage(r.coefficients(), r.directions.clone());
     final_set.correlation = Some(r.correlation.clone());
-    complete_for(&mut final_set, hc.model, cfg.vehicle.yaw_moment);
-    let vehicle = cfg.vehicle.for_model(&cfg.fluid);
+    hc.model.complete(&mut final_set, cfg.vehicle.yaw_moment);
+    let vehicle = &loaded.vehicle;
     let mut resim = Resimulation::default();
     // the nominal angles each run's configuration gives (runs are read in the order listed)
     let nominal = |spec: &crate::config::InputSpec| {
@@ -374,7 +375,7 @@ fn hekf_step(
         .zip(hc.runs.iter().chain(&hc.validation).map(nominal))
     {
         let scale = cfg.vehicle.scale;
-        let (m, t) = resimulate(hc.model, &vehicle, &final_set, rec, used, scale, given)?;
+        let (m, t) = resimulate(hc.model, vehicle, &final_set, rec, used, scale, given)?;
         log.say(crate::app::resim::warnings(&m, rec));
         resim.metrics.push(m);
         resim.traces.push((rec.clone(), t));
@@ -382,7 +383,7 @@ fn hekf_step(
     // Nomoto's indices of the identified model at the approach of the first run with a
     // rudder (ships: to compare with K and T from a zig-zag)
     if let Some(rec) = fit.iter().find(|r| r.channel(Quantity::Rudder).is_some()) {
-        match crate::dynamics::course_stability::at_approach(hc.model, &vehicle, &final_set, rec) {
+        match crate::dynamics::course_stability::at_approach(hc.model, vehicle, &final_set, rec) {
             Some(Ok(s)) => resim.steering = Some(s),
             Some(Err(e)) => log.say([Warning::new(
                 "hekf",
@@ -422,7 +423,7 @@ fn complete_reported(
     log: &mut Log,
 ) {
     match model {
-        Some(m) => complete_for(known, m, reading),
+        Some(m) => m.complete(known, reading),
         None => {
             let incomplete = known.complete(SYMMETRY, reading).into_iter().map(|w| {
                 Warning::new(
@@ -433,13 +434,5 @@ fn complete_reported(
             });
             log.say(incomplete);
         }
-    }
-}
-
-/// Completes a set by the relations the model declares (symmetry, axisymmetry) that hold in
-/// the run's yaw-moment reading.
-fn complete_for(set: &mut CoefficientSet, model: ModelName, reading: YawMoment) {
-    for relations in model.completing_relations() {
-        set.complete(relations, reading);
     }
 }

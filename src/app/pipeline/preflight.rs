@@ -130,7 +130,7 @@ pub fn preflight(loaded: &LoadedConfig, inputs: &InputsByStage<LoadedInput>) -> 
     if let Some(cc) = cfg.captive.as_ref().filter(|c| c.enabled) {
         let runs: Vec<&Record> = inputs.captive.iter().map(|i| &i.record).collect();
         let known = known_before_captive(cfg);
-        if let Some(e) = captive::preflight(cc, &cfg.vehicle, &cfg.fluid, &known, &runs) {
+        if let Some(e) = captive::preflight(cc, &loaded.vehicle, &known, &runs) {
             out.problem(loaded, "captive", e);
         }
     }
@@ -138,14 +138,7 @@ pub fn preflight(loaded: &LoadedConfig, inputs: &InputsByStage<LoadedInput>) -> 
         return out;
     };
     let runs: Vec<&Record> = inputs.hekf_all().map(|i| &i.record).collect();
-    let found = hekf::preflight(
-        hc,
-        &cfg.vehicle,
-        &cfg.fluid,
-        &available,
-        &cfg.coefficients,
-        &runs,
-    );
+    let found = hekf::preflight(hc, &loaded.vehicle, &available, &cfg.coefficients, &runs);
     let fit_names: Vec<&str> = inputs
         .hekf_fit
         .iter()

@@ -35,7 +35,7 @@ const GROUPS: [&[Source]; 6] = [
 ];
 
 /// The comparison rows in the table's order: grouped by source in pipeline order
-/// ([`GROUPS`]), and within a group in the catalogue's order (added mass, surge, sway, yaw,
+/// (`GROUPS`), and within a group in the catalogue's order (added mass, surge, sway, yaw,
 /// heave and pitch, roll; the polar's coefficients as in paper eq. 5).
 pub fn ordered(r: &RunResult) -> Vec<&ComparisonRow> {
     in_table_order(&r.comparison)

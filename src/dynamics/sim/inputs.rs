@@ -7,13 +7,13 @@ use crate::io::input_spec::Between;
 use crate::model::models::{InputDef, InputRule};
 use crate::numerics::ode::StageTime;
 
-/// Like [`stepped`](crate::io::steps::stepped), through an actuator of largest rate `rate` (per second, > 0): from
+/// Like `stepped` (`io::steps`), through an actuator of largest rate `rate` (per second, > 0): from
 /// `start`, the value moves towards the latest commanded value at most at `rate` and stops on
 /// it, so that each step becomes a ramp of slope `rate` lasting |change| / rate (a first-order
 /// rate limiter, the steering-gear model of IMO MSC.137(76) and ITTC 7.5-04-02-01 applied to
 /// any input). The command is piecewise constant, so the ramp is exact at every sample time,
 /// whatever the step times; a change within 1e-12 s after a sample applies from that sample,
-/// as in [`stepped`](crate::io::steps::stepped).
+/// as in `stepped` (`io::steps`).
 pub fn rate_limited(start: f64, changes: &[(f64, f64)], times: &[f64], rate: f64) -> Vec<f64> {
     let (mut value, mut command) = (start, start);
     let mut clock = times.first().copied().unwrap_or(0.0);

@@ -123,7 +123,7 @@ pub struct ReadOptions {
     /// (title lines of a model-test log); kept as `title` metadata.
     pub skip_lines: usize,
     /// The sampling interval (s) that rebuilds a time column printed with too few digits
-    /// (see [`crate::io::time_stamps`]); detected from the stamps when not given.
+    /// (see `crate::io::time_stamps`); detected from the stamps when not given.
     pub dt: Option<f64>,
 }
 

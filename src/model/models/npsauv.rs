@@ -19,7 +19,7 @@
 //!   the (I_z - I_x) p r pitch term, /work/shared/docs/npsauv-6dof-ekf.md) cannot occur: the
 //!   energy test of tests/npsauv.rs checks it;
 //! * the Healey & Lienard hydrodynamic, control-surface and propulsion terms
-//!   ([`forces`]), and the cross-flow drag integral over hull stations;
+//!   (`forces`), and the cross-flow drag integral over hull stations;
 //! * weight and buoyancy restoring forces (Fossen 2011, eq. 4.6).
 //!
 //! Bow planes: every bow-plane term of the set multiplies the sum delta_bp + delta_bs of the

@@ -6,6 +6,7 @@
 
 use super::{CoefDef, Model, ModelName};
 use crate::base::quantity::Quantity;
+use crate::model::coefficients::{CoefficientSet, YawMoment};
 use std::sync::OnceLock;
 
 /// Something to do with a model whose type is chosen at run time (see [`with_model`](super::with_model)).
@@ -98,6 +99,14 @@ impl ModelName {
     /// The model named `name` in a configuration.
     pub fn from_name(name: &str) -> Option<ModelName> {
         ModelName::ALL.iter().copied().find(|m| m.as_str() == name)
+    }
+
+    /// Completes `set` by the relations the model declares (symmetry, axisymmetry) that hold
+    /// in the run's yaw-moment `reading`: what the model's re-simulation and the report need.
+    pub fn complete(self, set: &mut CoefficientSet, reading: YawMoment) {
+        for relations in self.completing_relations() {
+            set.complete(relations, reading);
+        }
     }
 }
 

@@ -90,7 +90,7 @@ const MAX_ITERATIONS: usize = 50;
 ///
 /// `signs` (one per estimated coefficient, or empty) constrain each to be >= 0 (+1), <= 0
 /// (-1) or free (0): every Gauss-Newton step is then the constrained least-squares step
-/// (a quadratic programme, [`crate::numerics::constrained_lsq`]), and a coefficient that ends on its
+/// (a quadratic programme, `crate::numerics::constrained_lsq`), and a coefficient that ends on its
 /// bound is held there, with no variance (the covariance is that of the others).
 pub fn fit<M: Model>(
     model: &M,

@@ -14,13 +14,11 @@ pub use crate::config::captive::CaptiveConfig;
 use crate::base::error::{Error, Result};
 use crate::base::quantity::Quantity;
 use crate::base::warning::Warning;
-use crate::config::FluidConfig;
-use crate::config::VehicleConfig;
 use crate::io::record::{Needs, Record};
 use crate::model::coefficients::{
     directions_of, Coefficient, CoefficientSet, Correlation, Direction, Source,
 };
-use crate::model::models::{with_model, Model, ModelVisitor};
+use crate::model::models::{with_model, Model, ModelVisitor, RunVehicle, Vehicle};
 use fit::Condition;
 use serde::Serialize;
 
@@ -116,19 +114,18 @@ impl CaptiveResult {
 /// Runs the stage on its tables.
 pub fn run(
     cfg: &CaptiveConfig,
-    vehicle: &VehicleConfig,
-    fluid: &FluidConfig,
+    vehicle: &RunVehicle,
     known: &CoefficientSet,
     runs: &[Record],
 ) -> Result<CaptiveResult> {
     with_model(
         cfg.model,
-        &vehicle.for_model(fluid),
+        vehicle,
         Fit {
             cfg,
             known,
             runs,
-            reference: reference_of(vehicle, fluid),
+            reference: reference_of(&vehicle.vehicle),
         },
     )
     .map_err(Error::vehicle)?
@@ -145,7 +142,7 @@ struct Fit<'a> {
 /// The scales of the vehicle the plausibility checks compare with: its mass and length, and
 /// the draught (`vehicle.particulars.draught`) or diameter that give its analytic added
 /// masses.
-fn reference_of(vehicle: &VehicleConfig, fluid: &FluidConfig) -> plausibility::Reference {
+fn reference_of(vehicle: &Vehicle) -> plausibility::Reference {
     #[derive(serde::Deserialize)]
     struct Draught {
         #[serde(
@@ -159,7 +156,7 @@ fn reference_of(vehicle: &VehicleConfig, fluid: &FluidConfig) -> plausibility::R
         .ok()
         .and_then(|d| d.draught);
     plausibility::Reference::new(
-        fluid.rho,
+        vehicle.rho,
         vehicle.length,
         vehicle.mass,
         draught,
@@ -261,14 +258,13 @@ fn prepare<M: Model>(
     Ok(prepared)
 }
 
-/// The checks of the stage that need the runs but no fit ([`prepare`]), for `hydroid check`
+/// The checks of the stage that need the runs but no fit (`prepare`), for `hydroid check`
 /// and `hydroid run` before any stage runs: the first problem, if any. `available` names the
 /// coefficients the configuration and the stages before this one will provide (the fit holds
 /// every coefficient it does not estimate at one of those).
 pub fn preflight(
     cfg: &CaptiveConfig,
-    vehicle: &VehicleConfig,
-    fluid: &FluidConfig,
+    vehicle: &RunVehicle,
     available: &[String],
     runs: &[&Record],
 ) -> Option<Error> {
@@ -289,12 +285,12 @@ pub fn preflight(
     let check = Check {
         cfg,
         runs,
-        reference: reference_of(vehicle, fluid),
+        reference: reference_of(&vehicle.vehicle),
         available,
     };
     // a model the vehicle cannot build is the configuration's problem, reported by its
     // validation ([`CaptiveConfig::validate`])
-    with_model(cfg.model, &vehicle.for_model(fluid), check).unwrap_or(None)
+    with_model(cfg.model, vehicle, check).unwrap_or(None)
 }
 
 impl ModelVisitor for Fit<'_> {

@@ -195,7 +195,7 @@ impl BoundLog {
     }
 
     /// Whether coefficient `j` was held at its bound at the end of the run (in its last
-    /// [`END_SHARE`] of samples, at least the last one).
+    /// `END_SHARE` of samples, at least the last one).
     pub fn at_end(&self, j: usize) -> bool {
         let tail = ((self.samples as f64 * END_SHARE) as usize).max(1);
         self.last[j].is_some_and(|k| k + tail >= self.samples)

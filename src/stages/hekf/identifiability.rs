@@ -8,7 +8,7 @@
 //! "System Identification", section 13.2 on persistent excitation; Fossen 2011, section
 //! 7.5 on manoeuvres for identification). For each coefficient the filter left uncertain
 //! (sigma above [`UNCERTAIN`] of its value) or correlated (above [`CORRELATED`], with a sigma
-//! above [`LOOSE`] of its value) this module
+//! above `LOOSE` of its value) this module
 //! finds the quantities the term acts through (those whose zeroing removes the regressor),
 //! how much of each the runs hold, and names a manoeuvre that moves them.
 

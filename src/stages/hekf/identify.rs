@@ -131,7 +131,7 @@ pub struct Setup {
     /// The form of the filter (`hekf.filter`); the continuous form runs without smoother.
     pub filter: FilterKind,
     /// States (nx) whose process noise is matched to the innovations run by run
-    /// ([`super::adapt`]); none for a preset or configured process noise.
+    /// (`super::adapt`); none for a preset or configured process noise.
     pub adaptable: Vec<bool>,
     /// Per run, the states' process noise densities (nx) to use instead of `q`'s (the
     /// calibrated noise, for repeated passes); empty: `q` for every run.

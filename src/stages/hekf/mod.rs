@@ -27,10 +27,9 @@ use crate::base::error::{Error, Result};
 use crate::base::progress::Progress;
 use crate::base::quantity::Quantity;
 use crate::base::warning::Warning;
-use crate::config::{FluidConfig, VehicleConfig};
 use crate::io::record::{Needs, Record};
 use crate::model::coefficients::CoefficientSet;
-use crate::model::models::{with_model, Model, ModelVisitor};
+use crate::model::models::{with_model, Model, ModelVisitor, RunVehicle};
 use identify::{identify, IdentifyError};
 
 /// The stage's name in messages and warnings.
@@ -57,10 +56,8 @@ pub fn needs(_cfg: &HekfConfig) -> Needs<'static> {
 
 /// Everything the stage needs besides its configuration.
 pub struct StageInputs<'a> {
-    /// The vehicle.
-    pub vehicle: &'a VehicleConfig,
-    /// The fluid.
-    pub fluid: &'a FluidConfig,
+    /// The run's vehicle ([`crate::config::LoadedConfig::vehicle`]).
+    pub vehicle: &'a RunVehicle,
     /// Coefficients known from earlier stages, the configuration and analytic estimates.
     pub known: &'a CoefficientSet,
     /// The identification runs.
@@ -77,7 +74,7 @@ pub fn run(
 ) -> Result<HekfResult> {
     with_model(
         cfg.model,
-        &inputs.vehicle.for_model(inputs.fluid),
+        inputs.vehicle,
         Identify {
             cfg,
             inputs,
@@ -106,8 +103,7 @@ pub struct Preflight {
 /// followed by the validation runs, as [`HekfConfig::inputs`] lists them.
 pub fn preflight(
     cfg: &HekfConfig,
-    vehicle: &VehicleConfig,
-    fluid: &FluidConfig,
+    vehicle: &RunVehicle,
     available: &[String],
     configured: &std::collections::BTreeMap<String, f64>,
     runs: &[&Record],
@@ -161,12 +157,12 @@ pub fn preflight(
     }
     with_model(
         cfg.model,
-        &vehicle.for_model(fluid),
+        vehicle,
         Pre {
             cfg,
             available,
             configured,
-            vehicle: vehicle.vehicle_data(fluid),
+            vehicle: vehicle.vehicle.clone(),
             runs,
         },
     )
@@ -227,8 +223,7 @@ impl ModelVisitor for Identify<'_> {
                 .filter(|c| c.source == crate::model::coefficients::Source::Config)
                 .map(|c| c.value)
         };
-        let vehicle = inputs.vehicle.vehicle_data(inputs.fluid);
-        let expect = expectation(model, cfg, &configured, &vehicle);
+        let expect = expectation(model, cfg, &configured, &inputs.vehicle.vehicle);
         let (runs, summaries) = prepared_runs(model, cfg, &tuning, &plan, inputs, &expect)?;
         let setup = prepare::setup(model, cfg, &plan, &tuning, &runs)?;
         let id = identify(model, &setup, &runs, self.progress)
@@ -389,7 +384,7 @@ fn surge_balance<M: Model>(
         num(worst.until),
         num(held),
         num(worst.model),
-        num(worst.force(inputs.vehicle.mass))
+        num(worst.force(inputs.vehicle.vehicle.mass))
     );
     let warning = match cfg.balance {
         config::Balance::Estimate => {

@@ -38,7 +38,7 @@ pub struct Resolved {
     /// Innovation gate in standard deviations (0: none).
     pub gate: f64,
     /// Match the process noise of the measured velocities to the innovations
-    /// (`hekf.adapt_noise`; [`super::adapt`]).
+    /// (`hekf.adapt_noise`; `super::adapt`).
     pub adapt_noise: bool,
 }
 

@@ -2,7 +2,7 @@
 //! Y_uvl, N_uvl (paper eq. 5-6, after Ridley, Fontan & Corke 2003).
 //!
 //! Each channel is a weighted least-squares fit under linear constraints, solved as a QP with
-//! clarabel ([`fit`]): C_D = a alpha^2 + b alpha + c (paper eq. 6), C_L and C_M as
+//! clarabel (`fit`): C_D = a alpha^2 + b alpha + c (paper eq. 6), C_L and C_M as
 //! intercept + slope alpha (+ cubic alpha^3). The fit is made on all points together (pooled,
 //! in coefficient form) and on each speed separately; the pooled constants are mapped to
 //! coefficients by paper eq. 5 (`mapping.rs`). See docs/stages.md.
