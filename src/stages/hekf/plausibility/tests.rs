@@ -138,6 +138,31 @@ fn valid_runs_at_high_rates_with_noisy_positions_pass_every_kinematic_check() {
 }
 
 #[test]
+fn gps_noise_of_metres_on_a_slow_vehicle_is_not_taken_for_a_mix_up() {
+    // a sea trial with GNSS positions (1 to 3 m of noise, 10 Hz and 100 Hz) on a vehicle
+    // at 1.2 m/s: over the longest windows it travels about as far as the noise, so the
+    // track cannot be judged; the check must say nothing rather than blame the frames
+    for (dt, noise) in [(0.1, 1.0), (0.01, 2.0), (0.01, 3.0)] {
+        let rec = weave(dt, 120.0, noise, 0.0);
+        let found = kinematics(&rec);
+        assert!(found.is_empty(), "dt = {dt}, noise {noise} m: {found:#?}");
+    }
+}
+
+#[test]
+fn swapped_surge_and_sway_are_named_through_position_noise() {
+    // the same mix-up as below, with positions noisy by 0.5 m: still named
+    let mut rec = weave(0.05, 240.0, 0.5, 0.0);
+    let u = rec.channels.remove(&Quantity::U).unwrap();
+    let v = rec.channels.remove(&Quantity::V).unwrap();
+    rec.channels.insert(Quantity::U, v);
+    rec.channels.insert(Quantity::V, u);
+    let f = travel::track(&rec).expect("a finding");
+    assert!(f.blocking, "{f:?}");
+    assert!(f.warning.meaning.contains("u and v look swapped"), "{f:?}");
+}
+
+#[test]
 fn positions_in_km_and_time_in_minutes_are_named() {
     let mut km = weave(0.05, 240.0, 0.0, 0.0);
     for q in [Quantity::X, Quantity::Y] {

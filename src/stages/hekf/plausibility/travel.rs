@@ -177,6 +177,35 @@ impl<'a> Path<'a> {
         complex_gain(&measured, &p)
     }
 
+    /// Whether the positions follow the velocities rotated by the heading as closely as the
+    /// channels' own noise allows over windows of `len` samples: the median misfit of the
+    /// increments within twice what white noise alone gives. An increment's error is the two
+    /// position errors (variance 2 (sx^2 + sy^2)) plus the trapezoid sum of the velocity and
+    /// heading errors over its n samples (n dt^2 (su^2 + sv^2 + |V|^2 spsi^2)); its size is
+    /// Rayleigh-distributed with the median sqrt(ln 2 T) for a total variance T (Papoulis
+    /// 2002, sec. 6-3). GNSS positions of a slow vehicle (metres of noise, a metre or two of
+    /// travel per window) cannot be judged: no finding, rather than a wrong one.
+    fn within_noise(&self, len: usize) -> bool {
+        let noise = |y: &[f64]| crate::numerics::signal::noise_sigma(y).unwrap_or(0.0);
+        let (sx, sy, su, sv) = (noise(self.x), noise(self.y), noise(self.u), noise(self.v));
+        let spsi = noise(self.psi);
+        let Some(dt) = crate::numerics::sampling::median_interval(self.times) else {
+            return false;
+        };
+        let speed2 = median_of((0..self.u.len()).map(|k| self.u[k].powi(2) + self.v[k].powi(2)));
+        let n = len as f64;
+        let total = 2.0 * (sx * sx + sy * sy)
+            + n * dt * dt * (su * su + sv * sv + speed2.unwrap_or(0.0) * spsi * spsi);
+        let expected = (std::f64::consts::LN_2 * total).sqrt();
+        let misfit = median_of(windows(self.times, len).into_iter().map(|w| {
+            let predict = |k: usize| self.rotate(k, (self.u[k], self.v[k]), 1.0);
+            let re = increment(self.times, w, self.x, |k| predict(k).0);
+            let im = increment(self.times, w, self.y, |k| predict(k).1);
+            (re.0 - re.1).hypot(im.0 - im.1)
+        }));
+        misfit.is_some_and(|m| expected > 0.0 && m <= 2.0 * expected)
+    }
+
     /// The mix-ups a user may have made, each as the earth velocity it predicts and what it
     /// means.
     fn mix_ups(&self) -> [(Predict<'_>, &'static str); 6] {
@@ -229,7 +258,8 @@ impl<'a> Path<'a> {
 }
 
 /// The positions against the velocities rotated by the heading. Windows grow (doubling)
-/// until the relation holds; over the longest the mix-ups a user may have made are tried.
+/// until the relation holds; a misfit that the channels' noise explains is no finding;
+/// otherwise over the longest windows the mix-ups a user may have made are tried.
 pub(super) fn track(rec: &Record) -> Option<Finding> {
     let path = Path::of(rec)?;
     let holds = |(g, rel): ((f64, f64), f64)| {
@@ -246,6 +276,9 @@ pub(super) fn track(rec: &Record) -> Option<Finding> {
         last = Some((len, f));
     }
     let (len, ((gr, gi), rel)) = last?;
+    if path.within_noise(len) {
+        return None;
+    }
     let gain = gr.hypot(gi);
     let angle = gi.atan2(gr).to_degrees();
     let seen = format!(
