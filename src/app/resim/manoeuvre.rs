@@ -40,6 +40,11 @@ pub struct ManoeuvreComparison {
     /// the report's manoeuvre figures; not written to results.json.
     #[serde(skip)]
     pub model_history: Option<History>,
+    /// The model's wave frequency (rad/s) whose wave yaw was taken out of the run's heading
+    /// before it was measured ([`Model::wave_frequency`], `signal::wave_removed`), for a
+    /// model whose compass sees wave yaw.
+    #[serde(skip)]
+    pub waves_at: Option<f64>,
 }
 
 impl ManoeuvreComparison {
@@ -54,6 +59,14 @@ impl ManoeuvreComparison {
             self.model.as_ref().map_or(&[][..], |m| &m.checks[..]),
         )
         .with_notes(self.measured.notes("measured"))
+        .with_notes(self.waves_at.map(|w| {
+            format!(
+                "measured: read from the heading low-passed below half the wave frequency \
+                 {} rad/s (zero phase), as the compass also sees the wave yaw the model does \
+                 not sail",
+                crate::base::numfmt::num(w)
+            )
+        }))
         .with_notes(model_notes.map(|r| format!("IMO criteria (identified model): {r}")))
     }
 
@@ -176,7 +189,15 @@ fn compare_on<M: Model>(
         .position(|q| *q == surface.input())?;
     model.state_index(surface.watched())?;
     let deflection = rec.channel(surface.input())?;
-    let h = history_on(rec, surface)?;
+    // a compass that sees the wave yaw (Fossen 2011, 8.2): the manoeuvre is the slow heading
+    // the model sails, read below the wave band
+    let waves_at = model.wave_frequency(c).filter(|_| surface.is_rudder());
+    let h = match waves_at {
+        Some(w0) => history_on(rec, surface)?
+            .map_heading(|t, psi| crate::numerics::signal::wave_removed(t, psi, w0))
+            .ok()?,
+        None => history_on(rec, surface)?,
+    };
     let mut measured = manoeuvre::measure_history(&h, run.length, run.lambda, run.nominal).ok()?;
     if !surface.is_rudder() {
         measured.zigzag.as_ref()?;
@@ -191,10 +212,15 @@ fn compare_on<M: Model>(
         Input::Held(_) => Input::Held(helm_start),
         _ => Input::Series(helm_start),
     };
+    // the start from the run's first sample, of its slow part when the compass sees waves
+    let start = |v: &[f64]| match (waves_at, rec.time()) {
+        (Some(w0), Some(t)) => crate::numerics::signal::wave_removed(t, v, w0)[0],
+        _ => v[0],
+    };
     let x0: Vec<f64> = model
         .states()
         .iter()
-        .map(|s| rec.channel(s.quantity).map_or(0.0, |v| v[0]))
+        .map(|s| rec.channel(s.quantity).map_or(0.0, start))
         .collect();
     let (xs, note) = match crate::app::simulate::synth::steered(
         model,
@@ -212,6 +238,7 @@ fn compare_on<M: Model>(
                 model: None,
                 model_note: Some(format!("the steered model stopped: {e}")),
                 model_history: None,
+                waves_at,
             })
         }
     };
@@ -241,6 +268,7 @@ fn compare_on<M: Model>(
         model: model_measures,
         model_note: failure,
         model_history: history.ok(),
+        waves_at,
     })
 }
 
@@ -492,6 +520,95 @@ mod tests {
             nominal: Nominal::default(),
         };
         compare(&m, &c, rec, &inputs, 4, run).expect("a manoeuvre the model can sail")
+    }
+
+    /// A frigate's 20/20 zig-zag written here from Nomoto's first-order model (Fossen 2011,
+    /// 7.2: T r_dot + r = K delta, K 0.18 1/s, T 27 s, solved exactly over 0.01 s steps of a
+    /// rudder moving at 2.3 deg/s), the helm reversing on the ship's heading, logged every
+    /// 0.1 s by a compass and a gyro that also see a wave yaw of 3 deg at 0.8 rad/s.
+    fn frigate_zigzag_in_waves(wave: f64) -> Record {
+        use crate::base::quantity::Quantity as Q;
+        let (k, t_n, w0) = (0.18, 27.0, 0.8);
+        let (rate, rudder, check) = (2.3f64.to_radians(), 20f64.to_radians(), 20f64.to_radians());
+        let (mut r, mut psi, mut delta, mut target) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+        let mut cols: BTreeMap<Q, Vec<f64>> = BTreeMap::new();
+        for step in 0..=4000usize {
+            let t = step as f64 * 0.1;
+            let wave_yaw = wave * (w0 * t + 0.7).sin();
+            for (q, v) in [
+                (Q::Time, t),
+                (Q::Yaw, psi + wave_yaw),
+                (Q::R, r + wave * w0 * (w0 * t + 0.7).cos()),
+                (Q::Rudder, delta),
+            ] {
+                cols.entry(q).or_default().push(v);
+            }
+            if step == 100 {
+                target = rudder;
+            }
+            if step > 100 && psi * target.signum() >= check {
+                target = -target;
+            }
+            for _ in 0..10 {
+                let h = 0.01;
+                delta += (target - delta).clamp(-rate * h, rate * h);
+                let (steady, decay) = (k * delta, (-h / t_n).exp());
+                psi += steady * h + (r - steady) * t_n * (1.0 - decay);
+                r = steady + (r - steady) * decay;
+            }
+        }
+        Record::from_channels("zigzag", "zigzag.csv", cols)
+    }
+
+    /// The Nomoto wave model (the generator's K, T and waves) steered through the log's
+    /// zig-zag: its overshoots against the run's (first, second), and the raw compass's.
+    fn nomoto_overshoots(rec: &Record) -> ([f64; 2], [f64; 2], [f64; 2]) {
+        use crate::model::models::nomoto_wave::NomotoWave;
+        let m = NomotoWave::build(&NomotoWave::example_vehicle()).unwrap();
+        let c = vec![0.18, 1.0 / 27.0, 0.0, 0.8, 0.1];
+        let inputs = crate::dynamics::sim::InputSeries::from_record(m.inputs(), rec).unwrap();
+        let run = RunSettings {
+            length: 120.0,
+            lambda: None,
+            nominal: Nominal::default(),
+        };
+        let cmp = compare(&m, &c, rec, &inputs, 4, run).expect("a zig-zag");
+        assert_eq!(cmp.waves_at, Some(0.8));
+        let both = |z: &crate::dynamics::manoeuvre::ZigZag| {
+            [&z.first_overshoot, &z.second_overshoot].map(|o| o.value().unwrap().to_degrees())
+        };
+        let raw = manoeuvre::measure_history(
+            &history_on(rec, Surface::Rudder).unwrap(),
+            120.0,
+            None,
+            Nominal::default(),
+        )
+        .unwrap();
+        (
+            both(cmp.measured.zigzag.as_ref().unwrap()),
+            both(cmp.model.as_ref().unwrap().zigzag.as_ref().unwrap()),
+            both(raw.zigzag.as_ref().unwrap()),
+        )
+    }
+
+    #[test]
+    fn a_compass_that_sees_waves_is_measured_as_the_heading_the_model_sails() {
+        // issue 24 item 9: the compass's overshoots include the wave yaw, the model's not
+        let (run, model, raw) = nomoto_overshoots(&frigate_zigzag_in_waves(3f64.to_radians()));
+        let (calm, calm_model, _) = nomoto_overshoots(&frigate_zigzag_in_waves(0.0));
+        for i in 0..2 {
+            assert!((run[i] - model[i]).abs() < 0.3, "{run:?} {model:?} {raw:?}");
+            assert!((run[i] - calm[i]).abs() < 0.3, "{run:?} {calm:?}");
+            assert!(
+                (calm[i] - calm_model[i]).abs() < 0.3,
+                "{calm:?} {calm_model:?}"
+            );
+        }
+        // read from the raw compass, an overshoot is off by a degree or more
+        assert!(
+            (0..2).any(|i| (raw[i] - model[i]).abs() > 1.0),
+            "{raw:?} {model:?}"
+        );
     }
 
     /// A port-first 20/20 zig-zag and a 35 deg turning circle to port, each after an approach

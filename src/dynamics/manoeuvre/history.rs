@@ -116,6 +116,17 @@ impl History {
         Ok(v)
     }
 
+    /// The history with its heading replaced by `f(time, heading)` (e.g. a smoothed heading),
+    /// checked as [`History::new`] checks it.
+    pub fn map_heading(
+        mut self,
+        f: impl FnOnce(&[f64], &[f64]) -> Vec<f64>,
+    ) -> Result<Self, HistoryError> {
+        let heading = f(&self.time, &self.heading);
+        self.heading = self.series("heading", heading)?;
+        Ok(self)
+    }
+
     /// Adds the track: earth-frame positions x (north) and y (east), m.
     pub fn with_track(mut self, x: Vec<f64>, y: Vec<f64>) -> Result<Self, HistoryError> {
         self.track = Some((self.series("x", x)?, self.series("y", y)?));

@@ -271,6 +271,14 @@ pub trait Model: Send + Sync + Sized {
         None
     }
 
+    /// The peak frequency (rad/s) of a wave disturbance the model's compass sees on top of
+    /// the heading it steers (Fossen 2011, 8.2), from its coefficients; None (the default)
+    /// for a model whose heading is the measured one. The run's manoeuvre measures are then
+    /// read from the heading low-passed below it, as the model sails only the slow part.
+    fn wave_frequency(&self, _c: &[f64]) -> Option<f64> {
+        None
+    }
+
     /// Nomoto's K (1/s) and T (s) when the model is itself a Nomoto steering model (its
     /// coefficients hold them), for the autopilot's tuning; None (the default) otherwise.
     fn nomoto_gains(&self, _c: &[f64]) -> Option<(f64, f64)> {

@@ -212,6 +212,11 @@ impl Model for NomotoWave {
         crate::numerics::signal::spectral_peak(t, psi, 30.0, two_pi / 30.0, two_pi / 3.0)
     }
 
+    /// w0 of the wave-yaw model (Fossen 2011, 8.2.1), when positive.
+    fn wave_frequency(&self, c: &[f64]) -> Option<f64> {
+        (c[W0].is_finite() && c[W0] > 0.0).then_some(c[W0])
+    }
+
     fn nomoto_gains(&self, c: &[f64]) -> Option<(f64, f64)> {
         (c[INV_T] > 0.0).then(|| (c[K], 1.0 / c[INV_T]))
     }
