@@ -142,11 +142,7 @@ fn k_and_t(o: &Outcome) -> String {
 /// them, z to `decimals`.
 fn w0_said(o: &Outcome, decimals: usize) -> String {
     let w0 = o.row("w0");
-    format!(
-        "w0 {:+.1} % (z {:+.decimals$})",
-        w0.error_percent(),
-        w0.z
-    )
+    format!("w0 {:+.1} % (z {:+.decimals$})", w0.error_percent(), w0.z)
 }
 
 /// 5 s waves, w0 estimated from the compass spectrum on, the logged rudder read as hydroid
