@@ -4,6 +4,8 @@
 
 mod common;
 
+use common::accuracy::printed_as;
+
 use hydroid::model::models::mmg3::{KVLCC2, KVLCC2_RPS};
 use hydroid::model::models::{with_model, Model, ModelName, ModelVisitor};
 use hydroid::stages::captive::fit::{fit, Condition};
@@ -301,6 +303,40 @@ fn captive_runs_and_turning_circles_identified_jointly() {
             "{name}: joint {s}, captive alone {s_captive}"
         );
     }
+    // docs/hekf.md, "Joint estimate", at its printed digits: the sigmas of the turning circles
+    // alone (consider mode) and of the captive runs alone, and the joint estimates
+    let shown = |list: &serde_json::Value, name: &str, value: Option<&str>, sigma: &str| {
+        let c = common::named(list, name);
+        let s = printed_as(c["sigma"].as_f64().unwrap(), sigma);
+        match value {
+            Some(v) => format!(
+                "{name} {} +- {s}",
+                printed_as(c["value"].as_f64().unwrap(), v)
+            ),
+            None => format!("{name} +-{s}"),
+        }
+    };
+    let (j, c) = (&joint["coefficients"], &consider["coefficients"]);
+    assert_eq!(
+        [
+            shown(c, "Yvvr_p", None, "0.20"),
+            shown(c, "Nvvv_p", None, "0.028"),
+            shown(captive_alone, "Yv_p", None, "0.0015"),
+            shown(j, "Yv_p", Some("-0.3136"), "0.0009"),
+            shown(j, "Nv_p", Some("-0.1369"), "0.0003"),
+            shown(j, "Yvvr_p", Some("0.374"), "0.006"),
+            shown(j, "Nvvv_p", Some("-0.037"), "0.004"),
+        ],
+        [
+            "Yvvr_p +-0.20",
+            "Nvvv_p +-0.028",
+            "Yv_p +-0.0015",
+            "Yv_p -0.3136 +- 0.0009",
+            "Nv_p -0.1369 +- 0.0003",
+            "Yvvr_p 0.374 +- 0.006",
+            "Nvvv_p -0.037 +- 0.004",
+        ]
+    );
 }
 
 /// Captive runs given as CFD force histories, one held motion each (time, Fx, Fy, Mz; the
