@@ -371,6 +371,7 @@ fn from<'a>(run: &'a Value, section: &str, key: &str) -> &'a str {
 fn marin_turning_circles_agree_with_the_reference() {
     const L: f64 = 320.0;
     let runs = hydroid_measures("marin_kvlcc2.toml", true);
+    let mut steady = Vec::new();
     for (run, file) in [
         (&runs[0], "MARIN_FREE_KVLCC2_tc_35_m.dat"),
         (&runs[1], "MARIN_FREE_KVLCC2_tc_-35_m.dat"),
@@ -396,6 +397,7 @@ fn marin_turning_circles_agree_with_the_reference() {
             "L",
         );
         let sd = si(run, tc, "steady_diameter") / L;
+        steady.push(format!("{sd:.2} L"));
         agree(
             name,
             "steady diameter / L",
@@ -420,6 +422,8 @@ fn marin_turning_circles_agree_with_the_reference() {
         // the IMO turning criteria are judged (4.5 L and 5 L)
         assert_eq!(run["checks"].as_array().unwrap().len(), 2, "{run}");
     }
+    // docs/manoeuvres.md: "the steady turning diameter is 2.42 L and 2.58 L"
+    assert_eq!(steady, ["2.42 L", "2.58 L"]);
     // without the configured angle, 35 deg is inferred from the rudder held
     let inferred = hydroid_measures("marin_kvlcc2.toml", false);
     for run in &inferred[..2] {
