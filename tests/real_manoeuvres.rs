@@ -492,6 +492,24 @@ fn marin_zigzag_agrees_with_the_reference_and_is_judged() {
         let expected = if given { "given" } else { "inferred" };
         assert_eq!(from(run, "zigzag", "heading_angle_from"), expected);
         assert_eq!(from(run, "zigzag", "rudder_angle_from"), expected);
+        if !given {
+            // docs/manoeuvres.md: "inferred from the rudder held at 19.5 deg; ... inferred
+            // from the reversal at 21.1 deg" (MARIN's 20/20, reversed late)
+            let measured = |key: &str| {
+                run["zigzag"][key]["measured"]
+                    .as_f64()
+                    .unwrap_or_else(|| panic!("{key}: {run}"))
+                    .to_degrees()
+            };
+            assert_eq!(
+                format!(
+                    "rudder held at {:.1} deg, reversal at {:.1} deg",
+                    measured("rudder_angle_from"),
+                    measured("heading_angle_from")
+                ),
+                "rudder held at 19.5 deg, reversal at 21.1 deg"
+            );
+        }
         // a 20/20: its first overshoot is judged against 25 deg (MSC.137(76) 5.3.3.3)
         let checks = run["checks"].as_array().unwrap();
         assert_eq!(checks.len(), 1, "{run}");
