@@ -4,6 +4,8 @@
 
 mod common;
 
+use common::accuracy::printed_as;
+
 use hydroid::model::models::mmg3::{KVLCC2, KVLCC2_RPS};
 use hydroid::model::models::{with_model, Model, ModelName, ModelVisitor};
 use hydroid::stages::captive::fit::{fit, Condition};
@@ -190,6 +192,37 @@ fn the_bundled_ship_captive_programme_gives_the_hull_derivatives() {
         let n = n.as_f64().unwrap();
         assert!((n / simulated - 1.0).abs() < 0.25, "{n} vs {simulated}");
     }
+    // docs/stages.md at its printed digits: "Y'v -0.3148 +- 0.0015, N'v -0.1364 +- 0.0006,
+    // N'r -0.0492 +- 0.0003; the cubic ones to 0.1-34 %), the noise found 0.23 N, 1.90 N,
+    // 5.2 N m"
+    let rows = against_truth(&r);
+    let row = |name: &str| *rows.iter().find(|x| x.0 == name).unwrap();
+    let linear: Vec<String> = [("Yv_p", 4), ("Nv_p", 4), ("Nr_p", 4)]
+        .iter()
+        .map(|&(name, d)| {
+            let (_, v, s, _) = row(name);
+            format!("{name} {v:.d$} +- {s:.d$}")
+        })
+        .collect();
+    let cubic: Vec<f64> = rows
+        .iter()
+        .filter(|x| x.0.len() > 4)
+        .map(|x| (100.0 * (x.1 / x.3 - 1.0)).abs())
+        .collect();
+    let n: Vec<f64> = noise.iter().map(|n| n.as_f64().unwrap()).collect();
+    assert_eq!(
+        format!(
+            "{}; cubic {:.1}-{:.0} %; noise {:.2} N, {:.2} N, {:.1} N m",
+            linear.join(", "),
+            cubic.iter().copied().fold(f64::MAX, f64::min),
+            cubic.iter().copied().fold(0.0, f64::max),
+            n[0],
+            n[1],
+            n[2]
+        ),
+        "Yv_p -0.3148 +- 0.0015, Nv_p -0.1364 +- 0.0006, Nr_p -0.0492 +- 0.0003; cubic 0.1-34 %; \
+         noise 0.23 N, 1.90 N, 5.2 N m"
+    );
     let schema = common::json(&common::root().join("docs/results.schema.json"));
     let validator = jsonschema::draft202012::new(&schema).unwrap();
     let errors: Vec<String> = validator.iter_errors(&r).map(|e| e.to_string()).collect();
@@ -301,6 +334,40 @@ fn captive_runs_and_turning_circles_identified_jointly() {
             "{name}: joint {s}, captive alone {s_captive}"
         );
     }
+    // docs/hekf.md, "Joint estimate", at its printed digits: the sigmas of the turning circles
+    // alone (consider mode) and of the captive runs alone, and the joint estimates
+    let shown = |list: &serde_json::Value, name: &str, value: Option<&str>, sigma: &str| {
+        let c = common::named(list, name);
+        let s = printed_as(c["sigma"].as_f64().unwrap(), sigma);
+        match value {
+            Some(v) => format!(
+                "{name} {} +- {s}",
+                printed_as(c["value"].as_f64().unwrap(), v)
+            ),
+            None => format!("{name} +-{s}"),
+        }
+    };
+    let (j, c) = (&joint["coefficients"], &consider["coefficients"]);
+    assert_eq!(
+        [
+            shown(c, "Yvvr_p", None, "0.20"),
+            shown(c, "Nvvv_p", None, "0.028"),
+            shown(captive_alone, "Yv_p", None, "0.0015"),
+            shown(j, "Yv_p", Some("-0.3136"), "0.0009"),
+            shown(j, "Nv_p", Some("-0.1369"), "0.0003"),
+            shown(j, "Yvvr_p", Some("0.374"), "0.006"),
+            shown(j, "Nvvv_p", Some("-0.037"), "0.004"),
+        ],
+        [
+            "Yvvr_p +-0.20",
+            "Nvvv_p +-0.028",
+            "Yv_p +-0.0015",
+            "Yv_p -0.3136 +- 0.0009",
+            "Nv_p -0.1369 +- 0.0003",
+            "Yvvr_p 0.374 +- 0.006",
+            "Nvvv_p -0.037 +- 0.004",
+        ]
+    );
 }
 
 /// Captive runs given as CFD force histories, one held motion each (time, Fx, Fy, Mz; the
@@ -460,4 +527,20 @@ fn pmm_runs_give_the_mmg_added_masses() {
         );
         assert!(s < 0.1 * truth.abs(), "{name} = {v} ± {s}: not determined");
     }
+    // docs/stages.md: "m'_y 0.2230 +- 0.0003 and J'_z 0.01100 +- 0.00003", at its digits
+    let shown = |name: &str, like_v: &str, like_s: &str| {
+        let c = common::named(&r["stages"]["captive"]["coefficients"], name);
+        format!(
+            "{name} {} +- {}",
+            printed_as(c["value"].as_f64().unwrap(), like_v),
+            printed_as(c["sigma"].as_f64().unwrap(), like_s)
+        )
+    };
+    assert_eq!(
+        [
+            shown("my_p", "0.2230", "0.0003"),
+            shown("Jz_p", "0.01100", "0.00003")
+        ],
+        ["my_p 0.2230 +- 0.0003", "Jz_p 0.01100 +- 0.00003"]
+    );
 }

@@ -91,6 +91,11 @@ fn ship_manoeuvres_steered_by_the_helm_are_measured() {
         (tactical - 3.2).abs() < 0.35,
         "tactical diameter {tactical} L"
     );
+    // README.md: "advance 3.08 L, tactical diameter 3.12 L", at its printed digits
+    assert_eq!(
+        format!("advance {advance:.2} L, tactical diameter {tactical:.2} L"),
+        "advance 3.08 L, tactical diameter 3.12 L"
+    );
     assert_eq!(
         turn["side"], "starboard",
         "a positive rudder turns mmg3 to starboard"

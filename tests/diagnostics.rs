@@ -314,7 +314,8 @@ fn a_wrong_constant_thrust_is_named_not_hidden() {
         e.contains("the constant thrust of 30.00 N does not fit the motion"),
         "{e}"
     );
-    assert!(e.contains("implies 21.8"), "{e}");
+    // docs/hekf.md: "implies 21.84 +- 0.1020 N"
+    assert!(e.contains("implies 21.84 +- 0.1020 N"), "{e}");
     assert!(e.contains("mean NIS"), "{e}");
     let r = results(dir.path());
     assert_eq!(warnings_with(&r, "does not fit the motion").len(), 1);

@@ -302,3 +302,34 @@ fn simulated_turn(dir: &std::path::Path, seconds: &str, name: &str) -> std::path
     assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
     csv
 }
+
+/// docs/hekf.md, "Long runs and memory": the estimates for the bundled configuration pointed at
+/// a million-row manoeuvre (docs/performance.md's run_1m.toml: that fit run and the 501-row
+/// validation run), at its printed digits: 747 MB, over a 700 MB limit, with one sample in 2
+/// (651 MB) or the smoother off (699 MB) offered; at a 600 MB limit one sample in 5 (594 MB).
+#[test]
+fn the_estimates_docs_hekf_prints_for_a_million_rows() {
+    let demand = Demand {
+        rows: 1_000_001 + 501,
+        fit_rows: vec![1_000_001],
+        states: 6,
+    };
+    let at = |megabytes: u64| {
+        let limit = memory::Supply {
+            bytes: megabytes * 1_000_000,
+            source: "set in hekf.memory_limit".into(),
+        };
+        memory::check(&demand, 1, true, &limit).unwrap_err()
+    };
+    assert_eq!(
+        at(700),
+        "the run would need about 747 MB of memory (1000001 filter samples of 1 run, smoother \
+         on), more than the 700 MB set in hekf.memory_limit: set `hekf.decimate = 2` (one sample \
+         in 2, about 651 MB) or `hekf.smoother = false` (about 699 MB)"
+    );
+    let e = at(600);
+    assert!(
+        e.contains("set `hekf.decimate = 5` (one sample in 5, about 594 MB)"),
+        "{e}"
+    );
+}

@@ -127,6 +127,11 @@ fn a_total_polar_read_as_total_keeps_its_moment_and_recovers_the_lift_part() {
         report.contains("is the lift moment only; the Munk moment Nuva"),
         "{report}"
     );
+    // docs/stages.md: "Nuv -31.4 kg instead of -9.07", at its printed digits
+    assert_eq!(
+        format!("Nuv {double:.1} kg instead of {:.2}", value(&total, "Nuv")),
+        "Nuv -31.4 kg instead of -9.07"
+    );
     eprintln!(
         "polar Nuv {slope}; total: Nuvl {} Yvd {}; lift-only: Nuv {double} Nuvl {}",
         value(&total, "Nuvl"),

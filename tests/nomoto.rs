@@ -317,6 +317,42 @@ fn the_bundled_autopilot_calms_the_rudder_with_the_filtered_heading() {
     let schema = common::json(&root().join("docs/results.schema.json"));
     let validator = jsonschema::draft202012::new(&schema).unwrap();
     assert!(validator.is_valid(&r));
+    // docs/models/nomoto.md, "The autopilot", at its printed digits (rates and errors RMS)
+    let deg = |v: &serde_json::Value, k: &str| get(v, k).to_degrees();
+    assert_eq!(
+        format!(
+            "K = {:.4} 1/s and T = {:.2} s give K_p = {:.3}, K_d = {:.2} s, K_i = {:.4} 1/s; raw \
+             {:.2} deg/s with {:.2} deg; filtered {:.2} deg/s with {:.2} deg",
+            get(a, "k"),
+            get(a, "t"),
+            get(&a["gains"], "kp"),
+            get(&a["gains"], "kd"),
+            get(&a["gains"], "ki"),
+            deg(raw, "rudder_rate_rms"),
+            deg(raw, "heading_error_rms"),
+            deg(filtered, "rudder_rate_rms"),
+            deg(filtered, "heading_error_rms")
+        ),
+        "K = 0.1800 1/s and T = 26.99 s give K_p = 0.375, K_d = 7.94 s, K_i = 0.0019 1/s; raw \
+         2.25 deg/s with 1.98 deg; filtered 0.57 deg/s with 1.40 deg"
+    );
+    // docs/models/nomoto.md, "The bundled example": its table at the printed digits
+    let c = |name: &str| {
+        let c = common::named(&r["coefficients"], name);
+        (c["value"].as_f64().unwrap(), c["sigma"].as_f64().unwrap())
+    };
+    let ((k, sk), (inv_t, st), (d0, sd)) = (c("K"), c("inv_T"), c("delta0"));
+    assert_eq!(
+        format!(
+            "K {k:.4} ± {sk:.4}; 1/T {inv_t:.5} ± {st:.5} (T = {:.2} ± {:.2} s); delta0 {:.3} ± \
+             {:.3} deg",
+            1.0 / inv_t,
+            st / (inv_t * inv_t),
+            d0.to_degrees(),
+            sd.to_degrees()
+        ),
+        "K 0.1800 ± 0.0011; 1/T 0.03705 ± 0.00029 (T = 26.99 ± 0.21 s); delta0 1.002 ± 0.044 deg"
+    );
 }
 
 /// Bad autopilot and process-noise values are named with their key (and line).

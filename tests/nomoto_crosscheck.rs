@@ -318,7 +318,29 @@ const SLOW_ZIGZAG: Manoeuvre = Manoeuvre {
 fn k_and_t_of_the_identified_ship_agree_with_those_of_a_first_order_fit() {
     let truth = clarke_ship().sys.nomoto().unwrap();
     // (A) the ship model identified from its 20/20 zig-zag, linearised at the approach
-    let a = indices(&run_config(&root().join("configs/ship150.toml")));
+    let a_run = run_config(&root().join("configs/ship150.toml"));
+    let a = indices(&a_run);
+    let at = &a_run.result.steering.as_ref().unwrap().at;
+    assert!(at.contains("u = 7.997 m/s"), "{at}");
+    // docs/models/nomoto.md: configs/ship150.toml's b1, b2, b3, c1, c2, c3 against the truth
+    let errors: Vec<String> = clarke_ship()
+        .params
+        .iter()
+        .filter(|p| p.0 != "b4")
+        .map(|(name, t)| {
+            let c = a_run
+                .result
+                .coefficients
+                .iter()
+                .find(|c| c.name == *name)
+                .expect("an estimate");
+            format!("{name} {:+.2} %", 100.0 * (c.value / t - 1.0))
+        })
+        .collect();
+    assert_eq!(
+        errors.join(", "),
+        "b1 -0.38 %, b2 +0.35 %, b3 +0.14 %, c1 -0.21 %, c2 -0.14 %, c3 -0.01 %"
+    );
     // (B) the same ship's heading in a slow 2/170 zig-zag in waves, fitted by Nomoto's first
     // order
     let b = first_order_fit(&SLOW_ZIGZAG, 7);
@@ -334,6 +356,37 @@ fn k_and_t_of_the_identified_ship_agree_with_those_of_a_first_order_fit() {
         (a.t - b.t).abs() <= combined(a.t_sigma, b.t_sigma),
         "T: (A) {a:?}, (B) {b:?}"
     );
+    // docs/models/nomoto.md's table of the cross-check, at its printed digits
+    let pct = |x: f64, t: f64| 100.0 * (x / t - 1.0);
+    let row = |x: Indices| {
+        format!(
+            "{:.5} ± {:.5} ({:+.2} %) | {:.2} ± {:.2} ({:+.2} %)",
+            x.k,
+            x.k_sigma,
+            pct(x.k, truth.k),
+            x.t,
+            x.t_sigma,
+            pct(x.t, truth.t)
+        )
+    };
+    assert_eq!(
+        [
+            row(a),
+            row(b),
+            format!(
+                "{:.5} ≤ {:.5} | {:.2} ≤ {:.2}",
+                (a.k - b.k).abs(),
+                combined(a.k_sigma, b.k_sigma),
+                (a.t - b.t).abs(),
+                combined(a.t_sigma, b.t_sigma)
+            )
+        ],
+        [
+            "0.12258 ± 0.00010 (-0.06 %) | 80.00 ± 0.09 (-0.06 %)",
+            "0.12187 ± 0.00078 (-0.64 %) | 78.71 ± 1.86 (-1.67 %)",
+            "0.00071 ≤ 0.00158 | 1.29 ≤ 3.72"
+        ]
+    );
     for (label, x) in [("A", a), ("B", b)] {
         assert!(
             ((x.k - truth.k) / truth.k).abs() < 0.03,
@@ -346,6 +399,37 @@ fn k_and_t_of_the_identified_ship_agree_with_those_of_a_first_order_fit() {
             truth.t
         );
     }
+}
+
+/// The bundled 150 m ship log in waves (cfd_exports/ship150_nomoto_waves.csv, made by
+/// nomoto_wave with the ship's K = 0.12265 1/s and T = 80.04 s, a 1 deg bias) identified by
+/// configs/nomoto_ship150.toml: docs/models/nomoto.md's table at its printed digits.
+#[test]
+fn the_bundled_150_m_ship_log_gives_the_table_of_the_docs() {
+    let out = run_config(&root().join("configs/nomoto_ship150.toml"));
+    let c = |name: &str| {
+        let c = out
+            .result
+            .coefficients
+            .iter()
+            .find(|c| c.name == name)
+            .expect("an estimate");
+        (c.value, c.sigma.expect("a sigma"))
+    };
+    let ((k, sk), (inv_t, st), (d0, sd)) = (c("K"), c("inv_T"), c("delta0"));
+    assert_eq!(
+        format!(
+            "K {k:.4} ± {sk:.4} ({:+.2} %); 1/T {inv_t:.5} ± {st:.5} (T = {:.2} ± {:.2} s); \
+             delta0 {:.3} ± {:.3} deg",
+            100.0 * (k / 0.122653 - 1.0),
+            1.0 / inv_t,
+            st / (inv_t * inv_t),
+            d0.to_degrees(),
+            sd.to_degrees()
+        ),
+        "K 0.1226 ± 0.0014 (-0.04 %); 1/T 0.01250 ± 0.00016 (T = 80.02 ± 1.01 s); delta0 1.001 \
+         ± 0.047 deg"
+    );
 }
 
 /// The table "The first-order fit depends on the manoeuvre" of docs/models/nomoto.md: the

@@ -134,6 +134,11 @@ fn straight_line_speed_settles_and_grows_with_rpm() {
          {u1000:.5} at 1000 rpm ({change1000:.1e}), {u1500:.5} at 1500 rpm"
     );
     assert!(u1500 > u1000 && (0.3..3.0).contains(&u1500), "{u1500}");
+    // docs/models/npsauv.md, "Straight line", at its printed digits
+    assert_eq!(
+        format!("{u500:.5} ({change500:.1e}), {u1000:.5}, {u1500:.5}"),
+        "0.62833 (6.8e-6), 1.25664, 1.88496"
+    );
 }
 
 /// (c) Turn and pitch directions. Fossen's and SNAME's convention, with the published signs
@@ -142,8 +147,8 @@ fn straight_line_speed_settles_and_grows_with_rpm() {
 /// rudder angle gives a negative yaw moment). M_delta_s = -0.041: a positive stern-plane
 /// angle pitches the nose down (q < 0, theta < 0) and the vehicle goes deeper (z grows, z
 /// down). Measured from 0.628 m/s at 500 rpm, 60 s after the step: rudder 10 deg gives
-/// r = -0.0198 rad/s, psi = -1.064 rad, y = -13.3 m; stern planes 10 deg give theta =
-/// -0.0996 rad and z = +1.87 m.
+/// r = -0.0202 rad/s, psi = -1.079 rad, y = -13.4 m; stern planes 10 deg give theta =
+/// -0.0997 rad and z = +1.87 m.
 #[test]
 fn rudder_turns_to_port_and_stern_planes_pitch_nose_down() {
     let (m, c) = published();
@@ -157,6 +162,11 @@ fn rudder_turns_to_port_and_stern_planes_pitch_nose_down() {
         x[5], x[11], x[7]
     );
     assert!(x[5] < 0.0 && x[11] < -0.1, "r = {}, psi = {}", x[5], x[11]);
+    // docs/models/npsauv.md, "Turn and pitch direction", at its printed digits
+    assert_eq!(
+        format!("r = {:.4}, psi = {:.3}, y = {:.1}", x[5], x[11], x[7]),
+        "r = -0.0202, psi = -1.079, y = -13.4"
+    );
     // the other way round for a negative rudder angle
     let xs = run(&m, &c, &ahead(u0), &[-ten, 0.0, 0.0, n], 60.0, 0.5);
     let y = xs.last().unwrap();
@@ -170,6 +180,10 @@ fn rudder_turns_to_port_and_stern_planes_pitch_nose_down() {
     );
     assert!(x[10] < -0.01, "theta = {}", x[10]);
     assert!(x[8] > 0.1, "z = {}", x[8]);
+    assert_eq!(
+        format!("theta = {:.4}, z = {:+.2}", x[10], x[8]),
+        "theta = -0.0997, z = +1.87"
+    );
     // the stern planes alone hardly touch the horizontal plane (only through the products
     // of inertia, 13.58 kg m^2)
     assert!(x[5].abs() < 1e-6 && x[9].abs() < 1e-6, "{x:?}");
@@ -177,10 +191,10 @@ fn rudder_turns_to_port_and_stern_planes_pitch_nose_down() {
 
 /// (d) The paper's helix: rudder and stern planes at 10 deg (0.175 rad), 500 rpm, from the
 /// straight-line speed. After the transient the turn rate, the speed and the rate of depth
-/// change settle: a helix. Measured (last 200 s of 800 s): r = -0.01670 rad/s (a turn to
-/// port, period 376 s, radius u / |r| = 31.9 m), u = 0.5332 m/s, dz/dt = +0.0198 m/s
-/// (descending 7.4 m per turn), theta = -0.0841 rad, phi = +0.0104 rad; the turn rate varies
-/// by 6.7e-7 rad/s over those 200 s.
+/// change settle: a helix. Measured (last 200 s of 800 s): r = -0.01697 rad/s (a turn to
+/// port, period 370 s, radius u / |r| = 31.3 m), u = 0.5316 m/s, dz/dt = +0.0195 m/s
+/// (descending 7.2 m per turn), theta = -0.0839 rad, phi = +0.0106 rad; the turn rate varies
+/// by 6.8e-7 rad/s over those 200 s.
 #[test]
 fn the_papers_helix_turns_and_descends_steadily() {
     let (m, c) = published();
@@ -227,6 +241,19 @@ fn the_papers_helix_turns_and_descends_steadily() {
     assert!(
         (z_rate_1 - z_rate_2).abs() < 0.02 * z_rate.abs(),
         "depth rate not steady: {z_rate_1} vs {z_rate_2}"
+    );
+    // docs/models/npsauv.md, "The paper's helix", at its printed digits
+    let period = 2.0 * std::f64::consts::PI / r.abs();
+    assert_eq!(
+        format!(
+            "r = {r:.5} (period {period:.0} s, radius {:.1} m), u = {u:.4}, dz/dt = {z_rate:+.4} \
+             ({:.1} m per turn), theta = {theta:.4}, phi = {phi:+.4}; r varies by {:.1e}",
+            u / r.abs(),
+            z_rate * period,
+            spread(5)
+        ),
+        "r = -0.01697 (period 370 s, radius 31.3 m), u = 0.5316, dz/dt = +0.0195 (7.2 m per \
+         turn), theta = -0.0839, phi = +0.0106; r varies by 6.8e-7"
     );
 }
 

@@ -66,6 +66,9 @@ fn the_bundled_helix_identifies_the_papers_17_within_two_sigma() {
             helix.table()
         );
     }
+    // "Np (94 % off)"
+    let np = helix.row("Np");
+    assert_eq!(format!("{:.0}", np.error_percent().abs()), "94");
     let nv = helix.row("Nv");
     assert_eq!(format!("{:.1}", nv.error_percent().abs()), "2.9");
     assert_eq!(
@@ -232,6 +235,17 @@ fn the_helix_and_a_horizontal_zigzag_jointly_determine_all_17() {
         );
         assert!(row.error_percent().abs() < 0.7, "{}\n{table}", row.name);
     }
+    // README.md and docs/models/npsauv.md: "Np and Yp to 2.0 and 3.5 %", at the printed digits
+    let relative = |name: &str| {
+        let r = joint.row(name);
+        format!("{:.1} %", 100.0 * r.sigma / r.estimate.abs())
+    };
+    assert_eq!(
+        [relative("Np"), relative("Yp")],
+        ["2.0 %", "3.5 %"],
+        "{}",
+        joint.table()
+    );
     // no advice at all (the key absent) when every coefficient is determined
     let none = Vec::new();
     let advice = r["stages"]["hekf"]["identifiability"]

@@ -371,6 +371,7 @@ fn from<'a>(run: &'a Value, section: &str, key: &str) -> &'a str {
 fn marin_turning_circles_agree_with_the_reference() {
     const L: f64 = 320.0;
     let runs = hydroid_measures("marin_kvlcc2.toml", true);
+    let mut steady = Vec::new();
     for (run, file) in [
         (&runs[0], "MARIN_FREE_KVLCC2_tc_35_m.dat"),
         (&runs[1], "MARIN_FREE_KVLCC2_tc_-35_m.dat"),
@@ -396,6 +397,7 @@ fn marin_turning_circles_agree_with_the_reference() {
             "L",
         );
         let sd = si(run, tc, "steady_diameter") / L;
+        steady.push(format!("{sd:.2} L"));
         agree(
             name,
             "steady diameter / L",
@@ -420,6 +422,8 @@ fn marin_turning_circles_agree_with_the_reference() {
         // the IMO turning criteria are judged (4.5 L and 5 L)
         assert_eq!(run["checks"].as_array().unwrap().len(), 2, "{run}");
     }
+    // docs/manoeuvres.md: "the steady turning diameter is 2.42 L and 2.58 L"
+    assert_eq!(steady, ["2.42 L", "2.58 L"]);
     // without the configured angle, 35 deg is inferred from the rudder held
     let inferred = hydroid_measures("marin_kvlcc2.toml", false);
     for run in &inferred[..2] {
@@ -488,6 +492,24 @@ fn marin_zigzag_agrees_with_the_reference_and_is_judged() {
         let expected = if given { "given" } else { "inferred" };
         assert_eq!(from(run, "zigzag", "heading_angle_from"), expected);
         assert_eq!(from(run, "zigzag", "rudder_angle_from"), expected);
+        if !given {
+            // docs/manoeuvres.md: "inferred from the rudder held at 19.5 deg; ... inferred
+            // from the reversal at 21.1 deg" (MARIN's 20/20, reversed late)
+            let measured = |key: &str| {
+                run["zigzag"][key]["measured"]
+                    .as_f64()
+                    .unwrap_or_else(|| panic!("{key}: {run}"))
+                    .to_degrees()
+            };
+            assert_eq!(
+                format!(
+                    "rudder held at {:.1} deg, reversal at {:.1} deg",
+                    measured("rudder_angle_from"),
+                    measured("heading_angle_from")
+                ),
+                "rudder held at 19.5 deg, reversal at 21.1 deg"
+            );
+        }
         // a 20/20: its first overshoot is judged against 25 deg (MSC.137(76) 5.3.3.3)
         let checks = run["checks"].as_array().unwrap();
         assert_eq!(checks.len(), 1, "{run}");

@@ -223,6 +223,29 @@ fn turns_to_both_sides_identify_all_sixteen_parameters() {
     // the surge terms of the turn (a2-a7) within 1 % to 35 %, correlated up to 0.98 (a7 with
     // a3)
     assert_eq!(format!("{:.2}", largest_correlation(&r)), "0.98");
+    // docs/models/ships.md: "a6 and a5 are correlated at -0.96, a7 and a3 at -0.98, a9 and a8
+    // at -0.93, b3 and b2 at -0.92 ..., c3 and c2 at -0.87"
+    let pairs = [
+        ("a6", "a5"),
+        ("a7", "a3"),
+        ("a9", "a8"),
+        ("b3", "b2"),
+        ("c3", "c2"),
+    ];
+    let said: Vec<String> = pairs
+        .iter()
+        .map(|(a, b)| format!("{a} {b} {:+.2}", correlation(&r, a, b)))
+        .collect();
+    assert_eq!(
+        said,
+        [
+            "a6 a5 -0.96",
+            "a7 a3 -0.98",
+            "a9 a8 -0.93",
+            "b3 b2 -0.92",
+            "c3 c2 -0.87"
+        ]
+    );
     for name in ["a2", "a3", "a4", "a5", "a6", "a7"] {
         let e = accuracy.row(name).error_percent().abs();
         assert!(
@@ -249,6 +272,13 @@ fn turns_to_both_sides_identify_all_sixteen_parameters() {
         let e = accuracy.row(name).error_percent().abs();
         assert!(e < 1.7, "{name}: {e}\n{}", accuracy.table());
     }
+}
+
+/// The correlation of the estimates `a` and `b` of `r`.
+fn correlation(r: &HekfResult, a: &str, b: &str) -> f64 {
+    let k = &r.correlation;
+    let at = |n: &str| k.names.iter().position(|x| x == n).expect("an estimate");
+    k.matrix[at(a)][at(b)]
 }
 
 /// The largest |correlation| between two estimates of `r`; each above 0.8 printed.

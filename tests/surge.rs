@@ -151,6 +151,23 @@ fn speed_bins_each_estimate_xud() {
     let spread = r.bin_spread.as_ref().unwrap();
     assert_eq!(spread.values.len(), 4);
     assert!(spread.p_value.unwrap() > 0.001, "{spread:?}");
+    // docs/stages.md: "the four bins give -1.157 +- 0.013, -1.181 +- 0.014, -1.179 +- 0.010
+    // and -1.168 +- 0.008 kg (chi^2 = 2.4 on 3 dof)", at its printed digits
+    let bins: Vec<String> = spread
+        .values
+        .iter()
+        .zip(&spread.sigmas)
+        .map(|(v, s)| format!("{v:.3} +- {:.3}", s.unwrap()))
+        .collect();
+    assert_eq!(
+        format!(
+            "{} (chi^2 = {:.1} on {} dof)",
+            bins.join(", "),
+            spread.chi2.unwrap(),
+            spread.dof
+        ),
+        "-1.157 +- 0.013, -1.181 +- 0.014, -1.179 +- 0.010, -1.168 +- 0.008 (chi^2 = 2.4 on 3 dof)"
+    );
 }
 
 #[test]

@@ -190,3 +190,61 @@ fn the_kcs_vehicle_file_turns_like_a_container_ship() {
         assert!(d("rudder", 15.0).1 > d("rudder", 35.0).1, "{side}");
     }
 }
+
+/// The columns `(advance, tactical diameter)` in ship lengths of the sweep `config`'s cases
+/// that vary `varies` on `side`, in the order of sweep.csv.
+fn lengths(config: &str, varies: &str, side: &str) -> Vec<(f64, f64)> {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("sweep");
+    let o = hydroid(&["simulate", config, "--out", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let csv = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
+    rows(&csv)
+        .iter()
+        .filter(|r| r[0] == varies && r[3] == side)
+        .map(|r| (r[6].parse().unwrap(), r[9].parse().unwrap()))
+        .collect()
+}
+
+/// docs/simulate.md and docs/models/ships.md at their printed digits: the tactical diameter
+/// of the KVLCC2 and of the KCS from 10 to 35 deg of rudder, to either side, and at 15 deg
+/// at each speed; the KCS's 35 deg advance and tactical diameter.
+#[test]
+fn the_sweeps_give_the_diameters_of_the_docs() {
+    let said = |config: &str| {
+        let (sb, port) = (
+            lengths(config, "rudder", "starboard"),
+            lengths(config, "rudder", "port"),
+        );
+        let speeds: Vec<String> = lengths(config, "speed", "starboard")
+            .iter()
+            .map(|d| format!("{:.2}", d.1))
+            .collect();
+        format!(
+            "starboard {:.1} L at 10 deg to {:.1} L at 35 deg, port {:.1} L to {:.1} L; 35 deg: \
+             advance {:.2} L, tactical {:.2} L to starboard, {:.2} L and {:.2} L to port; 15 deg \
+             at each speed: {}",
+            sb[0].1,
+            sb[3].1,
+            port[0].1,
+            port[3].1,
+            sb[3].0,
+            sb[3].1,
+            port[3].0,
+            port[3].1,
+            speeds.join(", ")
+        )
+    };
+    assert_eq!(
+        said(SWEEP),
+        "starboard 6.6 L at 10 deg to 3.1 L at 35 deg, port 5.6 L to 3.1 L; 35 deg: advance \
+         3.08 L, tactical 3.12 L to starboard, 3.09 L and 3.10 L to port; 15 deg at each speed: \
+         5.17, 5.17, 5.17"
+    );
+    assert_eq!(
+        said("configs/simulate/kcs_sweep.toml"),
+        "starboard 6.9 L at 10 deg to 3.2 L at 35 deg, port 6.3 L to 3.3 L; 35 deg: advance \
+         3.19 L, tactical 3.21 L to starboard, 3.22 L and 3.29 L to port; 15 deg at each speed: \
+         5.45, 5.45, 5.45"
+    );
+}
