@@ -200,6 +200,29 @@ impl Staging {
 
     /// Writes a file (path relative to the folder).
     pub fn write(&self, rel: &str, bytes: &[u8]) -> Result<()> {
+        let path = self.file_path(rel)?;
+        std::fs::write(&path, bytes).map_err(|e| self.as_target(Error::write(&path, e)))
+    }
+
+    /// Writes a file (path relative to the folder) as `fill` streams it, through a buffer:
+    /// for a file too large to assemble in memory first. Like every file of the folder, it
+    /// is in the output only once the whole folder is put in place ([`Staging::commit`]).
+    pub fn write_stream(
+        &self,
+        rel: &str,
+        fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+    ) -> Result<()> {
+        let path = self.file_path(rel)?;
+        let written = File::create(&path).and_then(|f| {
+            let mut w = std::io::BufWriter::with_capacity(1 << 16, f);
+            fill(&mut w)?;
+            w.into_inner().map(drop).map_err(|e| e.into_error())
+        });
+        written.map_err(|e| self.as_target(Error::write(&path, e)))
+    }
+
+    /// The staged path of a file (path relative to the folder), its folders created.
+    fn file_path(&self, rel: &str) -> Result<PathBuf> {
         let dir = match rel.rsplit_once('/') {
             Some((d, _)) => self.create_dir(d)?,
             None => self.out.clone(),
@@ -210,8 +233,7 @@ impl Staging {
                 "'{rel}': not a file name hydroid writes"
             )));
         }
-        let path = dir.join(name);
-        std::fs::write(&path, bytes).map_err(|e| self.as_target(Error::write(&path, e)))
+        Ok(dir.join(name))
     }
 
     /// Puts the staged folder in place of the target (checked again: it may have changed
