@@ -165,7 +165,7 @@ impl SpoolWriter {
             row[2 * i] = x[i];
             row[2 * i + 1] = p[i * n + i].max(0.0).sqrt();
         }
-        if k % self.segment == 0 {
+        if k.is_multiple_of(self.segment) {
             let count = self.segment.min(self.rows.saturating_sub(k));
             self.bytes.clear();
             for v in &self.pending[..count * w] {
