@@ -210,3 +210,29 @@ fn without_the_smoother_and_decimated_the_table_has_the_filtered_samples_only() 
         "docs/results.schema.json describes runs[].states"
     );
 }
+
+#[test]
+fn a_temporary_folder_it_cannot_spool_to_stops_the_run_before_anything_is_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_hydroid"))
+        .args([
+            "run",
+            "configs/spheroid.toml",
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .current_dir(common::root())
+        .env("TMPDIR", dir.path().join("no such folder"))
+        .output()
+        .unwrap();
+    let err = text(&o.stderr);
+    assert_ne!(o.status.code(), Some(0), "{err}");
+    assert!(
+        err.contains("states/paper_manoeuvre_u0_3_v0_1_m_s_22_N.csv")
+            && err.contains("could not be spooled to a temporary file")
+            && err.contains("TMPDIR"),
+        "{err}"
+    );
+    assert!(!out.exists(), "nothing written");
+}

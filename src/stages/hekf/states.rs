@@ -114,7 +114,9 @@ impl SpoolWriter {
     fn fail(&mut self, e: std::io::Error) {
         if self.failed.is_none() {
             self.failed = Some(format!(
-                "the temporary file of the state series failed: {e}"
+                "the state series could not be spooled to a temporary file ({}; TMPDIR names \
+                 the folder it goes in)",
+                crate::base::error::io_reason(&e)
             ));
         }
     }
