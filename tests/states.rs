@@ -100,6 +100,10 @@ fn the_state_series_ends_at_the_estimate_and_the_smoother_narrows_every_sigma() 
     let (header, rows) = read(&run.out.join(listed));
     // (b) columns and units
     assert_eq!(header, expected_header(true));
+    // about 1.1 kB a sample as CSV (docs/performance.md)
+    let bytes = std::fs::metadata(run.out.join(listed)).unwrap().len() as f64;
+    let per_row = bytes / rows.len() as f64;
+    assert!((1050.0..1150.0).contains(&per_row), "{per_row} bytes a row");
     assert_eq!(rows.len() as u64, h["runs"][0]["samples"].as_u64().unwrap());
     assert!(rows.iter().all(|row| row.len() == header.len()));
     assert_eq!(rows[0][0], 0.0);

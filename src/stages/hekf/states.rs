@@ -432,6 +432,18 @@ mod tests {
     }
 
     #[test]
+    fn a_spheroid_sample_spools_448_bytes() {
+        // docs/performance.md: 6 states, 6 measurements, 6 coefficients, smoother on
+        let l = Layout {
+            nx: 6,
+            m: 6,
+            nb: 6,
+            smoothed: true,
+        };
+        assert_eq!(8 * l.columns(), 448);
+    }
+
+    #[test]
     fn the_spool_gives_back_its_rows_with_the_smoothed_part_in_place() {
         let layout = Layout {
             nx: 1,
