@@ -4,8 +4,9 @@
 //! (every state, for a fit run with the smoother's estimate) is drawn in a figure of that run
 //! with its axis description, the control inputs with the states they drive, and every
 //! turning-circle and zig-zag run has its manoeuvre figure with each measure in it; every
-//! HEKF fit run wrote its state series (`states/NAME.csv`, a line per sample). A new model or
-//! configuration cannot ship a report without its own figures.
+//! HEKF fit run wrote its state series (`states/NAME.csv`, a line per sample, the last run's
+//! last row the estimates and the filter's sigmas). A new model or configuration cannot ship
+//! a report without its own figures.
 //!
 //! The configurations run in one process on two threads, in a debug build: about six minutes
 //! on two cores, most of it the NPS AUV II joint identification (configs/npsauv_joint.toml,
@@ -350,6 +351,43 @@ fn check_state_series(r: &Rendered, problems: &mut Vec<String>) {
             problems.push(format!(
                 "{}: {rel} has {lines} lines for {} samples",
                 r.name, run.samples
+            ));
+        }
+        if std::ptr::eq(run, h.runs.last().unwrap()) {
+            last_row_is_the_estimate(r, h, &text, problems);
+        }
+    }
+}
+
+/// The last fit run's last row holds the HEKF's estimates and the filter's sigmas, to the
+/// last digit.
+fn last_row_is_the_estimate(
+    r: &Rendered,
+    h: &hydroid::stages::hekf::HekfResult,
+    text: &str,
+    problems: &mut Vec<String>,
+) {
+    let header: Vec<&str> = text.lines().next().unwrap_or("").split(',').collect();
+    let last: Vec<&str> = text.lines().last().unwrap_or("").split(',').collect();
+    for (j, name) in h.estimated.iter().enumerate() {
+        let Some(i) = header
+            .iter()
+            .position(|c| c.starts_with(&format!("{name} [")))
+        else {
+            problems.push(format!("{}: no column for {name}", r.name));
+            continue;
+        };
+        let value = h
+            .coefficients
+            .iter()
+            .find(|c| &c.name == name)
+            .map(|c| c.value);
+        let got = (last[i].parse::<f64>().ok(), last[i + 1].parse::<f64>().ok());
+        if got != (value, Some(h.sigma_filter[j])) {
+            problems.push(format!(
+                "{}: the state series ends at {name} = {got:?}, the estimate is {value:?} \
+                 +- {}",
+                r.name, h.sigma_filter[j]
             ));
         }
     }

@@ -5,7 +5,9 @@
 //! filtered and smoothed states, NIS); the coefficient histories are thinned
 //! ([`super::history`]), the innovation statistics summed as the samples come, and the
 //! smoother re-runs the filter from checkpoints instead of keeping its covariances
-//! ([`crate::numerics::estimation::rts`]).
+//! ([`crate::numerics::estimation::rts`]). The last pass's state series (states, sigmas,
+//! innovations, coefficients at every sample) goes to a temporary file as it is computed
+//! ([`super::states`]).
 
 use super::bounds::{BoundLog, BoundSummary, Bounds};
 use super::history::{History, HistoryBuilder};
