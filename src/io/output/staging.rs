@@ -395,6 +395,46 @@ mod tests {
     }
 
     #[test]
+    #[cfg(target_os = "linux")]
+    fn a_streamed_file_is_written_whole_and_a_failure_names_it_in_the_output() {
+        let root = tempfile::tempdir().unwrap();
+        let target = root.path().join("out");
+        let s = Staging::new(&target).unwrap();
+        s.write_stream("states/a.csv", |w| {
+            for k in 0..100_000 {
+                writeln!(w, "{k}")?;
+            }
+            Ok(())
+        })
+        .unwrap();
+        let text = std::fs::read_to_string(s.dir().join("states/a.csv")).unwrap();
+        assert_eq!(text.lines().count(), 100_000);
+        assert!(text.ends_with("99999\n"));
+        // what the filling says is the error, of the file as it will be in the output
+        let e = s
+            .write_stream("states/b.csv", |_| Err(std::io::Error::other("spool lost")))
+            .unwrap_err()
+            .to_string();
+        let resolved = std::fs::canonicalize(root.path()).unwrap().join("out");
+        let b = resolved.join("states/b.csv");
+        assert_eq!(e, format!("cannot write {}: spool lost", b.display()));
+        // a full disk, met when the buffer is flushed
+        std::os::unix::fs::symlink("/dev/full", s.dir().join("states/c.csv")).unwrap();
+        let e = s
+            .write_stream("states/c.csv", |w| w.write_all(b"x"))
+            .unwrap_err()
+            .to_string();
+        let c = resolved.join("states/c.csv");
+        assert_eq!(
+            e,
+            format!("cannot write {}: No space left on device", c.display())
+        );
+        std::fs::remove_file(s.dir().join("states/c.csv")).unwrap();
+        s.commit().unwrap();
+        assert!(target.join("states/a.csv").is_file());
+    }
+
+    #[test]
     fn a_changed_output_is_replaced_only_when_forced() {
         let root = tempfile::tempdir().unwrap();
         let target = root.path().join("out");
