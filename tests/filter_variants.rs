@@ -128,7 +128,7 @@ fn the_papers_discrete_filter_gives_k_and_t() {
 }
 
 /// The continuous (Kalman-Bucy) filter on configs/nomoto.toml: the truth within 2 sigma, no
-/// smoother, and the result says so.
+/// smoother (nor smoothed columns in the state series), and the result says so.
 #[test]
 fn the_continuous_filter_recovers_the_truth_within_two_sigma() {
     let text = nomoto_without_autopilot().replace(
@@ -140,6 +140,18 @@ fn the_continuous_filter_recovers_the_truth_within_two_sigma() {
     assert!(!h.settings.smoother);
     assert!(h.traces[0].smoothed.is_none());
     assert!(h.tuning.iter().any(|t| t.contains("no smoother")));
+    // its state series has the filtered states only, the compass named as the model's output
+    let table = h.traces[0].states.as_ref().expect("a state series");
+    assert!(!table.columns.iter().any(|c| c.contains("_smoothed")));
+    assert!(table
+        .columns
+        .iter()
+        .any(|c| c == "psi_L_filtered_sigma [rad]"));
+    assert!(table
+        .columns
+        .iter()
+        .any(|c| c == "compass_innovation_sigma [rad]"));
+    assert_eq!(table.spool.rows(), h.runs[0].samples);
     let truth = [("K", K), ("inv_T", 1.0 / T), ("delta0", 1f64.to_radians())];
     for (name, want) in truth {
         let (v, s) = estimate(&h, name);

@@ -3,8 +3,10 @@
 //! real picture, and the figures fit the model: every state of the model that a run measures
 //! (every state, for a fit run with the smoother's estimate) is drawn in a figure of that run
 //! with its axis description, the control inputs with the states they drive, and every
-//! turning-circle and zig-zag run has its manoeuvre figure with each measure in it. A new
-//! model or configuration cannot ship a report without its own figures.
+//! turning-circle and zig-zag run has its manoeuvre figure with each measure in it; every
+//! HEKF fit run wrote its state series (`states/NAME.csv`, a line per sample, the last run's
+//! last row the estimates and the filter's sigmas). A new model or configuration cannot ship
+//! a report without its own figures.
 //!
 //! The configurations run in one process on two threads, in a debug build: about six minutes
 //! on two cores, most of it the NPS AUV II joint identification (configs/npsauv_joint.toml,
@@ -97,6 +99,8 @@ struct Rendered {
     output: RunOutput,
     /// The rendered DOM of report.html.
     dom: String,
+    /// The output folder.
+    dir: PathBuf,
     seconds: f64,
 }
 
@@ -134,6 +138,7 @@ fn render(bin: &Path, config: &Path) -> Rendered {
         name,
         output,
         dom,
+        dir: out,
         seconds: start.elapsed().as_secs_f64(),
     }
 }
@@ -323,6 +328,71 @@ fn check_words(r: &Rendered, problems: &mut Vec<String>) {
     }
 }
 
+/// Every fit run of the HEKF wrote its state series (issue 29): the file results.json lists,
+/// a header with the time and a line per sample the filter used.
+fn check_state_series(r: &Rendered, problems: &mut Vec<String>) {
+    let Some(h) = r.output.result.stages.hekf.as_ref() else {
+        return;
+    };
+    for run in &h.runs {
+        let Some(rel) = run.states.as_deref() else {
+            problems.push(format!(
+                "{}: run '{}' has no state series",
+                r.name, run.name
+            ));
+            continue;
+        };
+        let Ok(text) = std::fs::read_to_string(r.dir.join(rel)) else {
+            problems.push(format!("{}: {rel} is missing", r.name));
+            continue;
+        };
+        let lines = text.lines().count();
+        if !text.starts_with("time [s],") || lines != run.samples + 1 {
+            problems.push(format!(
+                "{}: {rel} has {lines} lines for {} samples",
+                r.name, run.samples
+            ));
+        }
+        if std::ptr::eq(run, h.runs.last().unwrap()) {
+            last_row_is_the_estimate(r, h, &text, problems);
+        }
+    }
+}
+
+/// The last fit run's last row holds the HEKF's estimates and the filter's sigmas, to the
+/// last digit.
+fn last_row_is_the_estimate(
+    r: &Rendered,
+    h: &hydroid::stages::hekf::HekfResult,
+    text: &str,
+    problems: &mut Vec<String>,
+) {
+    let header: Vec<&str> = text.lines().next().unwrap_or("").split(',').collect();
+    let last: Vec<&str> = text.lines().last().unwrap_or("").split(',').collect();
+    for (j, name) in h.estimated.iter().enumerate() {
+        let Some(i) = header
+            .iter()
+            .position(|c| c.starts_with(&format!("{name} [")))
+        else {
+            problems.push(format!("{}: no column for {name}", r.name));
+            continue;
+        };
+        let value = h
+            .coefficients
+            .iter()
+            .find(|c| &c.name == name)
+            .map(|c| c.value);
+        let got = (last[i].parse::<f64>().ok(), last[i + 1].parse::<f64>().ok());
+        if got != (value, Some(h.sigma_filter[j])) {
+            problems.push(format!(
+                "{}: the state series ends at {name} = {got:?}, the estimate is {value:?} \
+                 +- {}",
+                r.name, h.sigma_filter[j]
+            ));
+        }
+    }
+}
+
 /// The NPS AUV II's vertical zig-zag (validation of configs/npsauv_joint.toml) shows depth
 /// and pitch with the stern planes that drive them.
 fn check_vertical_zigzag(r: &Rendered, figs: &[Fig], problems: &mut Vec<String>) {
@@ -369,6 +439,7 @@ fn chromium_renders_every_bundled_report_with_its_figures() {
                     check_manoeuvres(&r, &figs, &mut p);
                     check_vertical_zigzag(&r, &figs, &mut p);
                     check_words(&r, &mut p);
+                    check_state_series(&r, &mut p);
                     eprintln!(
                         "{}: {} figures, {:.0} s{}",
                         r.name,

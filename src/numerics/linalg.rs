@@ -94,7 +94,6 @@ pub fn axpy(a: f64, x: &[f64], y: &mut [f64]) {
 }
 
 /// out (r x c) = a (r x k) * b^T where b is (c x k).
-#[cfg(test)]
 pub fn matmul_bt(a: &[f64], b: &[f64], r: usize, k: usize, c: usize, out: &mut [f64]) {
     for i in 0..r {
         let ai = &a[i * k..(i + 1) * k];

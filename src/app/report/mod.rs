@@ -6,6 +6,7 @@ pub mod doc;
 pub mod html;
 pub mod markdown;
 pub mod plots;
+pub mod states;
 pub mod table;
 
 use crate::app::results::{RunOutput, RunResult};
@@ -40,13 +41,15 @@ pub struct RerunManifest {
 }
 
 /// Writes the run's outputs into the staging folder: results.json, inputs.json,
-/// coefficients.csv, config.toml, rerun.json and report.md; with `output.plots` also the
+/// coefficients.csv, the HEKF runs' state series (states/), config.toml, rerun.json and
+/// report.md; with `output.plots` also the
 /// figures in plots/ (SVG and PNG) and report.html.
 pub fn write(staging: &Staging, loaded: &LoadedConfig, out: &RunOutput) -> Result<()> {
     check_finite(&out.result)?;
     staging.write(RESULTS_JSON, &to_json(&out.result)?)?;
     staging.write(INPUTS_JSON, &to_json(&out.result.inputs)?)?;
     staging.write(COEFFICIENTS_CSV, &coefficients_csv(&out.result)?)?;
+    states::write(staging, out)?;
     staging.write(CONFIG_TOML, effective_config(loaded).as_bytes())?;
     let base_dir = std::fs::canonicalize(if loaded.base_dir.as_os_str().is_empty() {
         std::path::Path::new(".")

@@ -3,9 +3,32 @@
 //! when it carries a valid marker and holds exactly the files it lists, unchanged.
 
 use crate::base::error::{Error, Result};
-use crate::io::formats::input::file_sha256;
 use std::collections::BTreeMap;
 use std::path::{Component, Path, PathBuf};
+
+/// The SHA-256 (hex) of a file of an output folder, streamed. The size limit of input files
+/// (`Limits`, 2 GiB by default) does not apply: hydroid wrote these files itself, and a state
+/// series of ten million samples (`states/NAME.csv`) is larger.
+pub fn output_sha256(path: &Path) -> Result<String> {
+    use sha2::{Digest, Sha256};
+    use std::io::Read;
+    let mut file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    let mut hasher = Sha256::new();
+    let mut buf = vec![0u8; 1 << 16];
+    loop {
+        match file.read(&mut buf) {
+            Ok(0) => break,
+            Ok(n) => hasher.update(&buf[..n]),
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
+            Err(e) => return Err(Error::io(path, e)),
+        }
+    }
+    Ok(hasher
+        .finalize()
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect())
+}
 
 /// The marker's file name.
 pub const MARKER: &str = ".hydroid-output.json";
@@ -29,7 +52,7 @@ impl Marker {
         for entry in walk(dir)? {
             match entry.kind {
                 Kind::File => {
-                    files.insert(entry.rel.clone(), file_sha256(&dir.join(&entry.rel))?);
+                    files.insert(entry.rel.clone(), output_sha256(&dir.join(&entry.rel))?);
                 }
                 Kind::Folder => {}
                 Kind::Other(what) => {
@@ -133,7 +156,7 @@ pub fn edited(dir: &Path, names: &[&str]) -> Result<Vec<String>> {
     for name in names {
         if let Some(sha) = marker.files.get(*name) {
             let path = dir.join(name);
-            if !path.is_file() || file_sha256(&path)? != *sha {
+            if !path.is_file() || output_sha256(&path)? != *sha {
                 out.push((*name).to_string());
             }
         }
@@ -155,7 +178,7 @@ fn differences(dir: &Path, marker: &Marker) -> Result<Vec<String>> {
         match (&entry.kind, marker.files.get(&entry.rel)) {
             (Kind::File, Some(sha)) => {
                 seen.push(entry.rel.clone());
-                if file_sha256(&dir.join(&entry.rel))? != *sha {
+                if output_sha256(&dir.join(&entry.rel))? != *sha {
                     changes.push(format!("changed: {}", entry.rel));
                 }
             }
@@ -243,6 +266,23 @@ fn walk_into(root: &Path, rel: &Path, out: &mut Vec<Entry>) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_output_file_hashes_as_an_input_file_does() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("a.csv");
+        std::fs::write(&path, "abc").unwrap();
+        // FIPS 180-2, appendix B.1
+        let abc = "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad";
+        assert_eq!(output_sha256(&path).unwrap(), abc);
+        let big = dir.path().join("b.csv");
+        std::fs::write(&big, vec![b'x'; 3 << 16]).unwrap();
+        assert_eq!(
+            output_sha256(&big).unwrap(),
+            crate::io::formats::input::file_sha256(&big).unwrap()
+        );
+        assert!(output_sha256(&dir.path().join("none")).is_err());
+    }
 
     fn output(dir: &Path) {
         std::fs::create_dir_all(dir.join("plots")).unwrap();

@@ -200,6 +200,29 @@ impl Staging {
 
     /// Writes a file (path relative to the folder).
     pub fn write(&self, rel: &str, bytes: &[u8]) -> Result<()> {
+        let path = self.file_path(rel)?;
+        std::fs::write(&path, bytes).map_err(|e| self.as_target(Error::write(&path, e)))
+    }
+
+    /// Writes a file (path relative to the folder) as `fill` streams it, through a buffer:
+    /// for a file too large to assemble in memory first. Like every file of the folder, it
+    /// is in the output only once the whole folder is put in place ([`Staging::commit`]).
+    pub fn write_stream(
+        &self,
+        rel: &str,
+        fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+    ) -> Result<()> {
+        let path = self.file_path(rel)?;
+        let written = File::create(&path).and_then(|f| {
+            let mut w = std::io::BufWriter::with_capacity(1 << 16, f);
+            fill(&mut w)?;
+            w.into_inner().map(drop).map_err(|e| e.into_error())
+        });
+        written.map_err(|e| self.as_target(Error::write(&path, e)))
+    }
+
+    /// The staged path of a file (path relative to the folder), its folders created.
+    fn file_path(&self, rel: &str) -> Result<PathBuf> {
         let dir = match rel.rsplit_once('/') {
             Some((d, _)) => self.create_dir(d)?,
             None => self.out.clone(),
@@ -210,8 +233,7 @@ impl Staging {
                 "'{rel}': not a file name hydroid writes"
             )));
         }
-        let path = dir.join(name);
-        std::fs::write(&path, bytes).map_err(|e| self.as_target(Error::write(&path, e)))
+        Ok(dir.join(name))
     }
 
     /// Puts the staged folder in place of the target (checked again: it may have changed
@@ -370,6 +392,46 @@ mod tests {
                 resolved.join("results.json").display()
             )
         );
+    }
+
+    #[test]
+    #[cfg(target_os = "linux")]
+    fn a_streamed_file_is_written_whole_and_a_failure_names_it_in_the_output() {
+        let root = tempfile::tempdir().unwrap();
+        let target = root.path().join("out");
+        let s = Staging::new(&target).unwrap();
+        s.write_stream("states/a.csv", |w| {
+            for k in 0..100_000 {
+                writeln!(w, "{k}")?;
+            }
+            Ok(())
+        })
+        .unwrap();
+        let text = std::fs::read_to_string(s.dir().join("states/a.csv")).unwrap();
+        assert_eq!(text.lines().count(), 100_000);
+        assert!(text.ends_with("99999\n"));
+        // what the filling says is the error, of the file as it will be in the output
+        let e = s
+            .write_stream("states/b.csv", |_| Err(std::io::Error::other("spool lost")))
+            .unwrap_err()
+            .to_string();
+        let resolved = std::fs::canonicalize(root.path()).unwrap().join("out");
+        let b = resolved.join("states/b.csv");
+        assert_eq!(e, format!("cannot write {}: spool lost", b.display()));
+        // a full disk, met when the buffer is flushed
+        std::os::unix::fs::symlink("/dev/full", s.dir().join("states/c.csv")).unwrap();
+        let e = s
+            .write_stream("states/c.csv", |w| w.write_all(b"x"))
+            .unwrap_err()
+            .to_string();
+        let c = resolved.join("states/c.csv");
+        assert_eq!(
+            e,
+            format!("cannot write {}: No space left on device", c.display())
+        );
+        std::fs::remove_file(s.dir().join("states/c.csv")).unwrap();
+        s.commit().unwrap();
+        assert!(target.join("states/a.csv").is_file());
     }
 
     #[test]

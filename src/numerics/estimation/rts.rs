@@ -13,10 +13,12 @@
 //! arithmetic exactly, so the smoothed states are the same to the last bit as those of a
 //! sweep over a full trace.
 //!
-//! Only the smoothed states are computed; the smoothed covariance
-//! P_k|N = P_k|k + G_k (P_k+1|N - P_k+1|k) G_k^T is not needed by hydroid.
+//! The smoothed covariance goes with each smoothed state (Simon 2006, eq. 9.115; Rauch, Tung
+//! & Striebel 1965): P_k|N = P_k|k + G_k (P_k+1|N - P_k+1|k) G_k^T, computed in the same
+//! order of operations as a sweep over a full trace, so that it too is the same to the last
+//! bit.
 
-use crate::numerics::linalg::{cholesky, cholesky_solve, matmul};
+use crate::numerics::linalg::{cholesky, cholesky_solve, matmul, matmul_bt, symmetrize};
 
 /// The dense record of consecutive samples of a filter pass: what the backward step needs.
 #[derive(Debug, Clone, Default)]
@@ -120,6 +122,8 @@ struct Backward {
     b: Vec<f64>,
     g: Vec<f64>,
     col: Vec<f64>,
+    d: Vec<f64>,
+    tmp: Vec<f64>,
 }
 
 impl Backward {
@@ -130,7 +134,26 @@ impl Backward {
             b: vec![0.0; n * n],
             g: vec![0.0; n * n],
             col: vec![0.0; n],
+            d: vec![0.0; n * n],
+            tmp: vec![0.0; n * n],
         }
+    }
+
+    /// P_k|N (into `out`) from the gain of the last [`Backward::step`] at sample k and
+    /// P_k+1|N (`next`): P_k|k + G (P_k+1|N - P_k+1|k) G^T, symmetrised (Simon 2006,
+    /// eq. 9.115).
+    fn covariance(&mut self, tr: &Trace, k: usize, next: &[f64], out: &mut [f64]) {
+        let n = self.n;
+        let prior = tr.matrix(&tr.p_prior, k + 1);
+        for ((d, a), b) in self.d.iter_mut().zip(next).zip(prior) {
+            *d = a - b;
+        }
+        matmul(&self.g, &self.d, n, n, n, &mut self.tmp);
+        matmul_bt(&self.tmp, &self.g, n, n, n, &mut self.d);
+        for ((o, p), dv) in out.iter_mut().zip(tr.matrix(&tr.p_post, k)).zip(&self.d) {
+            *o = p + dv;
+        }
+        symmetrize(out, n);
     }
 
     /// x_k|N (into `out`) from the trace at sample k and k + 1 and x_k+1|N (`next`). Fails
@@ -172,14 +195,14 @@ impl Backward {
 /// Smooths a pass of `len` samples of an `n`-state filter in segments of `segment` samples
 /// (module docs). `rerun(start, end, trace)` must fill `trace` (restarted at `start`) with
 /// samples `start..end` of the pass exactly as the forward pass computed them, by re-running
-/// the filter from its checkpoint at `start` (a multiple of `segment`). `emit(k, x)` receives
-/// the smoothed state of every sample, last sample first.
+/// the filter from its checkpoint at `start` (a multiple of `segment`). `emit(k, x, p)`
+/// receives the smoothed state and covariance (n x n) of every sample, last sample first.
 pub fn smooth_segments<E>(
     n: usize,
     len: usize,
     segment: usize,
     mut rerun: impl FnMut(usize, usize, &mut Trace) -> Result<(), E>,
-    mut emit: impl FnMut(usize, &[f64]),
+    mut emit: impl FnMut(usize, &[f64], &[f64]),
 ) -> Result<(), SmoothError<E>> {
     if len == 0 {
         return Ok(());
@@ -189,6 +212,8 @@ pub fn smooth_segments<E>(
     let mut back = Backward::new(n);
     let mut next = vec![0.0; n];
     let mut cur = vec![0.0; n];
+    let mut next_p = vec![0.0; n * n];
+    let mut cur_p = vec![0.0; n * n];
     let last_start = (len - 1) / segment * segment;
     for start in (0..=last_start).rev().step_by(segment) {
         // one sample into the next segment: its prior and transition close this segment
@@ -198,12 +223,15 @@ pub fn smooth_segments<E>(
         for k in (start..(start + segment).min(len)).rev() {
             if k + 1 == len {
                 cur.copy_from_slice(trace.x_post(k));
+                cur_p.copy_from_slice(trace.matrix(&trace.p_post, k));
             } else {
                 back.step(&trace, k, &next, &mut cur)
                     .map_err(SmoothError::NotPositiveDefinite)?;
+                back.covariance(&trace, k, &next_p, &mut cur_p);
             }
-            emit(k, &cur);
+            emit(k, &cur, &cur_p);
             std::mem::swap(&mut next, &mut cur);
+            std::mem::swap(&mut next_p, &mut cur_p);
         }
     }
     Ok(())
@@ -276,10 +304,19 @@ pub(crate) mod tests {
         Ok((xs, ps))
     }
 
-    /// Smooths a full trace in segments, the re-run copying samples out of it.
+    /// Smooths a full trace in segments, the re-run copying samples out of it: the states.
     fn segmented(full: &Trace, segment: usize) -> Result<Vec<f64>, SmoothError<()>> {
+        segmented_with_covariance(full, segment).map(|(xs, _)| xs)
+    }
+
+    /// Smooths a full trace in segments: the states and the covariances.
+    fn segmented_with_covariance(
+        full: &Trace,
+        segment: usize,
+    ) -> Result<(Vec<f64>, Vec<f64>), SmoothError<()>> {
         let (n, nn) = (full.n, full.n * full.n);
         let mut xs = vec![f64::NAN; full.len() * n];
+        let mut ps = vec![f64::NAN; full.len() * nn];
         smooth_segments(
             n,
             full.len(),
@@ -298,9 +335,12 @@ pub(crate) mod tests {
                 }
                 Ok(())
             },
-            |k, x| xs[k * n..(k + 1) * n].copy_from_slice(x),
+            |k, x, p| {
+                xs[k * n..(k + 1) * n].copy_from_slice(x);
+                ps[k * nn..(k + 1) * nn].copy_from_slice(p);
+            },
         )?;
-        Ok(xs)
+        Ok((xs, ps))
     }
 
     /// A Kalman filter over a random stable linear system: its full trace.
@@ -373,9 +413,11 @@ pub(crate) mod tests {
         // filtered x0 = 0 (p 0.5); prior x1 = 0 (p 1.5); posterior x1 = 6 (p 0.6)
         // G0 = 0.5/1.5 = 1/3; xs0 = 0 + (6 - 0)/3 = 2; ps0 = 0.5 + (0.6 - 1.5)/9 = 0.4
         for segment in [1, 2, 5] {
-            let xs = segmented(&tr, segment).unwrap();
+            let (xs, ps) = segmented_with_covariance(&tr, segment).unwrap();
             assert!((xs[0] - 2.0).abs() < 1e-12);
             assert!((xs[1] - 6.0).abs() < 1e-12);
+            assert!((ps[0] - 0.4).abs() < 1e-12);
+            assert!((ps[1] - 0.6).abs() < 1e-12);
         }
         let (xs, ps) = dense_smooth(&tr).unwrap();
         assert!((xs[0] - 2.0).abs() < 1e-12);
@@ -385,16 +427,24 @@ pub(crate) mod tests {
     #[test]
     fn segments_reproduce_the_full_sweep_bit_for_bit() {
         let tr = random_pass(5, 101, 3);
-        let (dense, _) = dense_smooth(&tr).unwrap();
+        let (dense, dense_p) = dense_smooth(&tr).unwrap();
+        let same = |a: &[f64], b: &[f64]| a.iter().zip(b).all(|(a, b)| a.to_bits() == b.to_bits());
         for segment in [1, 2, 7, 10, 100, 101, 500, segment_length(101)] {
-            let xs = segmented(&tr, segment).unwrap();
-            assert!(
-                xs.iter()
-                    .zip(&dense)
-                    .all(|(a, b)| a.to_bits() == b.to_bits()),
-                "segment {segment}"
-            );
+            let (xs, ps) = segmented_with_covariance(&tr, segment).unwrap();
+            assert!(same(&xs, &dense), "segment {segment}");
+            assert!(same(&ps, &dense_p), "covariance, segment {segment}");
         }
+        // the smoothed variances lie at or below the filtered ones (the smoother adds the
+        // later data's information), and equal them at the last sample
+        let (n, nn, last) = (5, 25, tr.len() - 1);
+        for k in 0..tr.len() {
+            for i in 0..n {
+                let (s, f) = (dense_p[k * nn + i * n + i], tr.p_post[k * nn + i * n + i]);
+                assert!(s <= f * (1.0 + 1e-12), "sample {k}, state {i}: {s} > {f}");
+                assert!(k < last || s == f);
+            }
+        }
+        assert!((0..last).any(|k| dense_p[k * nn] < 0.99 * tr.p_post[k * nn]));
     }
 
     #[test]
@@ -413,10 +463,10 @@ pub(crate) mod tests {
 
     #[test]
     fn a_failed_rerun_stops_the_sweep() {
-        let r = smooth_segments(2, 10, 4, |_, _, _| Err("diverged"), |_, _| {});
+        let r = smooth_segments(2, 10, 4, |_, _, _| Err("diverged"), |_, _, _| {});
         assert_eq!(r, Err(SmoothError::Filter("diverged")));
         assert_eq!(
-            smooth_segments(2, 0, 4, |_, _, _| Err(()), |_, _| {}),
+            smooth_segments(2, 0, 4, |_, _, _| Err(()), |_, _, _| {}),
             Ok(())
         );
     }

@@ -214,6 +214,7 @@ mod tests {
             nis: summarize(nis, 2),
             innovation_rms: rms,
             between: Default::default(),
+            states: None,
             warnings: Vec::new(),
         }
     }

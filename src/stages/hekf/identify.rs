@@ -5,7 +5,9 @@
 //! filtered and smoothed states, NIS); the coefficient histories are thinned
 //! ([`super::history`]), the innovation statistics summed as the samples come, and the
 //! smoother re-runs the filter from checkpoints instead of keeping its covariances
-//! ([`crate::numerics::estimation::rts`]).
+//! ([`crate::numerics::estimation::rts`]). The last pass's state series (states, sigmas,
+//! innovations, coefficients at every sample) goes to a temporary file as it is computed
+//! ([`super::states`]).
 
 use super::bounds::{BoundLog, BoundSummary, Bounds};
 use super::history::{History, HistoryBuilder};
@@ -182,6 +184,9 @@ pub struct RunTrace {
     pub rejected: Vec<Rejection>,
     /// Stretches where a quantity stayed beyond the gate (its measurements were used).
     pub excursions: Vec<Excursion>,
+    /// Every sample's row of the state series, spooled to a temporary file (the last pass;
+    /// [`super::states`]).
+    pub spool: Option<super::states::Spool>,
 }
 
 /// A measurement the innovation gate rejected.
@@ -515,13 +520,14 @@ fn one_pass<M: Model>(
         f.kind = setup.filter;
         f.gate = if gate_on { setup.gate } else { 0.0 };
         f.ungated = vec![false; run.measured.len()];
-        let (mut tr, checkpoints) =
+        let (mut tr, mut checkpoints) =
             filter_run(f, &mut sys, run, setup, keep, counter, bounds, &mut log)
                 .map_err(|d| fail(d, &log))?;
         if keep.smooth {
-            let smoothed = smooth_run(&mut sys, run, checkpoints, bounds);
+            let smoothed = smooth_run(&mut sys, run, &mut checkpoints, bounds);
             tr.smoothed = Some(smoothed.map_err(|d| fail(d, &log))?);
         }
+        tr.spool = checkpoints.spool.map(super::states::SpoolWriter::finish);
         pass_traces.push(tr);
         logs.push(log);
     }
@@ -841,6 +847,8 @@ struct Checkpoints {
     /// The factor on the measurement noise the forward pass used (`Setup::noise_scale`).
     r_scale: f64,
     saved: Vec<(HybridEkf, GateTracker)>,
+    /// The state series being spooled (when the pass keeps its samples).
+    spool: Option<super::states::SpoolWriter>,
 }
 
 /// The forward pass over one run: every sample through [`filter_sample`], with the innovation
@@ -878,10 +886,20 @@ fn filter_run<M: Model>(
     let mut history = keep.history.then(|| HistoryBuilder::new(nb, k_len));
     let mut row_values = vec![0.0; nb];
     let mut row_sigmas = vec![0.0; nb];
+    let segment = rts::segment_length(k_len);
+    let layout = super::states::Layout {
+        nx,
+        m,
+        nb,
+        smoothed: keep.smooth,
+    };
     let mut checkpoints = Checkpoints {
-        segment: rts::segment_length(k_len),
+        segment,
         r_scale: setup.noise_scale,
         saved: Vec::new(),
+        spool: keep
+            .samples
+            .then(|| super::states::SpoolWriter::new(layout, segment)),
     };
     let mut phi = vec![0.0; n * n];
     for k in 0..k_len {
@@ -906,6 +924,18 @@ fn filter_run<M: Model>(
                 row_sigmas[j] = f.p[(nx + j) * n + nx + j].max(0.0).sqrt() * setup.scale[j];
             }
             h.push(k, run.times[k], &row_values, &row_sigmas);
+        }
+        if let Some(spool) = checkpoints.spool.as_mut() {
+            spool.push(&super::states::Sample {
+                t: run.times[k],
+                x: &f.x,
+                p: &f.p,
+                y: &run.y[k * m..(k + 1) * m],
+                innovation: f.innovation(),
+                innovation_variance: f.innovation_variance(),
+                nis,
+                scale: &setup.scale,
+            });
         }
         if keep.samples {
             tr.states.extend_from_slice(&f.x[..nx]);
@@ -933,7 +963,7 @@ fn filter_run<M: Model>(
 fn smooth_run<M: Model>(
     sys: &mut ModelSystem<M>,
     run: &RunData,
-    mut checkpoints: Checkpoints,
+    checkpoints: &mut Checkpoints,
     bounds: &Bounds,
 ) -> Result<Vec<f64>, Divergence> {
     let Some((first, _)) = checkpoints.saved.first() else {
@@ -942,8 +972,13 @@ fn smooth_run<M: Model>(
     let n = first.n();
     let nx = run.x0.len();
     let k_len = run.len();
-    let segment = checkpoints.segment;
-    let r_scale = checkpoints.r_scale;
+    let Checkpoints {
+        segment,
+        r_scale,
+        saved,
+        spool,
+    } = checkpoints;
+    let (segment, r_scale) = (*segment, *r_scale);
     let mut states = vec![0.0; k_len * nx];
     let mut phi = vec![0.0; n * n];
     rts::smooth_segments(
@@ -952,8 +987,8 @@ fn smooth_run<M: Model>(
         segment,
         |start, end, trace| {
             // segments come last first: the last checkpoint is this segment's
-            debug_assert_eq!(checkpoints.saved.len(), start / segment + 1);
-            let (mut g, mut gt) = checkpoints.saved.pop().expect("one checkpoint per segment");
+            debug_assert_eq!(saved.len(), start / segment + 1);
+            let (mut g, mut gt) = saved.pop().expect("one checkpoint per segment");
             // the re-run gates as the forward pass did; what it finds was kept then
             let mut scratch = GateLog::default();
             let mut gating = (&mut gt, &mut scratch);
@@ -973,7 +1008,12 @@ fn smooth_run<M: Model>(
             }
             Ok(())
         },
-        |k, x| states[k * nx..(k + 1) * nx].copy_from_slice(&x[..nx]),
+        |k, x, p| {
+            states[k * nx..(k + 1) * nx].copy_from_slice(&x[..nx]);
+            if let Some(w) = spool.as_mut() {
+                w.push_smoothed(k, x, p);
+            }
+        },
     )
     .map_err(|e| match e {
         SmoothError::Filter(d) => d,

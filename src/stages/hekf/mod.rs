@@ -15,6 +15,7 @@ mod noise;
 mod prepare;
 mod result;
 mod sensitivity;
+pub mod states;
 pub mod tuning;
 
 pub use crate::model::models::ModelName;

@@ -366,6 +366,7 @@ pub fn run_data<M: Model>(
         nis: None,
         innovation_rms: Vec::new(),
         between: inputs.between(model.inputs()),
+        states: None,
         warnings,
     };
     Ok((

@@ -54,6 +54,11 @@ pub struct RunSummary {
     /// the run's `between`, docs/config.md); constant inputs are not listed.
     #[serde(skip_serializing_if = "BTreeMap::is_empty")]
     pub between: BTreeMap<String, String>,
+    /// The run's state series in the output folder (`states/NAME.csv`, docs/results.md,
+    /// "State series"): filtered and smoothed states, innovations and coefficients at every
+    /// sample of the last pass.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub states: Option<String>,
     /// Things to know about this run.
     pub warnings: Vec<Warning>,
 }
@@ -75,6 +80,8 @@ pub struct RunTraces {
     pub history: Vec<History>,
     /// Normalised innovation squared per sample (last pass).
     pub nis: Vec<f64>,
+    /// The state series table (`RunSummary::states` says where it goes).
+    pub states: Option<super::states::Table>,
 }
 
 /// The stage's result.
@@ -373,6 +380,8 @@ fn run_traces<M: Model>(
     process_noise: &[Vec<f64>],
 ) -> Vec<RunTraces> {
     let last_traces = passes.pop().unwrap_or_default();
+    let names: Vec<String> = summaries.iter().map(|s| s.name.clone()).collect();
+    let paths = super::states::file_names(&names);
     let mut traces = Vec::new();
     for (r, (tr, summary)) in last_traces
         .into_iter()
@@ -406,6 +415,17 @@ fn run_traces<M: Model>(
             .map(|p| std::mem::take(&mut p[r].history))
             .collect();
         history.push(tr.history);
+        let states = tr.spool.map(|spool| super::states::Table {
+            path: paths[r].clone(),
+            columns: super::states::header(
+                model,
+                &runs[r].measured,
+                &setup.est,
+                spool.layout().smoothed,
+            ),
+            spool,
+        });
+        summary.states = states.as_ref().map(|t| t.path.clone());
         traces.push(RunTraces {
             times: tr.times,
             measured: summary.measured.clone(),
@@ -413,6 +433,7 @@ fn run_traces<M: Model>(
             smoothed: tr.smoothed,
             history,
             nis: tr.nis,
+            states,
         });
     }
     traces

@@ -32,6 +32,25 @@ pub fn write(d: &mut Document, r: &RunResult, figures: Option<&[Figure]>) {
             code("coefficients.csv"),
             text(": the comparison table, full precision."),
         ],
+    ];
+    let tables: Vec<&str> = r
+        .stages
+        .hekf
+        .iter()
+        .flat_map(|h| h.runs.iter())
+        .filter_map(|run| run.states.as_deref())
+        .collect();
+    if !tables.is_empty() {
+        files.push(vec![
+            code("states/"),
+            text(format!(
+                ": each HEKF fit run's filtered and smoothed states, innovations and \
+                 coefficients at every sample, as CSV ({}; docs/results.md, \"State series\").",
+                tables.join(", ")
+            )),
+        ]);
+    }
+    files.extend([
         vec![
             code("inputs.json"),
             text(": every input file with its SHA-256."),
@@ -47,7 +66,7 @@ pub fn write(d: &mut Document, r: &RunResult, figures: Option<&[Figure]>) {
             text("."),
         ],
         vec![code("report.md"), text(": this report in Markdown.")],
-    ];
+    ]);
     match figures {
         Some(f) => {
             files.push(vec![

@@ -246,6 +246,7 @@ mod tests {
             nis: summarize(&nis, 3),
             innovation_rms: Vec::new(),
             between: Default::default(),
+            states: None,
             warnings: Vec::new(),
         };
         let traces = RunTraces {
@@ -255,6 +256,7 @@ mod tests {
             smoothed: None,
             history: Vec::new(),
             nis,
+            states: None,
         };
         let fig = super::super::render(&NisPlot::new(1, &run, &traces).unwrap(), None).unwrap();
         assert!(fig.svg.len() < 600_000, "{} bytes", fig.svg.len());
