@@ -192,11 +192,12 @@ fn compare_on<M: Model>(
     // a compass that sees the wave yaw (Fossen 2011, 8.2): the manoeuvre is the slow heading
     // the model sails, read below the wave band
     let waves_at = model.wave_frequency(c).filter(|_| surface.is_rudder());
+    let h = history_on(rec, surface)?;
     let h = match waves_at {
-        Some(w0) => history_on(rec, surface)?
+        Some(w0) => h
             .map_heading(|t, psi| crate::numerics::signal::wave_removed(t, psi, w0))
             .ok()?,
-        None => history_on(rec, surface)?,
+        None => h,
     };
     let mut measured = manoeuvre::measure_history(&h, run.length, run.lambda, run.nominal).ok()?;
     if !surface.is_rudder() {

@@ -166,15 +166,32 @@ impl<'a> Path<'a> {
     /// x(t1) - x(t0) + i (y(t1) - y(t0)) = integral of the predicted earth velocity, over
     /// windows of `len` samples: the complex gain and its median relative residual.
     fn fit(&self, len: usize, predict: &dyn Fn(usize) -> (f64, f64)) -> Option<((f64, f64), f64)> {
-        let (measured, p): (Vec<Complex>, Vec<Complex>) = windows(self.times, len)
+        let (measured, p): (Vec<Complex>, Vec<Complex>) =
+            self.increments(len, predict).into_iter().unzip();
+        complex_gain(&measured, &p)
+    }
+
+    /// Over windows of `len` samples: the positions' increment x(t1) - x(t0) + i (y(t1) -
+    /// y(t0)) and the integral of the predicted earth velocity.
+    fn increments(
+        &self,
+        len: usize,
+        predict: &dyn Fn(usize) -> Complex,
+    ) -> Vec<(Complex, Complex)> {
+        windows(self.times, len)
             .into_iter()
             .map(|w| {
                 let re = increment(self.times, w, self.x, |k| predict(k).0);
                 let im = increment(self.times, w, self.y, |k| predict(k).1);
                 ((re.0, im.0), (re.1, im.1))
             })
-            .unzip();
-        complex_gain(&measured, &p)
+            .collect()
+    }
+
+    /// The body velocity (u, v) at sample k rotated by the heading into the earth frame
+    /// (Fossen 2011, eq. 2.40).
+    fn earth_velocity(&self, k: usize) -> Complex {
+        self.rotate(k, (self.u[k], self.v[k]), 1.0)
     }
 
     /// Whether the positions follow the velocities rotated by the heading as closely as the
@@ -197,12 +214,11 @@ impl<'a> Path<'a> {
         let total = 2.0 * (sx * sx + sy * sy)
             + n * dt * dt * (su * su + sv * sv + speed2.unwrap_or(0.0) * spsi * spsi);
         let expected = (std::f64::consts::LN_2 * total).sqrt();
-        let misfit = median_of(windows(self.times, len).into_iter().map(|w| {
-            let predict = |k: usize| self.rotate(k, (self.u[k], self.v[k]), 1.0);
-            let re = increment(self.times, w, self.x, |k| predict(k).0);
-            let im = increment(self.times, w, self.y, |k| predict(k).1);
-            (re.0 - re.1).hypot(im.0 - im.1)
-        }));
+        let misfit = median_of(
+            self.increments(len, &|k| self.earth_velocity(k))
+                .into_iter()
+                .map(|(m, p)| (m.0 - p.0).hypot(m.1 - p.1)),
+        );
         misfit.is_some_and(|m| expected > 0.0 && m <= 2.0 * expected)
     }
 
@@ -267,7 +283,7 @@ pub(super) fn track(rec: &Record) -> Option<Finding> {
     };
     let mut last = None;
     for len in window_lengths(path.times) {
-        let Some(f) = path.fit(len, &|k| path.rotate(k, (path.u[k], path.v[k]), 1.0)) else {
+        let Some(f) = path.fit(len, &|k| path.earth_velocity(k)) else {
             break;
         };
         if holds(f) {
