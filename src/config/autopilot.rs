@@ -3,7 +3,10 @@
 //! wave filter's estimate (docs/models/nomoto.md).
 
 use super::{si, Problems};
+use crate::dynamics::autopilot::seas::DisturbanceKind;
+use crate::dynamics::autopilot::Feed;
 use serde::{Deserialize, Serialize};
+use std::path::PathBuf;
 
 fn default_omega() -> f64 {
     0.05
@@ -32,8 +35,19 @@ fn default_rudder_rate() -> f64 {
 fn default_change_at() -> f64 {
     50.0
 }
-fn default_rate_noise() -> f64 {
-    1e-7
+fn default_feeds() -> Vec<Feed> {
+    vec![Feed::Raw, Feed::Filter]
+}
+
+/// The unit of a disturbance file's values when its header states none.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AngleUnit {
+    /// Radians (SI).
+    #[default]
+    Rad,
+    /// Degrees, converted to radians on reading.
+    Deg,
 }
 
 /// `[autopilot]`.
@@ -100,13 +114,33 @@ pub struct AutopilotConfig {
         deserialize_with = "si::value::<_, si::Rate>"
     )]
     pub gyro_noise: f64,
-    /// The wave filter's process noise on the low-frequency yaw rate, rad^2/s^3 (default
-    /// 1e-7).
-    #[serde(default = "default_rate_noise")]
-    pub rate_noise: f64,
-    /// Seed of the waves and the sensor noise (the same for both feeds; default 1).
+    /// The wave filter's process noise on the low-frequency yaw rate, rad^2/s^3 (default:
+    /// compass_noise^2 (w0 / 10)^4, the filter's bandwidth a decade below the waves).
+    #[serde(default)]
+    pub rate_noise: Option<f64>,
+    /// Seed of the generated waves and the sensor noise (the same for every feed; default 1).
     #[serde(default = "default_seed")]
     pub seed: u64,
+    /// The feeds to compare (default raw and filter).
+    #[serde(default = "default_feeds")]
+    pub feeds: Vec<Feed>,
+    /// Time constant of the steering gear's first-order lag (default none).
+    #[serde(default, deserialize_with = "si::value::<_, si::Time>")]
+    pub rudder_lag: f64,
+    /// A recorded disturbance replayed instead of the generated waves: a table of time (s)
+    /// and the disturbance, relative to the configuration's folder.
+    #[serde(default)]
+    pub disturbance_file: Option<PathBuf>,
+    /// What the recorded disturbance is (default the wave-induced yaw).
+    #[serde(default = "default_disturbance")]
+    pub disturbance: DisturbanceKind,
+    /// The unit of its values when the file's header states none (default rad).
+    #[serde(default)]
+    pub disturbance_unit: AngleUnit,
+}
+
+fn default_disturbance() -> DisturbanceKind {
+    DisturbanceKind::WaveYaw
 }
 
 fn default_course_change() -> f64 {
@@ -188,10 +222,17 @@ impl AutopilotConfig {
             ),
             (
                 "rate_noise",
-                self.rate_noise,
+                self.rate_noise.unwrap_or(0.0),
                 (0.0, 1.0),
                 "rad^2/s^3",
                 "a process noise intensity",
+            ),
+            (
+                "rudder_lag",
+                self.rudder_lag,
+                (0.0, 60.0),
+                "s",
+                "a steering gear's time constant",
             ),
         ] {
             p.in_range(&format!("autopilot.{key}"), v, range, unit, why);
@@ -220,6 +261,22 @@ impl AutopilotConfig {
         }
         if self.change_at < 0.0 || self.change_at > self.duration {
             p.add("autopilot.change_at", "within the run, 0 to duration");
+        }
+        let mut seen = Vec::new();
+        for f in &self.feeds {
+            if seen.contains(f) {
+                p.add(
+                    "autopilot.feeds",
+                    format!("{} twice: each feed once", f.name()),
+                );
+            }
+            seen.push(*f);
+        }
+        if self.feeds.is_empty() {
+            p.add(
+                "autopilot.feeds",
+                "at least one of raw, differentiated, filter, true",
+            );
         }
     }
 }

@@ -45,6 +45,10 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutp
     let cfg = &loaded.config;
     // every input first: a bad file stops the run before any stage has run
     let inputs = load_inputs(loaded, stage_inputs(cfg))?;
+    let seas = match &cfg.autopilot {
+        Some(a) => autopilot::load_seas(a, &loaded.base_dir)?,
+        None => Default::default(),
+    };
     let mut found = preflight(loaded, &inputs);
     let validation_warnings = std::mem::take(&mut found.validation_warnings);
     if let Some(e) = found.into_error() {
@@ -90,13 +94,20 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutp
     if let (Some(a), Some(hc), Some(name)) = (&cfg.autopilot, &cfg.hekf, model_name) {
         // the identification stands on its own: an autopilot that cannot be tuned or closed
         // (K not identified, an unstable model) is a warning, not the end of the run
-        match autopilot::run(name, &loaded.vehicle, &known, hc, a) {
+        match autopilot::run(name, &loaded.vehicle, &known, hc, a, &seas) {
             Ok(r) => {
-                log.stage(&format!(
-                    "autopilot: rudder rate RMS {:.3} deg/s raw, {:.3} deg/s filtered",
-                    r.raw.rudder_rate_rms.to_degrees(),
-                    r.filtered.rudder_rate_rms.to_degrees()
-                ));
+                let rates: Vec<String> = r
+                    .feeds
+                    .iter()
+                    .map(|c| {
+                        format!(
+                            "{:.3} deg/s {}",
+                            c.rudder_rate_rms.to_degrees(),
+                            c.feed.name()
+                        )
+                    })
+                    .collect();
+                log.stage(&format!("autopilot: rudder rate RMS {}", rates.join(", ")));
                 log.say(r.warnings());
                 autopilot_result = Some(r);
             }

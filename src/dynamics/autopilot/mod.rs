@@ -8,7 +8,10 @@
 pub mod closed_loop;
 mod pid;
 mod reference;
+pub mod seas;
+pub mod wave_filter;
 
+pub use closed_loop::{ClosedLoop, Feed};
 pub use pid::{Autopilot, Gains, RudderLimits, TuningError};
 pub use reference::ReferenceModel;
 
@@ -21,48 +24,54 @@ pub struct AutopilotResult {
     pub t: f64,
     /// The PID gains placed from them.
     pub gains: Gains,
-    /// Fed the raw compass and gyro.
-    pub raw: closed_loop::ClosedLoop,
-    /// Fed the wave filter's low-frequency heading and yaw rate.
-    pub filtered: closed_loop::ClosedLoop,
+    /// One closed-loop run per feed, in the order asked for.
+    pub feeds: Vec<ClosedLoop>,
 }
 
 impl AutopilotResult {
-    /// The comparison in words, one line per feed.
-    pub fn lines(&self) -> Vec<String> {
-        let line = |what: &str, c: &closed_loop::ClosedLoop| {
-            format!(
-                "{what}: heading error RMS {:.3} deg, rudder RMS {:.3} deg, rudder rate RMS \
-                 {:.3} deg/s",
-                c.heading_error_rms.to_degrees(),
-                c.rudder_rms.to_degrees(),
-                c.rudder_rate_rms.to_degrees()
-            )
-        };
-        vec![
-            line("raw compass and gyro", &self.raw),
-            line("wave filter (psi_L, r_L)", &self.filtered),
-        ]
+    /// The run fed `feed`, if it was asked for.
+    pub fn feed(&self, feed: Feed) -> Option<&ClosedLoop> {
+        self.feeds.iter().find(|c| c.feed == feed)
     }
 
-    /// Warnings: the filter that does not calm the rudder.
-    pub fn warnings(&self) -> Vec<crate::base::warning::Warning> {
-        let mut out = Vec::new();
-        if self.filtered.rudder_rate_rms > 0.5 * self.raw.rudder_rate_rms {
-            out.push(crate::base::warning::Warning::new(
-                "autopilot",
+    /// The comparison in words, one line per feed.
+    pub fn lines(&self) -> Vec<String> {
+        self.feeds
+            .iter()
+            .map(|c| {
                 format!(
-                    "fed the wave filter, the rudder rate RMS is {:.2} deg/s against {:.2} deg/s \
-                     raw: less than halved",
-                    self.filtered.rudder_rate_rms.to_degrees(),
-                    self.raw.rudder_rate_rms.to_degrees()
-                ),
-                "the wave filter does not take the wave-frequency motion out of what the \
-                 autopilot sees as well as it should: check the wave frequency, the wave \
-                 process noise and the compass noise",
-            ));
+                    "{}: heading error RMS {:.3} deg, rudder RMS {:.3} deg, rudder rate RMS \
+                     {:.3} deg/s",
+                    c.feed.describe(),
+                    c.heading_error_rms.to_degrees(),
+                    c.rudder_rms.to_degrees(),
+                    c.rudder_rate_rms.to_degrees()
+                )
+            })
+            .collect()
+    }
+
+    /// Warnings: the filter that does not calm the rudder a tenfold against the raw feed
+    /// (the point of a wave filter is one to two orders of magnitude).
+    pub fn warnings(&self) -> Vec<crate::base::warning::Warning> {
+        let (Some(raw), Some(filtered)) = (self.feed(Feed::Raw), self.feed(Feed::Filter)) else {
+            return Vec::new();
+        };
+        if filtered.rudder_rate_rms <= 0.1 * raw.rudder_rate_rms {
+            return Vec::new();
         }
-        out
+        vec![crate::base::warning::Warning::new(
+            "autopilot",
+            format!(
+                "fed the wave filter, the rudder rate RMS is {:.2} deg/s against {:.2} deg/s \
+                 raw: less than a tenfold reduction",
+                filtered.rudder_rate_rms.to_degrees(),
+                raw.rudder_rate_rms.to_degrees()
+            ),
+            "the wave filter does not take the wave-frequency motion out of what the \
+             autopilot sees as well as it should: check the wave frequency, the wave \
+             process noise, the compass noise and rate_noise",
+        )]
     }
 }
 
@@ -82,6 +91,7 @@ mod tests {
             RudderLimits {
                 angle: 35f64.to_radians(),
                 rate: 2.32f64.to_radians(),
+                lag: 0.0,
             },
         );
         let mut reference = ReferenceModel::new(0.05, 1.0, 0.0);

@@ -63,13 +63,16 @@ impl Gains {
     }
 }
 
-/// The steering gear: largest rudder angle and rate.
+/// The steering gear: largest rudder angle and rate, and an optional first-order lag.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct RudderLimits {
     /// Largest rudder angle either side, rad.
     pub angle: f64,
     /// Largest rudder rate, rad/s.
     pub rate: f64,
+    /// Time constant of the steering gear's first-order lag, s (0: none, the rudder moves to
+    /// the command as fast as the rate limit lets it).
+    pub lag: f64,
 }
 
 /// The PID autopilot in discrete time: the command from the heading error and the yaw-rate
@@ -107,7 +110,15 @@ impl Autopilot {
         if limited == command {
             self.integral += e * dt;
         }
-        let step = (limited - self.rudder).clamp(-self.limits.rate * dt, self.limits.rate * dt);
+        // the steering gear: T_r delta_dot = delta_c - delta, exact over the sample, its rate
+        // clipped (Van Amerongen 1982: a rate- and angle-limited first-order steering machine)
+        let gap = limited - self.rudder;
+        let wanted = if self.limits.lag > 0.0 {
+            gap * (1.0 - (-dt / self.limits.lag).exp())
+        } else {
+            gap
+        };
+        let step = wanted.clamp(-self.limits.rate * dt, self.limits.rate * dt);
         self.rudder += step;
         self.rudder
     }
@@ -160,6 +171,7 @@ mod tests {
         let limits = RudderLimits {
             angle: 0.6,
             rate: 0.05,
+            lag: 0.0,
         };
         let mut ap = Autopilot::new(g, limits);
         // a large heading error: the command saturates; the rudder moves 0.005 rad per 0.1 s
@@ -169,6 +181,26 @@ mod tests {
             ap.step(-1.0, 0.0, 0.1);
         }
         assert!((ap.rudder() - 0.6).abs() < 1e-12, "held at the angle limit");
+        // with a 2 s lag and no rate limit to speak of, a small command is approached as
+        // 1 - exp(-t / 2)
+        let limits = RudderLimits {
+            angle: 0.6,
+            rate: 10.0,
+            lag: 2.0,
+        };
+        let mut ap = Autopilot::new(
+            Gains {
+                kp: 1.0,
+                kd: 0.0,
+                ki: 0.0,
+                ..g
+            },
+            limits,
+        );
+        for _ in 0..20 {
+            ap.step(-0.01, 0.0, 0.1);
+        }
+        assert!((ap.rudder() - 0.01 * (1.0 - (-1.0f64).exp())).abs() < 1e-12);
     }
 
     #[test]

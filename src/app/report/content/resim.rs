@@ -33,9 +33,10 @@ pub fn write<'a>(d: &mut Document<'a>, r: &RunResult, figs: &Figures<'a>) {
             "A PID heading autopilot tuned from the identified K = {:.4} 1/s and T = {:.2} s by \
              pole placement (w_n = {} rad/s, zeta = {}: K_p = {:.3}, K_d = {:.3} s, K_i = {:.4} \
              1/s), with a third-order heading reference model, closed around the identified \
-             model in the same waves: once fed the raw compass and gyro, once the wave \
-             filter's low-frequency heading and yaw rate (the hybrid EKF on the same model, \
-             run online). Heading error is the low-frequency heading's from the reference.",
+             model in the same waves, once per feed: the raw compass and gyro, the compass and \
+             its difference, the wave filter's low-frequency heading and yaw rate (the hybrid \
+             EKF on the same model, run online), or the plant's true low-frequency heading \
+             (the ideal). Heading error is the low-frequency heading's from the reference.",
             a.k,
             a.t,
             crate::base::numfmt::num(a.gains.omega_n),
@@ -52,12 +53,9 @@ pub fn write<'a>(d: &mut Document<'a>, r: &RunResult, figs: &Figures<'a>) {
         ])
         .numeric_from(1)
         .col(0, Col::Text);
-        for (what, c) in [
-            ("raw compass and gyro", &a.raw),
-            ("wave filter", &a.filtered),
-        ] {
+        for c in &a.feeds {
             t.row([
-                what.to_string(),
+                c.feed.describe().to_string(),
                 format!("{:.3}", c.heading_error_rms.to_degrees()),
                 format!("{:.3}", c.rudder_rms.to_degrees()),
                 format!("{:.3}", c.rudder_rate_rms.to_degrees()),

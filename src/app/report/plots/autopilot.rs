@@ -1,11 +1,12 @@
 //! The autopilot in waves (`[autopilot]`, docs/models/nomoto.md): heading error, rudder angle
-//! and rudder rate of the closed loop fed the raw compass and gyro against the wave filter,
-//! and the heading's spectrum before and after filtering.
+//! and rudder rate of the closed loop for every feed asked for (raw compass and gyro, the
+//! differentiated compass, the wave filter, the true heading), and the heading's spectrum
+//! before and after filtering.
 
 use super::axes::{self, Axes, Range};
 use super::style::{self, colour, Key, Mark};
 use super::{FigureMeta, Plot, PlotError, Section};
-use crate::dynamics::autopilot::AutopilotResult;
+use crate::dynamics::autopilot::{AutopilotResult, ClosedLoop, Feed};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -17,11 +18,21 @@ pub struct Histories<'a>(pub &'a AutopilotResult);
 #[derive(Debug, Clone, Copy)]
 pub struct Spectrum<'a>(pub &'a AutopilotResult);
 
-fn keys() -> Vec<Key> {
-    vec![
-        Key::new(Mark::Line(colour::VERMILLION), "raw compass and gyro"),
-        Key::new(Mark::Line(colour::BLUE), "wave filter"),
-    ]
+/// Each feed's colour and line width.
+fn look(feed: Feed) -> (RGBColor, u32) {
+    match feed {
+        Feed::Raw => (colour::VERMILLION, 1),
+        Feed::Differentiated => (colour::ORANGE, 1),
+        Feed::Filter => (colour::BLUE, 2),
+        Feed::True => (colour::GREEN, 2),
+    }
+}
+
+fn keys(a: &AutopilotResult) -> Vec<Key> {
+    a.feeds
+        .iter()
+        .map(|c| Key::new(Mark::Line(look(c.feed).0), c.feed.describe()))
+        .collect()
 }
 
 impl Plot for Histories<'_> {
@@ -29,9 +40,10 @@ impl Plot for Histories<'_> {
         FigureMeta {
             name: "autopilot".into(),
             title: "Autopilot in waves".into(),
-            caption: "The closed loop fed the raw compass and gyro (red) and the wave filter's \
-                      low-frequency heading and yaw rate (blue): heading error from the \
-                      reference, rudder angle and rudder rate."
+            caption: "The closed loop per feed: raw compass and gyro (red), compass and its \
+                      difference (orange), the wave filter's low-frequency heading and yaw \
+                      rate (blue), the true low-frequency heading (green): heading error \
+                      from the reference, rudder angle and rudder rate."
                 .into(),
             section: Section::Resim,
             shows: Vec::new(),
@@ -44,7 +56,7 @@ impl Plot for Histories<'_> {
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
         let a = self.0;
-        let body = style::frame(root, "Autopilot in waves", &keys())?;
+        let body = style::frame(root, "Autopilot in waves", &keys(a))?;
         let panels = body.split_evenly((3, 1));
         let rate = |v: &[f64], t: &[f64]| -> Vec<(f64, f64)> {
             t.windows(2)
@@ -52,9 +64,7 @@ impl Plot for Histories<'_> {
                 .map(|(t, v)| (t[1], ((v[1] - v[0]) / (t[1] - t[0])).to_degrees()))
                 .collect()
         };
-        let series = |c: &crate::dynamics::autopilot::closed_loop::ClosedLoop,
-                      which: usize|
-         -> Vec<(f64, f64)> {
+        let series = |c: &ClosedLoop, which: usize| -> Vec<(f64, f64)> {
             match which {
                 0 => c
                     .times
@@ -73,24 +83,17 @@ impl Plot for Histories<'_> {
         };
         let descs = ["heading error (deg)", "rudder (deg)", "rudder rate (deg/s)"];
         for (i, (area, desc)) in panels.iter().zip(descs).enumerate() {
-            let raw = series(&a.raw, i);
-            let fil = series(&a.filtered, i);
-            let x = Range::require(raw.iter().map(|p| p.0), "time")?;
-            let y = Range::require(raw.iter().chain(&fil).map(|p| p.1), desc)?.pad(0.06);
+            let lines: Vec<Vec<(f64, f64)>> = a.feeds.iter().map(|c| series(c, i)).collect();
+            let x = Range::require(lines.iter().flatten().map(|p| p.0), "time")?;
+            let y = Range::require(lines.iter().flatten().map(|p| p.1), desc)?.pad(0.06);
             let mut chart = axes::panel(
                 area,
                 &Axes::new(x, y, if i == 2 { "time (s)" } else { "" }, desc),
             )?;
-            axes::line(
-                &mut chart,
-                raw.iter().copied(),
-                colour::VERMILLION.stroke_width(1),
-            )?;
-            axes::line(
-                &mut chart,
-                fil.iter().copied(),
-                colour::BLUE.stroke_width(2),
-            )?;
+            for (c, line) in a.feeds.iter().zip(&lines) {
+                let (colour, width) = look(c.feed);
+                axes::line(&mut chart, line.iter().copied(), colour.stroke_width(width))?;
+            }
         }
         Ok(())
     }
@@ -101,9 +104,10 @@ impl Plot for Spectrum<'_> {
         FigureMeta {
             name: "heading_spectrum".into(),
             title: "Heading spectrum before and after the wave filter".into(),
-            caption: "Periodogram of the compass (red) and of the wave filter's low-frequency \
-                      heading (blue) in the closed loop fed the filter, log scale: the filter \
-                      takes out the wave-frequency peak."
+            caption: "Periodogram of the compass (red) and of the heading the autopilot saw \
+                      (blue) in the closed loop fed the wave filter (or the first feed asked \
+                      for without it), log scale: the filter takes out the wave-frequency \
+                      peak."
                 .into(),
             section: Section::Resim,
             shows: Vec::new(),
@@ -115,13 +119,18 @@ impl Plot for Spectrum<'_> {
     }
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
-        let c = &self.0.filtered;
+        let Some(c) = self.0.feed(Feed::Filter).or(self.0.feeds.first()) else {
+            return Ok(());
+        };
         let body = style::frame(
             root,
             "Heading spectrum before and after the wave filter",
             &[
                 Key::new(Mark::Line(colour::VERMILLION), "compass"),
-                Key::new(Mark::Line(colour::BLUE), "filtered heading psi_L"),
+                Key::new(
+                    Mark::Line(colour::BLUE),
+                    "heading seen (psi_L with the filter)",
+                ),
             ],
         )?;
         let ws = crate::numerics::signal::log_frequencies(0.02, 3.0, 300);

@@ -1,0 +1,132 @@
+//! The seas of the closed loop: the identified model's own wave states driven by its process
+//! noise (the generator, seeded), or a recorded disturbance replayed from a file (a reference
+//! closed loop's wave-induced yaw, or a yaw moment as a rudder-equivalent angle), read at any
+//! time by linear interpolation between its samples.
+
+use crate::dynamics::sim::inputs::{Input, InputSeries};
+use serde::{Deserialize, Serialize};
+
+/// What a recorded disturbance is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DisturbanceKind {
+    /// Wave-induced yaw psi_H, rad: added to what the compass reads (Fossen 2011, 8.2.1:
+    /// compass = psi_L + psi_H), its rate to what the gyro reads.
+    WaveYaw,
+    /// A yaw moment as the rudder angle that makes it, rad: added to the rudder in the
+    /// plant, T r_dot + r = K (delta + delta_w - delta_0) (Fossen 2011, 7.2).
+    Rudder,
+}
+
+/// A disturbance sampled in time (SI), replayed by linear interpolation.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Recording {
+    /// What the samples are.
+    pub kind: DisturbanceKind,
+    series: InputSeries,
+}
+
+/// Why a recording cannot drive the closed loop.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RecordingError {
+    /// Fewer than two samples, or times not increasing, or a value not finite.
+    #[error("{0}")]
+    Malformed(String),
+    /// The samples end (or begin) inside the closed loop's run.
+    #[error(
+        "the recording covers {from} to {to} s; the closed loop runs from 0 to {duration} s \
+         (autopilot.duration): a disturbance is replayed, never extrapolated"
+    )]
+    TooShort {
+        /// First sample time, s.
+        from: f64,
+        /// Last sample time, s.
+        to: f64,
+        /// The closed loop's duration, s.
+        duration: f64,
+    },
+}
+
+impl Recording {
+    /// A recording of `kind` from sample times `t` (s, increasing) and values (SI).
+    pub fn new(
+        kind: DisturbanceKind,
+        t: Vec<f64>,
+        values: Vec<f64>,
+    ) -> Result<Self, RecordingError> {
+        let bad = |m: &str| Err(RecordingError::Malformed(m.to_string()));
+        if t.len() < 2 || t.len() != values.len() {
+            return bad("at least two samples of time and value");
+        }
+        if t.windows(2)
+            .any(|w| w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater))
+        {
+            return bad("times increasing from one sample to the next");
+        }
+        if t.iter().chain(&values).any(|v| !v.is_finite()) {
+            return bad("finite times and values");
+        }
+        Ok(Recording {
+            kind,
+            series: InputSeries {
+                t,
+                inputs: vec![Input::Series(values)],
+            },
+        })
+    }
+
+    /// Refuses a recording that does not cover 0 to `duration` s.
+    pub fn covers(&self, duration: f64) -> Result<(), RecordingError> {
+        let (from, to) = (self.series.t[0], self.series.t[self.series.t.len() - 1]);
+        // a sample time printed with a few digits may miss the end by rounding
+        let slack = 1e-9 * duration.abs().max(1.0);
+        if from > slack || to < duration - slack {
+            return Err(RecordingError::TooShort { from, to, duration });
+        }
+        Ok(())
+    }
+
+    /// The disturbance at `t`, linearly interpolated between the samples.
+    pub fn at(&self, t: f64) -> f64 {
+        let mut out = [0.0];
+        self.series.at(t, &mut out);
+        out[0]
+    }
+
+    /// Its rate at `t`: the central difference over `h` (a gyro's view of a recorded wave
+    /// yaw; second-order accurate for a recording sampled every `h`).
+    pub fn rate(&self, t: f64, h: f64) -> f64 {
+        (self.at(t + h / 2.0) - self.at(t - h / 2.0)) / h
+    }
+}
+
+/// Where the closed loop's disturbance comes from.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub enum Seas {
+    /// The model's own wave states driven by its process noise (seeded).
+    #[default]
+    Generated,
+    /// A recorded disturbance; the plant then has no process noise of its own.
+    Recorded(Recording),
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_recording_is_interpolated_and_refused_when_short() {
+        let r = Recording::new(
+            DisturbanceKind::WaveYaw,
+            vec![0.0, 1.0, 2.0],
+            vec![0.0, 2.0, 0.0],
+        )
+        .unwrap();
+        assert!((r.at(0.25) - 0.5).abs() < 1e-12);
+        assert!(r.rate(1.0, 1.0).abs() < 1e-12 && (r.rate(0.5, 1.0) - 2.0).abs() < 1e-12);
+        assert!(r.covers(2.0).is_ok());
+        let e = r.covers(600.0).unwrap_err().to_string();
+        assert!(e.contains("covers 0 to 2 s") && e.contains("600"), "{e}");
+        assert!(Recording::new(DisturbanceKind::Rudder, vec![0.0, 0.0], vec![1.0, 1.0]).is_err());
+    }
+}

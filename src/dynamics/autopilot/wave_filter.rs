@@ -1,0 +1,162 @@
+//! The wave filter inside the closed loop: the hybrid EKF on the identified model's states (no
+//! coefficient estimated), run online on the compass, giving the autopilot the low-frequency
+//! heading psi_L and yaw rate r_L (Fossen 2011, 11.3: wave filtering by a Kalman filter on the
+//! ship and wave models; the paper's eq. 20-25).
+//!
+//! Two choices decide how much wave motion reaches the rudder:
+//! - the process noise on r_L (the paper's w_L, unmodelled yaw moments): by default the one
+//!   that puts the filter's own low-frequency bandwidth a decade below the wave frequency;
+//! - the start: the filter starts with its stationary covariance, so that its first gains are
+//!   its steady ones rather than those of a unit covariance that let the compass, waves
+//!   included, through for the first tens of seconds.
+
+use super::closed_loop::{LoopError, Scenario};
+use crate::dynamics::model_system::ModelSystem;
+use crate::dynamics::sim::InputSeries;
+use crate::model::models::Model;
+use crate::numerics::estimation::hybrid_ekf::HybridEkf;
+
+/// The process noise on r_L (rad^2/s^3) that puts the filter's low-frequency bandwidth a
+/// decade below the wave frequency `w0`: the steady-state Kalman filter of a double
+/// integrator (psi_L, r_L) measured with noise variance R has the natural frequency
+/// (q / R)^(1/4) (Gelb 1974, Applied Optimal Estimation, ch. 4), so q = R (w0 / 10)^4.
+/// Without a wave frequency, 1e-7.
+pub fn default_rate_noise(compass_noise: f64, w0: Option<f64>) -> f64 {
+    match w0 {
+        Some(w0) => compass_noise.powi(2) * (w0 / 10.0).powi(4),
+        None => 1e-7,
+    }
+}
+
+/// The filter, with where it reads the heading and the yaw rate.
+pub(super) struct WaveFilter {
+    ekf: HybridEkf,
+    psi_i: usize,
+    r_i: usize,
+    compass_i: usize,
+    r_var: [f64; 1],
+}
+
+/// Samples at most spent settling the covariance, and the relative change that ends it.
+const SETTLE_SAMPLES: usize = 100_000;
+const SETTLED: f64 = 1e-10;
+
+impl WaveFilter {
+    /// The filter on `model` with `c`, its process noise the scenario's (every other state
+    /// a small 1e-9 SI^2/s so that no covariance collapses and the filter keeps listening;
+    /// r_L the scenario's `rate_noise` or [`default_rate_noise`]), settled to its stationary
+    /// covariance.
+    pub(super) fn new<M: Model>(
+        model: &M,
+        c: &[f64],
+        (psi_i, r_i, compass_i): (usize, usize, usize),
+        s: &Scenario,
+    ) -> Result<Self, LoopError> {
+        let nx = model.nx();
+        let rate_noise = s
+            .rate_noise
+            .unwrap_or_else(|| default_rate_noise(s.compass_noise, model.wave_frequency(c)));
+        let q = s
+            .process_noise
+            .iter()
+            .enumerate()
+            .map(|(i, q)| q.max(if i == r_i { rate_noise } else { 1e-9 }))
+            .collect();
+        let mut p0 = vec![0.0; nx * nx];
+        for i in 0..nx {
+            p0[i * nx + i] = 1.0;
+        }
+        let mut f = WaveFilter {
+            ekf: HybridEkf::new(nx, nx, vec![0.0; nx], p0, q, s.dt),
+            psi_i,
+            r_i,
+            compass_i,
+            r_var: [s.compass_noise.powi(2).max(1e-12)],
+        };
+        f.settle(model, c, s.dt)?;
+        Ok(f)
+    }
+
+    /// Runs the covariance to its stationary value: predictions and updates on measurements
+    /// equal to the prediction (the model is linear in its states, so the covariance does
+    /// not depend on them), until no variance changes by more than [`SETTLED`] relatively.
+    fn settle<M: Model>(&mut self, model: &M, c: &[f64], dt: f64) -> Result<(), LoopError> {
+        let nx = model.nx();
+        let diagonal = |p: &[f64]| (0..nx).map(|i| p[i * nx + i]).collect::<Vec<f64>>();
+        let mut last = diagonal(&self.ekf.p);
+        for k in 1..=SETTLE_SAMPLES {
+            let t = k as f64 * dt;
+            self.advance(model, c, t - dt, t, 0.0)?;
+            let predicted = model.output_values(&self.ekf.x, &[0.0], c)[self.compass_i];
+            self.correct(model, c, t, 0.0, predicted)?;
+            let now = diagonal(&self.ekf.p);
+            let settled = now
+                .iter()
+                .zip(&last)
+                .all(|(a, b)| (a - b).abs() <= SETTLED * a.abs().max(1e-300));
+            last = now;
+            if settled {
+                break;
+            }
+        }
+        self.ekf.x.iter_mut().for_each(|x| *x = 0.0);
+        Ok(())
+    }
+
+    /// Starts the estimate on the first compass reading (the ship on its course, no wave yaw
+    /// known yet).
+    pub(super) fn start(&mut self, compass: f64) {
+        self.ekf.x[self.psi_i] = compass;
+    }
+
+    fn advance<M: Model>(
+        &mut self,
+        model: &M,
+        c: &[f64],
+        t0: f64,
+        t1: f64,
+        delta: f64,
+    ) -> Result<(), LoopError> {
+        let inputs = InputSeries::constant(&[delta]);
+        let measured = [self.compass_i];
+        let mut sys = ModelSystem::new(model, c.to_vec(), &[], &[], &inputs, &measured);
+        self.ekf
+            .predict(&mut sys, t0, t1, None)
+            .map_err(|d| LoopError::FilterDiverged(d.reason))
+    }
+
+    fn correct<M: Model>(
+        &mut self,
+        model: &M,
+        c: &[f64],
+        t: f64,
+        delta: f64,
+        compass: f64,
+    ) -> Result<(), LoopError> {
+        let inputs = InputSeries::constant(&[delta]);
+        let measured = [self.compass_i];
+        let mut sys = ModelSystem::new(model, c.to_vec(), &[], &[], &inputs, &measured);
+        self.ekf
+            .update(&mut sys, t, &[compass], &self.r_var)
+            .map(|_| ())
+            .map_err(|d| LoopError::FilterDiverged(d.reason))
+    }
+
+    /// One sample: the prediction over the interval ending at `t` with the rudder held at
+    /// `delta` (none at the first sample), the update on `compass`; returns psi_L and r_L.
+    pub(super) fn step<M: Model>(
+        &mut self,
+        model: &M,
+        c: &[f64],
+        t: f64,
+        dt: f64,
+        delta: f64,
+        compass: f64,
+    ) -> Result<(f64, f64), LoopError> {
+        if t > 0.0 {
+            self.advance(model, c, t - dt, t, delta)?;
+        }
+        self.correct(model, c, t, delta, compass)?;
+        Ok((self.ekf.x[self.psi_i], self.ekf.x[self.r_i]))
+    }
+}
