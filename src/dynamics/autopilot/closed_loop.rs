@@ -321,14 +321,8 @@ mod tests {
     use super::*;
     use crate::model::models::nomoto_wave::{NomotoWave, FRIGATE_9MS};
 
-    /// The paper's result on the frigate in 8 s waves (1 deg wave yaw, compass noise 0.1 deg):
-    /// fed the filtered heading, the autopilot moves the rudder far less for the same
-    /// heading-keeping.
-    #[test]
-    fn the_filtered_heading_calms_the_rudder_without_losing_the_heading() {
-        let m = NomotoWave::build(&NomotoWave::example_vehicle()).unwrap();
-        let c = m.coefficient_vector(FRIGATE_9MS);
-        let s = Scenario {
+    fn frigate_scenario() -> Scenario {
+        Scenario {
             duration: 600.0,
             dt: 0.1,
             course_change: 10f64.to_radians(),
@@ -346,30 +340,64 @@ mod tests {
             seed: 7,
             rate_noise: None,
             seas: Seas::Generated,
-        };
+        }
+    }
 
-        let raw = run(&m, &c, &s, Feed::Raw).unwrap();
-        let filtered = run(&m, &c, &s, Feed::Filter).unwrap();
+    /// The paper's result on the frigate in 8 s waves (1 deg wave yaw, compass noise 0.1 deg):
+    /// fed the filtered heading, the autopilot moves the rudder at least ten times less than
+    /// fed the raw compass and gyro, and keeps the heading within twice the true heading's
+    /// error (measured: rudder rate raw 2.22 deg/s, filter 0.022 deg/s, true 0.011 deg/s;
+    /// heading error 1.48 deg filter and true, 1.67 deg raw; a record).
+    #[test]
+    fn the_filtered_heading_calms_the_rudder_without_losing_the_heading() {
+        let m = NomotoWave::build(&NomotoWave::example_vehicle()).unwrap();
+        let c = m.coefficient_vector(FRIGATE_9MS);
+        let s = frigate_scenario();
+        let [raw, filtered, ideal] =
+            [Feed::Raw, Feed::Filter, Feed::True].map(|f| run(&m, &c, &s, f).unwrap());
         let deg = f64::to_degrees;
-        println!(
-            "raw: heading error {:.3} deg, rudder {:.3} deg, rudder rate {:.3} deg/s",
-            deg(raw.heading_error_rms),
-            deg(raw.rudder_rms),
-            deg(raw.rudder_rate_rms)
-        );
-        println!(
-            "filtered: heading error {:.3} deg, rudder {:.3} deg, rudder rate {:.3} deg/s",
-            deg(filtered.heading_error_rms),
-            deg(filtered.rudder_rms),
-            deg(filtered.rudder_rate_rms)
-        );
-        assert!(filtered.rudder_rate_rms <= 0.5 * raw.rudder_rate_rms);
-        // no worse than 20 % in heading keeping
+        for l in [&raw, &filtered, &ideal] {
+            println!(
+                "{}: heading error {:.3} deg, rudder {:.3} deg, rudder rate {:.4} deg/s",
+                l.feed.name(),
+                deg(l.heading_error_rms),
+                deg(l.rudder_rms),
+                deg(l.rudder_rate_rms)
+            );
+        }
+        assert!(filtered.rudder_rate_rms * 10.0 <= raw.rudder_rate_rms);
         assert!(
-            filtered.heading_error_rms <= 1.2 * raw.heading_error_rms,
+            filtered.heading_error_rms <= 2.0 * ideal.heading_error_rms,
             "heading error {} against {}",
             filtered.heading_error_rms,
-            raw.heading_error_rms
+            ideal.heading_error_rms
         );
+    }
+
+    /// A recorded rudder-equivalent disturbance equal to the rudder bias cancels it: the
+    /// autopilot, fed the true heading, holds the rudder amidships instead of at the bias.
+    #[test]
+    fn a_recorded_rudder_disturbance_enters_the_plant_as_rudder() {
+        let m = NomotoWave::build(&NomotoWave::example_vehicle()).unwrap();
+        let c = m.coefficient_vector(FRIGATE_9MS);
+        let bias = 1f64.to_radians();
+        let mut s = frigate_scenario();
+        s.course_change = 0.0;
+        let held = |s: &Scenario| {
+            let l = run(&m, &c, s, Feed::True).unwrap();
+            l.rudder[l.rudder.len() - 1000..].iter().sum::<f64>() / 1000.0
+        };
+        let calm = held(&s);
+        s.seas = Seas::Recorded(
+            super::super::seas::Recording::new(
+                DisturbanceKind::Rudder,
+                vec![0.0, 600.0],
+                vec![bias, bias],
+            )
+            .unwrap(),
+        );
+        let cancelled = held(&s);
+        assert!((calm - bias).abs() < 0.02 * bias, "{calm}");
+        assert!(cancelled.abs() < 0.02 * bias, "{cancelled}");
     }
 }
