@@ -228,6 +228,19 @@ fn the_recorded_sea_reproduces_the_reference_and_the_filter_calms_the_rudder() {
             deg(c.rudder_rate_rms)
         );
     }
+    // docs/models/nomoto.md, "Seas and sensors", its table at the printed digits
+    let row = |e: f64, d: f64, r: f64| format!("{:.3} {:.3} {:.4}", deg(e), deg(d), deg(r));
+    let mut rows = vec![row(raw_e, raw_d, raw_rate), row(true_e, true_d, true_rate)];
+    rows.extend(
+        loops
+            .iter()
+            .map(|c| row(c.heading_error_rms, c.rudder_rms, c.rudder_rate_rms)),
+    );
+    assert_eq!(
+        rows.join("; "),
+        "1.458 5.685 4.9391; 0.180 0.925 0.0131; 1.492 5.724 4.9423; 0.978 3.182 4.9787; \
+         0.184 0.932 0.0952; 0.180 0.925 0.0131"
+    );
     let get = |f: Feed| loops.iter().find(|c| c.feed == f).unwrap();
     let within = |a: f64, b: f64| (a / b - 1.0).abs() <= 0.1;
     let (raw, filter, ideal) = (get(Feed::Raw), get(Feed::Filter), get(Feed::True));
