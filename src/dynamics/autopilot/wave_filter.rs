@@ -14,7 +14,7 @@ use super::closed_loop::{LoopError, Scenario};
 use crate::dynamics::model_system::ModelSystem;
 use crate::dynamics::sim::InputSeries;
 use crate::model::models::Model;
-use crate::numerics::estimation::hybrid_ekf::HybridEkf;
+use crate::numerics::estimation::{Divergence, HybridEkf};
 
 /// The process noise on r_L (rad^2/s^3) that puts the filter's low-frequency bandwidth a
 /// decade below the wave frequency `w0`: the steady-state Kalman filter of a double
@@ -86,9 +86,9 @@ impl WaveFilter {
         let mut last = diagonal(&self.ekf.p);
         for k in 1..=SETTLE_SAMPLES {
             let t = k as f64 * dt;
-            self.advance(model, c, t - dt, t, 0.0)?;
+            self.sample(model, c, (t - dt, t), 0.0, None)?;
             let predicted = model.output_values(&self.ekf.x, &[0.0], c)[self.compass_i];
-            self.correct(model, c, t, 0.0, predicted)?;
+            self.sample(model, c, (t, t), 0.0, Some(predicted))?;
             let now = diagonal(&self.ekf.p);
             let settled = now
                 .iter()
@@ -109,37 +109,29 @@ impl WaveFilter {
         self.ekf.x[self.psi_i] = compass;
     }
 
-    fn advance<M: Model>(
+    /// The prediction from `t0` to `t1` with the rudder held at `delta`, then (with a
+    /// compass reading at `t1`) the update.
+    fn sample<M: Model>(
         &mut self,
         model: &M,
         c: &[f64],
-        t0: f64,
-        t1: f64,
+        (t0, t1): (f64, f64),
         delta: f64,
+        compass: Option<f64>,
     ) -> Result<(), LoopError> {
         let inputs = InputSeries::constant(&[delta]);
         let measured = [self.compass_i];
         let mut sys = ModelSystem::new(model, c.to_vec(), &[], &[], &inputs, &measured);
-        self.ekf
-            .predict(&mut sys, t0, t1, None)
-            .map_err(|d| LoopError::FilterDiverged(d.reason))
-    }
-
-    fn correct<M: Model>(
-        &mut self,
-        model: &M,
-        c: &[f64],
-        t: f64,
-        delta: f64,
-        compass: f64,
-    ) -> Result<(), LoopError> {
-        let inputs = InputSeries::constant(&[delta]);
-        let measured = [self.compass_i];
-        let mut sys = ModelSystem::new(model, c.to_vec(), &[], &[], &inputs, &measured);
-        self.ekf
-            .update(&mut sys, t, &[compass], &self.r_var)
-            .map(|_| ())
-            .map_err(|d| LoopError::FilterDiverged(d.reason))
+        let diverged = |d: Divergence| LoopError::FilterDiverged(d.reason);
+        if t1 > t0 {
+            self.ekf.predict(&mut sys, t0, t1, None).map_err(diverged)?;
+        }
+        if let Some(z) = compass {
+            self.ekf
+                .update(&mut sys, t1, &[z], &self.r_var)
+                .map_err(diverged)?;
+        }
+        Ok(())
     }
 
     /// One sample: the prediction over the interval ending at `t` with the rudder held at
@@ -153,10 +145,7 @@ impl WaveFilter {
         delta: f64,
         compass: f64,
     ) -> Result<(f64, f64), LoopError> {
-        if t > 0.0 {
-            self.advance(model, c, t - dt, t, delta)?;
-        }
-        self.correct(model, c, t, delta, compass)?;
+        self.sample(model, c, ((t - dt).max(0.0), t), delta, Some(compass))?;
         Ok((self.ekf.x[self.psi_i], self.ekf.x[self.r_i]))
     }
 }
