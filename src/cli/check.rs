@@ -259,6 +259,14 @@ fn stage_checks(l: &LoadedConfig, found: &mut Findings) {
     }
     found.warnings.extend(pre.fit_warnings);
     found.warnings.extend(pre.validation_warnings);
+    // the autopilot's recorded disturbance, read as `run` reads it before any stage
+    if let Some(a) = &l.config.autopilot {
+        if let Err(e) = pipeline::autopilot::load_seas(a, &l.base_dir) {
+            found
+                .input_problems
+                .push(("autopilot.disturbance_file".to_string(), e));
+        }
+    }
 }
 
 /// The `--json` document: what would run, every input, the warnings and the problems.
