@@ -4,6 +4,7 @@
 //! raw compass (with its difference as the yaw rate) or the low-frequency heading and yaw
 //! rate of a wave filter, the hybrid EKF on the same model run online.
 
+pub use super::seas::Feed;
 use super::seas::{DisturbanceKind, Seas};
 use super::wave_filter::WaveFilter;
 use super::{Autopilot, Gains, ReferenceModel, RudderLimits};
@@ -12,49 +13,7 @@ use crate::dynamics::sim::{simulate, InputSeries};
 use crate::model::models::Model;
 use rand::{rngs::StdRng, SeedableRng};
 use rand_distr::{Distribution, Normal};
-use serde::{Deserialize, Serialize};
-
-/// What the autopilot is fed: the heading and the yaw rate it closes the loop on.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Feed {
-    /// The raw compass and a raw yaw-rate gyro (the model's compass and gyro outputs, which
-    /// see the wave-induced yaw, with their noise).
-    Raw,
-    /// The raw compass and its backward difference as the yaw rate (no gyro).
-    Differentiated,
-    /// The wave filter's low-frequency heading psi_L and yaw rate r_L.
-    Filter,
-    /// The plant's own low-frequency heading and yaw rate, without noise: the ideal a wave
-    /// filter aims at, for comparison.
-    True,
-}
-
-impl Feed {
-    /// Every feed, in the order the results list them.
-    pub const ALL: [Feed; 4] = [Feed::Raw, Feed::Differentiated, Feed::Filter, Feed::True];
-
-    /// The feed's name in configurations and results (`raw`, `differentiated`, `filter`,
-    /// `true`).
-    pub fn name(self) -> &'static str {
-        match self {
-            Feed::Raw => "raw",
-            Feed::Differentiated => "differentiated",
-            Feed::Filter => "filter",
-            Feed::True => "true",
-        }
-    }
-
-    /// The feed in words.
-    pub fn describe(self) -> &'static str {
-        match self {
-            Feed::Raw => "raw compass and gyro",
-            Feed::Differentiated => "raw compass and its difference",
-            Feed::Filter => "wave filter (psi_L, r_L)",
-            Feed::True => "true low-frequency heading",
-        }
-    }
-}
+use serde::Serialize;
 
 /// The scenario: a course change under the reference model, in waves.
 #[derive(Debug, Clone, PartialEq, Serialize)]

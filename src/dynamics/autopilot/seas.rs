@@ -1,10 +1,53 @@
-//! The seas of the closed loop: the identified model's own wave states driven by its process
-//! noise (the generator, seeded), or a recorded disturbance replayed from a file (a reference
-//! closed loop's wave-induced yaw, or a yaw moment as a rudder-equivalent angle), read at any
-//! time by linear interpolation between its samples.
+//! The seas and sensors of the closed loop: the identified model's own wave states driven by
+//! its process noise (the generator, seeded), or a recorded disturbance replayed from a file
+//! (a reference closed loop's wave-induced yaw, or a yaw moment as a rudder-equivalent angle),
+//! read at any time by linear interpolation between its samples; and the feeds, what the
+//! autopilot reads of the ship.
 
 use crate::dynamics::sim::inputs::{Input, InputSeries};
 use serde::{Deserialize, Serialize};
+
+/// What the autopilot is fed: the heading and the yaw rate it closes the loop on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Feed {
+    /// The raw compass and a raw yaw-rate gyro (the model's compass and gyro outputs, which
+    /// see the wave-induced yaw, with their noise).
+    Raw,
+    /// The raw compass and its backward difference as the yaw rate (no gyro).
+    Differentiated,
+    /// The wave filter's low-frequency heading psi_L and yaw rate r_L.
+    Filter,
+    /// The plant's own low-frequency heading and yaw rate, without noise: the ideal a wave
+    /// filter aims at, for comparison.
+    True,
+}
+
+impl Feed {
+    /// Every feed, in the order the results list them.
+    pub const ALL: [Feed; 4] = [Feed::Raw, Feed::Differentiated, Feed::Filter, Feed::True];
+
+    /// The feed's name in configurations and results (`raw`, `differentiated`, `filter`,
+    /// `true`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Feed::Raw => "raw",
+            Feed::Differentiated => "differentiated",
+            Feed::Filter => "filter",
+            Feed::True => "true",
+        }
+    }
+
+    /// The feed in words.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Feed::Raw => "raw compass and gyro",
+            Feed::Differentiated => "raw compass and its difference",
+            Feed::Filter => "wave filter (psi_L, r_L)",
+            Feed::True => "true low-frequency heading",
+        }
+    }
+}
 
 /// What a recorded disturbance is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
