@@ -579,7 +579,7 @@ fn docs_row(name: &str, ours: &Accuracy, paper: &Accuracy, errors: bool) -> Stri
 fn bundled_manoeuvres_give_the_tables_of_the_docs() {
     let ((ours, nis_ours), (paper, nis_paper)) =
         (bundled(false, "hydroid"), bundled(false, "paper"));
-    // the table's last row: the mean NIS (bounds 5.85-6.15)
+    // the table's last row: the mean NIS (bounds 5.71-6.30)
     assert_eq!(
         [nis_ours, nis_paper],
         ["6.04, consistent", "3.59, not consistent"]

@@ -156,7 +156,7 @@ fn twin_toml_reproduces_the_paper_manoeuvre_table() {
     let cfg = root().join("configs/twin.toml");
     let defaults = identify(&cfg, &preset("hydroid"));
     assert_column("defaults", &defaults, &PAPER_DEFAULTS, PAPER_DEFAULTS_NIS);
-    assert_eq!(nis_bounds(&defaults), "5.85-6.15");
+    assert_eq!(nis_bounds(&defaults), "5.71-6.30");
     assert_errors(
         "defaults",
         &defaults,
@@ -177,7 +177,7 @@ fn twin_second_toml_reproduces_the_second_manoeuvre_table() {
     let cfg = root().join("configs/twin_second.toml");
     let defaults = identify(&cfg, &preset("hydroid"));
     assert_column("defaults", &defaults, &SECOND_DEFAULTS, SECOND_DEFAULTS_NIS);
-    assert_eq!(nis_bounds(&defaults), "5.70-6.31");
+    assert_eq!(nis_bounds(&defaults), "5.42-6.59");
     let paper = identify(&cfg, &preset("paper"));
     assert_column("paper's tuning", &paper, &SECOND_PAPER, SECOND_PAPER_NIS);
 }

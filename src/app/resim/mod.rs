@@ -293,12 +293,12 @@ pub fn warnings(m: &ResimMetrics, rec: &Record) -> Vec<Warning> {
         };
         if range > 0.0 && excess > limit {
             poor.push(format!(
-                "{q} (RMS error {:.0} % of its range{})",
-                100.0 * rms / range,
+                "{q} (RMS error {} of its range{})",
+                percent(100.0 * rms / range),
                 if noise > 0.1 * rms {
                     format!(
-                        ", {:.0} % beyond its measurement noise",
-                        100.0 * excess / range
+                        ", {} beyond its measurement noise",
+                        percent(100.0 * excess / range)
                     )
                 } else {
                     String::new()
@@ -311,7 +311,8 @@ pub fn warnings(m: &ResimMetrics, rec: &Record) -> Vec<Warning> {
         .filter(|p| *p > POOR_POSITION_PCT)
     {
         poor.push(format!(
-            "the final position ({p:.0} % of the distance travelled)"
+            "the final position ({} of the distance travelled)",
+            percent(p)
         ));
     }
     if let Some(cmp) = &m.manoeuvre {
@@ -335,4 +336,15 @@ pub fn warnings(m: &ResimMetrics, rec: &Record) -> Vec<Warning> {
     out.into_iter()
         .map(|w| w.failed(crate::base::warning::Test::Resimulation))
         .collect()
+}
+
+/// A share in percent as the warnings print it: a model that ran away (a re-simulation
+/// that stopped on a non-finite state grows its errors without bound) is "over 1000 %",
+/// not a number of fifty digits.
+fn percent(p: f64) -> String {
+    if p.is_finite() && p <= 1000.0 {
+        format!("{p:.0} %")
+    } else {
+        "over 1000 %".to_string()
+    }
 }

@@ -1,5 +1,16 @@
 //! Normalised innovation squared (NIS) and its chi-square consistency bounds
-//! (Bar-Shalom, Li & Kirubarajan 2001, section 5.4).
+//! (Bar-Shalom, Li & Kirubarajan 2001, section 5.4), widened for a measurement noise that
+//! was itself estimated from the data.
+//!
+//! The chi-square bounds hold for a filter whose noise covariance is known. When the noise
+//! variance R_j of channel j is estimated (from the same run), each channel's normalised
+//! innovation e^2 / R_j carries the estimate's relative error too: the mean NIS of k samples
+//! has the variance 2 m / k of the chi-square law plus the sum over the channels of the
+//! estimate's own contribution (`noise_estimate_variance`). The bounds keep the chi-square
+//! shape around m, their half-widths scaled by sqrt(1 + extra k / (2 m)) (the ratio of the
+//! two standard deviations). Using the whole relative error of R_j for channel j is the
+//! conservative side: when the state's uncertainty H P H^T is a large part of the
+//! innovation's variance, an error of R_j moves the NIS less.
 
 use serde::Serialize;
 use statrs::distribution::{ChiSquared, ContinuousCDF};
@@ -13,8 +24,12 @@ pub struct NisSummary {
     pub samples: usize,
     /// Mean NIS; a consistent filter gives about `dof`.
     pub mean: f64,
-    /// Two-sided 95 % bounds on the mean NIS for a consistent filter.
+    /// Two-sided 95 % bounds on the mean NIS for a consistent filter (widened for the
+    /// measurement noise's estimation error).
     pub mean_bounds: [f64; 2],
+    /// Variance of the mean NIS added by the measurement noise's estimation error (0 when
+    /// every channel's noise is given, not estimated).
+    pub noise_estimate_variance: f64,
     /// Two-sided 95 % bounds on a single NIS value.
     pub sample_bounds: [f64; 2],
     /// Fraction of samples outside `sample_bounds` (about 0.05 when consistent).
@@ -31,15 +46,30 @@ pub fn chi2_bounds(dof: f64) -> [f64; 2] {
     }
 }
 
-/// Summarises per-sample NIS values, each with `dof` degrees of freedom.
-pub fn summarize(nis: &[f64], dof: usize) -> Option<NisSummary> {
+/// Two-sided 95 % bounds on the mean of `k` NIS values of `dof` degrees of freedom: the
+/// chi-square bounds of their sum over `k`, their half-widths about `dof` widened by
+/// sqrt(1 + extra k / (2 dof)) for the variance `extra` that an estimated noise adds (module
+/// documentation).
+pub fn mean_bounds(dof: usize, k: usize, extra: f64) -> [f64; 2] {
+    let total = chi2_bounds((k * dof) as f64);
+    let (m, k) = (dof as f64, k.max(1) as f64);
+    let widen = (1.0 + extra.max(0.0) * k / (2.0 * m)).sqrt();
+    [
+        (m - (m - total[0] / k) * widen).max(0.0),
+        m + (total[1] / k - m) * widen,
+    ]
+}
+
+/// Summarises per-sample NIS values, each with `dof` degrees of freedom; `extra` is the
+/// variance of their mean that the estimation of the measurement noise adds (0 for a noise
+/// that is given).
+pub fn summarize(nis: &[f64], dof: usize, extra: f64) -> Option<NisSummary> {
     if nis.is_empty() || dof == 0 {
         return None;
     }
     let k = nis.len();
     let mean = nis.iter().sum::<f64>() / k as f64;
-    let total = chi2_bounds((k * dof) as f64);
-    let mean_bounds = [total[0] / k as f64, total[1] / k as f64];
+    let mean_bounds = mean_bounds(dof, k, extra);
     let sample_bounds = chi2_bounds(dof as f64);
     let outside = nis
         .iter()
@@ -50,6 +80,7 @@ pub fn summarize(nis: &[f64], dof: usize) -> Option<NisSummary> {
         samples: k,
         mean,
         mean_bounds,
+        noise_estimate_variance: extra.max(0.0),
         sample_bounds,
         fraction_outside: outside as f64 / k as f64,
         consistent: mean >= mean_bounds[0] && mean <= mean_bounds[1],
@@ -83,10 +114,10 @@ mod tests {
                     .sum()
             })
             .collect();
-        let s = summarize(&nis, 3).unwrap();
+        let s = summarize(&nis, 3, 0.0).unwrap();
         assert!(s.consistent, "{s:?}");
         assert!((s.fraction_outside - 0.05).abs() < 0.02);
         let inflated: Vec<f64> = nis.iter().map(|v| 1.5 * v).collect();
-        assert!(!summarize(&inflated, 3).unwrap().consistent);
+        assert!(!summarize(&inflated, 3, 0.0).unwrap().consistent);
     }
 }

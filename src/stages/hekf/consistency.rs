@@ -208,10 +208,11 @@ mod tests {
                     sigma: 1e-3,
                     source: "configured".into(),
                     rounding: None,
+                    estimate_variance: 0.0,
                 })
                 .collect(),
             process_noise: Default::default(),
-            nis: summarize(nis, 2),
+            nis: summarize(nis, 2, 0.0),
             innovation_rms: rms,
             between: Default::default(),
             states: None,

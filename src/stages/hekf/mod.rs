@@ -307,6 +307,7 @@ fn prepared_runs<M: Model>(
 ) -> Result<(Vec<identify::RunData>, Vec<RunSummary>)> {
     let mut runs = Vec::new();
     let mut summaries = Vec::new();
+    let held = held_estimates(model, plan);
     for rec in inputs.runs {
         let (mut data, mut summary) = prepare::run_data(model, cfg, tuning, rec, inputs.base_dir)?;
         summary.warnings.extend(
@@ -320,6 +321,7 @@ fn prepared_runs<M: Model>(
             est: &plan.est,
             scale: &plan.scale,
             initial: &plan.initial,
+            held: &held,
         };
         summary.warnings.extend(
             plausibility::constant_inputs(model, rec, &data, &start)
@@ -331,6 +333,25 @@ fn prepared_runs<M: Model>(
         summaries.push(summary);
     }
     Ok((runs, summaries))
+}
+
+/// The held coefficients that come from an earlier stage with a sigma (polar, surge run,
+/// captive runs): the constant-input check names them when they explain a misfit.
+fn held_estimates<M: Model>(model: &M, plan: &prepare::Plan) -> Vec<plausibility::Held> {
+    use crate::model::coefficients::Source;
+    let names = model.coefficient_names();
+    plan.fixed
+        .iter()
+        .filter(|c| matches!(c.source, Source::Polar | Source::Surge | Source::Captive))
+        .filter_map(|c| {
+            let sigma = c.sigma.filter(|s| s.is_finite() && *s > 0.0)?;
+            Some(plausibility::Held {
+                index: names.iter().position(|n| *n == c.name)?,
+                sigma,
+                stage: c.source.to_string(),
+            })
+        })
+        .collect()
 }
 
 /// The configuration the stage runs: `cfg`, with the model's surge-balance coefficient added

@@ -29,7 +29,7 @@ mod rates;
 mod rudder;
 mod travel;
 
-pub use inputs::{constant_inputs, Start};
+pub use inputs::{constant_inputs, Held, Start};
 
 use super::STAGE;
 use crate::base::quantity::Quantity;

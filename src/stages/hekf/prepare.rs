@@ -520,6 +520,7 @@ fn measurement_noise(
                 sigma,
                 source: HELD_SOURCE.to_string(),
                 rounding: None,
+                estimate_variance: 0.0,
             });
             continue;
         };
@@ -539,15 +540,21 @@ fn measurement_noise(
                 y[k * m + a] -= bias;
             }
         }
-        let (sigma, source, rounds) = match (tuning.fixed_r, cfg.noise.get(q)) {
-            (Some(rv), _) => (rv.sqrt(), "paper preset".to_string(), None),
-            (None, Some(c)) => (c.si, "configured".to_string(), None),
+        let (sigma, source, rounds, estimate_variance) = match (tuning.fixed_r, cfg.noise.get(q)) {
+            (Some(rv), _) => (rv.sqrt(), "paper preset".to_string(), None, 0.0),
+            (None, Some(c)) => (c.si, "configured".to_string(), None, 0.0),
             (None, None) => match noise::estimate(rec, *q, &values, bias) {
-                Some(n) => (n.sigma, n.source, steps.map(|s| (n.rounding, s))),
+                Some(n) => (
+                    n.sigma,
+                    n.source,
+                    steps.map(|s| (n.rounding, s)),
+                    n.estimate_variance,
+                ),
                 None => (
                     noise_floor(&values),
                     "floor (the data look noise-free)".to_string(),
                     None,
+                    0.0,
                 ),
             },
         };
@@ -568,6 +575,7 @@ fn measurement_noise(
             sigma,
             source,
             rounding: rounds.and_then(|(rms, _)| rms),
+            estimate_variance,
         });
         if !spikes.is_empty() {
             for o in &spikes {

@@ -126,6 +126,10 @@ pub struct NoiseChoice {
     /// that it matters.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub rounding: Option<f64>,
+    /// Variance that an estimated noise's own error adds to the channel's mean normalised
+    /// innovation (0 for a configured, preset or held noise); widens the NIS test's bounds.
+    #[serde(skip)]
+    pub estimate_variance: f64,
 }
 
 #[cfg(test)]

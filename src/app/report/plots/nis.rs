@@ -6,7 +6,7 @@ use super::axes::{self, Axes, Range};
 use super::style::{self, colour, Key, Mark};
 use super::{FigureMeta, Plot, PlotError, Section};
 use crate::base::numfmt::num;
-use crate::numerics::estimation::nis::{chi2_bounds, NisSummary};
+use crate::numerics::estimation::nis::{self, NisSummary};
 use crate::stages::hekf::{RunSummary, RunTraces};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -30,8 +30,9 @@ pub fn running_mean(v: &[f64]) -> Vec<f64> {
 }
 
 /// The 95 % bounds of a mean of `k` NIS values of `dof` degrees of freedom, at about
-/// `n` sample counts spaced logarithmically from 1 to `k_max` (and at `k_max`).
-pub fn mean_bounds(dof: usize, k_max: usize, n: usize) -> Vec<(usize, [f64; 2])> {
+/// `n` sample counts spaced logarithmically from 1 to `k_max` (and at `k_max`), with the
+/// variance `extra` an estimated measurement noise adds ([`nis::mean_bounds`]).
+pub fn mean_bounds(dof: usize, k_max: usize, n: usize, extra: f64) -> Vec<(usize, [f64; 2])> {
     let mut ks: Vec<usize> = (0..n)
         .map(|i| {
             let f = i as f64 / (n.max(2) - 1) as f64;
@@ -41,10 +42,7 @@ pub fn mean_bounds(dof: usize, k_max: usize, n: usize) -> Vec<(usize, [f64; 2])>
     ks.push(k_max.max(1));
     ks.dedup();
     ks.into_iter()
-        .map(|k| {
-            let b = chi2_bounds((k * dof) as f64);
-            (k, [b[0] / k as f64, b[1] / k as f64])
-        })
+        .map(|k| (k, nis::mean_bounds(dof, k, extra)))
         .collect()
 }
 
@@ -185,7 +183,7 @@ impl Plot for NisPlot<'_> {
         )?;
 
         let mean = running_mean(nis);
-        let bounds = mean_bounds(s.dof, nis.len(), 120);
+        let bounds = mean_bounds(s.dof, nis.len(), 120, s.noise_estimate_variance);
         let skip = nis.len() / 50; // the first samples' mean is one value: let the bounds show it
         let ym = Range::require(mean.iter().skip(skip).copied(), "running mean NIS")?
             .include(s.mean_bounds[0])
@@ -243,7 +241,7 @@ mod tests {
             measured: vec!["u".into(), "v".into(), "r".into()],
             noise: Vec::new(),
             process_noise: Default::default(),
-            nis: summarize(&nis, 3),
+            nis: summarize(&nis, 3, 0.0),
             innovation_rms: Vec::new(),
             between: Default::default(),
             states: None,
@@ -280,17 +278,26 @@ mod tests {
         let m = running_mean(&[f64::NAN, 2.0, f64::INFINITY, 4.0]);
         assert!(m[0].is_nan());
         assert_eq!(&m[1..], &[2.0, 2.0, 3.0]);
-        let b = mean_bounds(6, 2001, 50);
+        let b = mean_bounds(6, 2001, 50, 0.0);
         assert_eq!(b.first().unwrap().0, 1);
         assert_eq!(b.last().unwrap().0, 2001);
         assert!(b.windows(2).all(|w| w[1].0 > w[0].0));
         // the bounds of a single value are the per-sample bounds, and they narrow about dof
-        let one = chi2_bounds(6.0);
+        let one = nis::chi2_bounds(6.0);
         assert!((b[0].1[0] - one[0]).abs() < 1e-12 && (b[0].1[1] - one[1]).abs() < 1e-12);
         let last = b.last().unwrap().1;
         assert!(
             last[0] < 6.0 && last[1] > 6.0 && last[1] - last[0] < 0.4,
             "{last:?}"
+        );
+        // an estimated noise widens the bounds, most where many samples made them narrow
+        let wide = mean_bounds(6, 2001, 50, 0.01);
+        let w = wide.last().unwrap().1;
+        assert!(w[0] < last[0] && w[1] > last[1], "{w:?} against {last:?}");
+        assert!(
+            (wide[0].1[1] - one[1]).abs() < 0.05 * one[1],
+            "{:?}",
+            wide[0]
         );
     }
 }

@@ -7,6 +7,11 @@
 //! beyond anything the estimated coefficients can absorb; a large and significant one means
 //! the configured constant (a thrust of 30 N where the run had 22 N) does not fit, which the
 //! filter would otherwise turn into confidently wrong coefficients.
+//!
+//! The same misfit can come from a coefficient held at an earlier stage's estimate (X_uu of
+//! a noisy polar, X_udot of a noisy surge run): each such coefficient is fitted in the
+//! input's place on the same equation, and one that explains the misfit within
+//! [`EXPLAINS`] of that stage's own sigmas is named beside the input.
 
 use super::{Finding, STAGE};
 use crate::base::warning::Warning;
@@ -26,6 +31,21 @@ const RELATIVE: f64 = 0.2;
 /// ... and this many of its standard errors is reported.
 const SIGNIFICANT: f64 = 10.0;
 
+/// A held coefficient within this many of its stage's sigmas of the value that explains a
+/// misfit is named as a possible cause.
+const EXPLAINS: f64 = 3.0;
+
+/// A coefficient the filter holds at an earlier stage's estimate, with that stage's sigma.
+#[derive(Debug, Clone)]
+pub struct Held {
+    /// Index in the model's coefficient vector.
+    pub index: usize,
+    /// The stage's standard deviation, SI.
+    pub sigma: f64,
+    /// The stage it comes from (`polar`, `surge`, `captive`).
+    pub stage: String,
+}
+
 /// The coefficient set-up the filter starts from.
 pub struct Start<'a> {
     /// Full coefficient vector with the fixed values.
@@ -36,6 +56,8 @@ pub struct Start<'a> {
     pub scale: &'a [f64],
     /// Their starting values (SI).
     pub initial: &'a [f64],
+    /// The held coefficients that carry an earlier stage's uncertainty.
+    pub held: &'a [Held],
 }
 
 /// Findings for the constant inputs of a run whose every state is measured.
@@ -105,24 +127,18 @@ fn check_one<M: Model>(
     value: f64,
 ) -> Option<Finding> {
     let rows = equation_rows(model, run, start, z0, samples, j, value)?;
-    let (correction, sigma, state) = best_equation(model, &rows, start.est.len())?;
-    let significant = correction.abs() > SIGNIFICANT * sigma;
-    if !(significant && correction.abs() > RELATIVE * value.abs()) {
+    let best = best_equation(&rows, start.est.len())?;
+    let significant = best.value.abs() > SIGNIFICANT * best.sigma;
+    if !(significant && best.value.abs() > RELATIVE * value.abs()) {
         return None;
     }
     let q = model.inputs()[j].quantity;
     let unit = q.si_symbol();
-    Some(Finding {
-        warning: Warning::new(
-            STAGE,
-            format!(
-                "the constant {q} of {} {unit} does not fit the motion: an equation-error fit \
-                 of the {state} equation, with the estimated coefficients free, implies {} \
-                 +- {} {unit}",
-                num(value),
-                num(value + correction),
-                num(sigma)
-            ),
+    let state = model.states()[best.state].name;
+    let held = held_explanations(model, run, start, samples, best.state, j, value);
+    let (also, hint) = if held.is_empty() {
+        (
+            String::new(),
             format!(
                 "either the {q} is wrong or a coefficient held fixed in the {state} equation \
                  (from an earlier stage or the configuration) is; either way the filter makes \
@@ -131,9 +147,99 @@ fn check_one<M: Model>(
                  coefficients"
             ),
         )
+    } else {
+        (
+            format!(
+                "; or a coefficient held at an earlier stage's estimate: {} would explain it",
+                held.join("; ")
+            ),
+            format!(
+                "the misfit is within the earlier stage's own uncertainty: its data (a noisy \
+                 polar or surge run, a short captive table) rather than this run's {q} may be \
+                 the cause; check that stage's fit, or estimate the coefficient here \
+                 (hekf.estimate) and let the runs decide. Either way the filter makes the \
+                 estimated coefficients absorb the difference and reports them with small sigmas"
+            ),
+        )
+    };
+    Some(Finding {
+        warning: Warning::new(
+            STAGE,
+            format!(
+                "the constant {q} of {} {unit} does not fit the motion: an equation-error fit \
+                 of the {state} equation, with the estimated coefficients free, implies {} \
+                 +- {} {unit}{also}",
+                num(value),
+                num(value + best.value),
+                num(best.sigma)
+            ),
+            hint,
+        )
         .for_run(&rec.name),
         blocking: false,
     })
+}
+
+/// The held coefficients that explain the misfit of input `j` on state equation `state`
+/// within [`EXPLAINS`] of their stage's sigmas, in words: each fitted in the input's place
+/// (the estimated coefficients free, the input at its configured value).
+fn held_explanations<M: Model>(
+    model: &M,
+    run: &RunData,
+    start: &Start,
+    samples: &[usize],
+    state: usize,
+    j: usize,
+    value: f64,
+) -> Vec<String> {
+    let names = model.coefficient_names();
+    let mut out = Vec::new();
+    for h in start.held {
+        let name = names[h.index];
+        let held_scale = model.typical_magnitude(name).max(f64::MIN_POSITIVE);
+        let est: Vec<usize> = start.est.iter().copied().chain([h.index]).collect();
+        let scale: Vec<f64> = start.scale.iter().copied().chain([held_scale]).collect();
+        let initial: Vec<f64> = start
+            .initial
+            .iter()
+            .copied()
+            .chain([start.base[h.index]])
+            .collect();
+        let with = Start {
+            base: start.base,
+            est: &est,
+            scale: &scale,
+            initial: &initial,
+            held: &[],
+        };
+        let z0: Vec<f64> = initial.iter().zip(&scale).map(|(v, s)| v / s).collect();
+        let Some(rows) = equation_rows(model, run, &with, &z0, samples, j, value) else {
+            continue;
+        };
+        // the input's column dropped: the held coefficient takes its place
+        let eq: Vec<(f64, Vec<f64>)> = rows[state]
+            .iter()
+            .map(|(r, reg)| (*r, reg[..est.len()].to_vec()))
+            .collect();
+        let Some(fit) = last_regressor(&eq, est.len() - 1) else {
+            continue;
+        };
+        let shift = fit.value * held_scale;
+        let held_value = start.base[h.index];
+        if (shift / h.sigma).abs() <= EXPLAINS {
+            let unit = crate::model::models::registry::coefficient(name).map_or("", |c| c.unit);
+            out.push(format!(
+                "{name} = {} +- {} {unit} from the {} stage, at {} ({:.1} of that stage's \
+                 sigmas)",
+                num(held_value),
+                num(h.sigma),
+                h.stage,
+                num(held_value + shift),
+                (shift / h.sigma).abs()
+            ));
+        }
+    }
+    out
 }
 
 /// Per state equation, the equation-error rows at the sampled times: the residual of the
@@ -200,45 +306,55 @@ fn equation_rows<M: Model>(
     Some(rows)
 }
 
-/// The equation that determines the input best: its least-squares correction to the input,
-/// the correction's sigma, and the state it is the equation of.
-fn best_equation<M: Model>(
-    model: &M,
-    rows: &[Vec<(f64, Vec<f64>)>],
-    nb: usize,
-) -> Option<(f64, f64, String)> {
-    let mut best: Option<(f64, f64, String)> = None;
+/// A least-squares correction on one state equation.
+struct Correction {
+    /// The correction, in the regressor's units.
+    value: f64,
+    /// Its standard deviation.
+    sigma: f64,
+    /// The state whose equation gave it.
+    state: usize,
+}
+
+/// The equation that determines the input best (its column is regressor `nb`): its
+/// least-squares correction to the input and the correction's sigma.
+fn best_equation(rows: &[Vec<(f64, Vec<f64>)>], nb: usize) -> Option<Correction> {
+    let mut best: Option<Correction> = None;
     for (i, eq) in rows.iter().enumerate() {
-        if eq.iter().all(|(_, reg)| reg[nb] == 0.0) {
-            continue;
-        }
-        let (kk, p) = (eq.len(), nb + 1);
-        // only the regressors that vary (a coefficient that does not enter this equation
-        // would make the fit singular)
-        let cols: Vec<usize> = (0..p)
-            .filter(|&c| eq.iter().any(|(_, reg)| reg[c] != 0.0))
-            .collect();
-        let xm = DMatrix::from_fn(kk, cols.len(), |r, c| eq[r].1[cols[c]]);
-        let ym = DVector::from_fn(kk, |r, _| eq[r].0);
-        let Some(fit) = crate::numerics::lsq::scaled_least_squares(
-            &xm,
-            &ym,
-            kk.saturating_sub(cols.len()).max(1),
-        ) else {
+        let Some(mut c) = last_regressor(eq, nb) else {
             continue;
         };
-        let last = cols.len() - 1;
-        let (correction, var) = (fit.theta[last], fit.covariance[last][last]);
-        let sigma = var.max(0.0).sqrt();
-        if !(correction.is_finite() && sigma.is_finite()) {
-            continue;
-        }
-        let state = model.states()[i].name.to_string();
-        if best.as_ref().is_none_or(|b| sigma < b.1) {
-            best = Some((correction, sigma, state));
+        c.state = i;
+        if best.as_ref().is_none_or(|b| c.sigma < b.sigma) {
+            best = Some(c);
         }
     }
     best
+}
+
+/// The least-squares value of regressor `last` (the last one) of one equation's rows, with
+/// the others free; only the regressors that vary enter (a coefficient that does not enter
+/// this equation would make the fit singular). None when `last` does not vary or the fit
+/// fails.
+fn last_regressor(eq: &[(f64, Vec<f64>)], last: usize) -> Option<Correction> {
+    if eq.iter().all(|(_, reg)| reg[last] == 0.0) {
+        return None;
+    }
+    let kk = eq.len();
+    let cols: Vec<usize> = (0..=last)
+        .filter(|&c| eq.iter().any(|(_, reg)| reg[c] != 0.0))
+        .collect();
+    let xm = DMatrix::from_fn(kk, cols.len(), |r, c| eq[r].1[cols[c]]);
+    let ym = DVector::from_fn(kk, |r, _| eq[r].0);
+    let fit =
+        crate::numerics::lsq::scaled_least_squares(&xm, &ym, kk.saturating_sub(cols.len()).max(1))?;
+    let at = cols.len() - 1;
+    let (value, sigma) = (fit.theta[at], fit.covariance[at][at].max(0.0).sqrt());
+    (value.is_finite() && sigma.is_finite()).then_some(Correction {
+        value,
+        sigma,
+        state: 0,
+    })
 }
 
 fn num(v: f64) -> String {
