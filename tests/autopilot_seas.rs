@@ -7,7 +7,7 @@
 //! rudder held; the wave yaw a sum of sines shaped by the linear wave-yaw spectrum
 //! w^2 / ((w0^2 - w^2)^2 + (2 zeta w0 w)^2) (Fossen 2011, 8.2.1) at 7 s, 1 deg RMS, added to
 //! the compass (its exact rate to the gyro); a PID placed on the Nomoto model (K_p = m w_n^2,
-//! K_d = 2 zeta w_n m - d, K_i = w_n K_p / 10, m = T/K, d = 1/K; Fossen 2011, 15.3) with
+//! K_d = 2 zeta w_n m - d, K_i = w_n K_p / 10, m = T/K, d = 1/K; Fossen 2011, PID pole placement for the Nomoto ship) with
 //! anti-windup and a rate- and angle-limited rudder; a third-order reference model (a
 //! first-order filter cascaded with a mass-damper-spring, Fossen 2011, 10.2.1), all stepped
 //! at 10 Hz with fixed Euler sub-steps.
