@@ -86,7 +86,7 @@ pub fn bases(
             let (Some(trace), Some(run)) = (trace, h.runs.get(k)) else {
                 return Err(mismatch(rec));
             };
-            out.hekf_fit.push(hekf_basis(rec, trace, &run.noise)?);
+            out.hekf_fit.push(hekf_basis(rec, trace, run)?);
         }
         out.hekf_validation = inputs.hekf_validation.iter().map(|_| Basis::Kept).collect();
     }
@@ -133,11 +133,13 @@ fn captive_basis(rec: &Record, forces: Vec<(Quantity, Vec<f64>)>) -> Basis {
 }
 
 /// A manoeuvre's measured channels: the re-simulated model's states (or sensor outputs),
-/// each with the measurement noise the run used.
+/// each with the noise the data show around the filter's prediction, the run's innovation
+/// RMS (else the measurement noise the filter used): a noise model set too small or too
+/// large then shows as a spread off the reported sigma.
 fn hekf_basis(
     rec: &Record,
     trace: &crate::app::resim::ResimTrace,
-    noise: &[crate::stages::hekf::tuning::NoiseChoice],
+    run: &crate::stages::hekf::RunSummary,
 ) -> Result<Basis> {
     let (quantities, values) = if trace.outputs.is_empty() {
         (&trace.quantities, &trace.states)
@@ -156,15 +158,18 @@ fn hekf_basis(
             ),
         ));
     }
-    let channels = noise
+    let shown = |k: usize| run.innovation_rms.get(k).copied().filter(|s| s.is_finite());
+    let channels = run
+        .noise
         .iter()
-        .filter(|n| rec.channel(n.quantity).is_some())
-        .filter_map(|n| {
+        .enumerate()
+        .filter(|(_, n)| rec.channel(n.quantity).is_some())
+        .filter_map(|(k, n)| {
             let i = quantities.iter().position(|q| *q == n.quantity)?;
             Some(Channel {
                 quantity: n.quantity,
                 predicted: values.iter().map(|x| x[i]).collect(),
-                sigma: n.sigma,
+                sigma: shown(k).unwrap_or(n.sigma),
             })
         })
         .collect();
