@@ -9,7 +9,7 @@ pub mod replica;
 pub mod stats;
 pub mod write;
 
-pub use stats::{Calibration, CoefficientRow, Coverage, Failed};
+pub use stats::{Calibration, CoefficientRow, Coverage, Failed, Outcome, Settings};
 
 use crate::app::pipeline::{self, InputsByStage, Scope};
 use crate::app::results::{LoadedInput, RunOutput};
@@ -24,18 +24,6 @@ pub const DEFAULT_REPLICAS: usize = 50;
 
 /// The seed of replica 0 when none is given (replica k uses this + k).
 pub const DEFAULT_SEED: u64 = 2026;
-
-/// How many replicas, from which seed.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Settings {
-    /// Number of replicas.
-    pub replicas: usize,
-    /// Seed of replica 0.
-    pub seed: u64,
-}
-
-/// One replica's identified coefficients (value, sigma by name), or why it failed.
-pub type Outcome = std::result::Result<Vec<(String, f64, Option<f64>)>, String>;
 
 /// Identifies `settings.replicas` replicas of the run whose inputs are `inputs` and whose
 /// output is `original`, and compares their spread with the reported sigmas. `done` is told

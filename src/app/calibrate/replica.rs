@@ -13,7 +13,7 @@ use crate::base::error::{Error, Result};
 use crate::base::quantity::Quantity;
 use crate::config::LoadedConfig;
 use crate::io::record::Record;
-use crate::stages::polar::replica::{row_values, Predicted};
+use crate::stages::polar::replica::{row_values, FittedRow, Predicted};
 use rand::rngs::StdRng;
 use rand::SeedableRng;
 use rand_distr::{Distribution, Normal};
@@ -29,7 +29,7 @@ pub enum Basis {
     /// channels' residual sigmas.
     Polar {
         /// Per row, the fitted coefficients and the angle (None: not fitted).
-        rows: Vec<Option<([f64; 3], f64)>>,
+        rows: Vec<FittedRow>,
         /// Residual sigma of C_D, C_L, C_M.
         sigma: [f64; 3],
     },
@@ -110,7 +110,7 @@ fn mismatch(rec: &Record) -> Error {
 }
 
 /// A captive run's forces: the model's, with each force's residual RMS as its noise.
-fn captive_basis(rec: &Record, forces: Vec<(Quantity, Vec<f64>)>) -> Basis {
+fn captive_basis(rec: &Record, forces: crate::stages::captive::replica::RunForces) -> Basis {
     Basis::Channels(
         forces
             .into_iter()
@@ -228,7 +228,7 @@ fn set_channel(rec: &mut Record, q: Quantity, mut values: Vec<f64>) {
 fn polar_rows(
     loaded: &LoadedConfig,
     rec: &mut Record,
-    rows: &[Option<([f64; 3], f64)>],
+    rows: &[FittedRow],
     sigma: [f64; 3],
     rng: &mut StdRng,
 ) -> Result<()> {

@@ -3,10 +3,21 @@
 //! share of replicas whose own 1- and 2-sigma interval holds the identified value, the
 //! truth of the replicas; a Gaussian estimate covers 68.3 % and 95.4 %).
 
-use super::{Outcome, Settings};
 use crate::base::warning::{Test, Warning};
 use crate::model::coefficients::Coefficient;
 use serde::Serialize;
+
+/// How many replicas, from which seed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Settings {
+    /// Number of replicas.
+    pub replicas: usize,
+    /// Seed of replica 0.
+    pub seed: u64,
+}
+
+/// One replica's identified coefficients (value, sigma by name), or why it failed.
+pub type Outcome = std::result::Result<Vec<(String, f64, Option<f64>)>, String>;
 
 /// A spread below this many reported sigmas: the sigma is too large.
 pub const SPREAD_LOW: f64 = 0.67;

@@ -10,6 +10,9 @@ use crate::io::record::Record;
 use crate::model::coefficients::CoefficientSet;
 use crate::model::models::{with_model, Model, ModelVisitor, RunVehicle};
 
+/// Each force the model gives (its column) with the model's value at every row of a run.
+pub type RunForces = Vec<(Quantity, Vec<f64>)>;
+
 /// Per run, each force the model gives (its column) with the model's value at every row of
 /// the run, for the coefficients of `set`. A run that gives a force by its prime column or
 /// as a constant is refused, naming the run.
@@ -18,7 +21,7 @@ pub fn predicted(
     vehicle: &RunVehicle,
     set: &CoefficientSet,
     runs: &[Record],
-) -> Result<Vec<Vec<(Quantity, Vec<f64>)>>> {
+) -> Result<Vec<RunForces>> {
     let rho = vehicle.vehicle.rho;
     with_model(
         cfg.model,
@@ -41,7 +44,7 @@ struct Predict<'a> {
 }
 
 impl ModelVisitor for Predict<'_> {
-    type Output = Result<Vec<Vec<(Quantity, Vec<f64>)>>>;
+    type Output = Result<Vec<RunForces>>;
 
     fn visit<M: Model>(self, model: &M) -> Self::Output {
         let c = complete_coefficients(model, self.set).map_err(|missing| {
@@ -65,7 +68,7 @@ fn run_forces<M: Model>(
     rec: &Record,
     frame: &Frame,
     cfg: &CaptiveConfig,
-) -> Result<Vec<(Quantity, Vec<f64>)>> {
+) -> Result<RunForces> {
     let forces = model.force_quantities();
     if let Some(q) = forces.iter().find(|q| rec.channel(**q).is_none()) {
         return Err(run_error(

@@ -9,12 +9,15 @@ use crate::base::quantity::Quantity;
 use crate::config::{FluidConfig, VehicleConfig};
 use crate::io::record::Record;
 
+/// A fitted row: the fitted body-axis (C_D, C_L, C_M) and the row's angle of attack (rad);
+/// None for a row outside the fitting range (not fitted).
+pub type FittedRow = Option<([f64; 3], f64)>;
+
 /// The pooled fit's prediction of each record's rows.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Predicted {
-    /// Per record, per row: the fitted body-axis (C_D, C_L, C_M) and the row's angle of
-    /// attack (rad); None for a row outside the fitting range (not fitted).
-    pub rows: Vec<Vec<Option<([f64; 3], f64)>>>,
+    /// Per record, per row.
+    pub rows: Vec<Vec<FittedRow>>,
     /// The residual standard deviation of each channel (C_D, C_L, C_M), -.
     pub sigma: [f64; 3],
 }
