@@ -72,6 +72,24 @@ fn the_spheroid_replicas_agree_with_the_coverage_study() {
         assert!((0.55..=1.45).contains(&ratio), "{row}");
     }
     assert_eq!(c["coefficients"].as_array().unwrap().len(), 14);
+    // docs/calibrate.md at its printed digits
+    let ratios: Vec<f64> = c["coefficients"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["spread_ratio"].as_f64().unwrap())
+        .collect();
+    let (lo, hi) = ratios
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(a, b), r| (a.min(*r), b.max(*r)));
+    assert_eq!(
+        format!(
+            "{:.1} % within 1 sigma and {:.1} % within 2 sigma; spread {lo:.2}-{hi:.2}",
+            100.0 * w1,
+            100.0 * w2
+        ),
+        "69.0 % within 1 sigma and 94.0 % within 2 sigma; spread 0.86-1.23"
+    );
     assert!(c["warnings"].as_array().unwrap().is_empty(), "{c}");
     assert!(out.join("calibration.md").is_file());
     // the folder stays hydroid's (calibrate records its files in the marker): a rerun
