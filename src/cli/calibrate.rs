@@ -54,7 +54,17 @@ pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
         settings.replicas,
         dir.display()
     ));
-    let cal = calibrate::calibrate(&loaded, &inputs, &original, settings, &|_| {})?;
+    // a line at every tenth of the replicas (the count, not the order, is certain)
+    let step = (settings.replicas / 10).max(1);
+    let done = |k: usize| {
+        if k.is_multiple_of(step) || k == settings.replicas {
+            say.note(&format!(
+                "calibrate: {k} of {} replicas identified",
+                settings.replicas
+            ));
+        }
+    };
+    let cal = calibrate::calibrate(&loaded, &inputs, &original, settings, &done)?;
     write::write(dir, &cal)?;
     if args.json {
         out.write_all(&crate::io::output::to_json(&cal)?)?;

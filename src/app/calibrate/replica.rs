@@ -16,7 +16,6 @@ use crate::io::record::Record;
 use crate::stages::polar::replica::{row_values, FittedRow, Predicted};
 use rand::rngs::StdRng;
 use rand::SeedableRng;
-use rand_distr::{Distribution, Normal};
 
 /// What one input's replicas are made from.
 #[derive(Debug, Clone)]
@@ -205,9 +204,10 @@ pub fn replica(
 
 /// `values` plus independent Gaussian noise of standard deviation `sigma`.
 fn with_noise(values: &[f64], sigma: f64, rng: &mut StdRng) -> Result<Vec<f64>> {
-    let dist = Normal::new(0.0, sigma.abs())
-        .map_err(|e| Error::numerical("calibrate", format!("noise sigma {sigma}: {e}")))?;
-    Ok(values.iter().map(|v| v + dist.sample(rng)).collect())
+    let mut noisy = values.to_vec();
+    crate::numerics::noise::add_gaussian(&mut noisy, sigma, rng)
+        .map_err(|e| Error::numerical("calibrate", e))?;
+    Ok(noisy)
 }
 
 /// Puts `values` into the record's channel `q`, rounded to the record's printed resolution

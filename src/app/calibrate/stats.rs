@@ -244,3 +244,68 @@ fn warnings(cal: &Calibration) -> Vec<Warning> {
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::coefficients::Source;
+
+    fn settings(replicas: usize) -> Settings {
+        Settings { replicas, seed: 1 }
+    }
+
+    #[test]
+    fn failed_replicas_are_counted_not_averaged() {
+        let c = Coefficient::new("Yvd", -10.0, Some(1.0), Source::Hekf);
+        let outcomes: Vec<Outcome> = vec![
+            Ok(vec![("Yvd".into(), -10.5, Some(1.0))]),
+            Err("diverged".into()),
+            Ok(vec![("Yvd".into(), -8.5, Some(1.0))]),
+            Ok(vec![("Yvd".into(), f64::NAN, Some(1.0))]),
+            Ok(vec![("Xud".into(), 1.0, Some(1.0))]),
+        ];
+        let cal = summarise(&[&c], &outcomes, settings(5));
+        assert_eq!(cal.converged, 2);
+        assert_eq!(
+            cal.failed.iter().map(|f| f.replica).collect::<Vec<_>>(),
+            [1, 3, 4]
+        );
+        let row = &cal.coefficients[0];
+        assert_eq!(row.replica_mean, Some(-9.5));
+        // sample standard deviation of -10.5 and -8.5: sqrt(2) = 1.414
+        assert!((row.replica_sd.unwrap() - 2f64.sqrt()).abs() < 1e-12);
+        assert_eq!(row.coverage.within_1, Some(0.5));
+        assert_eq!(row.coverage.within_2, Some(1.0));
+        assert!(cal.warnings.iter().any(|w| w.message.starts_with("3 of 5")));
+    }
+
+    #[test]
+    fn without_replicas_the_statistics_are_null_not_nan() {
+        let c = Coefficient::new("Yvd", -10.0, Some(1.0), Source::Hekf);
+        let cal = summarise(&[&c], &[Err("no".into())], settings(1));
+        let json = serde_json::to_string(&cal).unwrap();
+        assert!(!json.contains("NaN"), "{json}");
+        assert_eq!(cal.coefficients[0].replica_sd, None);
+        assert_eq!(cal.overall.within_2, None);
+    }
+
+    #[test]
+    fn a_spread_far_from_the_sigma_is_a_failed_calibration() {
+        let c = Coefficient::new("Yvd", 0.0, Some(0.1), Source::Hekf);
+        let outcomes: Vec<Outcome> = (0..10)
+            .map(|k| {
+                Ok(vec![(
+                    "Yvd".into(),
+                    if k % 2 == 0 { 1.0 } else { -1.0 },
+                    Some(0.1),
+                )])
+            })
+            .collect();
+        let cal = summarise(&[&c], &outcomes, settings(10));
+        assert!(cal
+            .warnings
+            .iter()
+            .all(|w| w.failed_test == Some(Test::Calibration)));
+        assert_eq!(cal.warnings.len(), 2, "{:?}", cal.warnings);
+    }
+}

@@ -59,7 +59,7 @@ pub fn markdown(cal: &Calibration) -> String {
          docs/calibrate.md.\n\n",
         cal.replicas,
         cal.seed,
-        cal.seed + cal.replicas.saturating_sub(1) as u64,
+        cal.seed.wrapping_add(cal.replicas.saturating_sub(1) as u64),
         cal.converged,
         cal.failed.len()
     ));
