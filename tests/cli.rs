@@ -26,7 +26,14 @@ fn help_and_usage_errors() {
     let o = hydroid(&["--help"]);
     assert_eq!(o.status.code(), Some(0));
     for cmd in [
-        "run", "check", "inspect", "simulate", "analytic", "rerun", "compare",
+        "run",
+        "check",
+        "inspect",
+        "simulate",
+        "analytic",
+        "rerun",
+        "compare",
+        "calibrate",
     ] {
         assert!(text(&o.stdout).contains(cmd), "--help lists {cmd}");
         let h = hydroid(&[cmd, "--help"]);

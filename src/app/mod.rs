@@ -3,6 +3,7 @@
 //! (synthetic exports, PMM runs, sweeps). Imports every layer below; the command line is
 //! above it.
 
+pub mod calibrate;
 pub mod catalogue;
 pub mod inspect;
 pub mod pipeline;

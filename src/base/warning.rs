@@ -39,6 +39,9 @@ pub enum Test {
     Resimulation,
     /// A captive fit's lack of fit on steady tables (docs/stages.md, "Captive plausibility").
     Misfit,
+    /// The spread of a parametric bootstrap's estimates against the reported sigmas
+    /// (`hydroid calibrate`, docs/calibrate.md).
+    Calibration,
 }
 
 impl Test {
@@ -50,6 +53,7 @@ impl Test {
             Test::NoiseModel => "noise model",
             Test::Resimulation => "re-simulation",
             Test::Misfit => "captive lack of fit",
+            Test::Calibration => "calibration",
         }
     }
 }

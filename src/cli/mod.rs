@@ -2,6 +2,7 @@
 //! lives in its own file; `src/main.rs` only calls [`main`].
 
 mod analytic;
+mod calibrate;
 mod check;
 mod coefficients;
 mod compare;
@@ -48,6 +49,7 @@ enum Command {
     Analytic(analytic::Args),
     Rerun(rerun::Args),
     Compare(compare::Args),
+    Calibrate(calibrate::Args),
     Coefficients(coefficients::Args),
     Init(init::Args),
     Manoeuvre(manoeuvre::Args),
@@ -84,6 +86,7 @@ pub fn main() -> i32 {
         Command::Analytic(a) => analytic::run(a, &mut out),
         Command::Rerun(a) => rerun::run(a, &mut out, say),
         Command::Compare(a) => compare::run(a, &mut out),
+        Command::Calibrate(a) => calibrate::run(a, &mut out, say),
         Command::Coefficients(a) => coefficients::run(a, &mut out),
         Command::Init(a) => init::run(a, &mut out, say),
         Command::Manoeuvre(a) => manoeuvre::run(a, &mut out),
@@ -114,6 +117,7 @@ impl Command {
             Command::Inspect(a) => a.json,
             Command::Analytic(a) => a.json(),
             Command::Compare(a) => a.json,
+            Command::Calibrate(a) => a.json,
             Command::Coefficients(a) => a.json,
             Command::Manoeuvre(a) => a.json,
             Command::Simulate(_) | Command::Rerun(_) | Command::Init(_) => false,

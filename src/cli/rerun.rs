@@ -97,11 +97,15 @@ fn check_edits(dir: &Path, accept: bool) -> crate::Result<()> {
     )))
 }
 
-/// Runs the command.
-pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
-    crate::io::output::clean_up_on_signals()?;
-    let dir = &args.outdir;
-    check_edits(dir, args.edited)?;
+/// The configuration an output folder records (its config.toml with the inputs it names, read
+/// as if in the source configuration's folder) and its manifest, refusing edited records
+/// (unless `edited`) and changed inputs (unless `allow_changed`; then a warning each).
+pub(super) fn load_recorded(
+    dir: &Path,
+    edited: bool,
+    allow_changed: bool,
+) -> crate::Result<(config::LoadedConfig, RerunManifest)> {
+    check_edits(dir, edited)?;
     let manifest: RerunManifest = read_json(&dir.join(report::RERUN_JSON))?;
     let inputs: Vec<Recorded> = read_json(&dir.join(report::INPUTS_JSON))?;
     let config_path = dir.join(report::CONFIG_TOML);
@@ -129,8 +133,20 @@ pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
     })?;
     loaded.path = config_path.clone();
     loaded.overrides = manifest.overrides.clone();
+    check_inputs(dir, &manifest, &inputs, allow_changed)?;
+    Ok((loaded, manifest))
+}
+
+/// Refuses inputs whose contents changed since the recorded run (their SHA-256 differs),
+/// unless `allow_changed`: then each is a warning.
+fn check_inputs(
+    dir: &Path,
+    manifest: &RerunManifest,
+    inputs: &[Recorded],
+    allow_changed: bool,
+) -> crate::Result<()> {
     let mut changed = Vec::new();
-    for i in &inputs {
+    for i in inputs {
         let path = manifest.base_dir.join(&i.file);
         match pipeline::file_sha256(&path) {
             Ok(h) if h == i.sha256 => {}
@@ -143,7 +159,7 @@ pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
         }
     }
     if !changed.is_empty() {
-        if !args.allow_changed_inputs {
+        if !allow_changed {
             return Err(Error::numerical(
                 "rerun",
                 format!(
@@ -153,13 +169,20 @@ pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
                 if changed.len() == 1 { "" } else { "s" },
                 changed.join("\n  - ")
             ),
-            )
-            .into());
+            ));
         }
         for c in &changed {
             warning(c);
         }
     }
+    Ok(())
+}
+
+/// Runs the command.
+pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
+    crate::io::output::clean_up_on_signals()?;
+    let dir = &args.outdir;
+    let (mut loaded, manifest) = load_recorded(dir, args.edited, args.allow_changed_inputs)?;
     let target = args.out.clone().unwrap_or_else(|| dir.clone());
     // the inputs and the source configuration are protected; the recorded configuration is
     // part of the output folder a rerun replaces (it has been read)

@@ -9,6 +9,7 @@ pub mod estimation;
 pub(crate) mod frames;
 pub(crate) mod linalg;
 pub(crate) mod lsq;
+pub mod noise;
 pub mod ode;
 pub(crate) mod printed;
 pub(crate) mod sampling;

@@ -40,27 +40,52 @@ pub fn analytic_added_mass(loaded: &LoadedConfig) -> Result<Vec<Coefficient>> {
     }
 }
 
+/// What a run computes: everything (`hydroid run`), or only the coefficients and their
+/// uncertainties (the replicas of `hydroid calibrate`: no preflight, no consider-mode run
+/// beside a joint estimate, no re-simulation, no autopilot).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Scope {
+    /// Every step of `hydroid run`.
+    Full,
+    /// The stages only.
+    Coefficients,
+}
+
 /// Runs every enabled stage, telling `progress` how it goes.
 pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutput> {
-    let cfg = &loaded.config;
     // every input first: a bad file stops the run before any stage has run
-    let inputs = load_inputs(loaded, stage_inputs(cfg))?;
-    let seas = match &cfg.autopilot {
-        Some(a) => autopilot::load_seas(a, &loaded.base_dir)?,
-        None => Default::default(),
+    let inputs = load_inputs(loaded, stage_inputs(&loaded.config))?;
+    run_on(loaded, &inputs, progress, Scope::Full)
+}
+
+/// Runs every enabled stage on inputs already read (the configuration's files, or replicas
+/// of them made in memory), telling `progress` how it goes.
+pub fn run_on(
+    loaded: &LoadedConfig,
+    inputs: &InputsByStage<LoadedInput>,
+    progress: &mut dyn Progress,
+    scope: Scope,
+) -> Result<RunOutput> {
+    let cfg = &loaded.config;
+    // the autopilot's recorded sea is an input too: read before any stage runs
+    let seas = match (&cfg.autopilot, scope) {
+        (Some(a), Scope::Full) => autopilot::load_seas(a, &loaded.base_dir)?,
+        _ => Default::default(),
     };
-    let mut found = preflight(loaded, &inputs);
-    let validation_warnings = std::mem::take(&mut found.validation_warnings);
-    if let Some(e) = found.into_error() {
-        return Err(e);
-    }
     let mut log = Log {
         progress,
         warnings: Vec::new(),
     };
-    log.say(input_warnings(&inputs));
-    // the fit runs' findings come with the HEKF stage's result
-    log.say(validation_warnings);
+    if scope == Scope::Full {
+        let mut found = preflight(loaded, inputs);
+        let validation_warnings = std::mem::take(&mut found.validation_warnings);
+        if let Some(e) = found.into_error() {
+            return Err(e);
+        }
+        log.say(input_warnings(inputs));
+        // the fit runs' findings come with the HEKF stage's result
+        log.say(validation_warnings);
+    }
     let mut known = configured_coefficients(cfg);
     let analytic = analytic_added_mass(loaded)?;
     let mut stages = StageResults::default();
@@ -82,7 +107,7 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutp
     let mut resim = Resimulation::default();
     let mut model_name = None;
     if let Some(hc) = cfg.hekf.as_ref().filter(|c| c.enabled) {
-        let (r, runs) = hekf_step(hc, loaded, &inputs, &known, &analytic, &mut log)?;
+        let (r, runs) = hekf_step(hc, loaded, inputs, &known, &analytic, &mut log, scope)?;
         known.merge_stage(r.coefficients(), r.directions.clone());
         known.correlation = Some(r.correlation.clone());
         model_name = Some(hc.model);
@@ -90,35 +115,13 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutp
         resim = runs;
     }
     complete_reported(&mut known, model_name, cfg.vehicle.yaw_moment, &mut log);
-    let mut autopilot_result = None;
-    if let (Some(a), Some(hc), Some(name)) = (&cfg.autopilot, &cfg.hekf, model_name) {
-        // the identification stands on its own: an autopilot that cannot be tuned or closed
-        // (K not identified, an unstable model) is a warning, not the end of the run
-        match autopilot::run(name, &loaded.vehicle, &known, hc, a, &seas) {
-            Ok(r) => {
-                let rates: Vec<String> = r
-                    .feeds
-                    .iter()
-                    .map(|c| {
-                        format!(
-                            "{:.3} deg/s {}",
-                            c.rudder_rate_rms.to_degrees(),
-                            c.feed.name()
-                        )
-                    })
-                    .collect();
-                log.stage(&format!("autopilot: rudder rate RMS {}", rates.join(", ")));
-                log.say(r.warnings());
-                autopilot_result = Some(r);
-            }
-            Err(e) => log.say([Warning::new(
-                "autopilot",
-                format!("the autopilot was not run: {e}"),
-                "the [autopilot] section asks for a closed loop around the identified model; \
-                 with these coefficients none can be tuned",
-            )]),
+    let autopilot = cfg.autopilot.as_ref().filter(|_| scope == Scope::Full);
+    let autopilot_result = match (autopilot, &cfg.hekf, model_name) {
+        (Some(a), Some(hc), Some(name)) => {
+            autopilot_step(name, loaded, &known, hc, (a, &seas), &mut log)
         }
-    }
+        _ => None,
+    };
     let comparison = compare(&known, &analytic, &cfg.reference);
     let result = RunResult::new(
         loaded,
@@ -140,6 +143,49 @@ pub fn run(loaded: &LoadedConfig, progress: &mut dyn Progress) -> Result<RunOutp
         result,
         resim_traces: resim.traces,
     })
+}
+
+/// The closed loop of the `[autopilot]` section around the identified model. The
+/// identification stands on its own: an autopilot that cannot be tuned or closed (K not
+/// identified, an unstable model) is a warning, not the end of the run.
+fn autopilot_step(
+    name: ModelName,
+    loaded: &LoadedConfig,
+    known: &CoefficientSet,
+    hc: &HekfConfig,
+    (a, seas): (
+        &crate::config::autopilot::AutopilotConfig,
+        &crate::dynamics::autopilot::seas::Seas,
+    ),
+    log: &mut Log,
+) -> Option<crate::dynamics::autopilot::AutopilotResult> {
+    match autopilot::run(name, &loaded.vehicle, known, hc, a, seas) {
+        Ok(r) => {
+            let rates: Vec<String> = r
+                .feeds
+                .iter()
+                .map(|c| {
+                    format!(
+                        "{:.3} deg/s {}",
+                        c.rudder_rate_rms.to_degrees(),
+                        c.feed.name()
+                    )
+                })
+                .collect();
+            log.stage(&format!("autopilot: rudder rate RMS {}", rates.join(", ")));
+            log.say(r.warnings());
+            Some(r)
+        }
+        Err(e) => {
+            log.say([Warning::new(
+                "autopilot",
+                format!("the autopilot was not run: {e}"),
+                "the [autopilot] section asks for a closed loop around the identified model; \
+                 with these coefficients none can be tuned",
+            )]);
+            None
+        }
+    }
 }
 
 /// Where the pipeline tells how it goes: each warning is said as soon as it arises, and kept
@@ -323,6 +369,7 @@ fn hekf_step(
     known: &CoefficientSet,
     analytic: &[Coefficient],
     log: &mut Log,
+    scope: Scope,
 ) -> Result<(HekfResult, Resimulation)> {
     let cfg = &loaded.config;
     let fit = records(&inputs.hekf_fit);
@@ -342,7 +389,7 @@ fn hekf_step(
         runs_word(fit.len()),
         r.settings.passes
     ));
-    if hc.mode == hekf::Mode::Joint {
+    if hc.mode == hekf::Mode::Joint && scope == Scope::Full {
         // the same runs in consider mode, for the report's side-by-side
         let consider_cfg = HekfConfig {
             mode: hekf::Mode::Consider,
@@ -372,6 +419,9 @@ fn hekf_step(
     hc.model.complete(&mut final_set, cfg.vehicle.yaw_moment);
     let vehicle = &loaded.vehicle;
     let mut resim = Resimulation::default();
+    if scope == Scope::Coefficients {
+        return Ok((r, resim));
+    }
     // the nominal angles each run's configuration gives (runs are read in the order listed)
     let nominal = |spec: &crate::config::InputSpec| {
         spec.manoeuvre
@@ -405,6 +455,20 @@ fn hekf_step(
         }
     }
     Ok((r, resim))
+}
+
+/// The identified model of a run's result: its reported coefficients, with the analytic
+/// values where nothing else gives one, completed by symmetry ([`fixed_for_filter`]).
+pub fn identified_set(result: &RunResult) -> CoefficientSet {
+    let mut known = CoefficientSet::new();
+    for c in &result.coefficients {
+        known.insert(c.clone());
+    }
+    fixed_for_filter(
+        &known,
+        &result.analytic,
+        result.configuration.vehicle.yaw_moment,
+    )
 }
 
 /// The coefficients the filter holds fixed: stages and configuration first, analytic values

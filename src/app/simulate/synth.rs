@@ -68,11 +68,8 @@ pub fn synthesize(cfg: &SimConfig) -> Result<Columns> {
                 "noise is given for {q}, which this manoeuvre does not produce"
             )));
         };
-        let dist = Normal::new(0.0, sigma.si.abs())
+        crate::numerics::noise::add_gaussian(col, sigma.si, &mut rng)
             .map_err(|e| Error::Usage(format!("noise.{q}: {e}")))?;
-        for v in col.iter_mut() {
-            *v += dist.sample(&mut rng);
-        }
     }
     Ok(cols)
 }

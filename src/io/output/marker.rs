@@ -77,6 +77,22 @@ impl Marker {
     }
 }
 
+/// Records the files `names` of the hydroid output `dir` in its marker as they are now (files
+/// hydroid has just written there, such as calibration.json), so that the folder stays
+/// hydroid's to replace. The marker is replaced atomically.
+pub fn record(dir: &Path, names: &[&str]) -> Result<()> {
+    let path = dir.join(MARKER);
+    let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
+    let mut marker: Marker = serde_json::from_str(&text)
+        .map_err(|e| Error::Usage(format!("{}: not a valid marker: {e}", path.display())))?;
+    for name in names {
+        marker
+            .files
+            .insert((*name).to_string(), output_sha256(&dir.join(name))?);
+    }
+    crate::io::output::write_atomic(&path, &crate::io::output::to_json(&marker)?)
+}
+
 /// What is at a place an output folder is to be written to.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Found {

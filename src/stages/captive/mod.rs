@@ -8,6 +8,7 @@
 pub mod fit;
 pub mod harmonic;
 pub mod plausibility;
+pub mod replica;
 
 pub use crate::config::captive::CaptiveConfig;
 

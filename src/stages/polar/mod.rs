@@ -16,6 +16,7 @@ mod data;
 pub(crate) use crate::numerics::constrained_lsq as fit;
 mod mapping;
 mod plausibility;
+pub mod replica;
 mod result;
 
 pub use config::{

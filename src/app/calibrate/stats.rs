@@ -1,0 +1,311 @@
+//! The replicas' estimates against the reported sigmas: per coefficient the replicas' mean
+//! and standard deviation, the spread in reported sigmas, the bias, and the coverage (the
+//! share of replicas whose own 1- and 2-sigma interval holds the identified value, the
+//! truth of the replicas; a Gaussian estimate covers 68.3 % and 95.4 %).
+
+use crate::base::warning::{Test, Warning};
+use crate::model::coefficients::Coefficient;
+use serde::Serialize;
+
+/// How many replicas, from which seed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Settings {
+    /// Number of replicas.
+    pub replicas: usize,
+    /// Seed of replica 0.
+    pub seed: u64,
+}
+
+/// One replica's identified coefficients (value, sigma by name), or why it failed.
+pub type Outcome = std::result::Result<Vec<(String, f64, Option<f64>)>, String>;
+
+/// A spread below this many reported sigmas: the sigma is too large.
+pub const SPREAD_LOW: f64 = 0.67;
+/// A spread above this many reported sigmas: the sigma is too small.
+pub const SPREAD_HIGH: f64 = 1.5;
+/// An overall coverage within 2 sigma below this share: the sigmas are too small.
+pub const COVERAGE_2_LOW: f64 = 0.90;
+
+/// The calibration check of one output folder (calibration.json).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Calibration {
+    /// Layout version.
+    pub schema: &'static str,
+    /// Replicas asked for.
+    pub replicas: usize,
+    /// Seed of replica 0 (replica k: seed + k).
+    pub seed: u64,
+    /// Replicas identified (the statistics are over these).
+    pub converged: usize,
+    /// Replicas whose identification failed, with the error.
+    pub failed: Vec<Failed>,
+    /// Per identified coefficient.
+    pub coefficients: Vec<CoefficientRow>,
+    /// Over every coefficient-replica pair.
+    pub overall: Coverage,
+    /// What the check found wrong.
+    pub warnings: Vec<Warning>,
+}
+
+/// A replica that could not be identified.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Failed {
+    /// Its number k (seed + k).
+    pub replica: usize,
+    /// Why.
+    pub error: String,
+}
+
+/// One coefficient's calibration.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CoefficientRow {
+    /// Name.
+    pub name: String,
+    /// SI unit.
+    pub unit: String,
+    /// The stage that identified it.
+    pub source: String,
+    /// The identified value (the replicas' truth).
+    pub value: f64,
+    /// The reported sigma.
+    pub sigma: f64,
+    /// Mean of the replicas' estimates (None without replicas).
+    pub replica_mean: Option<f64>,
+    /// Standard deviation of the replicas' estimates (None with fewer than 2).
+    pub replica_sd: Option<f64>,
+    /// replica_sd / sigma: 1 when the sigma is right.
+    pub spread_ratio: Option<f64>,
+    /// (replica_mean - value) / sigma.
+    pub bias_sigmas: Option<f64>,
+    /// Coverage of the identified value by the replicas' own sigmas.
+    pub coverage: Coverage,
+}
+
+/// Shares of replicas whose own interval holds the identified value.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Coverage {
+    /// Within 1 sigma (Gaussian: 0.683).
+    pub within_1: Option<f64>,
+    /// Within 2 sigma (Gaussian: 0.954).
+    pub within_2: Option<f64>,
+    /// Replicas (or coefficient-replica pairs) counted.
+    pub count: usize,
+}
+
+impl Coverage {
+    fn of(z: &[f64]) -> Coverage {
+        let share = |k: f64| {
+            (!z.is_empty())
+                .then(|| z.iter().filter(|v| v.abs() < k).count() as f64 / z.len() as f64)
+        };
+        Coverage {
+            within_1: share(1.0),
+            within_2: share(2.0),
+            count: z.len(),
+        }
+    }
+}
+
+/// Each replica's (value, sigma) of every coefficient of `identified`, in that order, or why
+/// it cannot be counted (failed, a coefficient missing, not finite or without sigma).
+fn checked(identified: &[&Coefficient], outcome: &Outcome) -> Result<Vec<(f64, f64)>, String> {
+    let found = outcome.as_ref().map_err(Clone::clone)?;
+    identified
+        .iter()
+        .map(|c| {
+            let hit = found.iter().find(|f| f.0 == c.name);
+            match hit {
+                Some((_, v, Some(s))) if v.is_finite() && s.is_finite() && *s > 0.0 => Ok((*v, *s)),
+                _ => Err(format!("{} was not identified with a finite sigma", c.name)),
+            }
+        })
+        .collect()
+}
+
+/// The calibration from the replicas' outcomes (in replica order).
+pub fn summarise(
+    identified: &[&Coefficient],
+    outcomes: &[Outcome],
+    settings: Settings,
+) -> Calibration {
+    let mut failed = Vec::new();
+    let mut good = Vec::new();
+    for (k, o) in outcomes.iter().enumerate() {
+        match checked(identified, o) {
+            Ok(v) => good.push(v),
+            Err(error) => failed.push(Failed { replica: k, error }),
+        }
+    }
+    let mut all_z = Vec::new();
+    let coefficients: Vec<CoefficientRow> = identified
+        .iter()
+        .enumerate()
+        .map(|(i, c)| {
+            let pairs: Vec<(f64, f64)> = good.iter().map(|g| g[i]).collect();
+            let z: Vec<f64> = pairs.iter().map(|(v, s)| (v - c.value) / s).collect();
+            all_z.extend_from_slice(&z);
+            row(c, &pairs, &z)
+        })
+        .collect();
+    let overall = Coverage::of(&all_z);
+    let mut cal = Calibration {
+        schema: "hydroid-calibration/1",
+        replicas: settings.replicas,
+        seed: settings.seed,
+        converged: good.len(),
+        failed,
+        coefficients,
+        overall,
+        warnings: Vec::new(),
+    };
+    cal.warnings = warnings(&cal);
+    cal
+}
+
+/// One coefficient's row from its replicas' (value, sigma) and z = (value - identified) /
+/// own sigma.
+fn row(c: &Coefficient, pairs: &[(f64, f64)], z: &[f64]) -> CoefficientRow {
+    let sigma = c.sigma.unwrap_or(f64::NAN);
+    let n = pairs.len() as f64;
+    let mean = (!pairs.is_empty()).then(|| pairs.iter().map(|p| p.0).sum::<f64>() / n);
+    // sample standard deviation (n - 1)
+    let sd = mean
+        .filter(|_| pairs.len() > 1)
+        .map(|m| (pairs.iter().map(|p| (p.0 - m).powi(2)).sum::<f64>() / (n - 1.0)).sqrt());
+    CoefficientRow {
+        name: c.name.clone(),
+        unit: c.unit.clone(),
+        source: c.source.to_string(),
+        value: c.value,
+        sigma,
+        replica_mean: mean,
+        replica_sd: sd,
+        spread_ratio: sd.map(|s| s / sigma),
+        bias_sigmas: mean.map(|m| (m - c.value) / sigma),
+        coverage: Coverage::of(z),
+    }
+}
+
+/// What the check finds wrong: a spread outside [`SPREAD_LOW`, `SPREAD_HIGH`] reported
+/// sigmas, an overall 2-sigma coverage below [`COVERAGE_2_LOW`], failed replicas.
+fn warnings(cal: &Calibration) -> Vec<Warning> {
+    let mut out = Vec::new();
+    let off: Vec<String> = cal
+        .coefficients
+        .iter()
+        .filter_map(|r| {
+            let ratio = r.spread_ratio?;
+            (!(SPREAD_LOW..=SPREAD_HIGH).contains(&ratio))
+                .then(|| format!("{} {}", r.name, crate::base::numfmt::num(ratio)))
+        })
+        .collect();
+    if !off.is_empty() {
+        out.push(
+            Warning::new(
+                "calibration",
+                format!(
+                    "the replicas' spread is outside {SPREAD_LOW}-{SPREAD_HIGH} reported sigmas: {}",
+                    off.join(", ")
+                ),
+                "above: the sigma is too small for how much the estimate moves with new noise; \
+                 below: too large. Check the runs' noise (hekf.noise) and the stages' residuals",
+            )
+            .failed(Test::Calibration),
+        );
+    }
+    if let Some(c2) = cal.overall.within_2.filter(|c| *c < COVERAGE_2_LOW) {
+        out.push(
+            Warning::new(
+                "calibration",
+                format!(
+                    "the replicas' own 2-sigma intervals hold the identified value for {:.1} % \
+                     of the coefficient-replica pairs, below {:.0} %",
+                    100.0 * c2,
+                    100.0 * COVERAGE_2_LOW
+                ),
+                "the reported sigmas are too small (a Gaussian estimate is covered 95.4 %)",
+            )
+            .failed(Test::Calibration),
+        );
+    }
+    if !cal.failed.is_empty() {
+        out.push(Warning::new(
+            "calibration",
+            format!(
+                "{} of {} replicas could not be identified (first: replica {}: {})",
+                cal.failed.len(),
+                cal.replicas,
+                cal.failed[0].replica,
+                cal.failed[0].error
+            ),
+            "the statistics count the identified replicas only; replicas that fail are \
+             themselves a sign of a fragile identification",
+        ));
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::coefficients::Source;
+
+    fn settings(replicas: usize) -> Settings {
+        Settings { replicas, seed: 1 }
+    }
+
+    #[test]
+    fn failed_replicas_are_counted_not_averaged() {
+        let c = Coefficient::new("Yvd", -10.0, Some(1.0), Source::Hekf);
+        let outcomes: Vec<Outcome> = vec![
+            Ok(vec![("Yvd".into(), -10.5, Some(1.0))]),
+            Err("diverged".into()),
+            Ok(vec![("Yvd".into(), -8.5, Some(1.0))]),
+            Ok(vec![("Yvd".into(), f64::NAN, Some(1.0))]),
+            Ok(vec![("Xud".into(), 1.0, Some(1.0))]),
+        ];
+        let cal = summarise(&[&c], &outcomes, settings(5));
+        assert_eq!(cal.converged, 2);
+        assert_eq!(
+            cal.failed.iter().map(|f| f.replica).collect::<Vec<_>>(),
+            [1, 3, 4]
+        );
+        let row = &cal.coefficients[0];
+        assert_eq!(row.replica_mean, Some(-9.5));
+        // sample standard deviation of -10.5 and -8.5: sqrt(2) = 1.414
+        assert!((row.replica_sd.unwrap() - 2f64.sqrt()).abs() < 1e-12);
+        assert_eq!(row.coverage.within_1, Some(0.5));
+        assert_eq!(row.coverage.within_2, Some(1.0));
+        assert!(cal.warnings.iter().any(|w| w.message.starts_with("3 of 5")));
+    }
+
+    #[test]
+    fn without_replicas_the_statistics_are_null_not_nan() {
+        let c = Coefficient::new("Yvd", -10.0, Some(1.0), Source::Hekf);
+        let cal = summarise(&[&c], &[Err("no".into())], settings(1));
+        let json = serde_json::to_string(&cal).unwrap();
+        assert!(!json.contains("NaN"), "{json}");
+        assert_eq!(cal.coefficients[0].replica_sd, None);
+        assert_eq!(cal.overall.within_2, None);
+    }
+
+    #[test]
+    fn a_spread_far_from_the_sigma_is_a_failed_calibration() {
+        let c = Coefficient::new("Yvd", 0.0, Some(0.1), Source::Hekf);
+        let outcomes: Vec<Outcome> = (0..10)
+            .map(|k| {
+                Ok(vec![(
+                    "Yvd".into(),
+                    if k % 2 == 0 { 1.0 } else { -1.0 },
+                    Some(0.1),
+                )])
+            })
+            .collect();
+        let cal = summarise(&[&c], &outcomes, settings(10));
+        assert!(cal
+            .warnings
+            .iter()
+            .all(|w| w.failed_test == Some(Test::Calibration)));
+        assert_eq!(cal.warnings.len(), 2, "{:?}", cal.warnings);
+    }
+}

@@ -1,0 +1,123 @@
+//! The calibration written into the output folder it checks (calibration.json and
+//! calibration.md, each atomically, then recorded in the folder's marker so that the folder
+//! stays hydroid's) and its table for the console and the Markdown file.
+
+use super::Calibration;
+use crate::base::error::{Error, Result};
+use crate::base::markdown_text::markdown_table;
+use crate::base::numfmt::num;
+use crate::io::output::marker::{self, Found};
+use std::path::Path;
+
+/// calibration.json in the output folder.
+pub const CALIBRATION_JSON: &str = "calibration.json";
+/// calibration.md in the output folder.
+pub const CALIBRATION_MD: &str = "calibration.md";
+
+/// Refuses a folder that is not an output of `hydroid run` exactly as hydroid wrote it (its
+/// marker lists every file unchanged), naming what differs: calibrate writes into it.
+pub fn check_folder(dir: &Path) -> Result<()> {
+    match marker::inspect(dir)? {
+        Found::Unchanged => Ok(()),
+        Found::Nothing => Err(Error::Usage(format!(
+            "{}: no such output folder (give the folder `hydroid run` wrote)",
+            dir.display()
+        ))),
+        Found::Foreign(why) => Err(Error::Usage(format!(
+            "{} is not an output folder of `hydroid run`: {why}",
+            dir.display()
+        ))),
+        Found::Changed(what) => Err(Error::Usage(format!(
+            "refusing to calibrate {}: it changed since hydroid wrote it ({}); calibrate \
+             checks and writes into an output exactly as `hydroid run` left it: `hydroid \
+             rerun {}` first",
+            dir.display(),
+            what.join("; "),
+            dir.display()
+        ))),
+    }
+}
+
+/// Writes calibration.json and calibration.md into `dir` (replacing those hydroid wrote
+/// there before) and records them in the folder's marker.
+pub fn write(dir: &Path, cal: &Calibration) -> Result<()> {
+    let json = crate::io::output::to_json(cal)?;
+    crate::io::output::write_atomic(&dir.join(CALIBRATION_JSON), &json)?;
+    crate::io::output::write_atomic(&dir.join(CALIBRATION_MD), markdown(cal).as_bytes())?;
+    marker::record(dir, &[CALIBRATION_JSON, CALIBRATION_MD])
+}
+
+/// calibration.md: the table and what it means.
+pub fn markdown(cal: &Calibration) -> String {
+    let mut s = String::from("# Calibration check\n\n");
+    s.push_str(&format!(
+        "{} replicas of every fitted run made from the identified model with the runs' own \
+         noise (seeds {} to {}), each identified again with the run's settings; {} \
+         identified, {} failed. Coverage: the share of replicas whose own 1- and 2-sigma \
+         interval holds the identified value (Gaussian: 68.3 % and 95.4 %); spread: the \
+         replicas' standard deviation in reported sigmas (1 when the sigma is right). See \
+         docs/calibrate.md.\n\n",
+        cal.replicas,
+        cal.seed,
+        cal.seed.wrapping_add(cal.replicas.saturating_sub(1) as u64),
+        cal.converged,
+        cal.failed.len()
+    ));
+    s.push_str(&table(cal));
+    for w in &cal.warnings {
+        s.push_str(&format!("\n- warning: {} ({})\n", w.message, w.meaning));
+    }
+    s
+}
+
+/// An optional number, or "-".
+fn opt(v: Option<f64>, f: impl Fn(f64) -> String) -> String {
+    v.map_or_else(|| "-".to_string(), f)
+}
+
+/// A share as a percentage with one decimal.
+fn pct(v: f64) -> String {
+    format!("{:.1} %", 100.0 * v)
+}
+
+/// The per-coefficient table with an overall row, in Markdown.
+pub fn table(cal: &Calibration) -> String {
+    let header: Vec<String> = [
+        "coefficient",
+        "value",
+        "sigma",
+        "replica mean",
+        "replica sd",
+        "spread / sigma",
+        "bias / sigma",
+        "within 1 sigma",
+        "within 2 sigma",
+    ]
+    .map(String::from)
+    .to_vec();
+    let mut rows: Vec<Vec<String>> = cal
+        .coefficients
+        .iter()
+        .map(|r| {
+            vec![
+                r.name.clone(),
+                num(r.value),
+                num(r.sigma),
+                opt(r.replica_mean, num),
+                opt(r.replica_sd, num),
+                opt(r.spread_ratio, |v| format!("{v:.2}")),
+                opt(r.bias_sigmas, |v| format!("{v:+.2}")),
+                opt(r.coverage.within_1, pct),
+                opt(r.coverage.within_2, pct),
+            ]
+        })
+        .collect();
+    let mut overall = vec![String::from("overall"), String::new(), String::new()];
+    overall.extend(std::iter::repeat_n(String::new(), 4));
+    overall.push(opt(cal.overall.within_1, pct));
+    overall.push(opt(cal.overall.within_2, pct));
+    rows.push(overall);
+    let mut right = vec![true; header.len()];
+    right[0] = false;
+    markdown_table(&header, &rows, &right)
+}

@@ -1,0 +1,161 @@
+//! `hydroid calibrate OUTDIR` (docs/calibrate.md): the parametric bootstrap of the bundled
+//! spheroid joint twin agrees with the coverage study (tests/coverage.rs: 100 seeds
+//! re-simulated from the truth, 96.2 % within 2 sigma and 73.2 % within 1 sigma), a noise
+//! model set 10 times too small is flagged, a folder that is not an untouched output is
+//! refused naming what is wrong, and the same seed gives the same bytes.
+
+mod common;
+
+use std::path::Path;
+
+/// Replicas of the agreement test.
+const REPLICAS: usize = 24;
+
+/// The run whose output is checked: configs/spheroid_joint.toml of an example copy, with
+/// `set` overrides.
+fn joint_run(example: &Path, set: &[&str]) -> std::path::PathBuf {
+    let out = example.join("out");
+    let o = common::run_config(&example.join("configs/spheroid_joint.toml"), &out, set);
+    assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
+    out
+}
+
+/// `hydroid calibrate OUT --replicas N --json -q` plus `extra`.
+fn calibrate(out: &Path, replicas: usize, extra: &[&str]) -> std::process::Output {
+    let n = replicas.to_string();
+    let mut args = vec![
+        "calibrate",
+        out.to_str().unwrap(),
+        "--replicas",
+        &n,
+        "--json",
+        "-q",
+    ];
+    args.extend(extra);
+    common::hydroid(&args)
+}
+
+fn parsed(o: &std::process::Output) -> serde_json::Value {
+    serde_json::from_slice(&o.stdout).unwrap_or_else(|e| {
+        panic!(
+            "{e}: {}\n{}",
+            common::text(&o.stdout),
+            common::text(&o.stderr)
+        )
+    })
+}
+
+#[test]
+fn the_spheroid_replicas_agree_with_the_coverage_study() {
+    let example = common::example_copy();
+    let out = joint_run(example.path(), &[]);
+    let o = calibrate(&out, REPLICAS, &[]);
+    assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
+    let c = parsed(&o);
+    assert_eq!(c["converged"], REPLICAS, "{c}");
+    let overall = &c["overall"];
+    let (w1, w2) = (
+        overall["within_1"].as_f64().unwrap(),
+        overall["within_2"].as_f64().unwrap(),
+    );
+    eprintln!("overall: within 1 sigma {w1}, within 2 sigma {w2}");
+    // the coverage study's shares with the binomial spread of 24 replicas (a replica's
+    // coefficients move together, so the replicas, not the pairs, are the independent
+    // draws): 2 sigma 96.2 % +- 3 x 3.9 % -> 85-100 %; 1 sigma 73.2 % +- 2 x 9.0 % -> 55-91 %
+    assert!((0.85..=1.0).contains(&w2), "within 2 sigma: {w2}");
+    assert!((0.55..=0.91).contains(&w1), "within 1 sigma: {w1}");
+    // each coefficient's spread in reported sigmas: 1 +- 3 x 0.15 (the relative standard
+    // error of a standard deviation of 24 draws, 1 / sqrt(2 x 23)), 0.55-1.45
+    for row in c["coefficients"].as_array().unwrap() {
+        let ratio = row["spread_ratio"].as_f64().unwrap();
+        eprintln!("{}: spread / sigma {ratio:.2}", row["name"]);
+        assert!((0.55..=1.45).contains(&ratio), "{row}");
+    }
+    assert_eq!(c["coefficients"].as_array().unwrap().len(), 14);
+    // docs/calibrate.md at its printed digits
+    let ratios: Vec<f64> = c["coefficients"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["spread_ratio"].as_f64().unwrap())
+        .collect();
+    let (lo, hi) = ratios
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(a, b), r| (a.min(*r), b.max(*r)));
+    assert_eq!(
+        format!(
+            "{:.1} % within 1 sigma and {:.1} % within 2 sigma; spread {lo:.2}-{hi:.2}",
+            100.0 * w1,
+            100.0 * w2
+        ),
+        "69.0 % within 1 sigma and 94.0 % within 2 sigma; spread 0.86-1.23"
+    );
+    assert!(c["warnings"].as_array().unwrap().is_empty(), "{c}");
+    assert!(out.join("calibration.md").is_file());
+    // the folder stays hydroid's (calibrate records its files in the marker): a rerun
+    // would replace it, and calibrate runs on it again; the same seed gives the same bytes
+    let a = calibrate(&out, 3, &[]);
+    let first = std::fs::read(out.join("calibration.json")).unwrap();
+    let b = calibrate(&out, 3, &[]);
+    let second = std::fs::read(out.join("calibration.json")).unwrap();
+    assert_eq!(a.status.code(), Some(0), "{}", common::text(&a.stderr));
+    assert_eq!(b.status.code(), Some(0), "{}", common::text(&b.stderr));
+    assert_eq!(first, second);
+    assert_eq!(a.stdout, b.stdout);
+}
+
+#[test]
+fn a_noise_model_ten_times_too_small_is_flagged() {
+    let example = common::example_copy();
+    // the manoeuvres' noise is about 1e-3 SI (results.json); the filter is told 1e-4
+    let set: Vec<String> = ["u", "v", "r", "x", "y", "yaw"]
+        .iter()
+        .map(|q| format!("hekf.noise.{q}=0.0001"))
+        .collect();
+    let set: Vec<&str> = set.iter().map(String::as_str).collect();
+    let out = joint_run(example.path(), &set);
+    let o = calibrate(&out, 12, &["--strict"]);
+    let stderr = common::text(&o.stderr);
+    assert_eq!(o.status.code(), Some(3), "{stderr}");
+    assert!(
+        stderr.contains("warning: the replicas' spread is outside 0.67-1.5 reported sigmas"),
+        "{stderr}"
+    );
+    let c = parsed(&o);
+    let xuu = common::named(&c["coefficients"], "Xuu");
+    assert!(xuu["spread_ratio"].as_f64().unwrap() > 1.5, "{xuu}");
+    assert!(c["overall"]["within_2"].as_f64().unwrap() < 0.9, "{c}");
+}
+
+#[test]
+fn calibrate_refuses_what_is_not_an_untouched_output() {
+    let example = common::example_copy();
+    // a folder hydroid did not write
+    let configs = example.path().join("configs");
+    let o = calibrate(&configs, 2, &[]);
+    let stderr = common::text(&o.stderr);
+    assert_ne!(o.status.code(), Some(0));
+    assert!(
+        stderr.contains(&format!(
+            "{} is not an output folder of `hydroid run`",
+            configs.display()
+        )),
+        "{stderr}"
+    );
+    assert!(!configs.join("calibration.json").exists());
+    // no folder at all
+    let o = calibrate(&example.path().join("nowhere"), 2, &[]);
+    assert!(common::text(&o.stderr).contains("no such output folder"));
+    // an output whose recorded configuration was edited
+    let out = joint_run(example.path(), &[]);
+    let config = out.join("config.toml");
+    let mut text = std::fs::read_to_string(&config).unwrap();
+    text.push_str("\n# edited\n");
+    std::fs::write(&config, text).unwrap();
+    let o = calibrate(&out, 2, &[]);
+    let stderr = common::text(&o.stderr);
+    assert_ne!(o.status.code(), Some(0));
+    assert!(stderr.contains("refusing to calibrate"), "{stderr}");
+    assert!(stderr.contains("config.toml"), "{stderr}");
+    assert!(!out.join("calibration.json").exists());
+}
