@@ -459,8 +459,10 @@ fn xud_standard_errors_are_calibrated() {
         z2_force += ((r.xud.value - XUD) / r.xud.sigma.unwrap()).powi(2);
     }
     let (zc, zf) = (z2_coef / n as f64, z2_force / n as f64);
+    println!("mean z^2: coefficients {zc:.3}, force {zf:.3}");
     assert!((0.75..1.3).contains(&zc), "coefficients: mean z^2 = {zc}");
-    assert!((0.75..1.4).contains(&zf), "force: mean z^2 = {zf}");
+    // docs/stages.md: the windowed (force) fit's squared z-scores "average 1.0-1.2"
+    assert!((0.95..1.25).contains(&zf), "force: mean z^2 = {zf}");
 }
 
 const VEHICLE_AND_FLUID: &str = "[vehicle]\nmass = 50\nlength = 1.2\nizz = 3.7\n\
