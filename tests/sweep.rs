@@ -146,6 +146,13 @@ fn bad_sweeps_name_their_keys() {
     }
 }
 
+/// The sections of configs/vehicles/kcs_mmg.toml from `[vehicle]` on (its vehicle and
+/// coefficients), to copy into a configuration.
+fn kcs_vehicle_sections() -> String {
+    let vehicle = std::fs::read_to_string(root().join("configs/vehicles/kcs_mmg.toml")).unwrap();
+    vehicle[vehicle.find("[vehicle]").unwrap()..].to_string()
+}
+
 /// The KCS vehicle file (configs/vehicles/kcs_mmg.toml, the SIMMAN 2008 set converted from
 /// drift-angle form): its 35 deg turns at the paper's 1.7 m/s, propeller balanced, are a
 /// KCS-sized circle (a little over 3 ship lengths) to both sides, and diameters fall as the
@@ -153,8 +160,7 @@ fn bad_sweeps_name_their_keys() {
 #[test]
 fn the_kcs_vehicle_file_turns_like_a_container_ship() {
     let dir = tempfile::tempdir().unwrap();
-    let vehicle = std::fs::read_to_string(root().join("configs/vehicles/kcs_mmg.toml")).unwrap();
-    let body = &vehicle[vehicle.find("[vehicle]").unwrap()..];
+    let body = kcs_vehicle_sections();
     let cfg = format!(
         "title = \"KCS\"\nmodel = \"mmg3\"\n{body}\n[fluid]\nrho = 1000.0\nmu = 0.001\n\n\
          [manoeuvre]\nkind = \"time_history\"\nduration = 150\ndt = 0.1\nsubsteps = 10\n\
@@ -294,5 +300,62 @@ fn the_kcs_linearised_at_the_test_speed_is_nearly_neutral() {
             n.t
         ),
         "T1 = 149 s, K = 13.1 1/s, T = 148 s"
+    );
+}
+
+/// docs/models/ships.md, "KCS": a first-order Nomoto fit (nomoto_wave, configs/nomoto_ship150.toml
+/// without waves: wave-yaw forcing 1e-9, compass noise 0.01 deg) to the KCS's 10/10 zig-zag
+/// at 1.7 m/s (120 s at 10 Hz, rudder 16.8 deg/s from 5 s, the propeller at 13.96 rev/s)
+/// gives K = 0.65 1/s and T = 6.2 s, at the digits printed there.
+#[test]
+fn a_first_order_fit_of_the_kcs_zigzag_gives_the_indices_of_the_docs() {
+    let dir = tempfile::tempdir().unwrap();
+    let sim = format!(
+        "title = \"KCS 10/10\"\nmodel = \"mmg3\"\n{}\n[fluid]\nrho = 1000.0\nmu = 0.001\n\n\
+         [manoeuvre]\nkind = \"time_history\"\nduration = 120\ndt = 0.1\nsubsteps = 10\n\
+         initial = {{ u = \"1.7 m/s\" }}\ninputs = {{ rpm = \"13.96 rps\" }}\n\
+         [manoeuvre.steering]\nkind = \"zigzag\"\nrudder = \"10 deg\"\nheading = \"10 deg\"\n\
+         rate = \"16.8 deg/s\"\nexecute = \"5 s\"\n\n[export]\nfile = \"log.csv\"\n\
+         layout = \"starccm\"\nwrap_angles = false\ncolumns = [\n\
+         {{ quantity = \"time\", name = \"time\", unit = \"s\" }},\n\
+         {{ quantity = \"yaw\", name = \"compass\", unit = \"deg\" }},\n\
+         {{ quantity = \"rudder\", name = \"rudder\", unit = \"deg\" }},\n]\n",
+        kcs_vehicle_sections()
+    );
+    std::fs::write(dir.path().join("sim.toml"), sim).unwrap();
+    let o = hydroid(&["simulate", dir.path().join("sim.toml").to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let nomoto = std::fs::read_to_string(root().join("configs/nomoto_ship150.toml")).unwrap();
+    let reference = nomoto.find("[reference]").unwrap()..nomoto.find("[hekf]").unwrap();
+    let cfg = format!("{}{}", &nomoto[..reference.start], &nomoto[reference.end..])
+        .replace("../cfd_exports/ship150_nomoto_waves.csv", "log.csv")
+        .replace("../out/nomoto_ship150", "out")
+        .replace(
+            "process_noise = { psi_H = 9.6e-5 }",
+            "process_noise = { psi_H = 1e-9 }",
+        )
+        .replace(
+            "noise = { yaw = \"0.1 deg\" }",
+            "noise = { yaw = \"0.01 deg\" }",
+        );
+    assert!(cfg.contains("log.csv") && cfg.contains("1e-9") && cfg.contains("0.01 deg"));
+    let path = dir.path().join("nomoto.toml");
+    std::fs::write(&path, cfg).unwrap();
+    let out = dir.path().join("out");
+    let o = hydroid(&[
+        "run",
+        path.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let r = common::json(&out.join("results.json"));
+    let (k, t) = (
+        r["steering"]["k"].as_f64().unwrap(),
+        r["steering"]["t"].as_f64().unwrap(),
+    );
+    assert_eq!(
+        format!("K = {k:.2} 1/s, T = {t:.1} s"),
+        "K = 0.65 1/s, T = 6.2 s"
     );
 }
