@@ -474,7 +474,8 @@ fn spheroid_energy_is_conserved_without_damping() {
 }
 
 /// The paper's manoeuvre with the bounded truth stays bounded: u above 0.9 m/s, the heading
-/// turning through about -310 deg in 20 s (../shared/docs/spheroid-hekf.md, "Pitfalls").
+/// turning through about -310 deg in 20 s (../shared/docs/spheroid-hekf.md, "Pitfalls"),
+/// drift angles up to 58 deg (docs/paper.md).
 #[test]
 fn spheroid_paper_manoeuvre_turns_as_the_document_says() {
     let body = spheroid::Spheroid::bounded_truth();
@@ -488,5 +489,7 @@ fn spheroid_paper_manoeuvre_turns_as_the_document_says() {
         .fold(0.0, f64::max);
     println!("spheroid: u_min {u_min:.3} m/s, heading at 20 s {psi_end:.1} deg, max drift {drift_max:.1} deg");
     assert!(u_min > 0.9, "{u_min}");
-    assert!((-340.0..-280.0).contains(&psi_end), "{psi_end}");
+    // docs/paper.md at its digits: "about -310 deg", drift "about 58 deg"
+    assert!((psi_end + 310.0).abs() < 5.0, "{psi_end}");
+    assert_eq!(format!("{drift_max:.0}"), "58");
 }

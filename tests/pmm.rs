@@ -42,6 +42,14 @@ fn spheroid_joint_example_meets_the_targets() {
     let periods = &captive["runs"][0]["periods"];
     assert_eq!(periods["periods"], 5, "{periods}");
     assert!((periods["frequency"].as_f64().unwrap() - 0.5).abs() < 1e-6);
+    // docs/stages.md: the captive Y_uv,l's sigma, 0.092 kg/m with the polar's part
+    let yuvl = captive["coefficients"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|c| c["name"] == "Yuvl")
+        .unwrap();
+    assert_eq!(format!("{:.3}", yuvl["sigma"].as_f64().unwrap()), "0.092");
     assert_modes(&hekf["modes"]["rows"]);
     let schema = common::json(&common::root().join("docs/results.schema.json"));
     let validator = jsonschema::draft202012::new(&schema).unwrap();

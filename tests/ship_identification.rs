@@ -411,14 +411,12 @@ fn the_papers_linear_model_on_mmg_runs_is_reported_as_a_mismatch() {
     // the numbers docs/models/ships.md and docs/validation.md give: the filter holds the runs
     // (mean NIS 4.3 and 4.4, conservative) ...
     let runs = r["stages"]["hekf"]["runs"].as_array().unwrap();
-    for run in runs {
-        let nis = run["nis"]["mean"].as_f64().unwrap();
-        assert!(
-            (4.25..4.45).contains(&nis),
-            "{}: mean NIS {nis}",
-            run["name"]
-        );
-    }
+    let mut means: Vec<String> = runs
+        .iter()
+        .map(|run| format!("{:.1}", run["nis"]["mean"].as_f64().unwrap()))
+        .collect();
+    means.sort();
+    assert_eq!(means, ["4.3", "4.4"], "mean NIS of the runs");
     // ... the model misses the turns it was fitted to (tactical diameter 25.6 m against
     // 21.8 m, +17 %) and the zig-zag's second overshoot (9.8 deg against 15.8 deg)
     let resim = r["resimulation"].as_array().unwrap();

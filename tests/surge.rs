@@ -192,6 +192,25 @@ fn a_wrong_xuu_shows_up_as_a_spread_between_speed_bins() {
         .any(|w| w.message.contains("autocorrelated")));
 }
 
+/// The centred integrals I = integral (Xuu u|u| + X_prop) dt and J = integral u|u| dt of the
+/// exact paper run (trapezoid from t0).
+fn centred_integrals() -> (Vec<f64>, Vec<f64>) {
+    let (t, u, _) = simulate(0.5, THRUST, 20.0);
+    let mut i_acc = vec![0.0];
+    let mut j_acc = vec![0.0];
+    for k in 1..t.len() {
+        let f = |v: f64| XUU * v * v.abs() + THRUST;
+        let g = |v: f64| v * v.abs();
+        i_acc.push(i_acc[k - 1] + 0.5 * DT * (f(u[k]) + f(u[k - 1])));
+        j_acc.push(j_acc[k - 1] + 0.5 * DT * (g(u[k]) + g(u[k - 1])));
+    }
+    let centre = |v: &[f64]| {
+        let m = v.iter().sum::<f64>() / v.len() as f64;
+        v.iter().map(|x| x - m).collect::<Vec<_>>()
+    };
+    (centre(&i_acc), centre(&j_acc))
+}
+
 #[test]
 fn xuu_uncertainty_is_carried_into_xud() {
     let (_, _, rec) = paper_run(42);
@@ -211,20 +230,7 @@ fn xuu_uncertainty_is_carried_into_xud() {
     // Xuu by eps Xuu adds eps Xuu J (J = integral u|u| dt) to I, and least squares moves
     // kappa by -eps kappa <Ic Jc> Xuu / <Ic Ic> (centred sums), so Xud = m - 1/kappa moves by
     // (m - Xud) eps Xuu <Ic Jc> / <Ic Ic>. Evaluated on the exact run:
-    let (t, u, _) = simulate(0.5, THRUST, 20.0);
-    let mut i_acc = vec![0.0];
-    let mut j_acc = vec![0.0];
-    for k in 1..t.len() {
-        let f = |v: f64| XUU * v * v.abs() + THRUST;
-        let g = |v: f64| v * v.abs();
-        i_acc.push(i_acc[k - 1] + 0.5 * DT * (f(u[k]) + f(u[k - 1])));
-        j_acc.push(j_acc[k - 1] + 0.5 * DT * (g(u[k]) + g(u[k - 1])));
-    }
-    let centre = |v: &[f64]| {
-        let m = v.iter().sum::<f64>() / v.len() as f64;
-        v.iter().map(|x| x - m).collect::<Vec<_>>()
-    };
-    let (ic, jc) = (centre(&i_acc), centre(&j_acc));
+    let (ic, jc) = centred_integrals();
     let ratio = ic.iter().zip(&jc).map(|(a, b)| a * b).sum::<f64>() * XUU
         / ic.iter().map(|a| a * a).sum::<f64>();
     let theory = (M - XUD) * (sx / XUU.abs()) * ratio.abs();
@@ -426,11 +432,12 @@ fn result_serialises_to_json() {
 fn xud_standard_errors_are_calibrated() {
     // Over many noise draws the squared z-score of Xud averages 1 when the sigma is honest.
     // In the whole-integral fit the noise of u is also in the integral of u|u|, which the
-    // stage's sigma accounts for (plain least squares would give about 2.7 here).
+    // stage's sigma accounts for (plain least squares gives about 2.3 here, asserted below).
     let (t, u, ud) = simulate(0.5, THRUST, 20.0);
     let f = fluid_force(&u, &ud);
     let n = 150;
-    let (mut z2_coef, mut z2_force) = (0.0, 0.0);
+    let s_ii = centred_integrals().0.iter().map(|a| a * a).sum::<f64>();
+    let (mut z2_coef, mut z2_force, mut z2_plain) = (0.0, 0.0, 0.0);
     for seed in 0..n {
         let rec = record(
             "straight",
@@ -442,6 +449,10 @@ fn xud_standard_errors_are_calibrated() {
         );
         let r = run(&config("speed_bins = 1\n"), &known(None), &[rec]);
         z2_coef += ((r.xud.value - XUD) / r.xud.sigma.unwrap()).powi(2);
+        // plain least squares: sigma_u^2 / S_II for kappa, the regressor taken as exact
+        let kappa = 1.0 / (M - r.xud.value);
+        let plain = r.residual_std / s_ii.sqrt() / (kappa * kappa);
+        z2_plain += ((r.xud.value - XUD) / plain).powi(2);
         let rec = record(
             "cfd",
             &[
@@ -459,8 +470,13 @@ fn xud_standard_errors_are_calibrated() {
         z2_force += ((r.xud.value - XUD) / r.xud.sigma.unwrap()).powi(2);
     }
     let (zc, zf) = (z2_coef / n as f64, z2_force / n as f64);
+    let zp = z2_plain / n as f64;
+    println!("mean z^2: coefficients {zc:.3}, force {zf:.3}, plain least squares {zp:.3}");
+    // docs/stages.md: plain least squares "understates the variance by a factor of about 2.3"
+    assert_eq!(format!("{zp:.1}"), "2.3", "{zp}");
     assert!((0.75..1.3).contains(&zc), "coefficients: mean z^2 = {zc}");
-    assert!((0.75..1.4).contains(&zf), "force: mean z^2 = {zf}");
+    // docs/stages.md: the windowed (force) fit's squared z-scores "average 1.0-1.2"
+    assert!((0.95..1.25).contains(&zf), "force: mean z^2 = {zf}");
 }
 
 const VEHICLE_AND_FLUID: &str = "[vehicle]\nmass = 50\nlength = 1.2\nizz = 3.7\n\

@@ -146,6 +146,13 @@ fn bad_sweeps_name_their_keys() {
     }
 }
 
+/// The sections of configs/vehicles/kcs_mmg.toml from `[vehicle]` on (its vehicle and
+/// coefficients), to copy into a configuration.
+fn kcs_vehicle_sections() -> String {
+    let vehicle = std::fs::read_to_string(root().join("configs/vehicles/kcs_mmg.toml")).unwrap();
+    vehicle[vehicle.find("[vehicle]").unwrap()..].to_string()
+}
+
 /// The KCS vehicle file (configs/vehicles/kcs_mmg.toml, the SIMMAN 2008 set converted from
 /// drift-angle form): its 35 deg turns at the paper's 1.7 m/s, propeller balanced, are a
 /// KCS-sized circle (a little over 3 ship lengths) to both sides, and diameters fall as the
@@ -153,8 +160,7 @@ fn bad_sweeps_name_their_keys() {
 #[test]
 fn the_kcs_vehicle_file_turns_like_a_container_ship() {
     let dir = tempfile::tempdir().unwrap();
-    let vehicle = std::fs::read_to_string(root().join("configs/vehicles/kcs_mmg.toml")).unwrap();
-    let body = &vehicle[vehicle.find("[vehicle]").unwrap()..];
+    let body = kcs_vehicle_sections();
     let cfg = format!(
         "title = \"KCS\"\nmodel = \"mmg3\"\n{body}\n[fluid]\nrho = 1000.0\nmu = 0.001\n\n\
          [manoeuvre]\nkind = \"time_history\"\nduration = 150\ndt = 0.1\nsubsteps = 10\n\
@@ -246,5 +252,110 @@ fn the_sweeps_give_the_diameters_of_the_docs() {
         "starboard 6.9 L at 10 deg to 3.2 L at 35 deg, port 6.3 L to 3.3 L; 35 deg: advance \
          3.19 L, tactical 3.21 L to starboard, 3.22 L and 3.29 L to port; 15 deg at each speed: \
          5.45, 5.45, 5.45"
+    );
+}
+
+/// docs/models/ships.md, "KCS": linearised at the paper's 1.7 m/s with the propeller at the
+/// sweep's self-propulsion balance (13.96 rev/s), the KCS is course-stable but nearly neutral: T1 =
+/// 149 s, K = 13.1 1/s and T = 148 s, at the digits printed there.
+#[test]
+fn the_kcs_linearised_at_the_test_speed_is_nearly_neutral() {
+    use hydroid::model::models::{Mmg3, Model};
+    let loaded =
+        hydroid::app::simulate::config::load(&root().join("configs/simulate/kcs_sweep.toml"))
+            .unwrap();
+    let config = &loaded.config;
+    let vehicle = config.vehicle.for_model(&config.fluid).vehicle;
+    let m = Mmg3::build(&vehicle).unwrap();
+    let values: Vec<(&str, f64)> = config
+        .coefficients
+        .iter()
+        .map(|(k, v)| (k.as_str(), *v))
+        .collect();
+    let c = m.coefficient_vector(&values);
+    // the balance of the sweep's 1.7 m/s case, not its rounded 13.97
+    let sweep = hydroid::app::simulate::sweep::simulate_sweep(&loaded).unwrap();
+    let case = sweep
+        .cases
+        .iter()
+        .find(|c| c.varies == hydroid::app::simulate::sweep::Varies::Speed && c.speed == 1.7)
+        .unwrap();
+    let (_, rps) = case.propeller.unwrap();
+    assert_eq!(format!("{rps:.2}"), "13.96");
+    let n = hydroid::dynamics::course_stability::sway_yaw(
+        &m,
+        &c,
+        &[1.7, 0.0, 0.0, 0.0, 0.0, 0.0],
+        &[0.0, rps],
+    )
+    .unwrap()
+    .nomoto()
+    .unwrap();
+    assert!(n.course_stable, "{n:?}");
+    assert_eq!(
+        format!(
+            "T1 = {:.0} s, K = {:.1} 1/s, T = {:.0} s",
+            n.t1.unwrap(),
+            n.k,
+            n.t
+        ),
+        "T1 = 149 s, K = 13.1 1/s, T = 148 s"
+    );
+}
+
+/// docs/models/ships.md, "KCS": a first-order Nomoto fit (nomoto_wave, configs/nomoto_ship150.toml
+/// without waves: wave-yaw forcing 1e-9, compass noise 0.01 deg) to the KCS's 10/10 zig-zag
+/// at 1.7 m/s (120 s at 10 Hz, rudder 16.8 deg/s from 5 s, the propeller at 13.96 rev/s)
+/// gives K = 0.65 1/s and T = 6.2 s, at the digits printed there.
+#[test]
+fn a_first_order_fit_of_the_kcs_zigzag_gives_the_indices_of_the_docs() {
+    let dir = tempfile::tempdir().unwrap();
+    let sim = format!(
+        "title = \"KCS 10/10\"\nmodel = \"mmg3\"\n{}\n[fluid]\nrho = 1000.0\nmu = 0.001\n\n\
+         [manoeuvre]\nkind = \"time_history\"\nduration = 120\ndt = 0.1\nsubsteps = 10\n\
+         initial = {{ u = \"1.7 m/s\" }}\ninputs = {{ rpm = \"13.96 rps\" }}\n\
+         [manoeuvre.steering]\nkind = \"zigzag\"\nrudder = \"10 deg\"\nheading = \"10 deg\"\n\
+         rate = \"16.8 deg/s\"\nexecute = \"5 s\"\n\n[export]\nfile = \"log.csv\"\n\
+         layout = \"starccm\"\nwrap_angles = false\ncolumns = [\n\
+         {{ quantity = \"time\", name = \"time\", unit = \"s\" }},\n\
+         {{ quantity = \"yaw\", name = \"compass\", unit = \"deg\" }},\n\
+         {{ quantity = \"rudder\", name = \"rudder\", unit = \"deg\" }},\n]\n",
+        kcs_vehicle_sections()
+    );
+    std::fs::write(dir.path().join("sim.toml"), sim).unwrap();
+    let o = hydroid(&["simulate", dir.path().join("sim.toml").to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let nomoto = std::fs::read_to_string(root().join("configs/nomoto_ship150.toml")).unwrap();
+    let reference = nomoto.find("[reference]").unwrap()..nomoto.find("[hekf]").unwrap();
+    let cfg = format!("{}{}", &nomoto[..reference.start], &nomoto[reference.end..])
+        .replace("../cfd_exports/ship150_nomoto_waves.csv", "log.csv")
+        .replace("../out/nomoto_ship150", "out")
+        .replace(
+            "process_noise = { psi_H = 9.6e-5 }",
+            "process_noise = { psi_H = 1e-9 }",
+        )
+        .replace(
+            "noise = { yaw = \"0.1 deg\" }",
+            "noise = { yaw = \"0.01 deg\" }",
+        );
+    assert!(cfg.contains("log.csv") && cfg.contains("1e-9") && cfg.contains("0.01 deg"));
+    let path = dir.path().join("nomoto.toml");
+    std::fs::write(&path, cfg).unwrap();
+    let out = dir.path().join("out");
+    let o = hydroid(&[
+        "run",
+        path.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    let r = common::json(&out.join("results.json"));
+    let (k, t) = (
+        r["steering"]["k"].as_f64().unwrap(),
+        r["steering"]["t"].as_f64().unwrap(),
+    );
+    assert_eq!(
+        format!("K = {k:.2} 1/s, T = {t:.1} s"),
+        "K = 0.65 1/s, T = 6.2 s"
     );
 }
