@@ -186,16 +186,35 @@ fn row(c: &Coefficient, pairs: &[(f64, f64)], z: &[f64]) -> CoefficientRow {
     }
 }
 
+/// The spreads (in reported sigmas) that are off with `n` identified replicas: below `low`
+/// or above `high`, where the ratio's 2-standard-error interval lies wholly outside
+/// [`SPREAD_LOW`, `SPREAD_HIGH`]; and the spread's relative standard error
+/// 1/sqrt(2 (n - 1)) (a Gaussian sample's standard deviation).
+fn spread_band(n: usize) -> (f64, f64, f64) {
+    let se = 1.0 / (2.0 * (n.max(2) - 1) as f64).sqrt();
+    let high = if 2.0 * se < 1.0 {
+        SPREAD_HIGH / (1.0 - 2.0 * se)
+    } else {
+        f64::INFINITY
+    };
+    (SPREAD_LOW / (1.0 + 2.0 * se), high, se)
+}
+
 /// What the check finds wrong: a spread outside [`SPREAD_LOW`, `SPREAD_HIGH`] reported
-/// sigmas, an overall 2-sigma coverage below [`COVERAGE_2_LOW`], failed replicas.
+/// sigmas by more than two of its own standard errors, an overall 2-sigma coverage below [`COVERAGE_2_LOW`], failed replicas.
 fn warnings(cal: &Calibration) -> Vec<Warning> {
     let mut out = Vec::new();
+    // the spread is itself an estimate (relative standard error 1/sqrt(2 (N - 1)) for N
+    // Gaussian replicas): a ratio is off only when its 2-standard-error interval lies
+    // wholly outside the band, so that few replicas do not warn by chance
+    let n = cal.replicas.saturating_sub(cal.failed.len());
+    let (low, high, se) = spread_band(n);
     let off: Vec<String> = cal
         .coefficients
         .iter()
         .filter_map(|r| {
             let ratio = r.spread_ratio?;
-            (!(SPREAD_LOW..=SPREAD_HIGH).contains(&ratio))
+            (!(low..=high).contains(&ratio))
                 .then(|| format!("{} {}", r.name, crate::base::numfmt::num(ratio)))
         })
         .collect();
@@ -204,7 +223,9 @@ fn warnings(cal: &Calibration) -> Vec<Warning> {
             Warning::new(
                 "calibration",
                 format!(
-                    "the replicas' spread is outside {SPREAD_LOW}-{SPREAD_HIGH} reported sigmas: {}",
+                    "the replicas' spread is outside {SPREAD_LOW}-{SPREAD_HIGH} reported sigmas \
+                     by more than its own uncertainty with {n} replicas (+-{:.0} %): {}",
+                    200.0 * se,
                     off.join(", ")
                 ),
                 "above: the sigma is too small for how much the estimate moves with new noise; \
@@ -248,6 +269,20 @@ fn warnings(cal: &Calibration) -> Vec<Warning> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_spread_band_widens_with_fewer_replicas() {
+        // docs/calibrate.md: "at 50 replicas: below 0.56 or above 1.88 sigma; at 24: below
+        // 0.52 or above 2.13"
+        let show = |n| {
+            let (l, h, _) = spread_band(n);
+            format!("{l:.2}-{h:.2}")
+        };
+        assert_eq!(show(50), "0.56-1.88");
+        assert_eq!(show(24), "0.52-2.13");
+        // two replicas say nothing about a spread that is too large
+        assert!(spread_band(2).1.is_infinite());
+    }
     use crate::model::coefficients::Source;
 
     fn settings(replicas: usize) -> Settings {
