@@ -267,10 +267,8 @@ fn first_order_fit(man: &Manoeuvre, seed: u64) -> Indices {
         psi_h += (q * man.dt).sqrt() * unit.sample(&mut rng);
     }
     std::fs::write(dir.path().join("log.csv"), csv).unwrap();
-    let mut cfg = std::fs::read_to_string(root().join("configs/nomoto_ship150.toml"))
-        .unwrap()
-        .replace("../cfd_exports/ship150_nomoto_waves.csv", "log.csv")
-        .replace("../out/nomoto_ship150", "out");
+    // without waves: an exact compass in a calm sea
+    let mut cfg = common::nomoto_ship150_config(!man.waves);
     if man.kind == "turn" {
         // one way only: the steady yaw rate K (delta - delta_0) cannot separate K from a
         // rudder bias, so the bias is held at the truth ship's, zero
@@ -281,19 +279,6 @@ fn first_order_fit(man: &Manoeuvre, seed: u64) -> Indices {
             )
             .replace("delta0 = { initial = 0.0, sigma = 0.05 }\n", "")
             .replace("zeta_w = 0.1 ", "delta0 = 0.0\nzeta_w = 0.1 ");
-    }
-    if !man.waves {
-        // no waves, an exact compass: a small wave-yaw forcing and compass noise keep the
-        // filter's gain finite
-        cfg = cfg
-            .replace(
-                "process_noise = { psi_H = 9.6e-5 }",
-                "process_noise = { psi_H = 1e-9 }",
-            )
-            .replace(
-                "noise = { yaw = \"0.1 deg\" }",
-                "noise = { yaw = \"0.01 deg\" }",
-            );
     }
     let path = dir.path().join("nomoto.toml");
     std::fs::write(&path, cfg).unwrap();

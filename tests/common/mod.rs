@@ -81,6 +81,30 @@ pub fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
+/// configs/nomoto_ship150.toml for a compass log `log.csv` beside it and the output folder
+/// `out`; `calm`: a calm sea read by an exact compass (a small wave-yaw forcing and compass
+/// noise keep the filter's gain finite).
+pub fn nomoto_ship150_config(calm: bool) -> String {
+    let cfg = std::fs::read_to_string(root().join("configs/nomoto_ship150.toml"))
+        .unwrap()
+        .replace("../cfd_exports/ship150_nomoto_waves.csv", "log.csv")
+        .replace("../out/nomoto_ship150", "out");
+    if !calm {
+        return cfg;
+    }
+    let cfg = cfg
+        .replace(
+            "process_noise = { psi_H = 9.6e-5 }",
+            "process_noise = { psi_H = 1e-9 }",
+        )
+        .replace(
+            "noise = { yaw = \"0.1 deg\" }",
+            "noise = { yaw = \"0.01 deg\" }",
+        );
+    assert!(cfg.contains("log.csv") && cfg.contains("1e-9") && cfg.contains("0.01 deg"));
+    cfg
+}
+
 /// Runs the `hydroid` binary in `dir` with `args`.
 pub fn hydroid_in(dir: &Path, args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_hydroid"))

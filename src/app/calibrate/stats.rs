@@ -201,13 +201,14 @@ fn spread_band(n: usize) -> (f64, f64, f64) {
 }
 
 /// What the check finds wrong: a spread outside [`SPREAD_LOW`, `SPREAD_HIGH`] reported
-/// sigmas by more than two of its own standard errors, an overall 2-sigma coverage below [`COVERAGE_2_LOW`], failed replicas.
+/// sigmas by more than two of its own standard errors, an overall 2-sigma coverage below
+/// [`COVERAGE_2_LOW`], failed replicas.
 fn warnings(cal: &Calibration) -> Vec<Warning> {
     let mut out = Vec::new();
     // the spread is itself an estimate (relative standard error 1/sqrt(2 (N - 1)) for N
     // Gaussian replicas): a ratio is off only when its 2-standard-error interval lies
     // wholly outside the band, so that few replicas do not warn by chance
-    let n = cal.replicas.saturating_sub(cal.failed.len());
+    let n = cal.converged;
     let (low, high, se) = spread_band(n);
     let off: Vec<String> = cal
         .coefficients
@@ -269,6 +270,7 @@ fn warnings(cal: &Calibration) -> Vec<Warning> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::coefficients::Source;
 
     #[test]
     fn the_spread_band_widens_with_fewer_replicas() {
@@ -283,7 +285,6 @@ mod tests {
         // two replicas say nothing about a spread that is too large
         assert!(spread_band(2).1.is_infinite());
     }
-    use crate::model::coefficients::Source;
 
     fn settings(replicas: usize) -> Settings {
         Settings { replicas, seed: 1 }

@@ -390,12 +390,14 @@ fn run_traces<M: Model>(
     {
         // a held state's measurement (the run's constant) is predicted exactly: its
         // innovation adds nothing to the test
-        let held = summary
+        let counted: Vec<&NoiseChoice> = summary
             .noise
             .iter()
-            .filter(|n| n.source == super::prepare::HELD_SOURCE)
-            .count();
-        let m = runs[r].measured.len() - held;
+            .filter(|n| n.source != super::prepare::HELD_SOURCE)
+            .collect();
+        let m = runs[r].measured.len() - (summary.noise.len() - counted.len());
+        // an estimated noise's own error widens the test (numerics::estimation::nis)
+        let extra = counted.iter().map(|n| n.estimate_variance).sum();
         let states = model.states();
         summary.process_noise = setup
             .adaptable
@@ -404,13 +406,6 @@ fn run_traces<M: Model>(
             .filter(|(j, a)| **a && process_noise[r][*j] > 0.0)
             .map(|(j, _)| (states[j].name.to_string(), process_noise[r][j]))
             .collect();
-        // an estimated noise's own error widens the test (numerics::estimation::nis)
-        let extra = summary
-            .noise
-            .iter()
-            .filter(|n| n.source != super::prepare::HELD_SOURCE)
-            .map(|n| n.estimate_variance)
-            .sum();
         summary.nis = summarize(&tr.nis, m, extra);
         summary.innovation_rms = tr
             .innovation_squares

@@ -92,12 +92,6 @@ pub fn constant_inputs<M: Model>(
     if samples.len() < 20 {
         return Vec::new();
     }
-    let z0: Vec<f64> = start
-        .initial
-        .iter()
-        .zip(start.scale)
-        .map(|(v, s)| v / s)
-        .collect();
     let mut out = Vec::new();
     for (j, input) in run.inputs.inputs.iter().enumerate() {
         let Input::Constant(value) = *input else {
@@ -106,7 +100,7 @@ pub fn constant_inputs<M: Model>(
         if value == 0.0 {
             continue;
         }
-        if let Some(f) = check_one(model, rec, run, start, &z0, &samples, j, value) {
+        if let Some(f) = check_one(model, rec, run, start, &samples, j, value) {
             out.push(f);
         }
     }
@@ -121,12 +115,11 @@ fn check_one<M: Model>(
     rec: &Record,
     run: &RunData,
     start: &Start,
-    z0: &[f64],
     samples: &[usize],
     j: usize,
     value: f64,
 ) -> Option<Finding> {
-    let rows = equation_rows(model, run, start, z0, samples, j, value)?;
+    let rows = equation_rows(model, run, start, samples, j, value)?;
     let best = best_equation(&rows, start.est.len())?;
     let significant = best.value.abs() > SIGNIFICANT * best.sigma;
     if !(significant && best.value.abs() > RELATIVE * value.abs()) {
@@ -212,8 +205,7 @@ fn held_explanations<M: Model>(
             initial: &initial,
             held: &[],
         };
-        let z0: Vec<f64> = initial.iter().zip(&scale).map(|(v, s)| v / s).collect();
-        let Some(rows) = equation_rows(model, run, &with, &z0, samples, j, value) else {
+        let Some(rows) = equation_rows(model, run, &with, samples, j, value) else {
             continue;
         };
         // the input's column dropped: the held coefficient takes its place
@@ -250,11 +242,17 @@ fn equation_rows<M: Model>(
     model: &M,
     run: &RunData,
     start: &Start,
-    z0: &[f64],
     samples: &[usize],
     j: usize,
     value: f64,
 ) -> Option<Vec<Vec<(f64, Vec<f64>)>>> {
+    // the estimated coefficients' starts in the filter's scaled units
+    let z0: Vec<f64> = start
+        .initial
+        .iter()
+        .zip(start.scale)
+        .map(|(v, s)| v / s)
+        .collect();
     let nx = model.nx();
     let nb = start.est.len();
     let n = nx + nb;
@@ -287,7 +285,7 @@ fn equation_rows<M: Model>(
         for (a, &i) in run.measured.iter().enumerate() {
             x[i] = run.y[k * m + a];
         }
-        x[nx..].copy_from_slice(z0);
+        x[nx..].copy_from_slice(&z0);
         let t = StageTime::at(run.times[k]);
         sys.jacobian(t, &x, &mut f, &mut jac);
         sys_p.derivative(t, &x, &mut fp);
