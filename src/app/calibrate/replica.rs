@@ -4,7 +4,8 @@
 //! noise the run estimated. HEKF manoeuvres: the identified model simulated from the run's
 //! initial state with the run's inputs (the re-simulation), plus each channel's measurement
 //! noise; static polar rows: the pooled fit at the row's angle plus each channel's residual
-//! sigma; captive runs: the model's forces along the prescribed motion plus each force's
+//! sigma; surge runs: the surge fit's u plus its residual noise (the thrust or force kept as
+//! recorded); captive runs: the model's forces along the prescribed motion plus each force's
 //! residual RMS. Validation manoeuvres are kept as recorded (they are not fitted).
 
 use crate::app::pipeline::InputsByStage;
@@ -13,9 +14,11 @@ use crate::base::error::{Error, Result};
 use crate::base::quantity::Quantity;
 use crate::config::LoadedConfig;
 use crate::io::record::Record;
+use crate::model::coefficients::CoefficientSet;
 use crate::stages::polar::replica::{row_values, FittedRow, Predicted};
 use rand::rngs::StdRng;
 use rand::SeedableRng;
+use std::collections::BTreeMap;
 
 /// What one input's replicas are made from.
 #[derive(Debug, Clone)]
@@ -24,6 +27,9 @@ pub enum Basis {
     Kept,
     /// Channels replaced by a prediction plus noise.
     Channels(Vec<Channel>),
+    /// A manoeuvre whose states the filter lets wander: the identified model re-simulated
+    /// with the run's process noise for every replica, then its channels' noise.
+    Forced(Box<Forced>),
     /// Polar sweep rows: the fitted (C_D, C_L, C_M) and angle of each fitted row, and the
     /// channels' residual sigmas.
     Polar {
@@ -32,6 +38,31 @@ pub enum Basis {
         /// Residual sigma of C_D, C_L, C_M.
         sigma: [f64; 3],
     },
+}
+
+/// A manoeuvre replicated by a re-simulation forced with the run's process noise.
+#[derive(Debug, Clone)]
+pub struct Forced {
+    /// The identified model's coefficients.
+    pub set: CoefficientSet,
+    /// Process noise densities the filter calibrated along the run, by state name.
+    pub calibrated: BTreeMap<String, f64>,
+    /// The filter's process noise densities, states first (results.json's
+    /// `settings.process_noise`).
+    pub configured: Vec<f64>,
+    /// The measured channels and their noise standard deviations (SI).
+    pub channels: Vec<(Quantity, f64)>,
+}
+
+impl Forced {
+    /// The process noise density the filter gave state `j` (named `name`) along the run.
+    fn density(&self, j: usize, name: &str) -> f64 {
+        self.calibrated
+            .get(name)
+            .or_else(|| self.configured.get(j))
+            .copied()
+            .unwrap_or(0.0)
+    }
 }
 
 /// One channel's prediction at every row and its noise.
@@ -55,9 +86,6 @@ pub fn bases(
     let cfg = &loaded.config;
     let records = |v: &[LoadedInput]| v.iter().map(|i| i.record.clone()).collect::<Vec<_>>();
     let stages = &original.result.stages;
-    if !inputs.surge.is_empty() {
-        return Err(not_yet("the surge stage's runs (surge.runs)"));
-    }
     let mut out = InputsByStage::default();
     if let Some(p) = &stages.polar {
         let Predicted { rows, sigma } =
@@ -66,6 +94,16 @@ pub fn bases(
             .into_iter()
             .map(|rows| Basis::Polar { rows, sigma })
             .collect();
+    }
+    if let (Some(sc), Some(sr)) = (&cfg.surge, &stages.surge) {
+        let recs = records(&inputs.surge);
+        out.surge = crate::stages::surge::replica::predicted(sc, sr, &recs)?
+            .into_iter()
+            .zip(&recs)
+            .map(|(run, rec)| surge_basis(rec, run))
+            .collect();
+    } else if !inputs.surge.is_empty() {
+        return Err(mismatch(&inputs.surge[0].record));
     }
     if let (Some(cc), Some(_)) = (&cfg.captive, &stages.captive) {
         let set = crate::app::pipeline::identified_set(&original.result);
@@ -79,23 +117,23 @@ pub fn bases(
             .collect();
     }
     if let Some(h) = &stages.hekf {
+        let set = original.resim_set.clone().ok_or_else(|| {
+            Error::numerical("calibrate", "the run's output has no re-simulated model")
+        })?;
         for (k, input) in inputs.hekf_fit.iter().enumerate() {
             let rec = &input.record;
             let trace = original.resim_traces.get(k).map(|t| &t.1);
             let (Some(trace), Some(run)) = (trace, h.runs.get(k)) else {
                 return Err(mismatch(rec));
             };
-            out.hekf_fit.push(hekf_basis(rec, trace, run)?);
+            let basis = hekf_basis(rec, trace, run)?;
+            let nx = trace.quantities.len();
+            out.hekf_fit
+                .push(forced_or(basis, h, run, nx, || set.clone()));
         }
         out.hekf_validation = inputs.hekf_validation.iter().map(|_| Basis::Kept).collect();
     }
     Ok(out)
-}
-
-fn not_yet(what: &str) -> Error {
-    Error::Usage(format!(
-        "calibrate does not make replicas of {what} yet; calibrate a configuration without them"
-    ))
 }
 
 fn mismatch(rec: &Record) -> Error {
@@ -106,6 +144,23 @@ fn mismatch(rec: &Record) -> Error {
             rec.name
         ),
     )
+}
+
+/// A surge run's u: the fitted u inside the fit's time window, the recorded one outside it
+/// (rows the stage does not read), with the fit's noise on every row.
+fn surge_basis(rec: &Record, run: crate::stages::surge::replica::PredictedRun) -> Basis {
+    let recorded = rec.channel(Quantity::U).unwrap_or_default();
+    let predicted = run
+        .u
+        .iter()
+        .zip(recorded)
+        .map(|(fitted, r)| fitted.unwrap_or(*r))
+        .collect();
+    Basis::Channels(vec![Channel {
+        quantity: Quantity::U,
+        predicted,
+        sigma: run.sigma,
+    }])
 }
 
 /// A captive run's forces: the model's, with each force's residual RMS as its noise.
@@ -175,6 +230,29 @@ fn hekf_basis(
     Ok(Basis::Channels(channels))
 }
 
+/// A manoeuvre's basis made a forced one when the filter gave any of its states process
+/// noise (the replicas then wander as the filter assumed the run did).
+fn forced_or(
+    basis: Basis,
+    h: &crate::stages::hekf::HekfResult,
+    run: &crate::stages::hekf::RunSummary,
+    nx: usize,
+    set: impl FnOnce() -> CoefficientSet,
+) -> Basis {
+    // the states' densities come first, the coefficients' random walks after them
+    let noisy = run.process_noise.values().any(|q| *q > 0.0)
+        || h.settings.process_noise.iter().take(nx).any(|q| *q > 0.0);
+    match basis {
+        Basis::Channels(channels) if noisy => Basis::Forced(Box::new(Forced {
+            set: set(),
+            calibrated: run.process_noise.clone(),
+            configured: h.settings.process_noise.clone(),
+            channels: channels.iter().map(|c| (c.quantity, c.sigma)).collect(),
+        })),
+        other => other,
+    }
+}
+
 /// Replica `seed` of the inputs: each input's record with its basis applied, in the order
 /// of [`InputsByStage::iter`], from one random stream seeded with `seed`.
 pub fn replica(
@@ -193,6 +271,7 @@ pub fn replica(
                     set_channel(&mut input.record, c.quantity, noisy);
                 }
             }
+            Some(Basis::Forced(f)) => forced_replica(loaded, &mut input.record, f, &mut rng)?,
             Some(Basis::Polar { rows, sigma }) => {
                 polar_rows(loaded, &mut input.record, rows, *sigma, &mut rng)?
             }
@@ -200,6 +279,36 @@ pub fn replica(
         }
         Ok(input)
     })
+}
+
+/// A manoeuvre's replica: the identified model forced by the run's process noise, then each
+/// measured channel with its noise.
+fn forced_replica(
+    loaded: &LoadedConfig,
+    rec: &mut Record,
+    f: &Forced,
+    rng: &mut StdRng,
+) -> Result<()> {
+    let Some(hc) = &loaded.config.hekf else {
+        return Ok(());
+    };
+    let density = |j: usize, name: &str| f.density(j, name);
+    let trace =
+        crate::app::resim::forced::forced(hc.model, &loaded.vehicle, &f.set, rec, &density, rng)?;
+    let (quantities, values) = if trace.outputs.is_empty() {
+        (&trace.quantities, &trace.states)
+    } else {
+        (&trace.outputs, &trace.output_values)
+    };
+    for &(q, sigma) in &f.channels {
+        let Some(i) = quantities.iter().position(|x| *x == q) else {
+            continue;
+        };
+        let predicted: Vec<f64> = values.iter().map(|x| x[i]).collect();
+        let noisy = with_noise(&predicted, sigma, rng)?;
+        set_channel(rec, q, noisy);
+    }
+    Ok(())
 }
 
 /// `values` plus independent Gaussian noise of standard deviation `sigma`.

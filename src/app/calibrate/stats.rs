@@ -25,6 +25,9 @@ pub const SPREAD_LOW: f64 = 0.67;
 pub const SPREAD_HIGH: f64 = 1.5;
 /// An overall coverage within 2 sigma below this share: the sigmas are too small.
 pub const COVERAGE_2_LOW: f64 = 0.90;
+/// A replica whose estimate lies more than this many reported sigmas from the identified
+/// value is far: with Gaussian errors of the reported size one replica in ~1.7 million is.
+pub const FAR_SIGMAS: f64 = 5.0;
 
 /// The calibration check of one output folder (calibration.json).
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -77,6 +80,12 @@ pub struct CoefficientRow {
     pub spread_ratio: Option<f64>,
     /// (replica_mean - value) / sigma.
     pub bias_sigmas: Option<f64>,
+    /// The replicas' spread by the median absolute deviation (1.4826 MAD, the standard
+    /// deviation for Gaussian replicas; Huber 1981, 5.1) in reported sigmas: near
+    /// `spread_ratio` unless a few replicas lie far off.
+    pub robust_spread_ratio: Option<f64>,
+    /// Replicas whose estimate lies more than [`FAR_SIGMAS`] reported sigmas from the value.
+    pub far: usize,
     /// Coverage of the identified value by the replicas' own sigmas.
     pub coverage: Coverage,
 }
@@ -182,8 +191,33 @@ fn row(c: &Coefficient, pairs: &[(f64, f64)], z: &[f64]) -> CoefficientRow {
         replica_sd: sd,
         spread_ratio: sd.map(|s| s / sigma),
         bias_sigmas: mean.map(|m| (m - c.value) / sigma),
+        robust_spread_ratio: mad_sd(pairs.iter().map(|p| p.0).collect()).map(|s| s / sigma),
+        far: pairs
+            .iter()
+            .filter(|p| (p.0 - c.value).abs() > FAR_SIGMAS * sigma)
+            .count(),
         coverage: Coverage::of(z),
     }
+}
+
+/// 1.4826 times the median absolute deviation from the median (Huber 1981, 5.1): the
+/// standard deviation of a Gaussian sample, unmoved by a few outliers; None below 2 values.
+fn mad_sd(mut v: Vec<f64>) -> Option<f64> {
+    fn median(v: &mut [f64]) -> f64 {
+        v.sort_by(f64::total_cmp);
+        let n = v.len();
+        if n % 2 == 1 {
+            v[n / 2]
+        } else {
+            0.5 * (v[n / 2 - 1] + v[n / 2])
+        }
+    }
+    if v.len() < 2 {
+        return None;
+    }
+    let m = median(&mut v);
+    let mut dev: Vec<f64> = v.iter().map(|x| (x - m).abs()).collect();
+    Some(1.4826 * median(&mut dev))
 }
 
 /// The spreads (in reported sigmas) that are off with `n` identified replicas: below `low`
@@ -215,8 +249,12 @@ fn warnings(cal: &Calibration) -> Vec<Warning> {
         .iter()
         .filter_map(|r| {
             let ratio = r.spread_ratio?;
-            (!(low..=high).contains(&ratio))
-                .then(|| format!("{} {}", r.name, crate::base::numfmt::num(ratio)))
+            let num = crate::base::numfmt::num;
+            let robust = match r.robust_spread_ratio {
+                Some(m) if r.far > 0 => format!(" (robust {})", num(m)),
+                _ => String::new(),
+            };
+            (!(low..=high).contains(&ratio)).then(|| format!("{} {}{robust}", r.name, num(ratio)))
         })
         .collect();
     if !off.is_empty() {
@@ -235,6 +273,7 @@ fn warnings(cal: &Calibration) -> Vec<Warning> {
             .failed(Test::Calibration),
         );
     }
+    out.extend(far_warning(cal));
     if let Some(c2) = cal.overall.within_2.filter(|c| *c < COVERAGE_2_LOW) {
         out.push(
             Warning::new(
@@ -265,6 +304,33 @@ fn warnings(cal: &Calibration) -> Vec<Warning> {
         ));
     }
     out
+}
+
+/// Replicas far from the identified value: the data let the identification end elsewhere
+/// (another minimum, or a run away), which a sigma from the local curvature cannot show.
+fn far_warning(cal: &Calibration) -> Option<Warning> {
+    let far: Vec<String> = cal
+        .coefficients
+        .iter()
+        .filter(|r| r.far > 0)
+        .map(|r| format!("{} {}", r.name, r.far))
+        .collect();
+    (!far.is_empty()).then(|| {
+        Warning::new(
+            "calibration",
+            format!(
+                "of {} replicas, some identified a coefficient more than {FAR_SIGMAS} reported \
+                 sigmas from its value (how many replicas): {}",
+                cal.converged,
+                far.join(", ")
+            ),
+            "with the same model and new noise the identification can end far from this \
+             estimate: the reported sigma describes only its neighbourhood. More informative \
+             runs (or captive runs for these coefficients) pin it down; the robust spread \
+             (robust_spread_ratio) shows the rest of the replicas",
+        )
+        .failed(Test::Calibration)
+    })
 }
 
 #[cfg(test)]
@@ -315,6 +381,31 @@ mod tests {
         assert!(cal.warnings.iter().any(|w| w.message.starts_with("3 of 5")));
     }
 
+    /// One replica far off moves the standard deviation, not the robust spread, and is
+    /// counted and named.
+    #[test]
+    fn a_far_replica_is_counted_and_the_robust_spread_ignores_it() {
+        let c = Coefficient::new("Nrd", 0.0, Some(1.0), Source::Hekf);
+        let values = [-1.0, -0.5, 0.0, 0.5, 1.0, 40.0];
+        let outcomes: Vec<Outcome> = values
+            .iter()
+            .map(|v| Ok(vec![("Nrd".into(), *v, Some(1.0))]))
+            .collect();
+        let cal = summarise(&[&c], &outcomes, settings(6));
+        let row = &cal.coefficients[0];
+        assert_eq!(row.far, 1);
+        // median 0.25; absolute deviations 1.25 0.75 0.25 0.25 0.75 39.75: MAD 0.75
+        assert!((row.robust_spread_ratio.unwrap() - 1.4826 * 0.75).abs() < 1e-12);
+        assert!(row.spread_ratio.unwrap() > 10.0);
+        let far = cal
+            .warnings
+            .iter()
+            .find(|w| w.message.contains("more than 5 reported"))
+            .expect("a far warning");
+        assert!(far.message.ends_with("Nrd 1"), "{}", far.message);
+        assert_eq!(mad_sd(vec![1.0]), None);
+    }
+
     #[test]
     fn without_replicas_the_statistics_are_null_not_nan() {
         let c = Coefficient::new("Yvd", -10.0, Some(1.0), Source::Hekf);
@@ -342,6 +433,7 @@ mod tests {
             .warnings
             .iter()
             .all(|w| w.failed_test == Some(Test::Calibration)));
-        assert_eq!(cal.warnings.len(), 2, "{:?}", cal.warnings);
+        // the spread, the far replicas (all ten are 10 sigma off) and the coverage
+        assert_eq!(cal.warnings.len(), 3, "{:?}", cal.warnings);
     }
 }

@@ -89,6 +89,8 @@ pub fn table(cal: &Calibration) -> String {
         "replica mean",
         "replica sd",
         "spread / sigma",
+        "robust / sigma",
+        "far",
         "bias / sigma",
         "within 1 sigma",
         "within 2 sigma",
@@ -106,6 +108,8 @@ pub fn table(cal: &Calibration) -> String {
                 opt(r.replica_mean, num),
                 opt(r.replica_sd, num),
                 opt(r.spread_ratio, |v| format!("{v:.2}")),
+                opt(r.robust_spread_ratio, |v| format!("{v:.2}")),
+                r.far.to_string(),
                 opt(r.bias_sigmas, |v| format!("{v:+.2}")),
                 opt(r.coverage.within_1, pct),
                 opt(r.coverage.within_2, pct),
@@ -113,7 +117,7 @@ pub fn table(cal: &Calibration) -> String {
         })
         .collect();
     let mut overall = vec![String::from("overall"), String::new(), String::new()];
-    overall.extend(std::iter::repeat_n(String::new(), 4));
+    overall.extend(std::iter::repeat_n(String::new(), 6));
     overall.push(opt(cal.overall.within_1, pct));
     overall.push(opt(cal.overall.within_2, pct));
     rows.push(overall);

@@ -142,6 +142,7 @@ pub fn run_on(
     Ok(RunOutput {
         result,
         resim_traces: resim.traces,
+        resim_set: resim.set,
     })
 }
 
@@ -355,6 +356,7 @@ fn captive_step(
 /// The identified model re-simulated against each run.
 #[derive(Default)]
 struct Resimulation {
+    set: Option<CoefficientSet>,
     metrics: Vec<ResimMetrics>,
     traces: Vec<(Record, ResimTrace)>,
     steering: Option<crate::dynamics::course_stability::SteeringIndices>,
@@ -418,7 +420,10 @@ fn hekf_step(
     final_set.correlation = Some(r.correlation.clone());
     hc.model.complete(&mut final_set, cfg.vehicle.yaw_moment);
     let vehicle = &loaded.vehicle;
-    let mut resim = Resimulation::default();
+    let mut resim = Resimulation {
+        set: Some(final_set.clone()),
+        ..Resimulation::default()
+    };
     if scope == Scope::Coefficients {
         return Ok((r, resim));
     }

@@ -6,6 +6,7 @@
 //! zig-zag, also the model steered through the same manoeuvre and measured as the run is
 //! ([`manoeuvre`]).
 
+pub mod forced;
 pub mod manoeuvre;
 
 use crate::base::error::{Error, Result};
@@ -111,60 +112,13 @@ impl ModelVisitor for Resim<'_> {
 
     fn visit<M: Model>(self, model: &M) -> Self::Output {
         let rec = self.rec;
-        let fail = |m: String| Error::numerical("resimulation", format!("run '{}': {m}", rec.name));
-        let times = rec
-            .time()
-            .ok_or_else(|| fail("no time column".into()))?
-            .to_vec();
-        let c = complete_coefficients(model, self.set)
-            .map_err(|missing| fail(format!("no value for {}", missing.join(", "))))?;
-        let inputs = InputSeries::from_record(model.inputs(), rec)
-            .map_err(|q| fail(format!("the model needs {q}, which the run does not give")))?;
-        let states = model.states();
-        let mut x0 = vec![0.0; states.len()];
-        for (i, s) in states.iter().enumerate() {
-            if let Some(v) = rec.channel(s.quantity) {
-                // a gross outlier in the first sample is replaced by its neighbours' median;
-                // the measurement noise of the first sample is averaged out over the first
-                // samples, so that a slow mode does not carry it through the whole run
-                let spikes = signal::outliers(v);
-                x0[i] = if spikes.first().is_some_and(|o| o.index == 0) {
-                    signal::cleaned(v, &spikes)[0]
-                } else {
-                    signal::start_value(&times, v)
-                };
-            }
-        }
-        // integrate sample by sample so that a divergence keeps the part before it, in steps
-        // no longer than the regular interval nor 10 ms (a gap is crossed in such steps)
+        let Prepared { times, c, inputs } = prepared(model, self.set, rec)?;
+        let x0 = start_state(model, rec, &times);
+        let (xs, stopped) = integrate(model, &c, x0, &inputs, &times, &mut |_, _| {});
         let regular = crate::numerics::sampling::median_interval(&times).unwrap_or(0.01);
         let max_step = regular
             / steps_for(regular, crate::numerics::ode::DEFAULT_MAX_STEP).unwrap_or(1) as f64;
-        let mut xs = vec![x0.clone()];
-        let mut stopped = None;
-        for k in 1..times.len() {
-            let Some(steps) = steps_for(times[k] - times[k - 1], max_step) else {
-                stopped = Some(format!(
-                    "the interval after t = {} s is too long to integrate",
-                    times[k - 1]
-                ));
-                break;
-            };
-            match simulate(model, &c, &xs[k - 1], &inputs, &times[k - 1..=k], steps) {
-                Ok(step) => xs.push(step[1].clone()),
-                Err(e) => {
-                    stopped = Some(e.to_string());
-                    break;
-                }
-            }
-        }
-        let quantities: Vec<Quantity> = states.iter().map(|s| s.quantity).collect();
         let ys = outputs_of(model, &xs, &times, &inputs, &c);
-        let outputs = if ys.is_empty() {
-            Vec::new()
-        } else {
-            model.output_quantities()
-        };
         let rms = rms_errors(model, rec, if ys.is_empty() { &xs } else { &ys });
         let (final_err, distance) = position_error(model, rec, &xs).unzip();
         let steps = steps_for(regular, max_step).unwrap_or(1);
@@ -179,21 +133,117 @@ impl ModelVisitor for Resim<'_> {
                 stopped,
                 manoeuvre,
             },
-            ResimTrace {
-                times,
-                states: xs,
-                quantities,
-                outputs,
-                output_values: ys,
-                inputs: model.input_quantities(),
-            },
+            trace(model, times, xs, ys),
         ))
     }
 }
 
+/// What a re-simulation of a run starts from: its times, the model's complete coefficient
+/// vector and the run's inputs.
+pub(crate) struct Prepared {
+    pub times: Vec<f64>,
+    pub c: Vec<f64>,
+    pub inputs: InputSeries,
+}
+
+/// The run's times, the coefficients of `set` completed for the model, and the run's inputs;
+/// an error names the run and what is missing.
+pub(crate) fn prepared<M: Model>(
+    model: &M,
+    set: &CoefficientSet,
+    rec: &Record,
+) -> Result<Prepared> {
+    let fail = |m: String| Error::numerical("resimulation", format!("run '{}': {m}", rec.name));
+    let times = rec
+        .time()
+        .ok_or_else(|| fail("no time column".into()))?
+        .to_vec();
+    let c = complete_coefficients(model, set)
+        .map_err(|missing| fail(format!("no value for {}", missing.join(", "))))?;
+    let inputs = InputSeries::from_record(model.inputs(), rec)
+        .map_err(|q| fail(format!("the model needs {q}, which the run does not give")))?;
+    Ok(Prepared { times, c, inputs })
+}
+
+/// The trace of simulated states `xs` and outputs `ys` (empty: the states are the outputs).
+pub(crate) fn trace<M: Model>(
+    model: &M,
+    times: Vec<f64>,
+    xs: Vec<Vec<f64>>,
+    ys: Vec<Vec<f64>>,
+) -> ResimTrace {
+    ResimTrace {
+        times,
+        quantities: model.states().iter().map(|s| s.quantity).collect(),
+        outputs: if ys.is_empty() {
+            Vec::new()
+        } else {
+            model.output_quantities()
+        },
+        states: xs,
+        output_values: ys,
+        inputs: model.input_quantities(),
+    }
+}
+
+/// The run's initial state: each measured state's value at the first sample (a gross outlier
+/// there replaced by its neighbours' median, the noise averaged over the first samples so
+/// that a slow mode does not carry it through the whole run); unmeasured states start at 0.
+pub(crate) fn start_state<M: Model>(model: &M, rec: &Record, times: &[f64]) -> Vec<f64> {
+    let states = model.states();
+    let mut x0 = vec![0.0; states.len()];
+    for (i, s) in states.iter().enumerate() {
+        if let Some(v) = rec.channel(s.quantity) {
+            let spikes = signal::outliers(v);
+            x0[i] = if spikes.first().is_some_and(|o| o.index == 0) {
+                signal::cleaned(v, &spikes)[0]
+            } else {
+                signal::start_value(times, v)
+            };
+        }
+    }
+    x0
+}
+
+/// The model from `x0` through `times` with `inputs`, sample by sample so that a divergence
+/// keeps the part before it, in steps no longer than the regular interval nor 10 ms (a gap
+/// is crossed in such steps); `forcing` acts on the state after each interval (given its
+/// length: a process noise's increment). Also why it stopped early, if it did.
+pub(crate) fn integrate<M: Model>(
+    model: &M,
+    c: &[f64],
+    x0: Vec<f64>,
+    inputs: &InputSeries,
+    times: &[f64],
+    forcing: &mut dyn FnMut(&mut [f64], f64),
+) -> (Vec<Vec<f64>>, Option<String>) {
+    let regular = crate::numerics::sampling::median_interval(times).unwrap_or(0.01);
+    let max_step =
+        regular / steps_for(regular, crate::numerics::ode::DEFAULT_MAX_STEP).unwrap_or(1) as f64;
+    let mut xs = vec![x0];
+    for k in 1..times.len() {
+        let Some(steps) = steps_for(times[k] - times[k - 1], max_step) else {
+            let why = format!(
+                "the interval after t = {} s is too long to integrate",
+                times[k - 1]
+            );
+            return (xs, Some(why));
+        };
+        match simulate(model, c, &xs[k - 1], inputs, &times[k - 1..=k], steps) {
+            Ok(mut step) => {
+                let mut x = step.swap_remove(1);
+                forcing(&mut x, times[k] - times[k - 1]);
+                xs.push(x);
+            }
+            Err(e) => return (xs, Some(e.to_string())),
+        }
+    }
+    (xs, None)
+}
+
 /// What the model's sensors would have read along the simulated states `xs`: its outputs,
 /// or nothing when it declares no measurement function (its states are its outputs).
-fn outputs_of<M: Model>(
+pub(crate) fn outputs_of<M: Model>(
     model: &M,
     xs: &[Vec<f64>],
     times: &[f64],

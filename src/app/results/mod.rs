@@ -28,6 +28,9 @@ pub struct RunOutput {
     pub result: RunResult,
     /// Re-simulated trajectories, per run (fit runs first, then validation runs).
     pub resim_traces: Vec<(Record, ResimTrace)>,
+    /// The coefficients the identified model was re-simulated with (the HEKF's final set,
+    /// completed by the model's relations); None without the HEKF stage.
+    pub resim_set: Option<crate::model::coefficients::CoefficientSet>,
 }
 
 /// The whole result of a run.

@@ -27,6 +27,15 @@ pub(super) struct Stack {
     pub(super) window_s: Option<f64>,
 }
 
+/// The length of the difference windows the fit uses, s (None: the whole integral).
+pub(super) fn window_seconds(config: &SurgeConfig) -> Option<f64> {
+    match (config.window, config.drag_from) {
+        (Some(w), _) => Some(w),
+        (None, DragFrom::Force) => Some(DEFAULT_FORCE_WINDOW),
+        (None, DragFrom::Coefficients) => None,
+    }
+}
+
 /// Reads every record into the stack, checking what the mode needs.
 pub(super) fn stack(config: &SurgeConfig, records: &[Record]) -> Result<Stack> {
     let mut s = Stack {
@@ -105,12 +114,7 @@ pub(super) fn stack(config: &SurgeConfig, records: &[Record]) -> Result<Stack> {
         s.names.push(rec.name.clone());
         s.has_thrust.push(has_thrust);
     }
-    let window = match (config.window, config.drag_from) {
-        (Some(w), _) => Some(w),
-        (None, DragFrom::Force) => Some(DEFAULT_FORCE_WINDOW),
-        (None, DragFrom::Coefficients) => None,
-    };
-    if let Some(w) = window {
+    if let Some(w) = window_seconds(config) {
         let mut steps: Vec<f64> = s
             .runs
             .iter()

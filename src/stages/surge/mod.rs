@@ -22,6 +22,7 @@ use crate::config::surge as config;
 mod estimate;
 mod naive;
 pub mod regress;
+pub mod replica;
 mod result;
 
 pub use config::{DragFrom, SurgeConfig, DEFAULT_FORCE_WINDOW, DEFAULT_SPEED_BINS};
