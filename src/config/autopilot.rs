@@ -137,6 +137,9 @@ pub struct AutopilotConfig {
     /// The unit of its values when the file's header states none (default rad).
     #[serde(default)]
     pub disturbance_unit: AngleUnit,
+    /// The ship the autopilot steers (default: the identified model).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub plant: Option<super::autopilot_plant::PlantConfig>,
 }
 
 fn default_disturbance() -> DisturbanceKind {
@@ -271,6 +274,9 @@ impl AutopilotConfig {
                 );
             }
             seen.push(*f);
+        }
+        if let Some(plant) = &self.plant {
+            plant.validate(self.duration, p);
         }
         if self.feeds.is_empty() {
             p.add(

@@ -2,15 +2,21 @@
 //! placement, closed around the identified model in waves (the HEKF's process noise, or a
 //! recorded disturbance), once per feed asked for (src/dynamics/autopilot/closed_loop.rs).
 
-use crate::base::error::{Error, InputError, Place, Result};
+mod plant;
+
+use crate::base::error::{ConfigProblem, Error, InputError, Place, Result};
 use crate::config::autopilot::{AngleUnit, AutopilotConfig};
+use crate::config::autopilot_plant::PlantConfig;
+use crate::config::{Config, FluidConfig, VehicleConfig};
 use crate::dynamics::autopilot::closed_loop::{self, Scenario};
 use crate::dynamics::autopilot::seas::{Recording, Seas};
+use crate::dynamics::autopilot::PlantIndices;
 use crate::dynamics::autopilot::{AutopilotResult, Gains, RudderLimits};
 use crate::io::formats::{self, FormatChoice, ReadOptions};
-use crate::model::coefficients::CoefficientSet;
+use crate::model::coefficients::{Coefficient, CoefficientSet, Source};
 use crate::model::models::{with_model, Model, ModelName, ModelVisitor, RunVehicle};
 use crate::stages::hekf::HekfConfig;
+use std::collections::BTreeMap;
 use std::path::Path;
 
 /// The seas `cfg` asks for: the generator, or its disturbance file (relative to `base`) read
@@ -45,20 +51,123 @@ pub fn load_seas(cfg: &AutopilotConfig, base: &Path) -> Result<Seas> {
     Ok(Seas::Recorded(recording))
 }
 
-/// Runs the step for the identified model `name` with the coefficient set `set` in `seas`.
+/// The plant `[autopilot.plant]` names, ready to build: None for the identified model.
+#[derive(Debug, Clone)]
+pub struct PlantSpec {
+    /// The model.
+    pub name: ModelName,
+    /// Its vehicle: the vehicle file's, or the run's.
+    pub vehicle: RunVehicle,
+    /// Its coefficients: the vehicle file's with the section's over them.
+    pub coefficients: CoefficientSet,
+    /// The section as configured.
+    pub cfg: PlantConfig,
+}
+
+/// A vehicle file: the sections of configs/vehicles/*.toml.
+#[derive(serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct VehicleFile {
+    vehicle: VehicleConfig,
+    #[serde(default)]
+    fluid: Option<FluidConfig>,
+    #[serde(default)]
+    coefficients: BTreeMap<String, f64>,
+}
+
+/// The plant of `cfg` (the run's `config`, its folder `base`): its vehicle file read and
+/// parsed, or an error naming the file and `autopilot.plant.vehicle_file`.
+pub fn load_plant(
+    cfg: &AutopilotConfig,
+    config: &Config,
+    base: &Path,
+) -> Result<Option<PlantSpec>> {
+    let Some(pc) = &cfg.plant else {
+        return Ok(None);
+    };
+    let Some(name) = pc.model_name().map_err(|m| {
+        Error::Config(vec![ConfigProblem {
+            file: base.to_path_buf(),
+            line: None,
+            key: Some("autopilot.plant.model".into()),
+            message: m,
+        }])
+    })?
+    else {
+        return Ok(None);
+    };
+    let (vehicle, mut coefficients) = match &pc.vehicle_file {
+        None => (config.vehicle.clone(), BTreeMap::new()),
+        Some(file) => {
+            let path = base.join(file);
+            let text = crate::config::read(&path)?;
+            let f: VehicleFile = toml::from_str(&text).map_err(|e| {
+                Error::from(
+                    InputError::new(
+                        Place::file(&path),
+                        format!("autopilot.plant.vehicle_file: {}", e.message()),
+                    )
+                    .expected(
+                        "a vehicle file: [vehicle] (with [vehicle.particulars]), optional \
+                         [fluid] and [coefficients], as configs/vehicles/*.toml",
+                    ),
+                )
+            })?;
+            let fluid = f.fluid.unwrap_or_else(|| config.fluid.clone());
+            return Ok(Some(spec(
+                name,
+                f.vehicle.for_model(&fluid),
+                f.coefficients,
+                pc,
+            )));
+        }
+    };
+    coefficients.extend(config.coefficients.clone());
+    Ok(Some(spec(
+        name,
+        vehicle.for_model(&config.fluid),
+        coefficients,
+        pc,
+    )))
+}
+
+/// The plant spec of the model `name` on `vehicle` with the `file`'s coefficients and the
+/// section's over them.
+fn spec(
+    name: ModelName,
+    vehicle: RunVehicle,
+    mut file: BTreeMap<String, f64>,
+    pc: &PlantConfig,
+) -> PlantSpec {
+    file.extend(pc.coefficients.clone());
+    let mut coefficients = CoefficientSet::new();
+    for (n, v) in &file {
+        coefficients.insert(Coefficient::new(n, *v, None, Source::Config));
+    }
+    PlantSpec {
+        name,
+        vehicle,
+        coefficients,
+        cfg: pc.clone(),
+    }
+}
+
+/// Runs the step for the identified model `name` with the coefficient set `set` in `seas`,
+/// on `plant` (None: the identified model).
 pub fn run(
     name: ModelName,
     vehicle: &RunVehicle,
     set: &CoefficientSet,
     hekf: &HekfConfig,
     cfg: &AutopilotConfig,
-    seas: &Seas,
+    (seas, plant): (&Seas, Option<&PlantSpec>),
 ) -> Result<AutopilotResult> {
     let step = Step {
         set,
         hekf,
         cfg,
         seas,
+        plant,
     };
     with_model(name, vehicle, step).map_err(Error::vehicle)?
 }
@@ -68,6 +177,7 @@ struct Step<'a> {
     hekf: &'a HekfConfig,
     cfg: &'a AutopilotConfig,
     seas: &'a Seas,
+    plant: Option<&'a PlantSpec>,
 }
 
 impl ModelVisitor for Step<'_> {
@@ -80,7 +190,8 @@ impl ModelVisitor for Step<'_> {
         let (k, t) = model.nomoto_gains(&c).ok_or_else(|| {
             fail(format!(
                 "the {} model does not give Nomoto's K and T (the autopilot is tuned and \
-                 closed around a Nomoto model such as nomoto_wave)",
+                 its wave filter run on a Nomoto model such as nomoto_wave; another model can \
+                 be the plant: [autopilot.plant])",
                 model.name()
             ))
         })?;
@@ -93,30 +204,60 @@ impl ModelVisitor for Step<'_> {
             .iter()
             .map(|s| self.hekf.process_noise.get(s.name).copied().unwrap_or(0.0))
             .collect();
-        let scenario = Scenario {
-            duration: a.duration,
-            dt: a.dt,
-            course_change: a.course_change,
-            change_at: a.change_at,
-            gains,
-            reference: (a.reference_omega, a.reference_zeta),
-            limits: RudderLimits {
-                angle: a.rudder_limit,
-                rate: a.rudder_rate,
-                lag: a.rudder_lag,
-            },
-            compass_noise: a.compass_noise,
-            gyro_noise: a.gyro_noise,
-            process_noise,
-            seed: a.seed,
-            rate_noise: a.rate_noise,
-            seas: self.seas.clone(),
+        let scenario = scenario(a, gains, process_noise, self.seas);
+        let (feeds, plant) = match self.plant {
+            None => {
+                let feeds = a
+                    .feeds
+                    .iter()
+                    .map(|f| {
+                        closed_loop::run(model, &c, &scenario, *f).map_err(|e| fail(e.to_string()))
+                    })
+                    .collect::<Result<Vec<_>>>()?;
+                (feeds, PlantIndices::identified(model.name(), k, t))
+            }
+            Some(spec) => {
+                let visit = plant::PlantVisit {
+                    model,
+                    c: &c,
+                    scenario: &scenario,
+                    feeds: &a.feeds,
+                    spec,
+                };
+                with_model(spec.name, &spec.vehicle, visit)
+                    .map_err(|problems| plant::vehicle_error(spec, problems))??
+            }
         };
-        let feeds = a
-            .feeds
-            .iter()
-            .map(|f| closed_loop::run(model, &c, &scenario, *f).map_err(|e| fail(e.to_string())))
-            .collect::<Result<Vec<_>>>()?;
-        Ok(AutopilotResult { k, t, gains, feeds })
+        Ok(AutopilotResult {
+            k,
+            t,
+            gains,
+            feeds,
+            plant,
+        })
+    }
+}
+
+/// The closed-loop scenario of `a` with the `gains` placed, the identified model's
+/// `process_noise` and the `seas`.
+fn scenario(a: &AutopilotConfig, gains: Gains, process_noise: Vec<f64>, seas: &Seas) -> Scenario {
+    Scenario {
+        duration: a.duration,
+        dt: a.dt,
+        course_change: a.course_change,
+        change_at: a.change_at,
+        gains,
+        reference: (a.reference_omega, a.reference_zeta),
+        limits: RudderLimits {
+            angle: a.rudder_limit,
+            rate: a.rudder_rate,
+            lag: a.rudder_lag,
+        },
+        compass_noise: a.compass_noise,
+        gyro_noise: a.gyro_noise,
+        process_noise,
+        seed: a.seed,
+        rate_noise: a.rate_noise,
+        seas: seas.clone(),
     }
 }

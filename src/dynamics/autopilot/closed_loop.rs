@@ -4,12 +4,12 @@
 //! raw compass (with its difference as the yaw rate) or the low-frequency heading and yaw
 //! rate of a wave filter, the hybrid EKF on the same model run online.
 
+use super::plant::{ModelPlant, Plant, Setup, WaveGenerator};
 pub use super::seas::Feed;
 use super::seas::{DisturbanceKind, Seas};
 use super::wave_filter::WaveFilter;
 use super::{Autopilot, Gains, ReferenceModel, RudderLimits};
 use crate::base::quantity::Quantity;
-use crate::dynamics::sim::{simulate, InputSeries};
 use crate::model::models::Model;
 use rand::{rngs::StdRng, SeedableRng};
 use rand_distr::{Distribution, Normal};
@@ -102,8 +102,12 @@ pub enum LoopError {
     /// The model lacks a state or an output the loop reads (`heading state`, ...).
     #[error("the model has no {0}")]
     Missing(&'static str),
-    /// The model has an input other than the rudder.
-    #[error("the closed loop drives models whose only input is the rudder")]
+    /// The identified model (the wave filter's and the tuning's) has an input other than the
+    /// rudder.
+    #[error(
+        "the wave filter and the tuning run on a Nomoto model whose only input is the rudder; \
+         close the loop around another model as the plant ([autopilot.plant])"
+    )]
     NotRudderOnly,
     /// A noise's standard deviation is unusable.
     #[error("{0}")]
@@ -116,10 +120,9 @@ pub enum LoopError {
     FilterDiverged(String),
 }
 
-/// Runs the scenario on `model` with coefficients `c`, feeding the autopilot `feed`. The
-/// wave filter (for [`Feed::Filter`]) is the hybrid EKF on the same model and coefficients,
-/// with the scenario's process noise and compass noise. Every feed sees the same waves and
-/// sensor noise: both noises are drawn at every sample whatever the feed reads.
+/// Runs the scenario on `model` with coefficients `c` as the plant and as the wave filter,
+/// feeding the autopilot `feed`: the plant carries its own waves (the scenario's process
+/// noise) unless the seas are recorded. Every feed sees the same waves and sensor noise.
 pub fn run<M: Model>(
     model: &M,
     c: &[f64],
@@ -127,11 +130,88 @@ pub fn run<M: Model>(
     feed: Feed,
 ) -> Result<ClosedLoop, LoopError> {
     let ch = channels(model)?;
+    let setup = Setup {
+        coefficients: c.to_vec(),
+        inputs: vec![0.0],
+        x0: vec![0.0; model.nx()],
+        process_noise: s.process_noise.clone(),
+        change: None,
+    };
+    let mut plant = ModelPlant::new(model, setup)?;
+    run_identified(&mut plant, model, c, s, feed, ch)
+}
+
+/// Runs the scenario on `plant`, the autopilot tuned (the scenario's gains) and the wave
+/// filter run on the identified `model` with coefficients `c`, feeding the autopilot `feed`.
+/// A plant that is not the identified model carries no waves of its own: the generated seas
+/// are then the identified model's wave states driven by its process noise
+/// ([`WaveGenerator`]), added to what the compass and the gyro read.
+pub fn run_plant<M: Model>(
+    plant: &mut dyn Plant,
+    model: &M,
+    c: &[f64],
+    s: &Scenario,
+    feed: Feed,
+) -> Result<ClosedLoop, LoopError> {
+    let ch = channels(model)?;
+    plant.reset();
+    let waves = match s.seas {
+        Seas::Generated => Some(WaveGenerator::new(model, c, &s.process_noise)?),
+        Seas::Recorded(_) => None,
+    };
+    let mut gen = GeneratedWaves { waves };
+    run_loop(plant, &mut gen, model, c, s, feed, ch)
+}
+
+/// The identified plant's own waves: nothing added.
+fn run_identified<M: Model>(
+    plant: &mut dyn Plant,
+    model: &M,
+    c: &[f64],
+    s: &Scenario,
+    feed: Feed,
+    ch: Channels,
+) -> Result<ClosedLoop, LoopError> {
+    let mut none = GeneratedWaves::<M> { waves: None };
+    run_loop(plant, &mut none, model, c, s, feed, ch)
+}
+
+/// The generated waves of a plant without its own, if any.
+struct GeneratedWaves<'a, M: Model> {
+    waves: Option<WaveGenerator<'a, M>>,
+}
+
+impl<M: Model> GeneratedWaves<'_, M> {
+    /// Advances over the interval ending at `t`, drawing the waves' noise.
+    fn step(&mut self, t: f64, dt: f64, rng: &mut StdRng) -> Result<(), LoopError> {
+        match self.waves.as_mut() {
+            Some(w) => w.plant.step(0.0, t, dt, Some(rng)),
+            None => Ok(()),
+        }
+    }
+
+    /// The wave yaw and its rate now.
+    fn wave(&self) -> (f64, f64) {
+        self.waves.as_ref().map_or((0.0, 0.0), WaveGenerator::wave)
+    }
+}
+
+/// The loop: at each sample the plant (and the generated waves) advance, the sensors are read
+/// with their noise, the feed makes what the autopilot sees, the reference model moves and
+/// the autopilot sets the rudder.
+fn run_loop<M: Model>(
+    plant: &mut dyn Plant,
+    gen: &mut GeneratedWaves<'_, M>,
+    model: &M,
+    c: &[f64],
+    s: &Scenario,
+    feed: Feed,
+    ch: Channels,
+) -> Result<ClosedLoop, LoopError> {
     let n = (s.duration / s.dt).round() as usize + 1;
     let mut rng = StdRng::seed_from_u64(s.seed);
     let noise = Normal::new(0.0, s.compass_noise.max(0.0)).map_err(LoopError::Noise)?;
     let gyro_noise = Normal::new(0.0, s.gyro_noise.max(0.0)).map_err(LoopError::Noise)?;
-    let mut x = vec![0.0; model.nx()];
     let mut ap = Autopilot::new(s.gains, s.limits);
     let mut reference = ReferenceModel::new(s.reference.0, s.reference.1, 0.0);
     let mut filter = match feed {
@@ -145,15 +225,23 @@ pub fn run<M: Model>(
     };
     let mut out = ClosedLoop::empty(feed, n);
     let (mut delta, mut last_compass) = (0.0, None);
+    let recorded = matches!(s.seas, Seas::Recorded(_));
     for k in 0..n {
         let t = k as f64 * s.dt;
         if k > 0 {
-            plant_step(model, c, &mut x, delta, t, s, &mut rng)?;
+            let applied = delta + recorded_rudder(&s.seas, t - s.dt / 2.0);
+            plant.step(applied, t, s.dt, (!recorded).then_some(&mut rng))?;
+            gen.step(t, s.dt, &mut rng)?;
         }
-        let y = model.output_values(&x, &[delta], c);
-        let (wave, wave_rate) = recorded_wave_yaw(&s.seas, t, s.dt);
-        let compass = y[ch.compass_i] + wave + noise.sample(&mut rng);
-        let gyro = y[ch.gyro_i] + wave_rate + gyro_noise.sample(&mut rng);
+        let (psi, r) = plant.heading();
+        let (compass_lf, gyro_lf) = plant.sensors(delta);
+        let (wave, wave_rate) = if recorded {
+            recorded_wave_yaw(&s.seas, t, s.dt)
+        } else {
+            gen.wave()
+        };
+        let compass = compass_lf + wave + noise.sample(&mut rng);
+        let gyro = gyro_lf + wave_rate + gyro_noise.sample(&mut rng);
         // what the autopilot sees
         let (heading, rate) = match (feed, filter.as_mut()) {
             (Feed::Raw, _) => (compass, gyro),
@@ -168,7 +256,7 @@ pub fn run<M: Model>(
                 }
                 f.step(model, c, t, s.dt, delta, compass)?
             }
-            (Feed::True, _) | (Feed::Filter, None) => (x[ch.psi_i], x[ch.r_i]),
+            (Feed::True, _) | (Feed::Filter, None) => (psi, r),
         };
         last_compass = Some(compass);
         let commanded = if t >= s.change_at {
@@ -180,7 +268,7 @@ pub fn run<M: Model>(
             reference.step(commanded, s.dt);
         }
         out.times.push(t);
-        out.heading_error.push(x[ch.psi_i] - reference.heading);
+        out.heading_error.push(psi - reference.heading);
         out.rudder.push(delta);
         out.compass.push(compass);
         out.seen.push(heading);
@@ -199,17 +287,27 @@ fn recorded_wave_yaw(seas: &Seas, t: f64, dt: f64) -> (f64, f64) {
     }
 }
 
-/// Where the closed loop reads the model: its heading and yaw-rate states, its compass and
-/// yaw-rate outputs.
+/// A recorded rudder-equivalent disturbance at `t` (zero otherwise): added to the rudder in
+/// the plant, T r_dot + r = K (delta + delta_w) (Fossen 2011, 7.2).
+fn recorded_rudder(seas: &Seas, t: f64) -> f64 {
+    match seas {
+        Seas::Recorded(r) if r.kind == DisturbanceKind::Rudder => r.at(t),
+        _ => 0.0,
+    }
+}
+
+/// Where the closed loop reads the identified model: its heading and yaw-rate states and
+/// its compass output.
+#[derive(Clone, Copy)]
 struct Channels {
     psi_i: usize,
     r_i: usize,
     compass_i: usize,
-    gyro_i: usize,
 }
 
-/// The model's heading and yaw-rate states and outputs; refuses a model without them or with
-/// an input other than the rudder.
+/// The identified model's heading and yaw-rate states and compass output; refuses a model
+/// without them or with an input other than the rudder (the wave filter steers it by the
+/// rudder alone).
 fn channels<M: Model>(model: &M) -> Result<Channels, LoopError> {
     let psi_i = model
         .state_index(Quantity::Yaw)
@@ -220,9 +318,6 @@ fn channels<M: Model>(model: &M) -> Result<Channels, LoopError> {
     let compass_i = model
         .output_index(Quantity::Yaw)
         .ok_or(LoopError::Missing("compass output"))?;
-    let gyro_i = model
-        .output_index(Quantity::R)
-        .ok_or(LoopError::Missing("yaw-rate output"))?;
     if model.input_quantities() != [Quantity::Rudder] {
         return Err(LoopError::NotRudderOnly);
     }
@@ -230,40 +325,7 @@ fn channels<M: Model>(model: &M) -> Result<Channels, LoopError> {
         psi_i,
         r_i,
         compass_i,
-        gyro_i,
     })
-}
-
-/// The plant over the interval ending at `t` with the rudder held at `delta` (plus a
-/// recorded rudder-equivalent disturbance at mid-interval), then its process noise
-/// (Euler-Maruyama, as hydroid simulate forces a state) unless the seas are recorded.
-fn plant_step<M: Model>(
-    model: &M,
-    c: &[f64],
-    x: &mut [f64],
-    delta: f64,
-    t: f64,
-    s: &Scenario,
-    rng: &mut StdRng,
-) -> Result<(), LoopError> {
-    let applied = match &s.seas {
-        Seas::Recorded(r) if r.kind == DisturbanceKind::Rudder => delta + r.at(t - s.dt / 2.0),
-        _ => delta,
-    };
-    let held = InputSeries::constant(&[applied]);
-    let xs = simulate(model, c, x, &held, &[t - s.dt, t], 4).map_err(LoopError::Simulation)?;
-    x.copy_from_slice(&xs[1]);
-    if matches!(s.seas, Seas::Recorded(_)) {
-        return Ok(());
-    }
-    for (i, q) in s.process_noise.iter().enumerate() {
-        if *q > 0.0 {
-            x[i] += Normal::new(0.0, (q * s.dt).sqrt())
-                .map_err(LoopError::Noise)?
-                .sample(rng);
-        }
-    }
-    Ok(())
 }
 
 /// The RMS heading error, rudder angle and rudder rate of the recorded loop.

@@ -7,6 +7,7 @@
 
 pub mod closed_loop;
 mod pid;
+pub mod plant;
 mod reference;
 pub mod seas;
 pub mod wave_filter;
@@ -26,6 +27,55 @@ pub struct AutopilotResult {
     pub gains: Gains,
     /// One closed-loop run per feed, in the order asked for.
     pub feeds: Vec<ClosedLoop>,
+    /// The plant steered and its own Nomoto indices.
+    pub plant: PlantIndices,
+}
+
+/// The plant the loop closed around and its own Nomoto indices (Fossen 2011, 7.2: from the
+/// course-stability linearisation, or a Nomoto model's coefficients).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct PlantIndices {
+    /// The plant's model (`nomoto_wave`, `ship_linear` ...).
+    pub model: String,
+    /// Its indices at the start.
+    pub before: crate::dynamics::course_stability::Nomoto,
+    /// Its indices after its change mid-run, if it changes.
+    pub after: Option<crate::dynamics::course_stability::Nomoto>,
+    /// When it changes, s.
+    pub change_at: Option<f64>,
+}
+
+impl PlantIndices {
+    /// The identified model `model` as its own plant, with its K and T.
+    pub fn identified(model: &str, k: f64, t: f64) -> Self {
+        PlantIndices {
+            model: model.to_string(),
+            before: crate::dynamics::course_stability::Nomoto {
+                speed: None,
+                k,
+                t,
+                t1: Some(t),
+                t2: None,
+                t3: 0.0,
+                course_stable: t > 0.0,
+            },
+            after: None,
+            change_at: None,
+        }
+    }
+
+    /// The plant in words.
+    pub fn line(&self) -> String {
+        let at = |n: &crate::dynamics::course_stability::Nomoto| {
+            let speed = n.speed.map_or(String::new(), |u| format!(" at {u:.2} m/s"));
+            format!("K = {:.4} 1/s, T = {:.2} s{speed}", n.k, n.t)
+        };
+        let mut s = format!("plant {}: {}", self.model, at(&self.before));
+        if let (Some(after), Some(t)) = (&self.after, self.change_at) {
+            s.push_str(&format!("; from {t:.0} s: {}", at(after)));
+        }
+        s
+    }
 }
 
 impl AutopilotResult {
@@ -34,11 +84,10 @@ impl AutopilotResult {
         self.feeds.iter().find(|c| c.feed == feed)
     }
 
-    /// The comparison in words, one line per feed.
+    /// The plant and the comparison in words, one line per feed.
     pub fn lines(&self) -> Vec<String> {
-        self.feeds
-            .iter()
-            .map(|c| {
+        std::iter::once(self.plant.line())
+            .chain(self.feeds.iter().map(|c| {
                 format!(
                     "{}: heading error RMS {:.3} deg, rudder RMS {:.3} deg, rudder rate RMS \
                      {:.3} deg/s",
@@ -47,7 +96,7 @@ impl AutopilotResult {
                     c.rudder_rms.to_degrees(),
                     c.rudder_rate_rms.to_degrees()
                 )
-            })
+            }))
             .collect()
     }
 
