@@ -250,3 +250,65 @@ fn a_bad_plant_is_refused_naming_the_key() {
     let e = problems("model = \"ship_linear\"\n[plant.change]\nat = 5000.0\n");
     assert!(e.contains("autopilot.plant.change.at"), "{e}");
 }
+
+/// A recorded yaw moment, in a file of three columns picked by `disturbance_columns`, enters
+/// the plant as the rudder angle that makes it: a steady moment N on the first-order Nomoto
+/// frigate (T r_dot + r = K delta + T N / I, Fossen 2011, 7.2) is held by the rudder
+/// -N T / (I K), here -1 deg.
+#[test]
+fn a_recorded_yaw_moment_is_held_by_the_rudder_it_is_worth() {
+    let (k, t, inertia) = (0.18, 27.0, 2.0e9);
+    let moment = inertia * k / t * 1f64.to_radians();
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("moment.csv");
+    let mut text = String::from("t,junk,Mz\n");
+    for i in 0..=120 {
+        text += &format!("{},{},{moment}\n", i as f64 * 10.0, i);
+    }
+    std::fs::write(&file, text).unwrap();
+    let cfg: AutopilotConfig = toml::from_str(&format!(
+        "omega_n = {OMEGA_N}\nzeta = {ZETA}\ncompass_noise = \"0.1 deg\"\nduration = 1200.0\n\
+         course_change = 0.0\nfeeds = [\"true\"]\ndisturbance_file = {file:?}\n\
+         disturbance = \"yaw_moment\"\nyaw_inertia = {inertia}\n\
+         [disturbance_columns]\ntime = \"t\"\ndisturbance = \"Mz\"\n"
+    ))
+    .unwrap();
+    let seas = hydroid::app::pipeline::autopilot::load_seas(&cfg, dir.path()).unwrap();
+    let loaded = hydroid::config::load(&root().join("configs/nomoto.toml"), &[]).unwrap();
+    let mut set = CoefficientSet::new();
+    for (n, v) in [
+        ("K", k),
+        ("inv_T", 1.0 / t),
+        ("delta0", 0.0),
+        ("w0", 0.785398),
+        ("zeta_w", 0.1),
+    ] {
+        set.insert(Coefficient::new(n, v, None, Source::Config));
+    }
+    let r = run(
+        ModelName::NomotoWave,
+        &loaded.vehicle,
+        &set,
+        loaded.config.hekf.as_ref().unwrap(),
+        &cfg,
+        (&seas, None),
+    )
+    .unwrap();
+    let rudder = &r.feed(Feed::True).unwrap().rudder;
+    let held = rudder[rudder.len() - 1000..].iter().sum::<f64>() / 1000.0;
+    assert!(
+        (held / -1f64.to_radians() - 1.0).abs() < 0.01,
+        "{}",
+        held.to_degrees()
+    );
+    // a column the file does not have: the file and the key named
+    let mut cfg = cfg;
+    cfg.disturbance_columns.as_mut().unwrap().disturbance = "N".into();
+    let e = hydroid::app::pipeline::autopilot::load_seas(&cfg, dir.path())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("moment.csv") && e.contains("autopilot.disturbance_columns.disturbance"),
+        "{e}"
+    );
+}

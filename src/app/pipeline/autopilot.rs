@@ -5,11 +5,12 @@
 mod plant;
 
 use crate::base::error::{ConfigProblem, Error, InputError, Place, Result};
+use crate::base::quantity::Quantity;
 use crate::config::autopilot::{AngleUnit, AutopilotConfig};
 use crate::config::autopilot_plant::PlantConfig;
 use crate::config::{Config, FluidConfig, VehicleConfig};
 use crate::dynamics::autopilot::closed_loop::{self, Scenario};
-use crate::dynamics::autopilot::seas::{Recording, Seas};
+use crate::dynamics::autopilot::seas::{DisturbanceKind, Recording, Seas};
 use crate::dynamics::autopilot::PlantIndices;
 use crate::dynamics::autopilot::{AutopilotResult, Gains, RudderLimits};
 use crate::io::formats::{self, FormatChoice, ReadOptions};
@@ -28,18 +29,53 @@ pub fn load_seas(cfg: &AutopilotConfig, base: &Path) -> Result<Seas> {
     let path = base.join(file);
     let table = formats::read(&path, FormatChoice::Auto, &ReadOptions::default())?;
     let place = Place::file(&path);
-    let expected = "two columns: time (s) and the disturbance (autopilot.disturbance, in \
-                    autopilot.disturbance_unit unless the header states a unit), covering the \
-                    closed loop's duration";
+    let expected = "a time column (s) and the disturbance (autopilot.disturbance: a wave yaw or \
+                    rudder angle in autopilot.disturbance_unit, a yaw moment in N m, unless the \
+                    header states a unit): two columns, or the ones \
+                    autopilot.disturbance_columns names; covering the closed loop's duration";
     let bad = |m: String| Error::from(InputError::new(place.clone(), m).expected(expected));
-    if table.columns.len() != 2 {
-        return Err(bad(format!("{} columns", table.columns.len())));
+    let (t_i, v_i) = match &cfg.disturbance_columns {
+        Some(c) => {
+            let find = |key: &str, name: &str| {
+                table
+                    .columns
+                    .iter()
+                    .position(|col| col.name == name)
+                    .ok_or_else(|| {
+                        let names: Vec<&str> =
+                            table.columns.iter().map(|c| c.name.as_str()).collect();
+                        bad(format!(
+                        "no column `{name}` (autopilot.disturbance_columns.{key}); the file has {}",
+                        names.join(", ")
+                    ))
+                    })
+            };
+            (find("time", &c.time)?, find("disturbance", &c.disturbance)?)
+        }
+        None if table.columns.len() == 2 => {
+            let t_i = table.time.unwrap_or(0);
+            (t_i, 1 - t_i)
+        }
+        None => {
+            return Err(bad(format!(
+                "{} columns and no autopilot.disturbance_columns",
+                table.columns.len()
+            )))
+        }
+    };
+    let value = &table.columns[v_i];
+    let moment = cfg.disturbance == DisturbanceKind::YawMoment;
+    if let (true, Some(u)) = (moment, &value.unit) {
+        if u.dim != Quantity::Mz.dim() {
+            return Err(bad(format!(
+                "the yaw moment column `{}` is in {}, not a moment",
+                value.name, u.text
+            )));
+        }
     }
-    let t_i = table.time.unwrap_or(0);
-    let value = &table.columns[1 - t_i];
     // degrees accepted and converted here, at the edge
     let scale = match (value.unit.is_some(), cfg.disturbance_unit) {
-        (false, AngleUnit::Deg) => std::f64::consts::PI / 180.0,
+        (false, AngleUnit::Deg) if !moment => std::f64::consts::PI / 180.0,
         _ => 1.0,
     };
     let values = value.values.iter().map(|v| v * scale).collect();
@@ -49,6 +85,16 @@ pub fn load_seas(cfg: &AutopilotConfig, base: &Path) -> Result<Seas> {
         .covers(cfg.duration)
         .map_err(|e| bad(e.to_string()))?;
     Ok(Seas::Recorded(recording))
+}
+
+/// The seas with the yaw inertia a recorded yaw moment accelerates: the configuration's, or
+/// the plant's vehicle izz.
+fn with_inertia(seas: &Seas, cfg: &AutopilotConfig, izz: f64) -> Seas {
+    let mut seas = seas.clone();
+    if let Seas::Recorded(r) = &mut seas {
+        r.yaw_inertia = Some(cfg.yaw_inertia.unwrap_or(izz));
+    }
+    seas
 }
 
 /// The plant `[autopilot.plant]` names, ready to build: None for the identified model.
@@ -168,6 +214,7 @@ pub fn run(
         cfg,
         seas,
         plant,
+        izz: vehicle.vehicle.izz,
     };
     with_model(name, vehicle, step).map_err(Error::vehicle)?
 }
@@ -178,6 +225,7 @@ struct Step<'a> {
     cfg: &'a AutopilotConfig,
     seas: &'a Seas,
     plant: Option<&'a PlantSpec>,
+    izz: f64,
 }
 
 impl ModelVisitor for Step<'_> {
@@ -204,7 +252,9 @@ impl ModelVisitor for Step<'_> {
             .iter()
             .map(|s| self.hekf.process_noise.get(s.name).copied().unwrap_or(0.0))
             .collect();
-        let scenario = scenario(a, gains, process_noise, self.seas);
+        let izz = self.plant.map_or(self.izz, |p| p.vehicle.vehicle.izz);
+        let seas = with_inertia(self.seas, a, izz);
+        let scenario = scenario(a, gains, process_noise, &seas);
         let (feeds, plant) = match self.plant {
             None => {
                 let feeds = a
@@ -259,5 +309,7 @@ fn scenario(a: &AutopilotConfig, gains: Gains, process_noise: Vec<f64>, seas: &S
         seed: a.seed,
         rate_noise: a.rate_noise,
         seas: seas.clone(),
+        orders: a.orders.iter().map(|o| (o.at, o.course)).collect(),
+        adaptive: a.adaptive.settings(),
     }
 }

@@ -5,11 +5,13 @@
 //! commanded heading (Fossen 2011, 10.2.1: a low-pass filter cascaded with a mass-damper-
 //! spring), with the rudder limited in angle and rate as a steering gear is.
 
+pub mod adaptive;
 pub mod closed_loop;
 mod pid;
 pub mod plant;
 mod reference;
 pub mod seas;
+mod sight;
 pub mod wave_filter;
 
 pub use closed_loop::{ClosedLoop, Feed};

@@ -65,6 +65,10 @@ pub trait Plant {
     fn nomoto(&self) -> Result<Nomoto, NotSteerable>;
     /// When it changes mid-run, s.
     fn change_at(&self) -> Option<f64>;
+    /// Its yaw acceleration per rudder angle now, d r_dot / d delta (1/s^2), by a central
+    /// difference of 0.1 deg about the rudder amidships: how a yaw moment becomes a
+    /// rudder-equivalent angle.
+    fn yaw_per_rudder(&self) -> f64;
 }
 
 /// A registered model as the plant.
@@ -207,6 +211,17 @@ impl<P: Model> Plant for ModelPlant<'_, P> {
 
     fn change_at(&self) -> Option<f64> {
         self.setup.change.as_ref().map(|c| c.at)
+    }
+
+    fn yaw_per_rudder(&self) -> f64 {
+        let h = 0.1f64.to_radians();
+        let f = |delta: f64| {
+            let mut dx = vec![0.0; self.x.len()];
+            self.model
+                .derivatives(&self.x, &self.inputs(delta), &self.c, &mut dx);
+            dx[self.r_i]
+        };
+        (f(h) - f(-h)) / (2.0 * h)
     }
 }
 
