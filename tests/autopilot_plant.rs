@@ -3,18 +3,13 @@
 //! of configs/vehicles/ship150_clarke.toml as a ship_linear model with its propeller held at
 //! the 8 m/s balance, and around the same ship slowed to 5 m/s mid-run.
 //!
-//! The reference, written here from the equations alone: the linear sway-yaw model of the
-//! ship at speed U (Fossen 2011, 7.1: v_dot = b1 v + (b2 + b4 U) r + b3 delta,
-//! r_dot = c1 v + c2 r + c3 delta, the vehicle file's coefficients), its Nomoto indices
-//! (Fossen 2011, 7.2: K = (a21 b_v - a11 b_r) / det A, T = T1 + T2 - T3), a PID placed on
-//! them (K_p = m w_n^2, K_d = 2 zeta w_n m - d, K_i = w_n K_p / 10, m = T/K, d = 1/K) with
-//! anti-windup and a rate- and angle-limited rudder, a third-order reference model (a
-//! first-order filter cascaded with a mass-damper-spring, Fossen 2011, 10.2.1), fed the true
-//! heading, at 10 Hz with RK4 sub-steps.
+//! The reference, written from the equations alone: tests/common/ship150_loop.rs (the linear
+//! sway-yaw model of the ship, Fossen 2011, 7.1-7.2, and the PID loop fed the true heading).
 
 mod common;
 
 use common::root;
+use common::ship150_loop::{self, nomoto, rms_from, SwayYaw, B, C, OMEGA_N, U0, ZETA};
 use hydroid::app::pipeline::autopilot::{load_plant, run, PlantSpec};
 use hydroid::config::autopilot::AutopilotConfig;
 use hydroid::dynamics::autopilot::seas::Seas;
@@ -23,92 +18,26 @@ use hydroid::model::coefficients::{Coefficient, CoefficientSet, Source};
 use hydroid::model::models::ModelName;
 use std::f64::consts::PI;
 
-/// The vehicle file's sway-yaw coefficients (configs/vehicles/ship150_clarke.toml).
-const B: [f64; 4] = [-3.546341e-2, 2.216678, -6.357587e-2, -4.983084e-1];
-const C: [f64; 3] = [-1.429146e-3, -1.162988e-1, 2.954610e-3];
-const U0: f64 = 8.0;
-const DT: f64 = 0.1;
 const DURATION: f64 = 1200.0;
-const OMEGA_N: f64 = 0.05;
-const ZETA: f64 = 0.9;
 const COURSE: f64 = 10.0 * PI / 180.0;
 const CHANGE_AT: f64 = 50.0;
-const REFERENCE: (f64, f64) = (0.03, 1.0);
-const RATE_LIMIT: f64 = 2.32 * PI / 180.0;
-const ANGLE_LIMIT: f64 = 35.0 * PI / 180.0;
 
-/// The linear sway-yaw system at speed `u` with the coefficients scaled by `s` (U / U0):
-/// each hydrodynamic derivative is proportional to U, the rudder's to U^2 (Fossen 2011, 7.1).
-fn sway_yaw(u: f64, s: f64) -> ([[f64; 2]; 2], [f64; 2]) {
-    (
-        [[B[0] * s, B[1] * s + B[3] * u], [C[0] * s, C[1] * s]],
-        [B[2] * s * s, C[2] * s * s],
-    )
+/// The sway-yaw system at `U0` scaled by `s` (the reference's, tests/common/ship150_loop.rs).
+fn sway_yaw(u: f64, s: f64) -> SwayYaw {
+    assert!((u / U0 - s).abs() < 1e-12);
+    ship150_loop::sway_yaw(u)
 }
 
-/// Nomoto's K and T of the sway-yaw system (Fossen 2011, 7.2).
-fn nomoto((a, b): ([[f64; 2]; 2], [f64; 2])) -> (f64, f64) {
-    let det = a[0][0] * a[1][1] - a[0][1] * a[1][0];
-    let k_num = a[1][0] * b[0] - a[0][0] * b[1];
-    let t3 = b[1] / k_num;
-    (k_num / det, -(a[0][0] + a[1][1]) / det - t3)
-}
-
-/// Heading error and rudder RMS of the loop around the sway-yaw ship `plant` fed its true
-/// heading, the PID placed on (k, t).
-fn reference_loop(plant: ([[f64; 2]; 2], [f64; 2]), (k, t): (f64, f64)) -> (f64, f64) {
-    let (a, b) = plant;
-    let (m, d) = (t / k, 1.0 / k);
-    let kp = m * OMEGA_N * OMEGA_N;
-    let kd = 2.0 * ZETA * OMEGA_N * m - d;
-    let ki = OMEGA_N * kp / 10.0;
-    let f = |x: [f64; 3], delta: f64| {
-        [
-            a[0][0] * x[0] + a[0][1] * x[1] + b[0] * delta,
-            a[1][0] * x[0] + a[1][1] * x[1] + b[1] * delta,
-            x[1],
-        ]
-    };
-    let add =
-        |x: [f64; 3], k: [f64; 3], h: f64| [x[0] + h * k[0], x[1] + h * k[1], x[2] + h * k[2]];
-    let (mut x, mut rudder, mut integral) = ([0.0f64; 3], 0.0f64, 0.0f64);
-    let (w, z) = REFERENCE;
-    let (mut low, mut psi_d, mut r_d) = (0.0f64, 0.0f64, 0.0f64);
-    let n = (DURATION / DT).round() as usize + 1;
-    let (mut e2, mut d2) = (0.0, 0.0);
-    for step in 0..n {
-        let time = step as f64 * DT;
-        if step > 0 {
-            let h = DT / 4.0;
-            for _ in 0..4 {
-                let k1 = f(x, rudder);
-                let k2 = f(add(x, k1, h / 2.0), rudder);
-                let k3 = f(add(x, k2, h / 2.0), rudder);
-                let k4 = f(add(x, k3, h), rudder);
-                for i in 0..3 {
-                    x[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-                }
-            }
-            let command = if time >= CHANGE_AT { COURSE } else { 0.0 };
-            let h = DT / 50.0;
-            for _ in 0..50 {
-                let acc = w * w * (low - psi_d) - 2.0 * z * w * r_d;
-                low += h * w * (command - low);
-                psi_d += h * r_d;
-                r_d += h * acc;
-            }
-        }
-        let e = x[2] - psi_d;
-        e2 += e * e;
-        d2 += rudder * rudder;
-        let wanted = -(kp * e + kd * (x[1] - r_d) + ki * integral);
-        let held = wanted.clamp(-ANGLE_LIMIT, ANGLE_LIMIT);
-        if held == wanted {
-            integral += e * DT;
-        }
-        rudder += (held - rudder).clamp(-RATE_LIMIT * DT, RATE_LIMIT * DT);
-    }
-    ((e2 / n as f64).sqrt(), (d2 / n as f64).sqrt())
+/// Heading error and rudder RMS of the reference loop at 8 m/s, fed the true heading.
+fn reference_loop(plant: SwayYaw, _: (f64, f64)) -> (f64, f64) {
+    assert_eq!(plant, ship150_loop::sway_yaw(U0));
+    let (e, d) = ship150_loop::run(&ship150_loop::Run {
+        slow: None,
+        retune: false,
+        orders: vec![(CHANGE_AT, COURSE)],
+        duration: DURATION,
+    });
+    (rms_from(&e, 0.0), rms_from(&d, 0.0))
 }
 
 /// The `[autopilot]` section with the plant `plant` (TOML lines).

@@ -44,7 +44,7 @@ pub struct AdaptiveConfig {
     /// Largest relative change of a gain per second (default 0.02 1/s).
     #[serde(default = "gain_rate")]
     pub gain_rate: f64,
-    /// Random walk of K and 1/T, relative per square root of a second (default 0.01).
+    /// Random walk of K and 1/T, relative per square root of a second (default 0.003).
     #[serde(default = "drift")]
     pub drift: f64,
     /// Starting sigma of K and 1/T relative to the identified values (default 0.3).

@@ -5,6 +5,7 @@
 
 pub mod accuracy;
 pub mod parallel;
+pub mod ship150_loop;
 
 use hydroid::base::quantity::Quantity;
 use hydroid::config::{FluidConfig, VehicleConfig};

@@ -14,7 +14,7 @@ use serde::Serialize;
 pub struct Adaptive {
     /// Interval between two re-placements of the gains, s.
     pub retune_every: f64,
-    /// Largest relative sigma of K, of T and of K/T for the estimates to be trusted.
+    /// Largest relative sigma of K/T for the estimates to be trusted.
     pub guard: f64,
     /// Largest relative change of each gain per second, 1/s.
     pub gain_rate: f64,
@@ -35,7 +35,7 @@ impl Default for Adaptive {
             retune_every: 10.0,
             guard: 0.1,
             gain_rate: 0.02,
-            drift: 0.01,
+            drift: 0.003,
             prior_sigma: 0.3,
             bias_sigma: 2f64.to_radians(),
             estimate_w0: false,
@@ -64,6 +64,8 @@ pub struct Estimate {
     pub delta0: f64,
     /// Whether the estimates passed the guard.
     pub trusted: bool,
+    /// The guard they were held to (largest relative sigma).
+    pub guard: f64,
     /// The gains in use.
     pub gains: Gains,
 }
@@ -86,20 +88,20 @@ impl Estimate {
             ratio_sigma: ratio_var.max(0.0).sqrt(),
             delta0: values[2],
             trusted: false,
+            guard: f64::INFINITY,
             gains,
         }
     }
 
-    /// Whether every relative sigma (K, T, K/T) is within `guard`, and K, T positive.
+    /// Whether K/T (what the gains depend on: K_p = w_n^2 / (K/T), K_d = (2 zeta w_n -
+    /// 1/T) / (K/T)) is known within `guard` relatively, with K and T positive.
     pub fn passes(&self, guard: f64) -> bool {
-        let rel = |s: f64, v: f64| v > 0.0 && s / v <= guard;
-        rel(self.k_sigma, self.k) && rel(self.t_sigma, self.t_const)
+        self.k > 0.0 && self.t_const > 0.0 && self.ratio_sigma / self.ratio <= guard
     }
 
-    /// Whether K/T is known within `guard` while K or T alone is not: the run does not
-    /// separate them (a small course change on a slow ship).
-    pub fn ratio_only(&self, guard: f64) -> bool {
-        self.ratio > 0.0 && self.ratio_sigma / self.ratio <= guard && !self.passes(guard)
+    /// Whether K and T are each known within `guard` too: the run separates them.
+    pub fn separates(&self, guard: f64) -> bool {
+        self.passes(guard) && self.k_sigma / self.k <= guard && self.t_sigma / self.t_const <= guard
     }
 }
 
@@ -143,6 +145,7 @@ impl Tuner {
         if t + 1e-9 >= self.next {
             self.next = t + self.settings.retune_every;
             let mut e = Estimate::from_filter(t, values, cov, ne, self.current);
+            e.guard = self.settings.guard;
             e.trusted = e.passes(self.settings.guard);
             if e.trusted {
                 if let Ok(g) = Gains::pole_placement(e.k, e.t_const, self.omega_n, self.zeta) {
@@ -182,5 +185,6 @@ mod tests {
         let rel = ((1e-3f64 / 0.1).powi(2) + (2e-4f64 / 0.02).powi(2)).sqrt();
         assert!((e.ratio_sigma / e.ratio - rel).abs() < 1e-12);
         assert!(e.passes(0.02) && !e.passes(0.005));
+        assert!(e.separates(0.02) && !e.separates(0.015));
     }
 }

@@ -116,13 +116,16 @@ pub struct ClosedLoop {
     #[serde(skip)]
     pub seen: Vec<f64>,
     /// Before the plant's change mid-run, if it changes.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub before_change: Option<Stats>,
     /// After it.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub after_change: Option<Stats>,
     /// The adaptive feed's estimates and gains over time (empty for the other feeds).
     #[serde(skip)]
     pub estimates: Vec<Estimate>,
     /// The adaptive feed's last estimate.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub final_estimate: Option<Estimate>,
 }
 
