@@ -8,14 +8,10 @@
 
 mod common;
 
-use common::root;
-use common::ship150_loop::{self, nomoto, rms_from, SwayYaw, B, C, OMEGA_N, U0, ZETA};
-use hydroid::app::pipeline::autopilot::{load_plant, run, PlantSpec};
+use common::ship150_loop::{self, nomoto, rms_from, SwayYaw, OMEGA_N, U0, ZETA};
 use hydroid::config::autopilot::AutopilotConfig;
 use hydroid::dynamics::autopilot::seas::Seas;
 use hydroid::dynamics::autopilot::{AutopilotResult, Feed};
-use hydroid::model::coefficients::{Coefficient, CoefficientSet, Source};
-use hydroid::model::models::ModelName;
 use std::f64::consts::PI;
 
 const DURATION: f64 = 1200.0;
@@ -49,30 +45,9 @@ fn config(plant: &str) -> AutopilotConfig {
     .unwrap()
 }
 
-/// hydroid's loop: the identified model of configs/nomoto.toml (nomoto_wave) with K and T
-/// `(k, t)`, the plant of `cfg`.
-fn hydroid_loop(cfg: &AutopilotConfig, (k, t): (f64, f64)) -> AutopilotResult {
-    let loaded = hydroid::config::load(&root().join("configs/nomoto.toml"), &[]).unwrap();
-    let plant: Option<PlantSpec> = load_plant(cfg, &loaded.config, &loaded.base_dir).unwrap();
-    let mut set = CoefficientSet::new();
-    for (n, v) in [
-        ("K", k),
-        ("inv_T", 1.0 / t),
-        ("delta0", 0.0),
-        ("w0", 0.785398),
-        ("zeta_w", 0.1),
-    ] {
-        set.insert(Coefficient::new(n, v, None, Source::Config));
-    }
-    run(
-        ModelName::NomotoWave,
-        &loaded.vehicle,
-        &set,
-        loaded.config.hekf.as_ref().unwrap(),
-        cfg,
-        (&Seas::Generated, plant.as_ref()),
-    )
-    .unwrap()
+/// hydroid's loop: the identified model nomoto_wave with K and T `(k, t)`, the plant of `cfg`.
+fn hydroid_loop(cfg: &AutopilotConfig, kt: (f64, f64)) -> AutopilotResult {
+    ship150_loop::hydroid_autopilot(cfg, kt, &Seas::Generated)
 }
 
 const SHIP150: &str = "model = \"ship_linear\"\n\
@@ -122,16 +97,7 @@ fn the_150_m_ship_is_steered_as_its_sway_yaw_equations_say() {
 #[test]
 fn a_plant_changed_mid_run_is_reported_and_steered_after_the_change() {
     let s = 5.0 / 8.0;
-    let change = format!(
-        "[plant.change]\nat = 600.0\nspeed = \"5 m/s\"\ninputs = {{ rpm = 1.32563 }}\n\
-         coefficients = {{ b1 = {}, b2 = {}, b3 = {}, c1 = {}, c2 = {}, c3 = {} }}\n",
-        B[0] * s,
-        B[1] * s,
-        B[2] * s * s,
-        C[0] * s,
-        C[1] * s,
-        C[2] * s * s
-    );
+    let change = ship150_loop::slow_down_toml(600.0, 5.0);
     let cfg = config(&format!("{SHIP150}{change}"));
     let (k, t) = nomoto(sway_yaw(U0, 1.0));
     let r = hydroid_loop(&cfg, (k, t));
@@ -203,26 +169,7 @@ fn a_recorded_yaw_moment_is_held_by_the_rudder_it_is_worth() {
     ))
     .unwrap();
     let seas = hydroid::app::pipeline::autopilot::load_seas(&cfg, dir.path()).unwrap();
-    let loaded = hydroid::config::load(&root().join("configs/nomoto.toml"), &[]).unwrap();
-    let mut set = CoefficientSet::new();
-    for (n, v) in [
-        ("K", k),
-        ("inv_T", 1.0 / t),
-        ("delta0", 0.0),
-        ("w0", 0.785398),
-        ("zeta_w", 0.1),
-    ] {
-        set.insert(Coefficient::new(n, v, None, Source::Config));
-    }
-    let r = run(
-        ModelName::NomotoWave,
-        &loaded.vehicle,
-        &set,
-        loaded.config.hekf.as_ref().unwrap(),
-        &cfg,
-        (&seas, None),
-    )
-    .unwrap();
+    let r = ship150_loop::hydroid_autopilot(&cfg, (k, t), &seas);
     let rudder = &r.feed(Feed::True).unwrap().rudder;
     let held = rudder[rudder.len() - 1000..].iter().sum::<f64>() / 1000.0;
     assert!(

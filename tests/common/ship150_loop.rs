@@ -136,3 +136,56 @@ pub fn rms_from(v: &[f64], from: f64) -> f64 {
     let tail = &v[i.min(v.len())..];
     (tail.iter().map(|x| x * x).sum::<f64>() / tail.len().max(1) as f64).sqrt()
 }
+
+/// hydroid's side: the autopilot step of `cfg` with the identified model nomoto_wave given
+/// K and T `kt` (no bias, configs/nomoto.toml's waves and process noise) in `seas`, on the
+/// plant `cfg` names.
+pub fn hydroid_autopilot(
+    cfg: &hydroid::config::autopilot::AutopilotConfig,
+    (k, t): (f64, f64),
+    seas: &hydroid::dynamics::autopilot::seas::Seas,
+) -> hydroid::dynamics::autopilot::AutopilotResult {
+    use hydroid::model::coefficients::{Coefficient, CoefficientSet, Source};
+    let loaded = hydroid::config::load(&super::root().join("configs/nomoto.toml"), &[]).unwrap();
+    let plant =
+        hydroid::app::pipeline::autopilot::load_plant(cfg, &loaded.config, &loaded.base_dir)
+            .unwrap();
+    let mut set = CoefficientSet::new();
+    for (n, v) in [
+        ("K", k),
+        ("inv_T", 1.0 / t),
+        ("delta0", 0.0),
+        ("w0", 0.785398),
+        ("zeta_w", 0.1),
+    ] {
+        set.insert(Coefficient::new(n, v, None, Source::Config));
+    }
+    hydroid::app::pipeline::autopilot::run(
+        hydroid::model::models::ModelName::NomotoWave,
+        &loaded.vehicle,
+        &set,
+        loaded.config.hekf.as_ref().unwrap(),
+        cfg,
+        (seas, plant.as_ref()),
+    )
+    .unwrap()
+}
+
+/// The `[plant.change]` section (under `[autopilot]`) that slows the ship to `u` m/s at `at`
+/// s: its coefficients scaled by u / U0 (the rudder's by (u / U0)^2), the propeller at the
+/// u m/s balance of configs/vehicles/ship150_clarke.toml (a9 n^2 + a8 u n + a1 u = 0).
+pub fn slow_down_toml(at: f64, u: f64) -> String {
+    let s = u / U0;
+    let (a1, a8, a9) = (-2.203423e-3, -1.246920e-3, 1.097290e-2);
+    let n = (-a8 * u + ((a8 * u).powi(2) - 4.0 * a9 * a1 * u).sqrt()) / (2.0 * a9);
+    format!(
+        "[plant.change]\nat = {at}\nspeed = \"{u} m/s\"\ninputs = {{ rpm = {n} }}\n\
+         coefficients = {{ b1 = {}, b2 = {}, b3 = {}, c1 = {}, c2 = {}, c3 = {} }}\n",
+        B[0] * s,
+        B[1] * s,
+        B[2] * s * s,
+        C[0] * s,
+        C[1] * s,
+        C[2] * s * s
+    )
+}
