@@ -185,6 +185,12 @@ mod tests {
         let rel = ((1e-3f64 / 0.1).powi(2) + (2e-4f64 / 0.02).powi(2)).sqrt();
         assert!((e.ratio_sigma / e.ratio - rel).abs() < 1e-12);
         assert!(e.passes(0.02) && !e.passes(0.005));
-        assert!(e.separates(0.02) && !e.separates(0.015));
+        assert!(e.separates(0.02));
+        // K and 1/T anticorrelated (-0.9): K/T known to 0.45 % while K and T only to 1 %
+        let c = -0.9 * 1e-3 * 2e-4;
+        let cov = [1e-6, c, 0.0, c, 4e-8, 0.0, 0.0, 0.0, 1e-6];
+        let e = Estimate::from_filter(0.0, &[0.1, 0.02, 0.0], &cov, 3, g);
+        assert!((e.ratio_sigma / e.ratio - 0.2f64.sqrt() * 1e-2).abs() < 1e-12);
+        assert!(e.passes(0.008) && !e.separates(0.008));
     }
 }
