@@ -106,8 +106,8 @@ pub fn run(r: &Run) -> (Vec<f64>, Vec<f64>) {
             let command = r
                 .orders
                 .iter()
-                .filter(|(at, _)| time >= *at)
-                .last()
+                .rev()
+                .find(|(at, _)| time >= *at)
                 .map_or(0.0, |o| o.1);
             let h = DT / 50.0;
             for _ in 0..50 {
@@ -155,7 +155,7 @@ pub fn hydroid_autopilot(
         ("K", k),
         ("inv_T", 1.0 / t),
         ("delta0", 0.0),
-        ("w0", 0.785398),
+        ("w0", std::f64::consts::FRAC_PI_4), // 8 s waves
         ("zeta_w", 0.1),
     ] {
         set.insert(Coefficient::new(n, v, None, Source::Config));
