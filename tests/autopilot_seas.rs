@@ -180,6 +180,8 @@ fn hydroid_loops(cfg: &AutopilotConfig, dir: &std::path::Path) -> Vec<ClosedLoop
         seed: 3,
         rate_noise: None,
         seas,
+        orders: Vec::new(),
+        adaptive: Default::default(),
     };
     cfg.feeds
         .iter()

@@ -266,6 +266,11 @@ fn stage_checks(l: &LoadedConfig, found: &mut Findings) {
                 .input_problems
                 .push(("autopilot.disturbance_file".to_string(), e));
         }
+        if let Err(e) = pipeline::autopilot::load_plant(a, &l.config, &l.base_dir) {
+            found
+                .input_problems
+                .push(("autopilot.plant.vehicle_file".to_string(), e));
+        }
     }
 }
 

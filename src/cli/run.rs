@@ -107,7 +107,7 @@ pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
             writeln!(
                 out,
                 "\nAutopilot tuned from K = {:.4} 1/s, T = {:.2} s (K_p {:.3}, K_d {:.3} s, K_i \
-                 {:.4} 1/s), closed around the identified model in waves:",
+                 {:.4} 1/s), closed around the plant in waves:",
                 a.k, a.t, a.gains.kp, a.gains.kd, a.gains.ki
             )?;
             for l in a.lines() {

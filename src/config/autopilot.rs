@@ -50,6 +50,16 @@ pub enum AngleUnit {
     Deg,
 }
 
+/// `[autopilot.disturbance_columns]`: the disturbance file's columns by header name.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DisturbanceColumns {
+    /// The time column (s, or the unit its header states).
+    pub time: String,
+    /// The disturbance column.
+    pub disturbance: String,
+}
+
 /// `[autopilot]`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -137,6 +147,27 @@ pub struct AutopilotConfig {
     /// The unit of its values when the file's header states none (default rad).
     #[serde(default)]
     pub disturbance_unit: AngleUnit,
+    /// Which columns of the disturbance file hold the time and the disturbance, by header
+    /// name (default: a file of exactly two columns, time first).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub disturbance_columns: Option<DisturbanceColumns>,
+    /// The yaw inertia a recorded yaw moment accelerates, rigid and added (I_z - N_rdot),
+    /// kg m^2 (default: the plant's vehicle izz).
+    #[serde(
+        default,
+        deserialize_with = "si::option::<_, si::Inertia>",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub yaw_inertia: Option<f64>,
+    /// The adaptive feed's settings (default: [`super::autopilot_adaptive::AdaptiveConfig`]'s).
+    #[serde(default)]
+    pub adaptive: super::autopilot_adaptive::AdaptiveConfig,
+    /// Course orders after the course change.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub orders: Vec<super::autopilot_adaptive::CourseOrder>,
+    /// The ship the autopilot steers (default: the identified model).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub plant: Option<super::autopilot_plant::PlantConfig>,
 }
 
 fn default_disturbance() -> DisturbanceKind {
@@ -272,10 +303,26 @@ impl AutopilotConfig {
             }
             seen.push(*f);
         }
+        if let Some(i) = self.yaw_inertia {
+            p.positive("autopilot.yaw_inertia", i, "kg m^2");
+        }
+        if self.disturbance == DisturbanceKind::YawMoment && self.disturbance_unit != AngleUnit::Rad
+        {
+            p.add(
+                "autopilot.disturbance_unit",
+                "a yaw moment is read in N m (or the unit its header states): rad or deg are \
+                 for a wave yaw or a rudder angle",
+            );
+        }
+        if let Some(plant) = &self.plant {
+            plant.validate(self.duration, p);
+        }
+        self.adaptive.validate(self.dt, p);
+        super::autopilot_adaptive::validate_orders(&self.orders, self.change_at, self.duration, p);
         if self.feeds.is_empty() {
             p.add(
                 "autopilot.feeds",
-                "at least one of raw, differentiated, filter, true",
+                "at least one of raw, differentiated, filter, true, adaptive",
             );
         }
     }

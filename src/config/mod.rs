@@ -4,6 +4,8 @@
 //! configuration and not the other way round.
 
 pub mod autopilot;
+pub mod autopilot_adaptive;
+pub mod autopilot_plant;
 pub mod captive;
 mod collect;
 pub mod hekf;

@@ -5,6 +5,7 @@
 
 pub mod accuracy;
 pub mod parallel;
+pub mod ship150_loop;
 
 use hydroid::base::quantity::Quantity;
 use hydroid::config::{FluidConfig, VehicleConfig};
@@ -169,10 +170,15 @@ pub fn named_by<'a>(list: &'a serde_json::Value, key: &str, name: &str) -> &'a s
         .unwrap_or_else(|| panic!("{name} in the list {list}"))
 }
 
-/// Copies the bundled example (the files of configs/, configs/simulate/ and cfd_exports/)
+/// Copies the bundled example (the files of configs/, configs/simulate/, configs/vehicles/ and cfd_exports/)
 /// into the same folders under `to`, so that a test can change it or run it from elsewhere.
 pub fn copy_example(to: &Path) {
-    for d in ["configs", "configs/simulate", "cfd_exports"] {
+    for d in [
+        "configs",
+        "configs/simulate",
+        "configs/vehicles",
+        "cfd_exports",
+    ] {
         std::fs::create_dir_all(to.join(d)).unwrap();
         for e in std::fs::read_dir(root().join(d)).unwrap() {
             let e = e.unwrap();

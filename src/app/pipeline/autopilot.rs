@@ -2,15 +2,22 @@
 //! placement, closed around the identified model in waves (the HEKF's process noise, or a
 //! recorded disturbance), once per feed asked for (src/dynamics/autopilot/closed_loop.rs).
 
-use crate::base::error::{Error, InputError, Place, Result};
+mod plant;
+
+use crate::base::error::{ConfigProblem, Error, InputError, Place, Result};
+use crate::base::quantity::Quantity;
 use crate::config::autopilot::{AngleUnit, AutopilotConfig};
+use crate::config::autopilot_plant::PlantConfig;
+use crate::config::{Config, FluidConfig, VehicleConfig};
 use crate::dynamics::autopilot::closed_loop::{self, Scenario};
-use crate::dynamics::autopilot::seas::{Recording, Seas};
+use crate::dynamics::autopilot::seas::{DisturbanceKind, Recording, Seas};
+use crate::dynamics::autopilot::PlantIndices;
 use crate::dynamics::autopilot::{AutopilotResult, Gains, RudderLimits};
 use crate::io::formats::{self, FormatChoice, ReadOptions};
-use crate::model::coefficients::CoefficientSet;
+use crate::model::coefficients::{Coefficient, CoefficientSet, Source};
 use crate::model::models::{with_model, Model, ModelName, ModelVisitor, RunVehicle};
 use crate::stages::hekf::HekfConfig;
+use std::collections::BTreeMap;
 use std::path::Path;
 
 /// The seas `cfg` asks for: the generator, or its disturbance file (relative to `base`) read
@@ -22,18 +29,53 @@ pub fn load_seas(cfg: &AutopilotConfig, base: &Path) -> Result<Seas> {
     let path = base.join(file);
     let table = formats::read(&path, FormatChoice::Auto, &ReadOptions::default())?;
     let place = Place::file(&path);
-    let expected = "two columns: time (s) and the disturbance (autopilot.disturbance, in \
-                    autopilot.disturbance_unit unless the header states a unit), covering the \
-                    closed loop's duration";
+    let expected = "a time column (s) and the disturbance (autopilot.disturbance: a wave yaw or \
+                    rudder angle in autopilot.disturbance_unit, a yaw moment in N m, unless the \
+                    header states a unit): two columns, or the ones \
+                    autopilot.disturbance_columns names; covering the closed loop's duration";
     let bad = |m: String| Error::from(InputError::new(place.clone(), m).expected(expected));
-    if table.columns.len() != 2 {
-        return Err(bad(format!("{} columns", table.columns.len())));
+    let (t_i, v_i) = match &cfg.disturbance_columns {
+        Some(c) => {
+            let find = |key: &str, name: &str| {
+                table
+                    .columns
+                    .iter()
+                    .position(|col| col.name == name)
+                    .ok_or_else(|| {
+                        let names: Vec<&str> =
+                            table.columns.iter().map(|c| c.name.as_str()).collect();
+                        bad(format!(
+                        "no column `{name}` (autopilot.disturbance_columns.{key}); the file has {}",
+                        names.join(", ")
+                    ))
+                    })
+            };
+            (find("time", &c.time)?, find("disturbance", &c.disturbance)?)
+        }
+        None if table.columns.len() == 2 => {
+            let t_i = table.time.unwrap_or(0);
+            (t_i, 1 - t_i)
+        }
+        None => {
+            return Err(bad(format!(
+                "{} columns and no autopilot.disturbance_columns",
+                table.columns.len()
+            )))
+        }
+    };
+    let value = &table.columns[v_i];
+    let moment = cfg.disturbance == DisturbanceKind::YawMoment;
+    if let (true, Some(u)) = (moment, &value.unit) {
+        if u.dim != Quantity::Mz.dim() {
+            return Err(bad(format!(
+                "the yaw moment column `{}` is in {}, not a moment",
+                value.name, u.text
+            )));
+        }
     }
-    let t_i = table.time.unwrap_or(0);
-    let value = &table.columns[1 - t_i];
     // degrees accepted and converted here, at the edge
     let scale = match (value.unit.is_some(), cfg.disturbance_unit) {
-        (false, AngleUnit::Deg) => std::f64::consts::PI / 180.0,
+        (false, AngleUnit::Deg) if !moment => std::f64::consts::PI / 180.0,
         _ => 1.0,
     };
     let values = value.values.iter().map(|v| v * scale).collect();
@@ -45,20 +87,134 @@ pub fn load_seas(cfg: &AutopilotConfig, base: &Path) -> Result<Seas> {
     Ok(Seas::Recorded(recording))
 }
 
-/// Runs the step for the identified model `name` with the coefficient set `set` in `seas`.
+/// The seas with the yaw inertia a recorded yaw moment accelerates: the configuration's, or
+/// the plant's vehicle izz.
+fn with_inertia(seas: &Seas, cfg: &AutopilotConfig, izz: f64) -> Seas {
+    let mut seas = seas.clone();
+    if let Seas::Recorded(r) = &mut seas {
+        r.yaw_inertia = Some(cfg.yaw_inertia.unwrap_or(izz));
+    }
+    seas
+}
+
+/// The plant `[autopilot.plant]` names, ready to build: None for the identified model.
+#[derive(Debug, Clone)]
+pub struct PlantSpec {
+    /// The model.
+    pub name: ModelName,
+    /// Its vehicle: the vehicle file's, or the run's.
+    pub vehicle: RunVehicle,
+    /// Its coefficients: the vehicle file's with the section's over them.
+    pub coefficients: CoefficientSet,
+    /// The section as configured.
+    pub cfg: PlantConfig,
+}
+
+/// A vehicle file: the sections of configs/vehicles/*.toml.
+#[derive(serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct VehicleFile {
+    vehicle: VehicleConfig,
+    #[serde(default)]
+    fluid: Option<FluidConfig>,
+    #[serde(default)]
+    coefficients: BTreeMap<String, f64>,
+}
+
+/// The plant of `cfg` (the run's `config`, its folder `base`): its vehicle file read and
+/// parsed, or an error naming the file and `autopilot.plant.vehicle_file`.
+pub fn load_plant(
+    cfg: &AutopilotConfig,
+    config: &Config,
+    base: &Path,
+) -> Result<Option<PlantSpec>> {
+    let Some(pc) = &cfg.plant else {
+        return Ok(None);
+    };
+    let Some(name) = pc.model_name().map_err(|m| {
+        Error::Config(vec![ConfigProblem {
+            file: base.to_path_buf(),
+            line: None,
+            key: Some("autopilot.plant.model".into()),
+            message: m,
+        }])
+    })?
+    else {
+        return Ok(None);
+    };
+    let (vehicle, mut coefficients) = match &pc.vehicle_file {
+        None => (config.vehicle.clone(), BTreeMap::new()),
+        Some(file) => {
+            let path = base.join(file);
+            let text = crate::config::read(&path)?;
+            let f: VehicleFile = toml::from_str(&text).map_err(|e| {
+                Error::from(
+                    InputError::new(
+                        Place::file(&path),
+                        format!("autopilot.plant.vehicle_file: {}", e.message()),
+                    )
+                    .expected(
+                        "a vehicle file: [vehicle] (with [vehicle.particulars]), optional \
+                         [fluid] and [coefficients], as configs/vehicles/*.toml",
+                    ),
+                )
+            })?;
+            let fluid = f.fluid.unwrap_or_else(|| config.fluid.clone());
+            return Ok(Some(spec(
+                name,
+                f.vehicle.for_model(&fluid),
+                f.coefficients,
+                pc,
+            )));
+        }
+    };
+    coefficients.extend(config.coefficients.clone());
+    Ok(Some(spec(
+        name,
+        vehicle.for_model(&config.fluid),
+        coefficients,
+        pc,
+    )))
+}
+
+/// The plant spec of the model `name` on `vehicle` with the `file`'s coefficients and the
+/// section's over them.
+fn spec(
+    name: ModelName,
+    vehicle: RunVehicle,
+    mut file: BTreeMap<String, f64>,
+    pc: &PlantConfig,
+) -> PlantSpec {
+    file.extend(pc.coefficients.clone());
+    let mut coefficients = CoefficientSet::new();
+    for (n, v) in &file {
+        coefficients.insert(Coefficient::new(n, *v, None, Source::Config));
+    }
+    PlantSpec {
+        name,
+        vehicle,
+        coefficients,
+        cfg: pc.clone(),
+    }
+}
+
+/// Runs the step for the identified model `name` with the coefficient set `set` in `seas`,
+/// on `plant` (None: the identified model).
 pub fn run(
     name: ModelName,
     vehicle: &RunVehicle,
     set: &CoefficientSet,
     hekf: &HekfConfig,
     cfg: &AutopilotConfig,
-    seas: &Seas,
+    (seas, plant): (&Seas, Option<&PlantSpec>),
 ) -> Result<AutopilotResult> {
     let step = Step {
         set,
         hekf,
         cfg,
         seas,
+        plant,
+        izz: vehicle.vehicle.izz,
     };
     with_model(name, vehicle, step).map_err(Error::vehicle)?
 }
@@ -68,6 +224,8 @@ struct Step<'a> {
     hekf: &'a HekfConfig,
     cfg: &'a AutopilotConfig,
     seas: &'a Seas,
+    plant: Option<&'a PlantSpec>,
+    izz: f64,
 }
 
 impl ModelVisitor for Step<'_> {
@@ -80,7 +238,8 @@ impl ModelVisitor for Step<'_> {
         let (k, t) = model.nomoto_gains(&c).ok_or_else(|| {
             fail(format!(
                 "the {} model does not give Nomoto's K and T (the autopilot is tuned and \
-                 closed around a Nomoto model such as nomoto_wave)",
+                 its wave filter run on a Nomoto model such as nomoto_wave; another model can \
+                 be the plant: [autopilot.plant])",
                 model.name()
             ))
         })?;
@@ -93,30 +252,64 @@ impl ModelVisitor for Step<'_> {
             .iter()
             .map(|s| self.hekf.process_noise.get(s.name).copied().unwrap_or(0.0))
             .collect();
-        let scenario = Scenario {
-            duration: a.duration,
-            dt: a.dt,
-            course_change: a.course_change,
-            change_at: a.change_at,
-            gains,
-            reference: (a.reference_omega, a.reference_zeta),
-            limits: RudderLimits {
-                angle: a.rudder_limit,
-                rate: a.rudder_rate,
-                lag: a.rudder_lag,
-            },
-            compass_noise: a.compass_noise,
-            gyro_noise: a.gyro_noise,
-            process_noise,
-            seed: a.seed,
-            rate_noise: a.rate_noise,
-            seas: self.seas.clone(),
+        let izz = self.plant.map_or(self.izz, |p| p.vehicle.vehicle.izz);
+        let seas = with_inertia(self.seas, a, izz);
+        let scenario = scenario(a, gains, process_noise, &seas);
+        let (feeds, plant) = match self.plant {
+            None => {
+                let feeds = a
+                    .feeds
+                    .iter()
+                    .map(|f| {
+                        closed_loop::run(model, &c, &scenario, *f).map_err(|e| fail(e.to_string()))
+                    })
+                    .collect::<Result<Vec<_>>>()?;
+                (feeds, PlantIndices::identified(model.name(), k, t))
+            }
+            Some(spec) => {
+                let visit = plant::PlantVisit {
+                    model,
+                    c: &c,
+                    scenario: &scenario,
+                    feeds: &a.feeds,
+                    spec,
+                };
+                with_model(spec.name, &spec.vehicle, visit)
+                    .map_err(|problems| plant::vehicle_error(spec, problems))??
+            }
         };
-        let feeds = a
-            .feeds
-            .iter()
-            .map(|f| closed_loop::run(model, &c, &scenario, *f).map_err(|e| fail(e.to_string())))
-            .collect::<Result<Vec<_>>>()?;
-        Ok(AutopilotResult { k, t, gains, feeds })
+        Ok(AutopilotResult {
+            k,
+            t,
+            gains,
+            feeds,
+            plant,
+        })
+    }
+}
+
+/// The closed-loop scenario of `a` with the `gains` placed, the identified model's
+/// `process_noise` and the `seas`.
+fn scenario(a: &AutopilotConfig, gains: Gains, process_noise: Vec<f64>, seas: &Seas) -> Scenario {
+    Scenario {
+        duration: a.duration,
+        dt: a.dt,
+        course_change: a.course_change,
+        change_at: a.change_at,
+        gains,
+        reference: (a.reference_omega, a.reference_zeta),
+        limits: RudderLimits {
+            angle: a.rudder_limit,
+            rate: a.rudder_rate,
+            lag: a.rudder_lag,
+        },
+        compass_noise: a.compass_noise,
+        gyro_noise: a.gyro_noise,
+        process_noise,
+        seed: a.seed,
+        rate_noise: a.rate_noise,
+        seas: seas.clone(),
+        orders: a.orders.iter().map(|o| (o.at, o.course)).collect(),
+        adaptive: a.adaptive.settings(),
     }
 }

@@ -68,8 +68,11 @@ pub fn run_on(
 ) -> Result<RunOutput> {
     let cfg = &loaded.config;
     // the autopilot's recorded sea is an input too: read before any stage runs
-    let seas = match (&cfg.autopilot, scope) {
-        (Some(a), Scope::Full) => autopilot::load_seas(a, &loaded.base_dir)?,
+    let (seas, plant) = match (&cfg.autopilot, scope) {
+        (Some(a), Scope::Full) => (
+            autopilot::load_seas(a, &loaded.base_dir)?,
+            autopilot::load_plant(a, cfg, &loaded.base_dir)?,
+        ),
         _ => Default::default(),
     };
     let mut log = Log {
@@ -117,9 +120,14 @@ pub fn run_on(
     complete_reported(&mut known, model_name, cfg.vehicle.yaw_moment, &mut log);
     let autopilot = cfg.autopilot.as_ref().filter(|_| scope == Scope::Full);
     let autopilot_result = match (autopilot, &cfg.hekf, model_name) {
-        (Some(a), Some(hc), Some(name)) => {
-            autopilot_step(name, loaded, &known, hc, (a, &seas), &mut log)
-        }
+        (Some(a), Some(hc), Some(name)) => autopilot_step(
+            name,
+            loaded,
+            &known,
+            hc,
+            (a, &seas, plant.as_ref()),
+            &mut log,
+        ),
         _ => None,
     };
     let comparison = compare(&known, &analytic, &cfg.reference);
@@ -154,13 +162,14 @@ fn autopilot_step(
     loaded: &LoadedConfig,
     known: &CoefficientSet,
     hc: &HekfConfig,
-    (a, seas): (
+    (a, seas, plant): (
         &crate::config::autopilot::AutopilotConfig,
         &crate::dynamics::autopilot::seas::Seas,
+        Option<&autopilot::PlantSpec>,
     ),
     log: &mut Log,
 ) -> Option<crate::dynamics::autopilot::AutopilotResult> {
-    match autopilot::run(name, &loaded.vehicle, known, hc, a, seas) {
+    match autopilot::run(name, &loaded.vehicle, known, hc, a, (seas, plant)) {
         Ok(r) => {
             let rates: Vec<String> = r
                 .feeds

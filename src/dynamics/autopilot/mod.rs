@@ -5,75 +5,20 @@
 //! commanded heading (Fossen 2011, 10.2.1: a low-pass filter cascaded with a mass-damper-
 //! spring), with the rudder limited in angle and rate as a steering gear is.
 
+pub mod adaptive;
 pub mod closed_loop;
 mod pid;
+pub mod plant;
 mod reference;
+mod result;
 pub mod seas;
+mod sight;
 pub mod wave_filter;
 
 pub use closed_loop::{ClosedLoop, Feed};
 pub use pid::{Autopilot, Gains, RudderLimits, TuningError};
 pub use reference::ReferenceModel;
-
-/// What the autopilot step gave.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct AutopilotResult {
-    /// Nomoto K of the identified model, 1/s.
-    pub k: f64,
-    /// Nomoto T of the identified model, s.
-    pub t: f64,
-    /// The PID gains placed from them.
-    pub gains: Gains,
-    /// One closed-loop run per feed, in the order asked for.
-    pub feeds: Vec<ClosedLoop>,
-}
-
-impl AutopilotResult {
-    /// The run fed `feed`, if it was asked for.
-    pub fn feed(&self, feed: Feed) -> Option<&ClosedLoop> {
-        self.feeds.iter().find(|c| c.feed == feed)
-    }
-
-    /// The comparison in words, one line per feed.
-    pub fn lines(&self) -> Vec<String> {
-        self.feeds
-            .iter()
-            .map(|c| {
-                format!(
-                    "{}: heading error RMS {:.3} deg, rudder RMS {:.3} deg, rudder rate RMS \
-                     {:.3} deg/s",
-                    c.feed.describe(),
-                    c.heading_error_rms.to_degrees(),
-                    c.rudder_rms.to_degrees(),
-                    c.rudder_rate_rms.to_degrees()
-                )
-            })
-            .collect()
-    }
-
-    /// Warnings: the filter that does not calm the rudder a tenfold against the raw feed
-    /// (the point of a wave filter is one to two orders of magnitude).
-    pub fn warnings(&self) -> Vec<crate::base::warning::Warning> {
-        let (Some(raw), Some(filtered)) = (self.feed(Feed::Raw), self.feed(Feed::Filter)) else {
-            return Vec::new();
-        };
-        if filtered.rudder_rate_rms <= 0.1 * raw.rudder_rate_rms {
-            return Vec::new();
-        }
-        vec![crate::base::warning::Warning::new(
-            "autopilot",
-            format!(
-                "fed the wave filter, the rudder rate RMS is {:.2} deg/s against {:.2} deg/s \
-                 raw: less than a tenfold reduction",
-                filtered.rudder_rate_rms.to_degrees(),
-                raw.rudder_rate_rms.to_degrees()
-            ),
-            "the wave filter does not take the wave-frequency motion out of what the \
-             autopilot sees as well as it should: check the wave frequency, the wave \
-             process noise, the compass noise and rate_noise",
-        )]
-    }
-}
+pub use result::{AutopilotResult, PlantIndices};
 
 #[cfg(test)]
 mod tests {

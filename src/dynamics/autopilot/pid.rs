@@ -123,6 +123,17 @@ impl Autopilot {
         self.rudder
     }
 
+    /// Replaces the gains (the adaptive autopilot's retuning); the integral and the rudder
+    /// go on.
+    pub fn set_gains(&mut self, gains: Gains) {
+        self.gains = gains;
+    }
+
+    /// The gains in use.
+    pub fn gains(&self) -> Gains {
+        self.gains
+    }
+
     /// The rudder angle now, rad.
     pub fn rudder(&self) -> f64 {
         self.rudder

@@ -19,22 +19,33 @@ pub enum Feed {
     /// The wave filter's low-frequency heading psi_L and yaw rate r_L.
     Filter,
     /// The plant's own low-frequency heading and yaw rate, without noise: the ideal a wave
-    /// filter aims at, for comparison.
+    /// filter aims at, for comparison (when the plant changes mid-run, its gains are
+    /// re-placed on the plant's own Nomoto indices at the change).
     True,
+    /// The adaptive autopilot: the online filter's psi_L and r_L, with K, 1/T and the rudder
+    /// bias estimated as it steers and the gains re-placed from them.
+    Adaptive,
 }
 
 impl Feed {
     /// Every feed, in the order the results list them.
-    pub const ALL: [Feed; 4] = [Feed::Raw, Feed::Differentiated, Feed::Filter, Feed::True];
+    pub const ALL: [Feed; 5] = [
+        Feed::Raw,
+        Feed::Differentiated,
+        Feed::Filter,
+        Feed::True,
+        Feed::Adaptive,
+    ];
 
     /// The feed's name in configurations and results (`raw`, `differentiated`, `filter`,
-    /// `true`).
+    /// `true`, `adaptive`).
     pub fn name(self) -> &'static str {
         match self {
             Feed::Raw => "raw",
             Feed::Differentiated => "differentiated",
             Feed::Filter => "filter",
             Feed::True => "true",
+            Feed::Adaptive => "adaptive",
         }
     }
 
@@ -45,6 +56,7 @@ impl Feed {
             Feed::Differentiated => "raw compass and its difference",
             Feed::Filter => "wave filter (psi_L, r_L)",
             Feed::True => "true low-frequency heading",
+            Feed::Adaptive => "adaptive (online K, T; gains re-placed)",
         }
     }
 }
@@ -59,6 +71,11 @@ pub enum DisturbanceKind {
     /// A yaw moment as the rudder angle that makes it, rad: added to the rudder in the
     /// plant, T r_dot + r = K (delta + delta_w - delta_0) (Fossen 2011, 7.2).
     Rudder,
+    /// A yaw moment N, N m: added to the rudder in the plant as the angle that gives the same
+    /// yaw acceleration about straight motion, delta_w = N / (I b_r) with I the yaw inertia
+    /// (rigid and added; [`Recording::yaw_inertia`]) and b_r = d r_dot / d delta the plant's
+    /// (Fossen 2011, 7.1: r_dot = (N + N_delta delta) / (I_z - N_rdot) in the linear model).
+    YawMoment,
 }
 
 /// A disturbance sampled in time (SI), replayed by linear interpolation.
@@ -66,6 +83,9 @@ pub enum DisturbanceKind {
 pub struct Recording {
     /// What the samples are.
     pub kind: DisturbanceKind,
+    /// The yaw inertia a yaw moment accelerates, kg m^2 (rigid and added; only for
+    /// [`DisturbanceKind::YawMoment`]).
+    pub yaw_inertia: Option<f64>,
     series: InputSeries,
 }
 
@@ -111,6 +131,7 @@ impl Recording {
         }
         Ok(Recording {
             kind,
+            yaw_inertia: None,
             series: InputSeries {
                 t,
                 inputs: vec![Input::Series(values)],

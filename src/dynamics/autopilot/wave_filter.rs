@@ -30,7 +30,11 @@ pub fn default_rate_noise(compass_noise: f64, w0: Option<f64>) -> f64 {
 
 /// The filter, with where it reads the heading and the yaw rate.
 pub(super) struct WaveFilter {
-    ekf: HybridEkf,
+    pub(super) ekf: HybridEkf,
+    /// The coefficients estimated as appended states (none for the plain wave filter), and
+    /// their scales.
+    est: Vec<usize>,
+    scale: Vec<f64>,
     psi_i: usize,
     r_i: usize,
     compass_i: usize,
@@ -68,6 +72,8 @@ impl WaveFilter {
         }
         let mut f = WaveFilter {
             ekf: HybridEkf::new(nx, nx, vec![0.0; nx], p0, q, s.dt),
+            est: Vec::new(),
+            scale: Vec::new(),
             psi_i,
             r_i,
             compass_i,
@@ -103,6 +109,57 @@ impl WaveFilter {
         Ok(())
     }
 
+    /// Appends the coefficients at `est` of the model to the settled filter's state (the
+    /// online estimation of the adaptive autopilot; Dinh, Hoang & Pham 2016, eq. 20-22: K,
+    /// 1/T and the rudder bias as states of a random walk), starting at `values` with the
+    /// standard deviations `sigma` and the random-walk intensities `q` (SI^2/s); each scaled
+    /// by its starting magnitude so that the filter works on numbers near one.
+    pub(super) fn augment(&mut self, est: Vec<usize>, values: &[f64], sigma: &[f64], q: &[f64]) {
+        let nd = self.ekf.x.len();
+        let n = nd + est.len();
+        let scale: Vec<f64> = values
+            .iter()
+            .map(|v| if v.abs() > 1e-12 { v.abs() } else { 1.0 })
+            .collect();
+        let mut x = self.ekf.x.clone();
+        x.extend(values.iter().zip(&scale).map(|(v, s)| v / s));
+        let mut p = vec![0.0; n * n];
+        for i in 0..nd {
+            for j in 0..nd {
+                p[i * n + j] = self.ekf.p[i * nd + j];
+            }
+        }
+        let mut qs = self.ekf.q.clone();
+        for (k, s) in scale.iter().enumerate() {
+            p[(nd + k) * n + nd + k] = (sigma[k] / s).powi(2);
+            qs.push(q[k] / (s * s));
+        }
+        let dt = self.ekf.max_step;
+        self.ekf = HybridEkf::new(n, nd, x, p, qs, dt);
+        self.est = est;
+        self.scale = scale;
+    }
+
+    /// The estimated coefficients (SI) and their covariance (row-major), in the order
+    /// appended.
+    pub(super) fn estimates(&self) -> (Vec<f64>, Vec<f64>) {
+        let (n, nd, ne) = (
+            self.ekf.x.len(),
+            self.ekf.x.len() - self.est.len(),
+            self.est.len(),
+        );
+        let values = (0..ne)
+            .map(|i| self.ekf.x[nd + i] * self.scale[i])
+            .collect();
+        let mut cov = vec![0.0; ne * ne];
+        for i in 0..ne {
+            for j in 0..ne {
+                cov[i * ne + j] = self.ekf.p[(nd + i) * n + nd + j] * self.scale[i] * self.scale[j];
+            }
+        }
+        (values, cov)
+    }
+
     /// Starts the estimate on the first compass reading (the ship on its course, no wave yaw
     /// known yet).
     pub(super) fn start(&mut self, compass: f64) {
@@ -121,7 +178,14 @@ impl WaveFilter {
     ) -> Result<(), LoopError> {
         let inputs = InputSeries::constant(&[delta]);
         let measured = [self.compass_i];
-        let mut sys = ModelSystem::new(model, c.to_vec(), &[], &[], &inputs, &measured);
+        let mut sys = ModelSystem::new(
+            model,
+            c.to_vec(),
+            &self.est,
+            &self.scale,
+            &inputs,
+            &measured,
+        );
         let diverged = |d: Divergence| LoopError::FilterDiverged(d.reason);
         if t1 > t0 {
             self.ekf.predict(&mut sys, t0, t1, None).map_err(diverged)?;

@@ -25,6 +25,7 @@ fn look(feed: Feed) -> (RGBColor, u32) {
         Feed::Differentiated => (colour::ORANGE, 1),
         Feed::Filter => (colour::BLUE, 2),
         Feed::True => (colour::GREEN, 2),
+        Feed::Adaptive => (colour::PURPLE, 2),
     }
 }
 
