@@ -40,6 +40,21 @@ pub struct RerunManifest {
     pub overrides: Vec<String>,
 }
 
+/// The staging folder a run of `loaded` writes its output into: `out`, else the
+/// configuration's `output.dir` (relative to it), guarded as `hydroid run` guards it (a
+/// folder hydroid did not write, or a configuration or input inside it, is refused; a
+/// hydroid output changed since it was written is replaced only when `force`). Call it
+/// before the stages run, so that a refusal does not come after the work.
+pub fn staging(
+    loaded: &LoadedConfig,
+    out: Option<&std::path::Path>,
+    force: bool,
+) -> Result<Staging> {
+    use crate::io::output::{Protected, Replace};
+    let dir = out.map_or_else(|| loaded.resolve(&loaded.config.output.dir), Into::into);
+    Staging::guarded(&dir, &Protected::for_config(loaded), Replace::forced(force))
+}
+
 /// Writes the run's outputs into the staging folder: results.json, inputs.json,
 /// coefficients.csv, the HEKF runs' state series (states/), config.toml, rerun.json and
 /// report.md; with `output.plots` also the
