@@ -3,10 +3,11 @@
 
 use crate::{json_text, py_err};
 use hydroid::app::catalogue::model_named;
+use hydroid::app::simulate::synth::coefficients_for;
 use hydroid::base::error::ConfigProblem;
 use hydroid::config::{FluidConfig, VehicleConfig};
 use hydroid::dynamics::sim::inputs::Input;
-use hydroid::dynamics::sim::{complete_coefficients, simulate as integrate, InputSeries};
+use hydroid::dynamics::sim::{simulate as integrate, InputSeries};
 use hydroid::model::coefficients::{Coefficient, CoefficientSet, Source};
 use hydroid::{with_model, Error, Model, ModelVisitor};
 use pyo3::prelude::*;
@@ -147,13 +148,7 @@ impl ModelVisitor for Sim<'_> {
     type Output = Result<Series, Error>;
 
     fn visit<M: Model>(self, m: &M) -> Result<Series, Error> {
-        let c = complete_coefficients(m, self.set).map_err(|missing| {
-            Error::Usage(format!(
-                "the {} model needs values for {} in coefficients",
-                m.name(),
-                missing.join(", ")
-            ))
-        })?;
+        let c = coefficients_for(m, self.set, "coefficients")?;
         let states = m.states();
         let mut x0 = vec![0.0; m.nx()];
         for (name, v) in self.initial {

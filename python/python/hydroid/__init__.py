@@ -87,11 +87,10 @@ class Result:
         """Every coefficient of the run, as coefficients.csv lists them: name, value, sigma
         (one standard deviation, null when unknown), unit (SI), source (the stage, config,
         analytic or relation), analytic (Fossen's value, Lamb's k-factors), reference (the
-        configuration's published value) and the two errors in percent. ``units`` maps
-        ``value`` and ``sigma`` to "see unit" (each row has its own unit)."""
+        configuration's published value) and the two errors in percent; each row's SI unit
+        is in its ``unit`` column."""
         rows = [{k: r.get(k) for k in COEFFICIENT_COLUMNS} for r in self.results["comparison"]]
-        df = pl.DataFrame(rows, schema=_COEFFICIENT_SCHEMA)
-        return _with_units(df, {"value": "see unit", "sigma": "see unit"})
+        return pl.DataFrame(rows, schema=_COEFFICIENT_SCHEMA)
 
     @property
     def correlation(self) -> Optional[pl.DataFrame]:
