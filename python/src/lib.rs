@@ -173,6 +173,7 @@ fn coefficients(model: Option<&str>) -> PyResult<String> {
 fn _hydroid(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("HydroidError", m.py().get_type::<HydroidError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("COEFFICIENT_COLUMNS", report::COEFFICIENT_COLUMNS.to_vec())?;
     m.add_function(wrap_pyfunction!(run, m)?)?;
     m.add_function(wrap_pyfunction!(check_config, m)?)?;
     m.add_function(wrap_pyfunction!(read, m)?)?;

@@ -39,30 +39,11 @@ __all__ = [
 
 PathLike = Union[str, "os.PathLike[str]"]
 
-#: The columns of :attr:`Result.coefficients`, in order.
-COEFFICIENT_COLUMNS = [
-    "name",
-    "value",
-    "sigma",
-    "unit",
-    "source",
-    "analytic",
-    "reference",
-    "error_vs_analytic_pct",
-    "error_vs_reference_pct",
-]
+#: The columns of :attr:`Result.coefficients`, in order: those of coefficients.csv.
+COEFFICIENT_COLUMNS: List[str] = list(_hydroid.COEFFICIENT_COLUMNS)
 
-_COEFFICIENT_SCHEMA = {
-    "name": pl.Utf8,
-    "value": pl.Float64,
-    "sigma": pl.Float64,
-    "unit": pl.Utf8,
-    "source": pl.Utf8,
-    "analytic": pl.Float64,
-    "reference": pl.Float64,
-    "error_vs_analytic_pct": pl.Float64,
-    "error_vs_reference_pct": pl.Float64,
-}
+_TEXT_COLUMNS = {"name", "unit", "source"}
+_COEFFICIENT_SCHEMA = {c: (pl.Utf8 if c in _TEXT_COLUMNS else pl.Float64) for c in COEFFICIENT_COLUMNS}
 
 
 def _with_units(df: pl.DataFrame, units: Mapping[str, Optional[str]]) -> pl.DataFrame:
@@ -86,8 +67,8 @@ class Result:
     def coefficients(self) -> pl.DataFrame:
         """Every coefficient of the run, as coefficients.csv lists them: name, value, sigma
         (one standard deviation, null when unknown), unit (SI), source (the stage, config,
-        analytic or relation), analytic (Fossen's value, Lamb's k-factors), reference (the
-        configuration's published value) and the two errors in percent; each row's SI unit
+        analytic or relation), analytic (Fossen's value, Lamb's k-factors) and its error in
+        percent, reference (the configuration's published value) and its error; each row's SI unit
         is in its ``unit`` column."""
         rows = [{k: r.get(k) for k in COEFFICIENT_COLUMNS} for r in self.results["comparison"]]
         return pl.DataFrame(rows, schema=_COEFFICIENT_SCHEMA)

@@ -4,6 +4,7 @@ that the pure-Python part (hydroid/__init__.py) turns into DataFrames; call thos
 from typing import Dict, List, Optional, Tuple
 
 __version__: str
+COEFFICIENT_COLUMNS: List[str]
 
 class HydroidError(Exception):
     """An error of hydroid: the message names the file, line, column or configuration key.

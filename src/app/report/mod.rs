@@ -116,24 +116,26 @@ pub fn effective_config(loaded: &LoadedConfig) -> String {
     s
 }
 
+/// The columns of coefficients.csv before those of further reference sets and the note (the
+/// Python package's `Result.coefficients` has the same).
+pub const COEFFICIENT_COLUMNS: [&str; 9] = [
+    "name",
+    "value",
+    "sigma",
+    "unit",
+    "source",
+    "analytic",
+    "error_vs_analytic_pct",
+    "reference",
+    "error_vs_reference_pct",
+];
+
 /// coefficients.csv: one row per coefficient with sigma, unit, source and the comparisons.
 pub fn coefficients_csv(r: &RunResult) -> Result<Vec<u8>> {
     let mut w = csv::Writer::from_writer(Vec::new());
     let err = |e: csv::Error| Error::Usage(format!("cannot write coefficients.csv: {e}"));
     // a further reference set adds its value and error columns, named after it
-    let mut header: Vec<String> = [
-        "name",
-        "value",
-        "sigma",
-        "unit",
-        "source",
-        "analytic",
-        "error_vs_analytic_pct",
-        "reference",
-        "error_vs_reference_pct",
-    ]
-    .map(String::from)
-    .to_vec();
+    let mut header: Vec<String> = COEFFICIENT_COLUMNS.map(String::from).to_vec();
     for o in &r.other_references {
         header.push(format!("reference: {}", o.name));
         header.push(format!("error_vs_reference_pct: {}", o.name));
