@@ -5,6 +5,7 @@
 
 pub mod calibrate;
 pub mod catalogue;
+pub mod check;
 pub mod inspect;
 pub mod pipeline;
 pub mod report;

@@ -2,7 +2,8 @@
 //! command uses ({file, line, column, key, message}).
 
 use super::CmdResult;
-use crate::base::error::{ConfigProblem, Error};
+use crate::app::check::{config_problem, input_problem_at};
+use crate::base::error::Error;
 use serde_json::{json, Value};
 use std::io::Write;
 
@@ -12,57 +13,6 @@ pub fn write(out: &mut dyn Write, value: &impl serde::Serialize) -> CmdResult {
         .map_err(|e| Error::Usage(format!("cannot format JSON: {e}")))?;
     writeln!(out, "{text}")?;
     Ok(0)
-}
-
-/// A configuration problem (placed by line and key; no column).
-pub fn config_problem(p: &ConfigProblem) -> Value {
-    json!({
-        "file": p.file,
-        "line": p.line,
-        "column": null,
-        "column_name": null,
-        "key": p.key,
-        "message": p.message,
-    })
-}
-
-/// A problem with the input file that the configuration key `key` names.
-pub fn input_problem(key: &str, e: &Error) -> Value {
-    input_problem_at(Some(key), e)
-}
-
-/// A problem with an input file, or any error, in the form of [`config_problem`]; `key` the
-/// configuration key naming the input, if any.
-fn input_problem_at(key: Option<&str>, e: &Error) -> Value {
-    let (file, line, column, column_name, message) = match e {
-        Error::Input(i) => (
-            Some(i.place.file.clone()),
-            i.place.line,
-            i.place.column,
-            i.place.column_name.clone(),
-            match &i.expected {
-                Some(x) => format!("{} (expected {x})", i.message),
-                None => i.message.clone(),
-            },
-        ),
-        Error::Io { path, source } | Error::Write { path, source } => (
-            Some(path.clone()),
-            None,
-            None,
-            None,
-            crate::base::error::io_reason(source),
-        ),
-        Error::Numerical { message, .. } => (None, None, None, None, message.clone()),
-        other => (None, None, None, None, other.to_string()),
-    };
-    json!({
-        "file": file,
-        "line": line,
-        "column": column,
-        "column_name": column_name,
-        "key": key,
-        "message": message,
-    })
 }
 
 /// The JSON error object a `--json` command prints on stdout when it fails (the human

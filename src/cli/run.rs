@@ -3,7 +3,6 @@
 use super::{progress, CmdResult, Say};
 use crate::app::{pipeline, report};
 use crate::config;
-use crate::io::output::{Protected, Replace, Staging};
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -37,16 +36,8 @@ pub struct Args {
 pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
     crate::io::output::clean_up_on_signals()?;
     let loaded = config::load(&args.config, &args.set)?;
-    let out_dir = args
-        .out
-        .clone()
-        .unwrap_or_else(|| loaded.resolve(&loaded.config.output.dir));
     // before any stage runs: the user is not made to wait for a refusal
-    let staging = Staging::guarded(
-        &out_dir,
-        &Protected::for_config(&loaded),
-        Replace::forced(args.force),
-    )?;
+    let staging = report::staging(&loaded, args.out.as_deref(), args.force)?;
     for s in staging.swept() {
         say.note(s);
     }

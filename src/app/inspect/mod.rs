@@ -100,6 +100,16 @@ pub fn inspect(path: &Path, choice: FormatChoice) -> Result<InspectReport, Input
     report(raw)
 }
 
+/// Reads `path` as `choice` for a program that wants the values: the table in SI as the
+/// stages read it ([`formats::read`]) and the report `hydroid inspect` prints of it.
+pub fn read(path: &Path, choice: FormatChoice) -> Result<(Table, InspectReport), InputError> {
+    let raw = formats::read_raw(path, choice, &ReadOptions::default())?;
+    let report = report(raw.clone())?;
+    let mut table = raw;
+    table.finish(None)?;
+    Ok((table, report))
+}
+
 /// Reports on a table as a reader returned it (before [`Table::finish`]), finishing it.
 pub fn report(mut table: Table) -> Result<InspectReport, InputError> {
     let repeated = table.time.map_or(0, |t| {

@@ -40,6 +40,21 @@ pub struct RerunManifest {
     pub overrides: Vec<String>,
 }
 
+/// The staging folder a run of `loaded` writes its output into: `out`, else the
+/// configuration's `output.dir` (relative to it), guarded as `hydroid run` guards it (a
+/// folder hydroid did not write, or a configuration or input inside it, is refused; a
+/// hydroid output changed since it was written is replaced only when `force`). Call it
+/// before the stages run, so that a refusal does not come after the work.
+pub fn staging(
+    loaded: &LoadedConfig,
+    out: Option<&std::path::Path>,
+    force: bool,
+) -> Result<Staging> {
+    use crate::io::output::{Protected, Replace};
+    let dir = out.map_or_else(|| loaded.resolve(&loaded.config.output.dir), Into::into);
+    Staging::guarded(&dir, &Protected::for_config(loaded), Replace::forced(force))
+}
+
 /// Writes the run's outputs into the staging folder: results.json, inputs.json,
 /// coefficients.csv, the HEKF runs' state series (states/), config.toml, rerun.json and
 /// report.md; with `output.plots` also the
@@ -101,24 +116,26 @@ pub fn effective_config(loaded: &LoadedConfig) -> String {
     s
 }
 
+/// The columns of coefficients.csv before those of further reference sets and the note (the
+/// Python package's `Result.coefficients` has the same).
+pub const COEFFICIENT_COLUMNS: [&str; 9] = [
+    "name",
+    "value",
+    "sigma",
+    "unit",
+    "source",
+    "analytic",
+    "error_vs_analytic_pct",
+    "reference",
+    "error_vs_reference_pct",
+];
+
 /// coefficients.csv: one row per coefficient with sigma, unit, source and the comparisons.
 pub fn coefficients_csv(r: &RunResult) -> Result<Vec<u8>> {
     let mut w = csv::Writer::from_writer(Vec::new());
     let err = |e: csv::Error| Error::Usage(format!("cannot write coefficients.csv: {e}"));
     // a further reference set adds its value and error columns, named after it
-    let mut header: Vec<String> = [
-        "name",
-        "value",
-        "sigma",
-        "unit",
-        "source",
-        "analytic",
-        "error_vs_analytic_pct",
-        "reference",
-        "error_vs_reference_pct",
-    ]
-    .map(String::from)
-    .to_vec();
+    let mut header: Vec<String> = COEFFICIENT_COLUMNS.map(String::from).to_vec();
     for o in &r.other_references {
         header.push(format!("reference: {}", o.name));
         header.push(format!("error_vs_reference_pct: {}", o.name));

@@ -74,6 +74,22 @@ pub fn synthesize(cfg: &SimConfig) -> Result<Columns> {
     Ok(cols)
 }
 
+/// The model's coefficient vector from `set` ([`complete_coefficients`]: the model's
+/// relations applied), or a usage error naming the free coefficients missing from `place`.
+pub fn coefficients_for<M: Model>(
+    model: &M,
+    set: &CoefficientSet,
+    place: &str,
+) -> Result<Vec<f64>> {
+    complete_coefficients(model, set).map_err(|missing| {
+        Error::Usage(format!(
+            "the {} model needs values for {} in {place}",
+            model.name(),
+            missing.join(", ")
+        ))
+    })
+}
+
 struct History<'a> {
     cfg: &'a SimConfig,
     set: &'a CoefficientSet,
@@ -97,13 +113,7 @@ impl ModelVisitor for History<'_> {
         else {
             unreachable!("called for time histories only")
         };
-        let c = complete_coefficients(model, self.set).map_err(|missing| {
-            Error::Usage(format!(
-                "the {} model needs values for {} in [coefficients]",
-                model.name(),
-                missing.join(", ")
-            ))
-        })?;
+        let c = coefficients_for(model, self.set, "[coefficients]")?;
         let x0 = initial_state(model, initial)?;
         // bounded by the loader (sim::config::limits)
         let n = (duration / dt).round() as usize + 1;
