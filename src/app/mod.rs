@@ -5,6 +5,7 @@
 
 pub mod calibrate;
 pub mod catalogue;
+pub mod export;
 pub mod inspect;
 pub mod pipeline;
 pub mod report;
