@@ -12,7 +12,7 @@ use crate::base::error::{Error, Result};
 use crate::dynamics::sim::complete_coefficients;
 use crate::model::coefficients::{Coefficient, CoefficientSet, Source};
 use crate::model::models::{Model, ModelVisitor, RunVehicle};
-use spec::{FmuSpec, Named, Variable, VehicleSpec};
+use spec::{FmuSpec, Named, Variable};
 use std::io::Write;
 use std::path::Path;
 
@@ -107,7 +107,7 @@ pub fn from_parts(
         hydroid_version: env!("CARGO_PKG_VERSION").to_string(),
         title,
         model: model.to_string(),
-        vehicle: VehicleSpec::from(&vehicle.vehicle),
+        vehicle: vehicle.vehicle.clone(),
         yaw_moment: vehicle.yaw_moment,
         coefficients: Vec::new(),
         inputs: Vec::new(),

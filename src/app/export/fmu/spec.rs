@@ -25,7 +25,7 @@ pub struct FmuSpec {
     /// The model's registry name (`mmg3`).
     pub model: String,
     /// The vehicle the model is built from (SI).
-    pub vehicle: VehicleSpec,
+    pub vehicle: Vehicle,
     /// The run's yaw-moment reading.
     pub yaw_moment: YawMoment,
     /// Every coefficient of the model in its order, relations applied (SI).
@@ -63,52 +63,6 @@ pub struct Variable {
     pub start: f64,
 }
 
-/// The vehicle data (SI), as [`Vehicle`] holds it.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct VehicleSpec {
-    /// Mass, kg.
-    pub mass: f64,
-    /// Length, m.
-    pub length: f64,
-    /// Diameter, m.
-    pub diameter: Option<f64>,
-    /// Roll inertia, kg m^2.
-    pub ixx: Option<f64>,
-    /// Pitch inertia, kg m^2.
-    pub iyy: Option<f64>,
-    /// Yaw inertia, kg m^2.
-    pub izz: f64,
-    /// Reference area, m^2.
-    pub reference_area: f64,
-    /// Buoyancy, N.
-    pub buoyancy: Option<f64>,
-    /// BG, m.
-    pub bg: Option<f64>,
-    /// Water density, kg/m^3.
-    pub rho: f64,
-    /// `[vehicle.particulars]` as the configuration gives them.
-    pub particulars: toml::Table,
-}
-
-impl From<&Vehicle> for VehicleSpec {
-    fn from(v: &Vehicle) -> Self {
-        VehicleSpec {
-            mass: v.mass,
-            length: v.length,
-            diameter: v.diameter,
-            ixx: v.ixx,
-            iyy: v.iyy,
-            izz: v.izz,
-            reference_area: v.reference_area,
-            buoyancy: v.buoyancy,
-            bg: v.bg,
-            rho: v.rho,
-            particulars: v.particulars.clone(),
-        }
-    }
-}
-
 impl FmuSpec {
     /// Reads model.json (`what` names it in messages).
     pub fn from_json(text: &str, what: &str) -> Result<FmuSpec> {
@@ -142,21 +96,8 @@ impl FmuSpec {
 
     /// The vehicle as the run built its models.
     pub fn run_vehicle(&self) -> RunVehicle {
-        let v = &self.vehicle;
         RunVehicle {
-            vehicle: Vehicle {
-                mass: v.mass,
-                length: v.length,
-                diameter: v.diameter,
-                ixx: v.ixx,
-                iyy: v.iyy,
-                izz: v.izz,
-                reference_area: v.reference_area,
-                buoyancy: v.buoyancy,
-                bg: v.bg,
-                rho: v.rho,
-                particulars: v.particulars.clone(),
-            },
+            vehicle: self.vehicle.clone(),
             yaw_moment: self.yaw_moment,
         }
     }
