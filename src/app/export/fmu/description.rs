@@ -14,21 +14,10 @@ pub fn start_parameter(state: &str) -> String {
     format!("{state}0")
 }
 
-/// Text escaped for an XML attribute.
+/// Text escaped for an XML attribute (the report's HTML escaping, which XML shares; control
+/// characters, which XML 1.0 does not allow, as spaces).
 fn escape(s: &str) -> String {
-    let mut out = String::with_capacity(s.len());
-    for c in s.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            c if (c as u32) < 0x20 => out.push(' '),
-            c => out.push(c),
-        }
-    }
-    out
+    crate::app::report::html::escape(&s.replace(|c: char| c.is_control(), " "))
 }
 
 /// A `<Unit>` definition for a quantity's internal unit: its SI base-unit exponents over

@@ -44,7 +44,7 @@ fn model_description_is_well_formed_and_lists_inputs_outputs_and_parameters() {
         .collect();
     // written out from the MMG model's inputs (Yasukawa & Yoshimura 2015: rudder angle,
     // propeller revolutions) and its planar states (u, v, r, x, y, psi)
-    let want: Vec<(&str, &str, &str)> = vec![
+    let want: [(&str, &str, &str); 14] = [
         ("rudder", "input", "rad"),
         ("rpm", "input", "rev/s"),
         ("u", "output", "m/s"),
@@ -117,7 +117,7 @@ fn the_package_is_a_zip_with_the_three_entries_and_the_same_bytes_twice() {
     let a = package(&spec, &lib).unwrap();
     assert_eq!(a, package(&spec, &lib).unwrap(), "deterministic");
     let mut zip = zip::ZipArchive::new(std::io::Cursor::new(a)).unwrap();
-    let mut names: Vec<String> = zip.file_names().map(str::to_string).collect();
+    let mut names: Vec<String> = zip.file_names().map(|n| n.unwrap().into_owned()).collect();
     names.sort();
     assert_eq!(
         names,
