@@ -103,7 +103,13 @@ fn steps_through_the_c_api_match_one_simulation_with_held_inputs() {
     }
     let h = 0.25;
     let n = 120;
-    let rudder = |k: usize| if (k / 20) % 2 == 0 { 0.35 } else { -0.35 };
+    let rudder = |k: usize| {
+        if (k / 20).is_multiple_of(2) {
+            0.35
+        } else {
+            -0.35
+        }
+    };
     let rps = 11.85;
     let mut got = vec![x0.to_vec()];
     for k in 0..n {

@@ -142,11 +142,11 @@ pub fn model_description(spec: &FmuSpec, guid: &str, identifier: &str) -> String
     units.dedup_by_key(|q| q.si_symbol());
     let mut x = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
     let title = spec.title.as_deref().unwrap_or("identified model");
-    let _ = write!(
+    let _ = writeln!(
         x,
         "<fmiModelDescription fmiVersion=\"2.0\" modelName=\"{}\" guid=\"{guid}\" \
          description=\"{} ({} model identified by hydroid)\" generationTool=\"hydroid {}\" \
-         variableNamingConvention=\"flat\" numberOfEventIndicators=\"0\">\n",
+         variableNamingConvention=\"flat\" numberOfEventIndicators=\"0\">",
         escape(identifier),
         escape(title),
         escape(&spec.model),
