@@ -6,6 +6,7 @@
 pub mod calibrate;
 pub mod catalogue;
 pub mod check;
+pub mod export;
 pub mod inspect;
 pub mod pipeline;
 pub mod report;

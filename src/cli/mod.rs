@@ -6,6 +6,7 @@ mod calibrate;
 mod check;
 mod coefficients;
 mod compare;
+mod export;
 mod help;
 mod init;
 mod inspect;
@@ -53,6 +54,7 @@ enum Command {
     Coefficients(coefficients::Args),
     Init(init::Args),
     Manoeuvre(manoeuvre::Args),
+    Export(export::Args),
 }
 
 /// Parses the command line, runs the command and returns the exit code.
@@ -90,6 +92,7 @@ pub fn main() -> i32 {
         Command::Coefficients(a) => coefficients::run(a, &mut out),
         Command::Init(a) => init::run(a, &mut out, say),
         Command::Manoeuvre(a) => manoeuvre::run(a, &mut out),
+        Command::Export(a) => export::run(a, &mut out),
     };
     let _ = out.flush();
     match result {
@@ -120,7 +123,9 @@ impl Command {
             Command::Calibrate(a) => a.json,
             Command::Coefficients(a) => a.json,
             Command::Manoeuvre(a) => a.json,
-            Command::Simulate(_) | Command::Rerun(_) | Command::Init(_) => false,
+            Command::Simulate(_) | Command::Rerun(_) | Command::Init(_) | Command::Export(_) => {
+                false
+            }
         }
     }
 }

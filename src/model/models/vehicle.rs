@@ -5,8 +5,10 @@
 use super::coefficient::{AddedMass, Scales};
 use crate::model::coefficients::YawMoment;
 
-/// A vehicle and the water it moves in. All values SI.
-#[derive(Debug, Clone, PartialEq)]
+/// A vehicle and the water it moves in. All values SI (serialised as such in an exported
+/// FMU's model.json, docs/fmu.md).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Vehicle {
     /// Mass, kg.
     pub mass: f64,

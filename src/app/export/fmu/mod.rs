@@ -1,0 +1,290 @@
+//! `hydroid export fmu OUTDIR`: the identified model of an output folder as an FMI 2.0
+//! co-simulation FMU for Linux x86-64 (docs/fmu.md): modelDescription.xml, the shared
+//! library of the `hydroid-fmu` crate as binaries/linux64/IDENTIFIER.so, and the model
+//! (vehicle, coefficients, inputs and states) as resources/model.json, which the library
+//! reads when it is instantiated.
+
+pub mod description;
+pub mod spec;
+
+use crate::app::report::{CONFIG_TOML, RESULTS_JSON};
+use crate::base::error::{Error, Result};
+use crate::dynamics::sim::complete_coefficients;
+use crate::model::coefficients::{Coefficient, CoefficientSet, Source};
+use crate::model::models::{Model, ModelVisitor, RunVehicle};
+use spec::{FmuSpec, Named, Variable};
+use std::io::Write;
+use std::path::Path;
+
+/// The archive's path of the model file.
+pub const MODEL_JSON: &str = "resources/model.json";
+
+/// The FMU's model identifier (the library's name inside it) for a model: `hydroid_mmg3`.
+pub fn model_identifier(spec: &FmuSpec) -> String {
+    format!("hydroid_{}", spec.model)
+}
+
+fn not_output(dir: &Path, why: &str) -> Error {
+    Error::Usage(format!(
+        "{}: {why} (give an output folder of `hydroid run`)",
+        dir.display()
+    ))
+}
+
+/// The model an output folder of `hydroid run` identified: its HEKF model with the folder's
+/// coefficients, vehicle and yaw-moment reading (config.toml), the initial states of its
+/// first fit run's smoothed series (states/, zero without it) and the inputs starting at
+/// zero; `max_step` is the longest RK4 step the FMU takes, s.
+pub fn read_folder(dir: &Path, max_step: f64) -> Result<FmuSpec> {
+    let edited = crate::io::output::marker::edited(dir, &[RESULTS_JSON, CONFIG_TOML])?;
+    if !edited.is_empty() {
+        return Err(not_output(
+            dir,
+            &format!(
+                "{} edited since hydroid wrote it; export packages what a run identified",
+                edited.join(", ")
+            ),
+        ));
+    }
+    let results_path = dir.join(RESULTS_JSON);
+    if !results_path.is_file() {
+        return Err(not_output(dir, "no results.json"));
+    }
+    let text = crate::config::read(&results_path)?;
+    let results: serde_json::Value = serde_json::from_str(&text).map_err(|e| {
+        Error::Usage(format!(
+            "{}: not a hydroid results file: {e}",
+            results_path.display()
+        ))
+    })?;
+    let hekf = &results["stages"]["hekf"];
+    let Some(model) = hekf["model"].as_str() else {
+        return Err(Error::Usage(format!(
+            "{}: the run has no HEKF stage (`stages.hekf.model`): only a model identified in \
+             time (a [hekf] section) can be exported as an FMU",
+            results_path.display()
+        )));
+    };
+    let mut set = CoefficientSet::new();
+    for c in results["coefficients"].as_array().into_iter().flatten() {
+        if let (Some(n), Some(v)) = (c["name"].as_str(), c["value"].as_f64()) {
+            set.insert(Coefficient::new(n, v, None, Source::Config));
+        }
+    }
+    let loaded = recorded_config(dir)?;
+    let first_run = hekf["runs"][0]["name"].as_str().map(str::to_string);
+    let starts = match first_run {
+        Some(name) => initial_states(dir, &name)?,
+        None => Vec::new(),
+    };
+    let spec = from_parts(
+        model,
+        &loaded.vehicle,
+        &set,
+        &starts,
+        max_step,
+        loaded.config.title.clone(),
+    );
+    spec.map_err(|e| match e {
+        Error::Usage(m) => Error::Usage(format!("{}: {m}", dir.display())),
+        e => e,
+    })
+}
+
+/// The FMU's model: `model` built for `vehicle` with the coefficients of `set` (the model's
+/// relations complete them), the states starting at `starts` (by state name; zero for a
+/// state not there) and the inputs at zero.
+pub fn from_parts(
+    model: &str,
+    vehicle: &RunVehicle,
+    set: &CoefficientSet,
+    starts: &[(String, f64)],
+    max_step: f64,
+    title: Option<String>,
+) -> Result<FmuSpec> {
+    let mut spec = FmuSpec {
+        format: spec::FORMAT.to_string(),
+        hydroid_version: env!("CARGO_PKG_VERSION").to_string(),
+        title,
+        model: model.to_string(),
+        vehicle: vehicle.vehicle.clone(),
+        yaw_moment: vehicle.yaw_moment,
+        coefficients: Vec::new(),
+        inputs: Vec::new(),
+        states: Vec::new(),
+        max_step,
+    };
+    let described = spec.visit(Describe { set, starts })?;
+    let (coefficients, inputs, states) = described.map_err(|missing| {
+        Error::Usage(format!(
+            "the {model} model needs {}, which the run does not give",
+            missing.join(", ")
+        ))
+    })?;
+    spec.coefficients = coefficients;
+    spec.inputs = inputs;
+    spec.states = states;
+    Ok(spec)
+}
+
+/// The output folder's config.toml as loaded: the input files it names are not needed (the
+/// model is built from the vehicle and the identified coefficients), so a missing one is
+/// not a problem here; any other problem is.
+fn recorded_config(dir: &Path) -> Result<crate::config::LoadedConfig> {
+    let path = dir.join(CONFIG_TOML);
+    let (loaded, problems) = crate::config::load_lenient(&path, &crate::config::read(&path)?, &[]);
+    let problems: Vec<_> = problems
+        .into_iter()
+        .filter(|p| !p.key.as_deref().is_some_and(|k| k.ends_with(".file")))
+        .collect();
+    match loaded {
+        Some(l) if problems.is_empty() => Ok(l),
+        _ => Err(Error::Config(problems)),
+    }
+}
+
+/// The smoothed state at the first sample of the run `name`'s series (states/NAME.csv), by
+/// state name; empty when the folder has none.
+fn initial_states(dir: &Path, name: &str) -> Result<Vec<(String, f64)>> {
+    let file = crate::stages::hekf::states::file_names(&[name.to_string()]).remove(0);
+    let path = dir.join(file);
+    if !path.is_file() {
+        return Ok(Vec::new());
+    }
+    let bad = |why: String| Error::Usage(format!("{}: {why}", path.display()));
+    let mut reader = csv::Reader::from_path(&path).map_err(|e| bad(e.to_string()))?;
+    let header = reader.headers().map_err(|e| bad(e.to_string()))?.clone();
+    let Some(row) = reader.records().next() else {
+        return Ok(Vec::new());
+    };
+    let row = row.map_err(|e| bad(e.to_string()))?;
+    let mut out = Vec::new();
+    for (h, v) in header.iter().zip(row.iter()) {
+        // `u_smoothed [m/s]`
+        let Some(state) = h
+            .split(' ')
+            .next()
+            .and_then(|n| n.strip_suffix("_smoothed"))
+        else {
+            continue;
+        };
+        let value: f64 = v
+            .parse()
+            .ok()
+            .filter(|x: &f64| x.is_finite())
+            .ok_or_else(|| bad(format!("column {h}: {v} is not a number")))?;
+        out.push((state.to_string(), value));
+    }
+    Ok(out)
+}
+
+/// The model's coefficient vector, inputs and states, or the coefficients the set lacks.
+struct Describe<'a> {
+    set: &'a CoefficientSet,
+    starts: &'a [(String, f64)],
+}
+
+type Described = (Vec<Named>, Vec<Variable>, Vec<Variable>);
+
+impl ModelVisitor for Describe<'_> {
+    type Output = std::result::Result<Described, Vec<String>>;
+    fn visit<M: Model>(self, m: &M) -> Self::Output {
+        let c = complete_coefficients(m, self.set)?;
+        let coefficients = m
+            .coefficient_names()
+            .iter()
+            .zip(c)
+            .map(|(n, value)| Named {
+                name: n.to_string(),
+                value,
+            })
+            .collect();
+        let inputs = m
+            .inputs()
+            .iter()
+            .map(|i| Variable {
+                name: i.quantity.key().to_string(),
+                quantity: i.quantity.key().to_string(),
+                unit: i.quantity.si_symbol().to_string(),
+                start: 0.0,
+            })
+            .collect();
+        let states = m
+            .states()
+            .iter()
+            .map(|s| Variable {
+                name: s.name.to_string(),
+                quantity: s.quantity.key().to_string(),
+                unit: s.quantity.si_symbol().to_string(),
+                start: self
+                    .starts
+                    .iter()
+                    .find(|(n, _)| n == s.name)
+                    .map_or(0.0, |(_, v)| *v),
+            })
+            .collect();
+        Ok((coefficients, inputs, states))
+    }
+}
+
+/// The FMU archive (a zip, deflated, entries in a fixed order with a fixed time stamp, so
+/// that the same folder and library give the same bytes): modelDescription.xml,
+/// resources/model.json and `library` as binaries/linux64/IDENTIFIER.so.
+pub fn package(spec: &FmuSpec, library: &[u8]) -> Result<Vec<u8>> {
+    spec.check()?;
+    let json = crate::io::output::to_json(spec)?;
+    let guid = description::guid(&json);
+    let identifier = model_identifier(spec);
+    let xml = description::model_description(spec, &guid, &identifier);
+    let so = format!("binaries/linux64/{identifier}.so");
+    let entries: [(&str, &[u8], u32); 3] = [
+        ("modelDescription.xml", xml.as_bytes(), 0o644),
+        (MODEL_JSON, &json, 0o644),
+        (&so, library, 0o755),
+    ];
+    let fail = |e: String| Error::Usage(format!("cannot write the FMU archive: {e}"));
+    let mut zip = zip::ZipWriter::new(std::io::Cursor::new(Vec::new()));
+    for (name, bytes, mode) in entries {
+        let options = zip::write::SimpleFileOptions::default()
+            .compression_method(zip::CompressionMethod::Deflated)
+            .last_modified_time(zip::DateTime::default())
+            .unix_permissions(mode);
+        zip.start_file(name, options)
+            .map_err(|e| fail(e.to_string()))?;
+        zip.write_all(bytes).map_err(|e| fail(e.to_string()))?;
+    }
+    let cursor = zip.finish().map_err(|e| fail(e.to_string()))?;
+    Ok(cursor.into_inner())
+}
+
+/// The FMU's model of a registered model at its example vehicle and coefficients, for tests.
+pub fn example(name: crate::model::models::ModelName) -> Result<FmuSpec> {
+    struct Example;
+    impl ModelVisitor for Example {
+        type Output = CoefficientSet;
+        fn visit<M: Model>(self, m: &M) -> CoefficientSet {
+            let mut set = CoefficientSet::new();
+            for (n, v) in m.example().coefficients {
+                set.insert(Coefficient::new(n, *v, None, Source::Config));
+            }
+            set
+        }
+    }
+    let vehicle = RunVehicle {
+        vehicle: name.example_vehicle(),
+        yaw_moment: Default::default(),
+    };
+    let set = crate::model::models::with_model(name, &vehicle, Example)
+        .map_err(|_| Error::Usage(format!("{} does not build at its example", name.as_str())))?;
+    from_parts(
+        name.as_str(),
+        &vehicle,
+        &set,
+        &[],
+        crate::numerics::ode::DEFAULT_MAX_STEP,
+        Some("example".into()),
+    )
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,3 @@
+//! `hydroid export`: an identified model packaged for other tools (docs/fmu.md).
+
+pub mod fmu;
