@@ -30,8 +30,8 @@ pub struct Args {
     #[arg(long)]
     pub(super) json: bool,
     /// Exit with status 3 when the check fails (a coefficient's spread outside 0.67-1.5
-    /// reported sigmas, or the 2-sigma coverage below 90 %). The files are written as
-    /// without it.
+    /// reported sigmas by more than its own uncertainty, a replica more than 5 sigmas off,
+    /// or the 2-sigma coverage below 90 %). The files are written as without it.
     #[arg(long)]
     strict: bool,
 }
