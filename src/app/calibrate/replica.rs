@@ -195,11 +195,7 @@ fn hekf_basis(
     trace: &crate::app::resim::ResimTrace,
     run: &crate::stages::hekf::RunSummary,
 ) -> Result<Basis> {
-    let (quantities, values) = if trace.outputs.is_empty() {
-        (&trace.quantities, &trace.states)
-    } else {
-        (&trace.outputs, &trace.output_values)
-    };
+    let (quantities, values) = trace.sensed();
     if values.len() != rec.rows() {
         return Err(Error::numerical(
             "calibrate",
@@ -295,11 +291,7 @@ fn forced_replica(
     let density = |j: usize, name: &str| f.density(j, name);
     let trace =
         crate::app::resim::forced::forced(hc.model, &loaded.vehicle, &f.set, rec, &density, rng)?;
-    let (quantities, values) = if trace.outputs.is_empty() {
-        (&trace.quantities, &trace.states)
-    } else {
-        (&trace.outputs, &trace.output_values)
-    };
+    let (quantities, values) = trace.sensed();
     for &(q, sigma) in &f.channels {
         let Some(i) = quantities.iter().position(|x| *x == q) else {
             continue;

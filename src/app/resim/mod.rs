@@ -71,6 +71,18 @@ pub struct ResimTrace {
     pub inputs: Vec<Quantity>,
 }
 
+impl ResimTrace {
+    /// What the model's sensors read along the trace, by quantity: its outputs, or its
+    /// states when it declares no measurement function.
+    pub fn sensed(&self) -> (&[Quantity], &[Vec<f64>]) {
+        if self.outputs.is_empty() {
+            (&self.quantities, &self.states)
+        } else {
+            (&self.outputs, &self.output_values)
+        }
+    }
+}
+
 /// Re-simulates `rec` with the model `model` of `vehicle` and the coefficients of `set`;
 /// `scale` is the data's scale ratio (for the IMO criteria of a ship's manoeuvre) and
 /// `nominal` the nominal angles of the run's manoeuvre given in the configuration.
@@ -115,9 +127,7 @@ impl ModelVisitor for Resim<'_> {
         let Prepared { times, c, inputs } = prepared(model, self.set, rec)?;
         let x0 = start_state(model, rec, &times);
         let (xs, stopped) = integrate(model, &c, x0, &inputs, &times, &mut |_, _| {});
-        let regular = crate::numerics::sampling::median_interval(&times).unwrap_or(0.01);
-        let max_step = regular
-            / steps_for(regular, crate::numerics::ode::DEFAULT_MAX_STEP).unwrap_or(1) as f64;
+        let (regular, max_step) = step_bounds(&times);
         let ys = outputs_of(model, &xs, &times, &inputs, &c);
         let rms = rms_errors(model, rec, if ys.is_empty() { &xs } else { &ys });
         let (final_err, distance) = position_error(model, rec, &xs).unzip();
@@ -205,6 +215,15 @@ pub(crate) fn start_state<M: Model>(model: &M, rec: &Record, times: &[f64]) -> V
     x0
 }
 
+/// The run's regular sampling interval and the longest integration step: the interval split
+/// into equal steps no longer than 10 ms.
+fn step_bounds(times: &[f64]) -> (f64, f64) {
+    let regular = crate::numerics::sampling::median_interval(times).unwrap_or(0.01);
+    let max_step =
+        regular / steps_for(regular, crate::numerics::ode::DEFAULT_MAX_STEP).unwrap_or(1) as f64;
+    (regular, max_step)
+}
+
 /// The model from `x0` through `times` with `inputs`, sample by sample so that a divergence
 /// keeps the part before it, in steps no longer than the regular interval nor 10 ms (a gap
 /// is crossed in such steps); `forcing` acts on the state after each interval (given its
@@ -217,9 +236,7 @@ pub(crate) fn integrate<M: Model>(
     times: &[f64],
     forcing: &mut dyn FnMut(&mut [f64], f64),
 ) -> (Vec<Vec<f64>>, Option<String>) {
-    let regular = crate::numerics::sampling::median_interval(times).unwrap_or(0.01);
-    let max_step =
-        regular / steps_for(regular, crate::numerics::ode::DEFAULT_MAX_STEP).unwrap_or(1) as f64;
+    let max_step = step_bounds(times).1;
     let mut xs = vec![x0];
     for k in 1..times.len() {
         let Some(steps) = steps_for(times[k] - times[k - 1], max_step) else {

@@ -355,36 +355,43 @@ fn recorded_rudder(seas: &Seas, t: f64, per_rudder: f64) -> Result<f64, LoopErro
     }
 }
 
-/// Where the closed loop reads the identified model: its heading and yaw-rate states and
-/// its compass output.
+/// Where the closed loop reads a model: its heading and yaw-rate states and its compass
+/// output.
 #[derive(Clone, Copy)]
-struct Channels {
-    psi_i: usize,
-    r_i: usize,
-    compass_i: usize,
+pub(super) struct Channels {
+    pub psi_i: usize,
+    pub r_i: usize,
+    pub compass_i: usize,
+}
+
+impl Channels {
+    /// The model's heading and yaw-rate states and compass output; refuses a model without
+    /// them, naming what it lacks.
+    pub(super) fn of<M: Model>(model: &M) -> Result<Channels, LoopError> {
+        let missing = LoopError::Missing;
+        Ok(Channels {
+            psi_i: model
+                .state_index(Quantity::Yaw)
+                .ok_or(missing("heading state"))?,
+            r_i: model
+                .state_index(Quantity::R)
+                .ok_or(missing("yaw-rate state"))?,
+            compass_i: model
+                .output_index(Quantity::Yaw)
+                .ok_or(missing("compass output"))?,
+        })
+    }
 }
 
 /// The identified model's heading and yaw-rate states and compass output; refuses a model
 /// without them or with an input other than the rudder (the wave filter steers it by the
 /// rudder alone).
 fn channels<M: Model>(model: &M) -> Result<Channels, LoopError> {
-    let psi_i = model
-        .state_index(Quantity::Yaw)
-        .ok_or(LoopError::Missing("heading state"))?;
-    let r_i = model
-        .state_index(Quantity::R)
-        .ok_or(LoopError::Missing("yaw-rate state"))?;
-    let compass_i = model
-        .output_index(Quantity::Yaw)
-        .ok_or(LoopError::Missing("compass output"))?;
+    let ch = Channels::of(model)?;
     if model.input_quantities() != [Quantity::Rudder] {
         return Err(LoopError::NotRudderOnly);
     }
-    Ok(Channels {
-        psi_i,
-        r_i,
-        compass_i,
-    })
+    Ok(ch)
 }
 
 /// The RMS heading error, rudder angle and rudder rate of the recorded loop, and before and

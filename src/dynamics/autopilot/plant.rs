@@ -5,7 +5,7 @@
 //! own Nomoto indices come from the course-stability linearisation (Fossen 2011, 7.2;
 //! [`crate::dynamics::course_stability`]), or from its coefficients for a Nomoto model.
 
-use super::closed_loop::LoopError;
+use super::closed_loop::{Channels, LoopError};
 use crate::base::quantity::Quantity;
 use crate::dynamics::course_stability::{sway_yaw, Nomoto, NotSteerable};
 use crate::dynamics::sim::{simulate, InputSeries};
@@ -96,15 +96,11 @@ impl<'a, P: Model> ModelPlant<'a, P> {
             .iter()
             .position(|q| *q == Quantity::Rudder)
             .ok_or(missing("rudder input"))?;
-        let psi_i = model
-            .state_index(Quantity::Yaw)
-            .ok_or(missing("heading state"))?;
-        let r_i = model
-            .state_index(Quantity::R)
-            .ok_or(missing("yaw-rate state"))?;
-        let compass_i = model
-            .output_index(Quantity::Yaw)
-            .ok_or(missing("compass output"))?;
+        let Channels {
+            psi_i,
+            r_i,
+            compass_i,
+        } = Channels::of(model)?;
         let gyro_i = model
             .output_index(Quantity::R)
             .ok_or(missing("yaw-rate output"))?;
