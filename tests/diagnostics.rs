@@ -187,7 +187,7 @@ fn the_bundled_pipeline_gives_the_table_of_the_docs() {
     let a = Accuracy::from_json("the bundled example", &r["coefficients"], &truth, &[]);
     println!("{}", a.table());
     a.assert_printed(&[
-        ("Xud", "-0.903 ± 0.126 | +2.1"),
+        ("Xud", "-0.903 ± 0.128 | +2.0"),
         ("Yvd", "-23.22 ± 0.18 | +2.3"),
         ("Nrd", "-1.390 ± 0.105 | +0.6"),
         ("Nvv", "9.88 ± 0.20 | -0.6"),
@@ -221,13 +221,22 @@ fn the_bundled_pipeline_gives_the_table_of_the_docs() {
     assert_eq!(
         columns,
         [
-            "Xud | 0.0059 | polar 0.126, surge 0.006",
-            "Yvd | 0.0097 | polar 0.179, noise 0.003, surge 0.002",
-            "Nrd | 0.0054 | polar 0.105, surge 0.002, noise 0.002",
-            "Nvv | 0.0110 | polar 0.196, surge 0.004, noise 0.004",
+            "Xud | 0.0238 | polar 0.126, surge 0.024",
+            "Yvd | 0.0097 | polar 0.179, surge 0.009, noise 0.003",
+            "Nrd | 0.0054 | polar 0.105, surge 0.008, noise 0.002",
+            "Nvv | 0.0110 | polar 0.196, surge 0.015, noise 0.004",
             "Nrr | 0.0070 | polar 0.042, noise 0.001",
-            "Yrr | 0.0042 | polar 0.625, surge 0.018",
+            "Yrr | 0.0042 | polar 0.625, surge 0.074",
         ]
+    );
+    // docs/stages.md: the surge run's residuals (lag-1 0.92) widen its statistical sigma
+    // "4.0 times (0.0059 to 0.0238 kg)"
+    let xud = &r["stages"]["surge"]["xud"];
+    let factor = xud["misfit_factor"].as_f64().unwrap();
+    let stat = xud["sigma_statistical"].as_f64().unwrap();
+    assert_eq!(
+        format!("{factor:.1} {:.4} {stat:.4}", stat / factor),
+        "4.0 0.0059 0.0238"
     );
     // what limits it: the polar's drag (Xuu 0.4 % off, 2.0 of its sigmas) through
     // d Xud / d Xuu = -51.5 kg per kg/m moves Xud by 22 %; without the consider analysis

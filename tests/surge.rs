@@ -479,6 +479,66 @@ fn xud_standard_errors_are_calibrated() {
     assert!((0.95..1.25).contains(&zf), "force: mean z^2 = {zf}");
 }
 
+/// AR(1) noise of stationary standard deviation `sigma` and lag-1 correlation `rho` (coloured
+/// noise, or a slow misfit the model leaves in the residuals).
+fn coloured(v: &[f64], sigma: f64, rho: f64, seed: u64) -> Vec<f64> {
+    let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
+    let n = Normal::new(0.0, sigma * (1.0 - rho * rho).sqrt()).unwrap();
+    let mut x = Normal::new(0.0, sigma).unwrap().sample(&mut rng);
+    v.iter()
+        .map(|u| {
+            x = rho * x + n.sample(&mut rng);
+            u + x
+        })
+        .collect()
+}
+
+#[test]
+fn xud_sigma_grows_when_the_residuals_are_autocorrelated() {
+    // docs/stages.md: with AR(1) noise of lag-1 correlation 0.95 on u the white-noise sigma
+    // is several times too small; the Newey-West sigma the stage reports brings the mean
+    // squared z-score of Xud back near 1, and the run warns with the factor.
+    let (t, u, _) = simulate(0.5, THRUST, 20.0);
+    let n = 150;
+    let (mut z2, mut z2_white, mut factors) = (0.0, 0.0, Vec::new());
+    for seed in 0..n {
+        let rec = record(
+            "straight",
+            &[
+                (Quantity::Time, t.clone()),
+                (Quantity::U, coloured(&u, 1e-3, 0.95, seed)),
+            ],
+            &[(Quantity::Thrust, THRUST)],
+        );
+        let r = run(&config("speed_bins = 1\n"), &known(None), &[rec]);
+        let sigma = r.xud.sigma.unwrap();
+        let factor = r.xud.misfit_factor.unwrap_or(1.0);
+        z2 += ((r.xud.value - XUD) / sigma).powi(2);
+        z2_white += ((r.xud.value - XUD) / (sigma / factor)).powi(2);
+        factors.push(factor);
+        if seed == 0 {
+            let w = r
+                .warnings
+                .iter()
+                .find(|w| w.message.contains("autocorrelated"))
+                .expect("the autocorrelation warning");
+            assert!(w.message.contains("widened"), "{}", w.message);
+        }
+    }
+    let (z2, z2_white) = (z2 / n as f64, z2_white / n as f64);
+    factors.sort_by(f64::total_cmp);
+    println!(
+        "coloured noise: mean z^2 {z2:.2} (white-noise sigma {z2_white:.1}), factor {:.1}-{:.1}",
+        factors[0],
+        factors[n as usize - 1]
+    );
+    assert!(
+        z2_white > 5.0,
+        "the white sigma is not too small here: {z2_white}"
+    );
+    assert!((0.75..1.45).contains(&z2), "Newey-West: mean z^2 = {z2}");
+}
+
 const VEHICLE_AND_FLUID: &str = "[vehicle]\nmass = 50\nlength = 1.2\nizz = 3.7\n\
     reference_area = 0.0314\nreference_length = 1\n[fluid]\nrho = 1025\nmu = 0.0009\n";
 

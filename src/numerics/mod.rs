@@ -7,6 +7,7 @@ pub mod ad;
 pub(crate) mod constrained_lsq;
 pub mod estimation;
 pub(crate) mod frames;
+pub mod hac;
 pub(crate) mod linalg;
 pub(crate) mod lsq;
 pub mod noise;

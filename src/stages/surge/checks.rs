@@ -45,14 +45,24 @@ pub(super) fn positive_xud_warning(xud: &Estimate) -> Option<Warning> {
 }
 
 /// The warning when the residuals of u are strongly autocorrelated (lag-1 correlation
-/// above 0.5).
-pub(super) fn autocorrelation_warning(r1: f64) -> Option<Warning> {
+/// above 0.5), with the factor by which that widened Xud's statistical sigma.
+pub(super) fn autocorrelation_warning(r1: f64, factor: Option<f64>) -> Option<Warning> {
     (r1 > 0.5).then(|| {
+        let widened = match factor {
+            Some(f) => format!(
+                "; Xud's statistical sigma is widened {}x for it (Newey-West long-run variance)",
+                crate::base::numfmt::num(f)
+            ),
+            None => String::new(),
+        };
         Warning::new(
             STAGE,
-            format!("the residuals of u are strongly autocorrelated (lag-1 correlation {r1:.2})"),
-            "a systematic misfit remains, so the standard deviations of the fit understate \
-             the error of Xud",
+            format!(
+                "the residuals of u are strongly autocorrelated (lag-1 correlation {r1:.2}){widened}"
+            ),
+            "a systematic misfit remains (a drag law other than Xuu u|u|, a thrust that is not \
+             the force the run felt, a held Xuu that is off) or the noise is coloured: the \
+             sigma from white residuals would understate the error of Xud",
         )
     })
 }

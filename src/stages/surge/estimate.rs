@@ -5,6 +5,7 @@ use super::{DragFrom, Estimate, PartFit, SurgeConfig, DEFAULT_FORCE_WINDOW, MIN_
 use crate::base::error::{Error, InputError, Place, Result};
 use crate::base::quantity::Quantity;
 use crate::io::record::Record;
+use crate::numerics::hac;
 use std::ops::Range;
 
 /// The stacked samples of every run, with the integrals the fits need.
@@ -143,7 +144,13 @@ pub(super) fn solve(
             levels_or_windows(s, &[&i], segments).map(|mut f| {
                 if s.window.is_none() {
                     let s2 = f.rss / f.dof as f64;
-                    f.covariance[0][0] = kappa_variance(s, x, f.theta[0], segments, &i, s2);
+                    let g = kappa_sensitivities(s, x, f.theta[0], segments, &i);
+                    let white = s2 * g.iter().map(|v| v * v).sum::<f64>();
+                    let long_run = long_run_variance(s, segments, &f, &g);
+                    f.covariance[0][0] = white.max(long_run.unwrap_or(0.0));
+                    f.misfit_factor = long_run
+                        .filter(|v| *v > white && white > 0.0)
+                        .map(|v| (v / white).sqrt());
                 }
                 f
             })
@@ -153,21 +160,21 @@ pub(super) fn solve(
     r.map_err(|e| FitFailure(e, mode))
 }
 
-/// First-order variance of kappa = 1/(m - Xud) in the whole-integral fit when the white
-/// noise n_j of the measured u enters both the dependent variable and, through u|u| in the
-/// integrand, the regressor I (errors in variables; the delta method). With centred sums,
-/// kappa = S_Iu / S_II, so d kappa / d n_j = (I_cj - kappa b_j A_j) / S_II, where
-/// b_j = d(Xuu u|u|)/du = 2 Xuu |u_j| and A_j = sum_k I_ck dI_k/df_j with the trapezoid
-/// weights dI_k/df_j = (dt_j [j > s] + dt_j+1 [k > j]) / 2 for k >= j; contributions that are
-/// the same for every k of a segment cancel in the centring. Var = sigma_u^2 sum_j g_j^2.
-fn kappa_variance(
+/// First-order sensitivities g_j = d kappa / d n_j of kappa = 1/(m - Xud) in the
+/// whole-integral fit to the noise n_j of the measured u, which enters both the dependent
+/// variable and, through u|u| in the integrand, the regressor I (errors in variables; the
+/// delta method). With centred sums, kappa = S_Iu / S_II, so g_j = (I_cj - kappa b_j A_j) /
+/// S_II, where b_j = d(Xuu u|u|)/du = 2 Xuu |u_j| and A_j = sum_k I_ck dI_k/df_j with the
+/// trapezoid weights dI_k/df_j = (dt_j [j > s] + dt_j+1 [k > j]) / 2 for k >= j;
+/// contributions that are the same for every k of a segment cancel in the centring. For white
+/// noise of variance sigma_u^2, Var kappa = sigma_u^2 sum_j g_j^2. In stack order.
+fn kappa_sensitivities(
     s: &Stack,
     xuu: f64,
     kappa: f64,
     segments: &[Range<usize>],
     i: &[f64],
-    sigma2: f64,
-) -> f64 {
+) -> Vec<f64> {
     let mut s_ii = 0.0;
     let mut centred = Vec::with_capacity(segments.len());
     for seg in segments {
@@ -176,7 +183,7 @@ fn kappa_variance(
         s_ii += c.iter().map(|v| v * v).sum::<f64>();
         centred.push(c);
     }
-    let mut sum_g2 = 0.0;
+    let mut g = vec![0.0; s.u.len()];
     for (seg, ic) in segments.iter().zip(&centred) {
         let n = seg.len();
         // suffix[k] = sum_{q >= k} ic[q]
@@ -190,11 +197,37 @@ fn kappa_variance(
             let dt_next = if k + 1 < n { s.t[j + 1] - s.t[j] } else { 0.0 };
             let a = 0.5 * dt_here * suffix[k] + 0.5 * dt_next * suffix[k + 1];
             let b = 2.0 * xuu * s.u[j].abs();
-            let g = (ic[k] - kappa * b * a) / s_ii;
-            sum_g2 += g * g;
+            g[j] = (ic[k] - kappa * b * a) / s_ii;
         }
     }
-    sigma2 * sum_g2
+    g
+}
+
+/// Lag-1 autocorrelation of the residuals above which they are taken as correlated: three
+/// standard errors 1/sqrt(n) of a white sequence's (Box & Jenkins 1976, section 6.2.2).
+const CORRELATED_SE: f64 = 3.0;
+
+/// The variance of kappa when the residuals of u are autocorrelated (a misfit the model
+/// leaves, or coloured noise): the prewhitened Newey-West long-run form of sum_j g_j e_j
+/// ([`crate::numerics::hac::prewhitened`]). None when the residuals' lag-1 correlation is within
+/// [`CORRELATED_SE`] standard errors of white.
+fn long_run_variance(
+    s: &Stack,
+    segments: &[Range<usize>],
+    fit: &SegmentFit,
+    g: &[f64],
+) -> Option<f64> {
+    let mut e = vec![0.0; s.u.len()];
+    for (seg, f) in segments.iter().zip(&fit.fitted) {
+        for (j, fj) in seg.clone().zip(f) {
+            e[j] = s.u[j] - fj;
+        }
+    }
+    let rho = hac::lag1(&e, segments)?;
+    if rho <= CORRELATED_SE / (fit.n as f64).sqrt() {
+        return None;
+    }
+    Some(hac::prewhitened(g, &e, segments))
 }
 
 fn levels_or_windows(
@@ -275,6 +308,7 @@ pub(super) fn part(
                     sigma_statistical: Some(sigma_stat),
                     sigma_from_xuu: sigma_xuu,
                     sensitivity_to_xuu: sensitivity,
+                    misfit_factor: fit.misfit_factor,
                 },
                 xuu: None,
                 n_samples: fit.n,
@@ -312,6 +346,7 @@ pub(super) fn part(
                     sigma_statistical: Some(sx),
                     sigma_from_xuu: None,
                     sensitivity_to_xuu: None,
+                    misfit_factor: None,
                 },
                 xuu: Some(Estimate {
                     value: xuu_fit,
@@ -319,6 +354,7 @@ pub(super) fn part(
                     sigma_statistical: Some(su),
                     sigma_from_xuu: None,
                     sensitivity_to_xuu: None,
+                    misfit_factor: None,
                 }),
                 n_samples: fit.n,
                 residual_std,

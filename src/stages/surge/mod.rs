@@ -110,7 +110,9 @@ pub fn run(
     let residual_lag1 = stack
         .window
         .map_or_else(|| checks::lag1(&residuals), |_| None);
-    warnings.extend(residual_lag1.and_then(checks::autocorrelation_warning));
+    warnings.extend(
+        residual_lag1.and_then(|r| checks::autocorrelation_warning(r, whole.xud.misfit_factor)),
+    );
     let inertia = Estimate {
         value: mass - whole.xud.value,
         ..whole.xud

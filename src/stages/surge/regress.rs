@@ -37,6 +37,9 @@ pub struct SegmentFit {
     pub fitted: Vec<Vec<f64>>,
     /// Coefficient of determination about the segment means.
     pub r_squared: Option<f64>,
+    /// The factor by which autocorrelated residuals widened the standard deviation of the
+    /// slope (set by the stage that computes it; None when the residuals look white).
+    pub misfit_factor: Option<f64>,
 }
 
 /// Why a segment fit failed.
@@ -113,6 +116,7 @@ pub fn fit(y: &[f64], x: &[&[f64]], segments: &[Range<usize>]) -> Result<Segment
         n,
         fitted,
         r_squared: (tss > 0.0).then(|| 1.0 - rss / tss),
+        misfit_factor: None,
     })
 }
 
@@ -174,6 +178,7 @@ pub fn fit_windows(
         n,
         fitted,
         r_squared: (tot2 > 0.0).then(|| 1.0 - res2 / tot2),
+        misfit_factor: None,
     })
 }
 

@@ -20,6 +20,11 @@ pub struct Estimate {
     /// X_udot.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sensitivity_to_xuu: Option<f64>,
+    /// The factor by which `sigma_statistical` was widened because the residuals of u are
+    /// autocorrelated (a misfit the model leaves, or coloured noise: the Newey-West long-run
+    /// variance over the white one, docs/stages.md); absent when they look white.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub misfit_factor: Option<f64>,
 }
 
 /// The X_uu the stage used.
