@@ -91,6 +91,26 @@ fn the_spheroid_replicas_agree_with_the_coverage_study() {
         "71.4 % within 1 sigma and 97.0 % within 2 sigma; spread 0.76-1.21"
     );
     assert!(c["warnings"].as_array().unwrap().is_empty(), "{c}");
+    // docs/calibrate.md, "Settings": on this exact twin, leaving out the paper's manoeuvre
+    // moves Xuv by 0.51 sigma at z = 5.1, which is not warned (a move within its sigma); the
+    // PMM runs cannot be left out (recorded with the error)
+    let variants = c["settings"]["variants"].as_array().unwrap();
+    let without = |label: &str| {
+        variants
+            .iter()
+            .find(|v| v["label"].as_str().unwrap().contains(label))
+            .unwrap_or_else(|| panic!("{label}: {c}"))
+    };
+    let manoeuvre = without("paper manoeuvre");
+    assert_eq!(
+        format!(
+            "{:+.2} {:.1}",
+            manoeuvre["moves"]["Xuv"].as_f64().unwrap(),
+            manoeuvre["z"]["Xuv"].as_f64().unwrap()
+        ),
+        "+0.51 5.1"
+    );
+    assert!(without("captive run 'pure yaw' left out")["error"].is_string());
     assert!(out.join("calibration.md").is_file());
     // the folder stays hydroid's (calibrate records its files in the marker): a rerun
     // would replace it, and calibrate runs on it again; the same seed gives the same bytes
@@ -240,4 +260,125 @@ fn calibrate_refuses_what_is_not_an_untouched_output() {
     assert!(stderr.contains("refusing to calibrate"), "{stderr}");
     assert!(stderr.contains("config.toml"), "{stderr}");
     assert!(!out.join("calibration.json").exists());
+}
+
+/// Each coefficient of a results.json as (value, sigma) by name.
+fn values(r: &serde_json::Value) -> std::collections::BTreeMap<String, (f64, f64)> {
+    r["coefficients"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|c| {
+            Some((
+                c["name"].as_str()?.to_string(),
+                (c["value"].as_f64()?, c["sigma"].as_f64()?),
+            ))
+        })
+        .collect()
+}
+
+#[test]
+fn the_settings_row_is_what_runs_with_those_settings_give() {
+    // docs/calibrate.md, "Settings": the KVLCC2 turns identified again with the inputs read
+    // the other way between samples and with each turn left out. Checked against `hydroid
+    // run` on configurations written here with those settings.
+    let example = common::example_copy();
+    let dir = example.path();
+    let config = dir.join("configs/ship_kvlcc2.toml");
+    let out = dir.join("out");
+    let o = common::run_config(&config, &out, &[]);
+    assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
+    let original = common::json(&out.join("results.json"));
+    let base = values(&original);
+    let o = calibrate(&out, 2, &[]);
+    assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
+    let c = parsed(&o);
+    let variants = c["settings"]["variants"].as_array().unwrap();
+    let labels: Vec<&str> = variants
+        .iter()
+        .map(|v| v["label"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        labels,
+        [
+            "the inputs read the other way between samples (held <-> linear)",
+            "hekf run '35 deg starboard turn' left out",
+            "hekf run '35 deg port turn' left out",
+        ]
+    );
+    // the inputs read the other way: each run's `between` flipped in the configuration
+    let mut set = Vec::new();
+    for (i, run) in original["stages"]["hekf"]["runs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .enumerate()
+    {
+        for (q, rule) in run["between"].as_object().unwrap() {
+            let other = if rule == "held" { "linear" } else { "hold" };
+            set.push(format!("hekf.runs[{i}].between.{q}=\"{other}\""));
+        }
+    }
+    assert!(!set.is_empty());
+    let set: Vec<&str> = set.iter().map(String::as_str).collect();
+    let flipped_out = dir.join("flipped");
+    let o = common::run_config(&config, &flipped_out, &set);
+    assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
+    let flipped = values(&common::json(&flipped_out.join("results.json")));
+    let expect_moves =
+        |v: &serde_json::Value, other: &std::collections::BTreeMap<String, (f64, f64)>| {
+            for (name, m) in v["moves"].as_object().unwrap() {
+                let ((v0, s0), (v1, _)) = (base[name], other[name]);
+                let want = (v1 - v0) / s0;
+                let got = m.as_f64().unwrap();
+                assert!(
+                    (got - want).abs() < 1e-6 * want.abs().max(1.0),
+                    "{name}: {got} {want}"
+                );
+            }
+        };
+    expect_moves(&variants[0], &flipped);
+    // the port turn left out: the configuration without its [[hekf.runs]] block
+    let text = std::fs::read_to_string(&config).unwrap();
+    let second = text.match_indices("[[hekf.runs]]").nth(1).unwrap().0;
+    let end = text.find("[[hekf.validation]]").unwrap();
+    let starboard_only = dir.join("configs/starboard_only.toml");
+    std::fs::write(
+        &starboard_only,
+        format!("{}{}", &text[..second], &text[end..]),
+    )
+    .unwrap();
+    let alone_out = dir.join("alone");
+    let o = common::run_config(&starboard_only, &alone_out, &[]);
+    assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
+    let alone = common::json(&alone_out.join("results.json"));
+    expect_moves(&variants[2], &values(&alone));
+    // its z: the move over sqrt(sigma_alone^2 - sigma^2) (Hausman 1978)
+    let alone = values(&alone);
+    for (name, z) in variants[2]["z"].as_object().unwrap() {
+        let ((v0, s0), (v1, s1)) = (base[name], alone[name]);
+        let spread = (s1 * s1 - s0 * s0).max(0.01 * s0 * s0).sqrt();
+        assert!(
+            (z.as_f64().unwrap() - (v1 - v0) / spread).abs() < 1e-6,
+            "{name}"
+        );
+    }
+    // the rows and the warning: Nr_p moves by 7.1 sigma when the inputs are read the other
+    // way (docs/calibrate.md), which the run is told about
+    let rows = c["settings"]["coefficients"].as_array().unwrap();
+    let nr = common::named(&c["settings"]["coefficients"], "Nr_p");
+    assert_eq!(
+        format!("{:+.1}", nr["between_sigmas"].as_f64().unwrap()),
+        "+7.1"
+    );
+    assert!(rows
+        .iter()
+        .all(|r| r["settings_sigma"].as_f64().unwrap() >= 0.0));
+    let warned = c["warnings"].as_array().unwrap().iter().any(|w| {
+        w["message"]
+            .as_str()
+            .unwrap()
+            .starts_with("with the inputs read the other way")
+    });
+    assert!(warned, "{c}");
 }

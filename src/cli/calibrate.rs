@@ -86,7 +86,16 @@ fn print_table(out: &mut impl Write, cal: &Calibration) -> std::io::Result<()> {
         cal.converged,
         cal.failed.len()
     )?;
-    write!(out, "{}", write::table(cal))
+    write!(out, "{}", write::table(cal))?;
+    if !cal.settings.variants.is_empty() {
+        writeln!(
+            out,
+            "\nsettings: {} variants (inputs read the other way, runs left out)",
+            cal.settings.variants.len()
+        )?;
+        write!(out, "{}", write::settings_table(cal))?;
+    }
+    Ok(())
 }
 
 /// Refuses a folder whose results.json does not hold the coefficients its configuration

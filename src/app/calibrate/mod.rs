@@ -3,9 +3,11 @@
 //! from the identified model with the run's own noise ([`replica`]), each identified again
 //! with the run's settings (in parallel, replica k from seed S + k), and per coefficient the
 //! replicas' spread against the reported sigma and the share of replicas whose own sigma
-//! covers the identified value ([`stats`]).
+//! covers the identified value ([`stats`]); and the estimates of the same data under changed
+//! settings, the "settings" row ([`settings`]).
 
 pub mod replica;
+pub mod settings;
 pub mod stats;
 pub mod write;
 
@@ -52,7 +54,11 @@ pub fn calibrate(
         .iter()
         .filter(|c| is_identified(c))
         .collect();
-    Ok(stats::summarise(&identified, &outcomes, settings))
+    let mut cal = stats::summarise(&identified, &outcomes, settings);
+    let (check, warnings) = settings::check(loaded, inputs, original, &identified);
+    cal.settings = check;
+    cal.warnings.extend(warnings);
+    Ok(cal)
 }
 
 /// A coefficient a stage identified with a sigma (not given, analytic or by symmetry).

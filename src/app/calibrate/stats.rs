@@ -46,6 +46,8 @@ pub struct Calibration {
     pub coefficients: Vec<CoefficientRow>,
     /// Over every coefficient-replica pair.
     pub overall: Coverage,
+    /// The same data identified under changed settings (the "settings" row).
+    pub settings: super::settings::SettingsCheck,
     /// What the check found wrong.
     pub warnings: Vec<Warning>,
 }
@@ -165,6 +167,7 @@ pub fn summarise(
         failed,
         coefficients,
         overall,
+        settings: Default::default(),
         warnings: Vec::new(),
     };
     cal.warnings = warnings(&cal);

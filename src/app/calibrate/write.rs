@@ -64,6 +64,17 @@ pub fn markdown(cal: &Calibration) -> String {
         cal.failed.len()
     ));
     s.push_str(&table(cal));
+    if !cal.settings.variants.is_empty() {
+        s.push_str(
+            "\n## Settings\n\nThe same data identified again with each setting changed (the \
+             inputs read the other way between samples; each run of a stage with several left \
+             out): the move in reported sigmas, the largest leave-one-out move over its \
+             expected spread (z), and the settings sigma (the systematic part of both, in \
+             quadrature). The noise model's part is results.json's budget row \"noise \
+             model\".\n\n",
+        );
+        s.push_str(&settings_table(cal));
+    }
     for w in &cal.warnings {
         s.push_str(&format!("\n- warning: {} ({})\n", w.message, w.meaning));
     }
@@ -124,4 +135,48 @@ pub fn table(cal: &Calibration) -> String {
     let mut right = vec![true; header.len()];
     right[0] = false;
     markdown_table(&header, &rows, &right)
+}
+
+/// The settings table: one row per coefficient.
+pub fn settings_table(cal: &Calibration) -> String {
+    let header: Vec<String> = [
+        "coefficient",
+        "inputs other way / sigma",
+        "leave-one-out max z",
+        "settings sigma",
+        "settings / sigma",
+    ]
+    .map(String::from)
+    .to_vec();
+    let rows: Vec<Vec<String>> = cal
+        .settings
+        .coefficients
+        .iter()
+        .map(|r| {
+            vec![
+                r.name.clone(),
+                opt(r.between_sigmas, |v| format!("{v:+.2}")),
+                opt(r.leave_out_max_z, |v| format!("{v:.2}")),
+                num(r.settings_sigma),
+                format!("{:.2}", r.settings_ratio),
+            ]
+        })
+        .collect();
+    let mut right = vec![true; header.len()];
+    right[0] = false;
+    let failed: Vec<String> = cal
+        .settings
+        .variants
+        .iter()
+        .filter_map(|v| {
+            v.error
+                .as_ref()
+                .map(|e| format!("- {}: failed ({e})\n", v.label))
+        })
+        .collect();
+    format!(
+        "{}{}",
+        markdown_table(&header, &rows, &right),
+        failed.concat()
+    )
 }
