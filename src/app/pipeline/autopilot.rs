@@ -311,5 +311,6 @@ fn scenario(a: &AutopilotConfig, gains: Gains, process_noise: Vec<f64>, seas: &S
         seas: seas.clone(),
         orders: a.orders.iter().map(|o| (o.at, o.course)).collect(),
         adaptive: a.adaptive.settings(),
+        lowpass_cutoff: a.lowpass_cutoff,
     }
 }

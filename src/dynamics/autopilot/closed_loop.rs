@@ -8,6 +8,7 @@ use super::adaptive::{Adaptive, Estimate};
 use super::plant::{ModelPlant, Plant, Setup, WaveGenerator};
 pub use super::seas::Feed;
 use super::seas::{DisturbanceKind, Seas};
+use super::series::{Observers, Series};
 use super::sight::Sight;
 use super::{Autopilot, Gains, ReferenceModel, RudderLimits};
 use crate::base::quantity::Quantity;
@@ -54,6 +55,9 @@ pub struct Scenario {
     pub orders: Vec<(f64, f64)>,
     /// The adaptive feed's settings.
     pub adaptive: Adaptive,
+    /// The ordinary low-pass filter's cut-off, rad/s (None: a quarter of the identified
+    /// model's wave frequency, [`super::lowpass::default_cutoff`]).
+    pub lowpass_cutoff: Option<f64>,
 }
 
 impl Scenario {
@@ -127,6 +131,13 @@ pub struct ClosedLoop {
     /// The adaptive feed's last estimate.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub final_estimate: Option<Estimate>,
+    /// The series of the paper's figures (course ordered, true headings, the EKF's and the
+    /// low-pass filter's headings, rudder command).
+    #[serde(skip)]
+    pub series: Series,
+    /// Where the report wrote them (`autopilot/FEED.csv` in the output), once written.
+    #[serde(rename = "series", skip_serializing_if = "Option::is_none")]
+    pub series_file: Option<String>,
 }
 
 impl ClosedLoop {
@@ -146,6 +157,8 @@ impl ClosedLoop {
             after_change: None,
             estimates: Vec::new(),
             final_estimate: None,
+            series: Series::default(),
+            series_file: None,
         }
     }
 }
@@ -268,9 +281,12 @@ fn run_loop<M: Model>(
     let gyro_noise = Normal::new(0.0, s.gyro_noise.max(0.0)).map_err(LoopError::Noise)?;
     let mut ap = Autopilot::new(s.gains, s.limits);
     let mut reference = ReferenceModel::new(s.reference.0, s.reference.1, 0.0);
-    let mut sight = Sight::new(feed, model, c, (ch.psi_i, ch.r_i, ch.compass_i), s)?;
+    let at = (ch.psi_i, ch.r_i, ch.compass_i);
+    let mut sight = Sight::new(feed, model, c, at, s)?;
+    let mut observers = Observers::new(feed, model, c, at, s);
     let mut out = ClosedLoop::empty(feed, n);
-    let mut delta = 0.0;
+    out.series = observers.series(n);
+    let (mut delta, mut command) = (0.0, 0.0);
     let recorded = matches!(s.seas, Seas::Recorded(_));
     let per_rudder = plant.yaw_per_rudder();
     let mut ideal_switch = plant.change_at().filter(|_| feed == Feed::True);
@@ -304,8 +320,17 @@ fn run_loop<M: Model>(
         out.rudder.push(delta);
         out.compass.push(compass);
         out.seen.push(heading);
+        let obs = (k, t, s.dt);
+        observers.see(obs, model, c, delta, compass, heading, &mut out.series);
+        let series = &mut out.series;
+        series.ordered.push(s.commanded(t));
+        series.reference.push(reference.heading);
+        series.heading.push(compass_lf + wave);
+        series.heading_lf.push(psi);
+        series.command.push(command);
         sight.retune(t, s.dt, &mut ap);
         delta = ap.step(heading - reference.heading, rate - reference.rate, s.dt);
+        command = ap.command();
     }
     summarize(&mut out, s.dt, plant.change_at());
     out.estimates = sight.history();
@@ -453,6 +478,7 @@ mod tests {
             seas: Seas::Generated,
             orders: Vec::new(),
             adaptive: Adaptive::default(),
+            lowpass_cutoff: None,
         }
     }
 
