@@ -131,6 +131,14 @@ pub struct ClosedLoop {
     /// The adaptive feed's last estimate.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub final_estimate: Option<Estimate>,
+    /// RMS of the EKF wave filter's psi_L against the true low-frequency heading, rad (the
+    /// paper's fig. 6; None when the filter could not run beside the loop).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ekf_error_rms: Option<f64>,
+    /// RMS of the ordinary low-pass filter's heading against it, rad (None without a
+    /// cut-off).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lowpass_error_rms: Option<f64>,
     /// The series of the paper's figures (course ordered, true headings, the EKF's and the
     /// low-pass filter's headings, rudder command).
     #[serde(skip)]
@@ -157,6 +165,8 @@ impl ClosedLoop {
             after_change: None,
             estimates: Vec::new(),
             final_estimate: None,
+            ekf_error_rms: None,
+            lowpass_error_rms: None,
             series: Series::default(),
             series_file: None,
         }
@@ -333,6 +343,12 @@ fn run_loop<M: Model>(
         command = ap.command();
     }
     summarize(&mut out, s.dt, plant.change_at());
+    out.ekf_error_rms = out.series.ekf.as_deref().map(|e| out.series.error_rms(e));
+    out.lowpass_error_rms = out
+        .series
+        .lowpass
+        .as_deref()
+        .map(|e| out.series.error_rms(e));
     out.estimates = sight.history();
     out.final_estimate = out.estimates.last().copied();
     Ok(out)

@@ -13,6 +13,9 @@ use super::wave_filter::WaveFilter;
 use super::Feed;
 use crate::model::models::Model;
 
+/// The folder of the output the series go into, one table per feed (`autopilot/FEED.csv`).
+pub const DIR: &str = "autopilot";
+
 /// Per-sample series of a run, every angle in rad, at the run's times.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Series {
@@ -33,6 +36,20 @@ pub struct Series {
     /// The rudder the autopilot commanded (before the steering gear), held over the same
     /// interval as the rudder angle recorded at the sample.
     pub command: Vec<f64>,
+}
+
+impl Series {
+    /// The RMS of a filtered heading's error against the true low-frequency heading,
+    /// sqrt(mean((psi_f - psi_L)^2)) over every sample, rad.
+    pub fn error_rms(&self, filtered: &[f64]) -> f64 {
+        let n = filtered.len().min(self.heading_lf.len()).max(1);
+        let sum: f64 = filtered
+            .iter()
+            .zip(&self.heading_lf)
+            .map(|(f, t)| (f - t).powi(2))
+            .sum();
+        (sum / n as f64).sqrt()
+    }
 }
 
 /// The low-pass filter's cut-off for `s` on the identified `model` with `c`: the scenario's,
