@@ -104,7 +104,14 @@ fn the_autopilot_series_hold_the_runs_statistics_and_both_filters() {
     let feeds = r["autopilot"]["feeds"].as_array().unwrap();
     let names: Vec<&str> = feeds.iter().map(|f| f["feed"].as_str().unwrap()).collect();
     assert_eq!(names, ["raw", "filter", "lowpass", "true"]);
-    let w0: f64 = 0.785398163397; // configs/nomoto.toml: the wave frequency, known
+    // configs/nomoto.toml's wave frequency (8 s waves, known: a coefficient of the run)
+    let w0 = common::named(&r["coefficients"], "w0")["value"]
+        .as_f64()
+        .unwrap();
+    assert!(
+        (w0 - 2.0 * std::f64::consts::PI / 8.0).abs() < 1e-11,
+        "{w0}"
+    );
     let mut measured = Vec::new();
     for f in feeds {
         let name = f["feed"].as_str().unwrap();

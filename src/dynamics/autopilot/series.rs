@@ -106,7 +106,7 @@ impl Observers {
     #[allow(clippy::too_many_arguments)]
     pub(super) fn see<M: Model>(
         &mut self,
-        (k, t, dt): (usize, f64, f64),
+        at: (usize, f64, f64),
         model: &M,
         c: &[f64],
         delta: f64,
@@ -116,14 +116,10 @@ impl Observers {
     ) {
         let ekf = match (self.feed, self.ekf.as_mut()) {
             (Feed::Filter, _) => Some(seen),
-            (_, Some(f)) => {
-                if k == 0 {
-                    f.start(compass);
-                }
-                f.step(model, c, t, dt, delta, compass)
-                    .ok()
-                    .map(|(psi, _)| psi)
-            }
+            (_, Some(f)) => f
+                .read(at, model, c, delta, compass)
+                .ok()
+                .map(|(psi, _)| psi),
             _ => None,
         };
         match (ekf, series.ekf.as_mut()) {

@@ -113,10 +113,7 @@ impl Sight {
                 (compass, rate)
             }
             Sight::Filter(f) | Sight::Adaptive(f, _, _) => {
-                if k == 0 {
-                    f.start(compass);
-                }
-                f.step(model, c, t, dt, delta, compass)?
+                f.read((k, t, dt), model, c, delta, compass)?
             }
             Sight::LowPass(f) => f.step(compass),
             Sight::True => truth,

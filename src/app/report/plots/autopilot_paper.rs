@@ -30,6 +30,9 @@ fn error(l: &ClosedLoop, filtered: &[f64]) -> Vec<(f64, f64)> {
         .collect()
 }
 
+/// A line with its legend label and colour.
+type Labelled = (String, RGBColor, Vec<(f64, f64)>);
+
 /// Fig. 6: the filtered heading's error, the ordinary low-pass filter's and the EKF's, each
 /// from the loop it feeds when that feed ran, else from beside the first loop that has it.
 #[derive(Debug, Clone)]
@@ -53,7 +56,7 @@ impl<'a> FilterError<'a> {
     }
 
     /// The lines drawn: label, colour, points.
-    fn lines(&self) -> Vec<(String, RGBColor, Vec<(f64, f64)>)> {
+    fn lines(&self) -> Vec<Labelled> {
         let mut out = Vec::new();
         for (which, name, colour) in [
             (self.lowpass, "ordinary low-pass filter", colour::VERMILLION),
