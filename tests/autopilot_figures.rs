@@ -229,6 +229,18 @@ fn the_autopilot_series_hold_the_runs_statistics_and_both_filters() {
         ]
     );
     the_report_holds_the_papers_figures(&out);
+    // the same run gives the same bytes
+    let again = dir.path().join("again");
+    let o = common::run_config(&common::root().join("configs/nomoto.toml"), &again, &[]);
+    assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
+    for name in names {
+        let file = format!("autopilot/{name}.csv");
+        let read = |d: &Path| std::fs::read(d.join(&file)).unwrap();
+        assert!(
+            read(&out) == read(&again),
+            "{file} differs between two runs"
+        );
+    }
 }
 
 /// The three figures as SVG and PNG, linked from report.md and inline in report.html.
