@@ -555,4 +555,24 @@ mod tests {
         assert!((calm - bias).abs() < 0.02 * bias, "{calm}");
         assert!(cancelled.abs() < 0.02 * bias, "{cancelled}");
     }
+
+    /// A compass sampled too slowly for the low-pass filter's cut-off (w0 / 4 above the
+    /// Nyquist frequency pi / dt): the lowpass feed is refused with the reason, another feed
+    /// runs without the low-pass column (no number made up), the EKF's still written.
+    #[test]
+    fn a_cutoff_above_the_nyquist_frequency_is_not_used() {
+        let m = NomotoWave::build(&NomotoWave::example_vehicle()).unwrap();
+        let c = m.coefficient_vector(FRIGATE_9MS);
+        let mut s = frigate_scenario();
+        (s.dt, s.duration, s.change_at) = (20.0, 400.0, 20.0);
+        s.gains = Gains::pole_placement(0.18, 27.0, 0.025, 0.9).unwrap();
+        let e = run(&m, &c, &s, Feed::LowPass).unwrap_err().to_string();
+        assert!(e.contains("Nyquist"), "{e}");
+        let l = run(&m, &c, &s, Feed::True).unwrap();
+        assert!(l.series.lowpass.is_none() && l.lowpass_error_rms.is_none());
+        assert_eq!(l.series.ekf.as_ref().map(Vec::len), Some(21));
+        s.dt = 0.1;
+        let l = run(&m, &c, &s, Feed::True).unwrap();
+        assert!(l.lowpass_error_rms.is_some_and(f64::is_finite));
+    }
 }

@@ -53,10 +53,13 @@ impl Series {
 }
 
 /// The low-pass filter's cut-off for `s` on the identified `model` with `c`: the scenario's,
-/// else a quarter of the model's wave frequency; None without either.
+/// else a quarter of the model's wave frequency; None without either, or when it is not
+/// positive and below the Nyquist frequency pi / dt (the bilinear transform maps only those
+/// frequencies; Oppenheim & Schafer 7.2).
 pub(super) fn cutoff<M: Model>(model: &M, c: &[f64], s: &Scenario) -> Option<f64> {
     s.lowpass_cutoff
         .or_else(|| model.wave_frequency(c).map(default_cutoff))
+        .filter(|w| *w > 0.0 && *w * s.dt < std::f64::consts::PI)
 }
 
 /// The filters that run beside the loop without steering it.

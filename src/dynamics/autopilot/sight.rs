@@ -45,8 +45,8 @@ impl Sight {
             Feed::Filter => Sight::Filter(Box::new(WaveFilter::new(model, c, at, s)?)),
             Feed::LowPass => {
                 let w = super::series::cutoff(model, c, s).ok_or(LoopError::Missing(
-                    "wave frequency w0 to place the low-pass filter's cut-off below \
-                     (give autopilot.lowpass_cutoff)",
+                    "low-pass cut-off above 0 and below the Nyquist frequency pi / dt: a \
+                     wave frequency w0 to place it at w0 / 4, or autopilot.lowpass_cutoff",
                 ))?;
                 Sight::LowPass(LowPass::new(w, s.dt))
             }
