@@ -182,6 +182,7 @@ fn hydroid_loops(cfg: &AutopilotConfig, dir: &std::path::Path) -> Vec<ClosedLoop
         seas,
         orders: Vec::new(),
         adaptive: Default::default(),
+        lowpass_cutoff: None,
     };
     cfg.feeds
         .iter()

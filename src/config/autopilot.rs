@@ -128,6 +128,14 @@ pub struct AutopilotConfig {
     /// compass_noise^2 (w0 / 10)^4, the filter's bandwidth a decade below the waves).
     #[serde(default)]
     pub rate_noise: Option<f64>,
+    /// The ordinary low-pass filter's cut-off (the `lowpass` feed and the figures' comparison),
+    /// rad/s (default: a quarter of the identified model's wave frequency w0).
+    #[serde(
+        default,
+        deserialize_with = "si::option::<_, si::Rate>",
+        skip_serializing_if = "Option::is_none"
+    )]
+    pub lowpass_cutoff: Option<f64>,
     /// Seed of the generated waves and the sensor noise (the same for every feed; default 1).
     #[serde(default = "default_seed")]
     pub seed: u64,
@@ -303,6 +311,9 @@ impl AutopilotConfig {
             }
             seen.push(*f);
         }
+        if let Some(w) = self.lowpass_cutoff {
+            self.validate_cutoff(w, p);
+        }
         if let Some(i) = self.yaw_inertia {
             p.positive("autopilot.yaw_inertia", i, "kg m^2");
         }
@@ -322,7 +333,26 @@ impl AutopilotConfig {
         if self.feeds.is_empty() {
             p.add(
                 "autopilot.feeds",
-                "at least one of raw, differentiated, filter, true, adaptive",
+                "at least one of raw, differentiated, filter, lowpass, true, adaptive",
+            );
+        }
+    }
+
+    /// The low-pass filter's cut-off `w`: a heading filter's (1e-4 to 2 rad/s, as `omega_n`)
+    /// and below the Nyquist frequency pi / dt of the compass sampling.
+    fn validate_cutoff(&self, w: f64, p: &mut Problems) {
+        let why = "a heading filter's cut-off, below the waves";
+        p.in_range("autopilot.lowpass_cutoff", w, (1e-4, 2.0), "rad/s", why);
+        let nyquist = std::f64::consts::PI / self.dt;
+        if self.dt > 0.0 && w >= nyquist {
+            p.add(
+                "autopilot.lowpass_cutoff",
+                format!(
+                    "{w} rad/s is above the Nyquist frequency pi / dt = {} rad/s of the compass \
+                     sampled every {} s",
+                    crate::base::numfmt::num(nyquist),
+                    self.dt
+                ),
             );
         }
     }

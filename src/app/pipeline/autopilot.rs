@@ -255,7 +255,7 @@ impl ModelVisitor for Step<'_> {
         let izz = self.plant.map_or(self.izz, |p| p.vehicle.vehicle.izz);
         let seas = with_inertia(self.seas, a, izz);
         let scenario = scenario(a, gains, process_noise, &seas);
-        let (feeds, plant) = match self.plant {
+        let (mut feeds, plant) = match self.plant {
             None => {
                 let feeds = a
                     .feeds
@@ -278,6 +278,11 @@ impl ModelVisitor for Step<'_> {
                     .map_err(|problems| plant::vehicle_error(spec, problems))??
             }
         };
+        for l in &mut feeds {
+            // written by the report (app/report/autopilot_series.rs)
+            let dir = crate::dynamics::autopilot::series::DIR;
+            l.series_file = Some(format!("{dir}/{}.csv", l.feed.name()));
+        }
         Ok(AutopilotResult {
             k,
             t,
@@ -311,5 +316,6 @@ fn scenario(a: &AutopilotConfig, gains: Gains, process_noise: Vec<f64>, seas: &S
         seas: seas.clone(),
         orders: a.orders.iter().map(|o| (o.at, o.course)).collect(),
         adaptive: a.adaptive.settings(),
+        lowpass_cutoff: a.lowpass_cutoff,
     }
 }

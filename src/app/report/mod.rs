@@ -1,6 +1,7 @@
 //! Everything written to the output folder: results.json, coefficients.csv, the effective
 //! configuration, and (with plots enabled) figures and the Markdown/HTML reports.
 
+mod autopilot_series;
 pub mod content;
 pub mod doc;
 pub mod html;

@@ -10,8 +10,12 @@ use crate::stages::hekf::states::Table;
 use std::fmt::Write as _;
 use std::io::Write;
 
-/// Writes every HEKF run's state series into the staging folder.
+/// Writes every HEKF run's state series and every autopilot run's series into the staging
+/// folder.
 pub fn write(staging: &Staging, out: &RunOutput) -> Result<()> {
+    if let Some(a) = out.result.autopilot.as_ref() {
+        super::autopilot_series::write(staging, a)?;
+    }
     let Some(h) = out.result.stages.hekf.as_ref() else {
         return Ok(());
     };
@@ -23,10 +27,21 @@ pub fn write(staging: &Staging, out: &RunOutput) -> Result<()> {
 
 /// One table: the header, then every spooled row.
 fn table(t: &Table, w: &mut dyn Write) -> std::io::Result<()> {
+    rows(w, &t.columns, |each| t.spool.for_each_row(each))
+}
+
+/// A table of numbers: the header `columns`, then every row `each_row` hands its callback,
+/// each number in Rust's shortest form that reads back to the same double (the state series
+/// and the autopilot's series alike).
+pub(super) fn rows(
+    w: &mut dyn Write,
+    columns: &[String],
+    each_row: impl FnOnce(&mut dyn FnMut(&[f64]) -> std::io::Result<()>) -> std::io::Result<()>,
+) -> std::io::Result<()> {
     let mut c = csv::Writer::from_writer(w);
-    c.write_record(&t.columns)?;
+    c.write_record(columns)?;
     let mut field = String::new();
-    t.spool.for_each_row(|row| {
+    each_row(&mut |row| {
         for v in row {
             field.clear();
             write!(field, "{v}").expect("writing to a String");

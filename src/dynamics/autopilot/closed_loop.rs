@@ -8,6 +8,7 @@ use super::adaptive::{Adaptive, Estimate};
 use super::plant::{ModelPlant, Plant, Setup, WaveGenerator};
 pub use super::seas::Feed;
 use super::seas::{DisturbanceKind, Seas};
+use super::series::{Observers, Series};
 use super::sight::Sight;
 use super::{Autopilot, Gains, ReferenceModel, RudderLimits};
 use crate::base::quantity::Quantity;
@@ -54,6 +55,9 @@ pub struct Scenario {
     pub orders: Vec<(f64, f64)>,
     /// The adaptive feed's settings.
     pub adaptive: Adaptive,
+    /// The ordinary low-pass filter's cut-off, rad/s (None: a quarter of the identified
+    /// model's wave frequency, [`super::lowpass::default_cutoff`]).
+    pub lowpass_cutoff: Option<f64>,
 }
 
 impl Scenario {
@@ -127,6 +131,21 @@ pub struct ClosedLoop {
     /// The adaptive feed's last estimate.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub final_estimate: Option<Estimate>,
+    /// RMS of the EKF wave filter's psi_L against the true low-frequency heading, rad (the
+    /// paper's fig. 6; None when the filter could not run beside the loop).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ekf_error_rms: Option<f64>,
+    /// RMS of the ordinary low-pass filter's heading against it, rad (None without a
+    /// cut-off).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lowpass_error_rms: Option<f64>,
+    /// The series of the paper's figures (course ordered, true headings, the EKF's and the
+    /// low-pass filter's headings, rudder command).
+    #[serde(skip)]
+    pub series: Series,
+    /// Where the report wrote them (`autopilot/FEED.csv` in the output), once written.
+    #[serde(rename = "series", skip_serializing_if = "Option::is_none")]
+    pub series_file: Option<String>,
 }
 
 impl ClosedLoop {
@@ -146,6 +165,10 @@ impl ClosedLoop {
             after_change: None,
             estimates: Vec::new(),
             final_estimate: None,
+            ekf_error_rms: None,
+            lowpass_error_rms: None,
+            series: Series::default(),
+            series_file: None,
         }
     }
 }
@@ -268,9 +291,12 @@ fn run_loop<M: Model>(
     let gyro_noise = Normal::new(0.0, s.gyro_noise.max(0.0)).map_err(LoopError::Noise)?;
     let mut ap = Autopilot::new(s.gains, s.limits);
     let mut reference = ReferenceModel::new(s.reference.0, s.reference.1, 0.0);
-    let mut sight = Sight::new(feed, model, c, (ch.psi_i, ch.r_i, ch.compass_i), s)?;
+    let at = (ch.psi_i, ch.r_i, ch.compass_i);
+    let mut sight = Sight::new(feed, model, c, at, s)?;
+    let mut observers = Observers::new(feed, model, c, at, s);
     let mut out = ClosedLoop::empty(feed, n);
-    let mut delta = 0.0;
+    out.series = observers.series(n);
+    let (mut delta, mut command) = (0.0, 0.0);
     let recorded = matches!(s.seas, Seas::Recorded(_));
     let per_rudder = plant.yaw_per_rudder();
     let mut ideal_switch = plant.change_at().filter(|_| feed == Feed::True);
@@ -304,10 +330,25 @@ fn run_loop<M: Model>(
         out.rudder.push(delta);
         out.compass.push(compass);
         out.seen.push(heading);
+        let obs = (k, t, s.dt);
+        observers.see(obs, model, c, delta, compass, heading, &mut out.series);
+        let series = &mut out.series;
+        series.ordered.push(s.commanded(t));
+        series.reference.push(reference.heading);
+        series.heading.push(compass_lf + wave);
+        series.heading_lf.push(psi);
+        series.command.push(command);
         sight.retune(t, s.dt, &mut ap);
         delta = ap.step(heading - reference.heading, rate - reference.rate, s.dt);
+        command = ap.command();
     }
     summarize(&mut out, s.dt, plant.change_at());
+    out.ekf_error_rms = out.series.ekf.as_deref().map(|e| out.series.error_rms(e));
+    out.lowpass_error_rms = out
+        .series
+        .lowpass
+        .as_deref()
+        .map(|e| out.series.error_rms(e));
     out.estimates = sight.history();
     out.final_estimate = out.estimates.last().copied();
     Ok(out)
@@ -453,6 +494,7 @@ mod tests {
             seas: Seas::Generated,
             orders: Vec::new(),
             adaptive: Adaptive::default(),
+            lowpass_cutoff: None,
         }
     }
 
@@ -512,5 +554,25 @@ mod tests {
         let cancelled = held(&s);
         assert!((calm - bias).abs() < 0.02 * bias, "{calm}");
         assert!(cancelled.abs() < 0.02 * bias, "{cancelled}");
+    }
+
+    /// A compass sampled too slowly for the low-pass filter's cut-off (w0 / 4 above the
+    /// Nyquist frequency pi / dt): the lowpass feed is refused with the reason, another feed
+    /// runs without the low-pass column (no number made up), the EKF's still written.
+    #[test]
+    fn a_cutoff_above_the_nyquist_frequency_is_not_used() {
+        let m = NomotoWave::build(&NomotoWave::example_vehicle()).unwrap();
+        let c = m.coefficient_vector(FRIGATE_9MS);
+        let mut s = frigate_scenario();
+        (s.dt, s.duration, s.change_at) = (20.0, 400.0, 20.0);
+        s.gains = Gains::pole_placement(0.18, 27.0, 0.025, 0.9).unwrap();
+        let e = run(&m, &c, &s, Feed::LowPass).unwrap_err().to_string();
+        assert!(e.contains("Nyquist"), "{e}");
+        let l = run(&m, &c, &s, Feed::True).unwrap();
+        assert!(l.series.lowpass.is_none() && l.lowpass_error_rms.is_none());
+        assert_eq!(l.series.ekf.as_ref().map(Vec::len), Some(21));
+        s.dt = 0.1;
+        let l = run(&m, &c, &s, Feed::True).unwrap();
+        assert!(l.lowpass_error_rms.is_some_and(f64::is_finite));
     }
 }

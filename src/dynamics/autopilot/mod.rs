@@ -7,11 +7,13 @@
 
 pub mod adaptive;
 pub mod closed_loop;
+pub mod lowpass;
 mod pid;
 pub mod plant;
 mod reference;
 mod result;
 pub mod seas;
+pub mod series;
 mod sight;
 pub mod wave_filter;
 
@@ -19,6 +21,7 @@ pub use closed_loop::{ClosedLoop, Feed};
 pub use pid::{Autopilot, Gains, RudderLimits, TuningError};
 pub use reference::ReferenceModel;
 pub use result::{AutopilotResult, PlantIndices};
+pub use series::Series;
 
 #[cfg(test)]
 mod tests {

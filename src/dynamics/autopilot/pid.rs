@@ -84,6 +84,7 @@ pub struct Autopilot {
     limits: RudderLimits,
     integral: f64,
     rudder: f64,
+    command: f64,
 }
 
 impl Autopilot {
@@ -94,6 +95,7 @@ impl Autopilot {
             limits,
             integral: 0.0,
             rudder: 0.0,
+            command: 0.0,
         }
     }
 
@@ -106,6 +108,7 @@ impl Autopilot {
         let g = &self.gains;
         let command = -(g.kp * e + g.kd * rate_error + g.ki * self.integral);
         let limited = command.clamp(-self.limits.angle, self.limits.angle);
+        self.command = limited;
         // anti-windup: integrate only while the command is not held at the limit
         if limited == command {
             self.integral += e * dt;
@@ -127,6 +130,12 @@ impl Autopilot {
     /// go on.
     pub fn set_gains(&mut self, gains: Gains) {
         self.gains = gains;
+    }
+
+    /// The last rudder command, clipped at the angle limit, before the steering gear's rate
+    /// limit and lag (rad).
+    pub fn command(&self) -> f64 {
+        self.command
     }
 
     /// The gains in use.

@@ -18,6 +18,11 @@ pub enum Feed {
     Differentiated,
     /// The wave filter's low-frequency heading psi_L and yaw rate r_L.
     Filter,
+    /// An ordinary low-pass filter on the compass (second-order Butterworth below the wave
+    /// band) and the backward difference of its output as the yaw rate: the filter the
+    /// paper compares its EKF with ([`super::lowpass`]).
+    #[serde(rename = "lowpass")]
+    LowPass,
     /// The plant's own low-frequency heading and yaw rate, without noise: the ideal a wave
     /// filter aims at, for comparison (when the plant changes mid-run, its gains are
     /// re-placed on the plant's own Nomoto indices at the change).
@@ -29,21 +34,23 @@ pub enum Feed {
 
 impl Feed {
     /// Every feed, in the order the results list them.
-    pub const ALL: [Feed; 5] = [
+    pub const ALL: [Feed; 6] = [
         Feed::Raw,
         Feed::Differentiated,
         Feed::Filter,
+        Feed::LowPass,
         Feed::True,
         Feed::Adaptive,
     ];
 
     /// The feed's name in configurations and results (`raw`, `differentiated`, `filter`,
-    /// `true`, `adaptive`).
+    /// `lowpass`, `true`, `adaptive`).
     pub fn name(self) -> &'static str {
         match self {
             Feed::Raw => "raw",
             Feed::Differentiated => "differentiated",
             Feed::Filter => "filter",
+            Feed::LowPass => "lowpass",
             Feed::True => "true",
             Feed::Adaptive => "adaptive",
         }
@@ -55,6 +62,7 @@ impl Feed {
             Feed::Raw => "raw compass and gyro",
             Feed::Differentiated => "raw compass and its difference",
             Feed::Filter => "wave filter (psi_L, r_L)",
+            Feed::LowPass => "ordinary low-pass filter on the compass",
             Feed::True => "true low-frequency heading",
             Feed::Adaptive => "adaptive (online K, T; gains re-placed)",
         }

@@ -1,9 +1,11 @@
 //! What the autopilot sees, feed by feed: the raw compass and gyro, the compass and its
-//! difference, the wave filter's psi_L and r_L, the adaptive filter's (with K, 1/T and the
-//! rudder bias estimated and the gains re-placed from them), or the plant's true heading.
+//! difference, the wave filter's psi_L and r_L, an ordinary low-pass filter's heading and its
+//! difference, the adaptive filter's (with K, 1/T and the rudder bias estimated and the gains
+//! re-placed from them), or the plant's true heading.
 
 use super::adaptive::{Estimate, Tuner};
 use super::closed_loop::{LoopError, Scenario};
+use super::lowpass::LowPass;
 use super::wave_filter::WaveFilter;
 use super::{Autopilot, Feed};
 use crate::model::models::Model;
@@ -16,6 +18,8 @@ pub(super) enum Sight {
     Differentiated(Option<f64>),
     /// The wave filter.
     Filter(Box<WaveFilter>),
+    /// The ordinary low-pass filter on the compass.
+    LowPass(LowPass),
     /// The adaptive filter and its tuner, with how many coefficients it estimates.
     Adaptive(Box<WaveFilter>, Box<Tuner>, usize),
     /// The plant's own heading.
@@ -39,6 +43,13 @@ impl Sight {
             Feed::Differentiated => Sight::Differentiated(None),
             Feed::True => Sight::True,
             Feed::Filter => Sight::Filter(Box::new(WaveFilter::new(model, c, at, s)?)),
+            Feed::LowPass => {
+                let w = super::series::cutoff(model, c, s).ok_or(LoopError::Missing(
+                    "low-pass cut-off above 0 and below the Nyquist frequency pi / dt: a \
+                     wave frequency w0 to place it at w0 / 4, or autopilot.lowpass_cutoff",
+                ))?;
+                Sight::LowPass(LowPass::new(w, s.dt))
+            }
             Feed::Adaptive => {
                 let mut f = WaveFilter::new(model, c, at, s)?;
                 let a = s.adaptive;
@@ -102,11 +113,9 @@ impl Sight {
                 (compass, rate)
             }
             Sight::Filter(f) | Sight::Adaptive(f, _, _) => {
-                if k == 0 {
-                    f.start(compass);
-                }
-                f.step(model, c, t, dt, delta, compass)?
+                f.read((k, t, dt), model, c, delta, compass)?
             }
+            Sight::LowPass(f) => f.step(compass),
             Sight::True => truth,
         })
     }

@@ -162,7 +162,7 @@ impl WaveFilter {
 
     /// Starts the estimate on the first compass reading (the ship on its course, no wave yaw
     /// known yet).
-    pub(super) fn start(&mut self, compass: f64) {
+    fn start(&mut self, compass: f64) {
         self.ekf.x[self.psi_i] = compass;
     }
 
@@ -196,6 +196,22 @@ impl WaveFilter {
                 .map_err(diverged)?;
         }
         Ok(())
+    }
+
+    /// Sample `k` at `t`: the filter started on the first compass reading, then
+    /// [`Self::step`]; returns psi_L and r_L.
+    pub(super) fn read<M: Model>(
+        &mut self,
+        (k, t, dt): (usize, f64, f64),
+        model: &M,
+        c: &[f64],
+        delta: f64,
+        compass: f64,
+    ) -> Result<(f64, f64), LoopError> {
+        if k == 0 {
+            self.start(compass);
+        }
+        self.step(model, c, t, dt, delta, compass)
     }
 
     /// One sample: the prediction over the interval ending at `t` with the rudder held at

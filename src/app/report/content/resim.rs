@@ -35,8 +35,8 @@ pub fn write<'a>(d: &mut Document<'a>, r: &RunResult, figs: &Figures<'a>) {
              1/s), with a third-order heading reference model, closed around the identified \
              model in the same waves, once per feed: the raw compass and gyro, the compass and \
              its difference, the wave filter's low-frequency heading and yaw rate (the hybrid \
-             EKF on the same model, run online), or the plant's true low-frequency heading \
-             (the ideal). Heading error is the low-frequency heading's from the reference.",
+             EKF on the same model, run online), an ordinary low-pass filter on the compass, \
+             or the plant's true low-frequency heading (the ideal). Heading error is the low-frequency heading's from the reference.",
             a.k,
             a.t,
             crate::base::numfmt::num(a.gains.omega_n),
@@ -64,6 +64,7 @@ pub fn write<'a>(d: &mut Document<'a>, r: &RunResult, figs: &Figures<'a>) {
         d.table(t);
         figs.put(d, "autopilot");
         figs.put(d, "heading_spectrum");
+        paper_figures(d, a, figs);
     }
     if let Some(s) = &r.steering {
         d.heading(3, "Steering indices (Nomoto)");
@@ -216,5 +217,50 @@ fn manoeuvres<'a>(d: &mut Document<'a>, r: &RunResult, figs: &Figures<'a>) {
         }
         figs.put(d, &format!("turning_{stem}"));
         figs.put(d, &format!("zigzag_{stem}"));
+    }
+}
+
+/// The paper's figures (Dinh, Hoang & Pham 2016, fig. 6-8): what they show, the filtered
+/// heading's error RMS of both filters in every feed's loop, where the series are, and the
+/// figures.
+fn paper_figures<'a>(
+    d: &mut Document<'a>,
+    a: &crate::dynamics::autopilot::AutopilotResult,
+    figs: &Figures<'a>,
+) {
+    d.heading(4, "The paper's figures");
+    d.text(
+        "The error of the filtered against the true low-frequency heading with an ordinary \
+         low-pass filter (a second-order Butterworth filter on the compass, its cut-off below \
+         the waves) and with the EKF wave filter, the heading's response to the course change, \
+         and the rudder angle. Both filters read the same compass in every loop: the one that \
+         feeds the autopilot, the other beside it without steering. Each loop's series are \
+         in the table's file (docs/results.md, \"Autopilot series\").",
+    );
+    let mut t = Table::new([
+        "autopilot fed",
+        "EKF heading error RMS (deg)",
+        "low-pass heading error RMS (deg)",
+        "series",
+    ])
+    .numeric_from(1)
+    .col(0, Col::Text)
+    .col(3, Col::Text);
+    let deg = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{:.4}", v.to_degrees()));
+    for c in &a.feeds {
+        t.row([
+            c.feed.describe().to_string(),
+            deg(c.ekf_error_rms),
+            deg(c.lowpass_error_rms),
+            c.series_file.clone().unwrap_or_default(),
+        ]);
+    }
+    d.table(t);
+    for name in [
+        "autopilot_filter_error",
+        "autopilot_course_change",
+        "autopilot_rudder",
+    ] {
+        figs.put(d, name);
     }
 }

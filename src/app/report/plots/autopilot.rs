@@ -19,11 +19,12 @@ pub struct Histories<'a>(pub &'a AutopilotResult);
 pub struct Spectrum<'a>(pub &'a AutopilotResult);
 
 /// Each feed's colour and line width.
-fn look(feed: Feed) -> (RGBColor, u32) {
+pub(super) fn look(feed: Feed) -> (RGBColor, u32) {
     match feed {
         Feed::Raw => (colour::VERMILLION, 1),
         Feed::Differentiated => (colour::ORANGE, 1),
         Feed::Filter => (colour::BLUE, 2),
+        Feed::LowPass => (colour::SKY, 2),
         Feed::True => (colour::GREEN, 2),
         Feed::Adaptive => (colour::PURPLE, 2),
     }

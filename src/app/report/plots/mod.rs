@@ -8,6 +8,7 @@
 //! with nothing finite to show is refused with an error naming it.
 
 pub mod autopilot;
+pub mod autopilot_paper;
 pub mod axes;
 pub mod budget;
 pub mod convergence;
@@ -218,6 +219,11 @@ pub fn render_all(out: &RunOutput, png_dir: Option<&Path>) -> Result<Vec<Figure>
     if let Some(a) = &r.autopilot {
         jobs.push(job(autopilot::Histories(a)));
         jobs.push(job(autopilot::Spectrum(a)));
+        if let Some(f) = autopilot_paper::FilterError::new(a) {
+            jobs.push(job(f));
+        }
+        jobs.push(job(autopilot_paper::CourseChange(a)));
+        jobs.push(job(autopilot_paper::Rudder(a)));
     }
     let draw = || {
         jobs.par_iter()
