@@ -56,7 +56,10 @@ pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
         Some(p) => candidate::read(p)?,
         None => Vec::new(),
     };
-    say.note(&format!("plan: identifying {} first", args.source.display()));
+    say.note(&format!(
+        "plan: identifying {} first",
+        args.source.display()
+    ));
     let inputs = pipeline::load_inputs(&loaded, pipeline::stage_inputs(&loaded.config))?;
     let output = pipeline::run_on(&loaded, &inputs, &mut Silent, Scope::Full)?;
     let settings = Settings {
@@ -73,7 +76,10 @@ pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
         plan.targets.join(", ")
     ));
     for s in &plan.skipped {
-        super::warning(&format!("candidate '{}' not evaluated: {}", s.name, s.reason));
+        super::warning(&format!(
+            "candidate '{}' not evaluated: {}",
+            s.name, s.reason
+        ));
     }
     if let Some(d) = &dir {
         write::write(d, &plan)?;

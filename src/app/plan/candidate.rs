@@ -260,12 +260,20 @@ pub fn defaults(a: Abilities) -> Vec<Candidate> {
     let mut out = Vec::new();
     if a.captive {
         for beta in [2.0, 5.0, 10.0, 15.0, 20.0] {
-            let mut c = Candidate::new(format!("static drift {beta} deg"), Kind::Static, CAPTIVE_COST);
+            let mut c = Candidate::new(
+                format!("static drift {beta} deg"),
+                Kind::Static,
+                CAPTIVE_COST,
+            );
             c.drift_deg = beta;
             out.push(c);
         }
         for beta in [5.0, 10.0] {
-            let mut c = Candidate::new(format!("polar point {beta} deg at U/2"), Kind::Static, CAPTIVE_COST);
+            let mut c = Candidate::new(
+                format!("polar point {beta} deg at U/2"),
+                Kind::Static,
+                CAPTIVE_COST,
+            );
             c.drift_deg = beta;
             c.speed = Some(round3(0.5 * a.speed));
             out.push(c);
@@ -273,10 +281,18 @@ pub fn defaults(a: Abilities) -> Vec<Candidate> {
         // circular motion at r' = r L / U of 0.2, 0.4, 0.6
         for rp in [0.2, 0.4, 0.6] {
             let r = (rp * a.speed / a.length).to_degrees();
-            let mut c = Candidate::new(format!("circular motion r' {rp}"), Kind::Static, CAPTIVE_COST);
+            let mut c = Candidate::new(
+                format!("circular motion r' {rp}"),
+                Kind::Static,
+                CAPTIVE_COST,
+            );
             c.yaw_rate_deg_s = round3(r);
             out.push(c);
-            let mut c = Candidate::new(format!("drift 10 deg in circular motion r' {rp}"), Kind::Static, CAPTIVE_COST);
+            let mut c = Candidate::new(
+                format!("drift 10 deg in circular motion r' {rp}"),
+                Kind::Static,
+                CAPTIVE_COST,
+            );
             c.yaw_rate_deg_s = round3(r);
             c.drift_deg = 10.0;
             out.push(c);
@@ -303,13 +319,21 @@ fn pmm_defaults(a: Abilities) -> Vec<Candidate> {
     for wp in [1.0, 2.0] {
         let f = round3(wp * a.speed / a.length / (2.0 * std::f64::consts::PI));
         for share in [0.05, 0.1] {
-            let mut c = Candidate::new(format!("PMM pure sway {share} U, {f} Hz"), Kind::PmmSway, PMM_COST);
+            let mut c = Candidate::new(
+                format!("PMM pure sway {share} U, {f} Hz"),
+                Kind::PmmSway,
+                PMM_COST,
+            );
             c.amplitude = round3(share * a.speed);
             c.frequency_hz = f;
             out.push(c);
         }
         for rp in [0.2, 0.4] {
-            let mut c = Candidate::new(format!("PMM pure yaw r' {rp}, {f} Hz"), Kind::PmmYaw, PMM_COST);
+            let mut c = Candidate::new(
+                format!("PMM pure yaw r' {rp}, {f} Hz"),
+                Kind::PmmYaw,
+                PMM_COST,
+            );
             c.amplitude = round3((rp * a.speed / a.length).to_degrees());
             c.frequency_hz = f;
             out.push(c);
@@ -323,13 +347,18 @@ fn rudder_defaults(a: Abilities) -> Vec<Candidate> {
     let mut out = Vec::new();
     if a.captive {
         for d in [10.0, 20.0, 35.0] {
-            let mut c = Candidate::new(format!("static rudder {d} deg"), Kind::Static, CAPTIVE_COST);
+            let mut c =
+                Candidate::new(format!("static rudder {d} deg"), Kind::Static, CAPTIVE_COST);
             c.rudder_deg = d;
             out.push(c);
         }
     }
     for d in [10.0, 20.0, 35.0] {
-        let mut c = Candidate::new(format!("turning circle {d} deg"), Kind::Turn, MANOEUVRE_COST);
+        let mut c = Candidate::new(
+            format!("turning circle {d} deg"),
+            Kind::Turn,
+            MANOEUVRE_COST,
+        );
         c.rudder_deg = d;
         out.push(c);
     }
@@ -346,19 +375,24 @@ fn rudder_defaults(a: Abilities) -> Vec<Candidate> {
 /// r' 0.3, and both.
 fn free_defaults(a: Abilities) -> Vec<Candidate> {
     let r = round3((0.3 * a.speed / a.length).to_degrees());
-    [(a.speed / 6.0, 0.0), (a.speed / 3.0, 0.0), (0.0, r), (a.speed / 6.0, r)]
-        .into_iter()
-        .map(|(v0, r0)| {
-            let mut c = Candidate::new(
-                format!("free run v0 {:.3} m/s, r0 {r0} deg/s", v0),
-                Kind::Free,
-                MANOEUVRE_COST,
-            );
-            c.v0 = round3(v0);
-            c.r0_deg_s = r0;
-            c
-        })
-        .collect()
+    [
+        (a.speed / 6.0, 0.0),
+        (a.speed / 3.0, 0.0),
+        (0.0, r),
+        (a.speed / 6.0, r),
+    ]
+    .into_iter()
+    .map(|(v0, r0)| {
+        let mut c = Candidate::new(
+            format!("free run v0 {:.3} m/s, r0 {r0} deg/s", v0),
+            Kind::Free,
+            MANOEUVRE_COST,
+        );
+        c.v0 = round3(v0);
+        c.r0_deg_s = r0;
+        c
+    })
+    .collect()
 }
 
 #[cfg(test)]

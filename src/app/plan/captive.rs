@@ -57,7 +57,11 @@ pub fn condition<M: Model>(
     let nx = model.nx();
     let at = |q: Quantity| model.state_index(q);
     let mut u = op.u0.clone();
-    if let Some(i) = model.input_quantities().iter().position(|q| *q == Quantity::Rudder) {
+    if let Some(i) = model
+        .input_quantities()
+        .iter()
+        .position(|q| *q == Quantity::Rudder)
+    {
         u[i] = c.rudder_deg.to_radians();
     } else if c.rudder_deg != 0.0 {
         return Err(Error::Usage(format!(
@@ -107,7 +111,12 @@ pub fn condition<M: Model>(
         place: c.name.clone(),
         harmonic,
     };
-    let m = per_sample.len() * if cond.harmonic.is_some() { PER_FORCE } else { 1 };
+    let m = per_sample.len()
+        * if cond.harmonic.is_some() {
+            PER_FORCE
+        } else {
+            1
+        };
     let mut f = vec![0.0; m];
     cond.predict(model, &prior.base, &mut f);
     let sigma = (0..m)
@@ -172,16 +181,15 @@ pub fn values_and_jacobian<M: Model>(
 }
 
 /// The posterior covariance after a captive candidate.
-pub fn posterior<M: Model>(
-    model: &M,
-    prior: &Prior,
-    cond: &Condition,
-) -> Result<DMatrix<f64>> {
+pub fn posterior<M: Model>(model: &M, prior: &Prior, cond: &Condition) -> Result<DMatrix<f64>> {
     let theta: Vec<f64> = prior.est.iter().map(|&i| prior.base[i]).collect();
     let (_, j) = values_and_jacobian(model, prior, cond, &theta);
     let sigma = cond.sigma.clone().unwrap_or_default();
     let info = super::information::fisher(&j, &sigma);
     super::information::posterior(&prior.cov, &info).ok_or_else(|| {
-        Error::numerical("plan", format!("candidate '{}': singular update", cond.place))
+        Error::numerical(
+            "plan",
+            format!("candidate '{}': singular update", cond.place),
+        )
     })
 }

@@ -52,11 +52,8 @@ pub fn scores(prior: &DMatrix<f64>, post: &DMatrix<f64>, t: &[usize]) -> Scores 
         }
     };
     let d = 0.5 * (ln_det(block(prior)) - ln_det(block(post)));
-    let a = 1.0
-        - t.iter()
-            .map(|&i| post[(i, i)] / prior[(i, i)])
-            .sum::<f64>()
-            / t.len().max(1) as f64;
+    let a =
+        1.0 - t.iter().map(|&i| post[(i, i)] / prior[(i, i)]).sum::<f64>() / t.len().max(1) as f64;
     Scores { d, a }
 }
 
@@ -85,7 +82,10 @@ mod tests {
             (f[(1, 0)], svd / s2),
             (f[(1, 1)], sdd / s2),
         ] {
-            assert!((got - want).abs() < 1e-9 * want.abs().max(1.0), "{got} {want}");
+            assert!(
+                (got - want).abs() < 1e-9 * want.abs().max(1.0),
+                "{got} {want}"
+            );
         }
         let (pa, pb) = (4.0, 0.25);
         let prior = DMatrix::from_diagonal(&nalgebra::DVector::from_vec(vec![pa, pb]));
@@ -97,7 +97,10 @@ mod tests {
             (post[(0, 1)], -b / det),
             (post[(1, 1)], a / det),
         ] {
-            assert!((got - want).abs() < 1e-12 + 1e-9 * want.abs(), "{got} {want}");
+            assert!(
+                (got - want).abs() < 1e-12 + 1e-9 * want.abs(),
+                "{got} {want}"
+            );
         }
         // D score of the first coefficient alone: 0.5 ln(prior var / posterior var)
         let s = scores(&prior, &post, &[0]);

@@ -168,7 +168,10 @@ pub fn filter<M: Model>(
     let mut p0 = vec![0.0; n * n];
     let outputs_are_states = model.outputs().is_empty();
     for i in 0..nx {
-        let k = run.measured.iter().position(|&m| m == i && outputs_are_states);
+        let k = run
+            .measured
+            .iter()
+            .position(|&m| m == i && outputs_are_states);
         p0[i * n + i] = k.map_or(UNMEASURED_VARIANCE, |k| run.sigma[k].powi(2));
     }
     for i in 0..p {

@@ -110,9 +110,10 @@ pub const ASSUMPTIONS: &[&str] = &[
 
 /// Plans the next run for the identified model of `output`.
 pub fn plan(loaded: &LoadedConfig, output: &RunOutput, settings: &Settings) -> Result<Plan> {
-    let hekf = loaded.config.hekf.as_ref().ok_or_else(|| {
-        Error::Usage("plan needs a configuration with an [hekf] stage".into())
-    })?;
+    let hekf =
+        loaded.config.hekf.as_ref().ok_or_else(|| {
+            Error::Usage("plan needs a configuration with an [hekf] stage".into())
+        })?;
     let scale = captive::ForceScale {
         rho: loaded.vehicle.vehicle.rho,
         area: loaded.vehicle.vehicle.reference_area,
@@ -250,14 +251,21 @@ impl<'a, M: Model> Context<'a, M> {
         }
         let sigma = self.prior.sigma();
         let coef = |n: &str| self.output.result.coefficients.iter().find(|c| c.name == n);
-        let names: Vec<String> = self.targets.iter().map(|&i| self.prior.names[i].clone()).collect();
+        let names: Vec<String> = self
+            .targets
+            .iter()
+            .map(|&i| self.prior.names[i].clone())
+            .collect();
         Plan {
             model: self.model.name().to_string(),
             units: names
                 .iter()
                 .map(|n| coef(n).map(|c| c.unit.clone()).unwrap_or_default())
                 .collect(),
-            values: names.iter().map(|n| coef(n).map_or(f64::NAN, |c| c.value)).collect(),
+            values: names
+                .iter()
+                .map(|n| coef(n).map_or(f64::NAN, |c| c.value))
+                .collect(),
             sigma_before: self.targets.iter().map(|&i| sigma[i]).collect(),
             targets: names,
             parameters: self.prior.names.clone(),

@@ -127,9 +127,8 @@ pub fn operating<M: Model>(model: &M, output: &RunOutput) -> Result<Operating> {
         .first()
         .cloned()
         .ok_or_else(|| Error::Usage(NO_HEKF.into()))?;
-    let inputs = InputSeries::from_record(model.inputs(), rec).map_err(|q| {
-        Error::Usage(format!("plan: run '{}' has no input {q}", rec.name))
-    })?;
+    let inputs = InputSeries::from_record(model.inputs(), rec)
+        .map_err(|q| Error::Usage(format!("plan: run '{}' has no input {q}", rec.name)))?;
     let mut u0 = vec![0.0; inputs.len()];
     inputs.at(trace.times.first().copied().unwrap_or(0.0), &mut u0);
     let speed = model

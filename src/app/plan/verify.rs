@@ -81,7 +81,9 @@ pub(crate) fn verify<M: Model>(
 fn draw(cov: &DMatrix<f64>, rng: &mut StdRng) -> DVector<f64> {
     let eig = cov.clone().symmetric_eigen();
     let z = DVector::from_fn(cov.nrows(), |_, _| -> f64 { StandardNormal.sample(rng) });
-    let scaled = DVector::from_fn(cov.nrows(), |i, _| eig.eigenvalues[i].max(0.0).sqrt() * z[i]);
+    let scaled = DVector::from_fn(cov.nrows(), |i, _| {
+        eig.eigenvalues[i].max(0.0).sqrt() * z[i]
+    });
     &eig.eigenvectors * scaled
 }
 
@@ -142,8 +144,7 @@ fn captive_update<M: Model>(
         sigma.iter().map(|s| s * s),
     ));
     for _ in 0..ITERATIONS {
-        let (h, j) =
-            captive::values_and_jacobian(ctx.model, &ctx.prior, cond, theta.as_slice());
+        let (h, j) = captive::values_and_jacobian(ctx.model, &ctx.prior, cond, theta.as_slice());
         let pjt = &ctx.prior.cov * j.transpose();
         let s = &j * &pjt + &r;
         let innovation = DVector::from_column_slice(y) - DVector::from_vec(h) - &j * (&p0 - &theta);

@@ -25,7 +25,12 @@ pub const TABLE_ROWS: usize = 20;
 pub fn table(plan: &Plan) -> String {
     let mut header = vec!["rank".to_string(), "candidate".into(), "parameters".into()];
     header.extend(plan.targets.iter().map(|t| format!("sigma {t}")));
-    header.extend(["D score".into(), "A score".into(), "cost".into(), "D / cost".into()]);
+    header.extend([
+        "D score".into(),
+        "A score".into(),
+        "cost".into(),
+        "D / cost".into(),
+    ]);
     let mut rows = vec![{
         let mut r = vec!["-".to_string(), "now".into(), "-".into()];
         r.extend(plan.sigma_before.iter().map(|s| num(*s)));
@@ -60,7 +65,10 @@ pub fn table(plan: &Plan) -> String {
             .map(|v| {
                 let mut r = vec![v.name.clone(), v.replicas.to_string()];
                 for (p, a) in v.predicted.iter().zip(&v.achieved) {
-                    r.extend([num(*p), format!("{} ({:+.0} %)", num(*a), 100.0 * (a / p - 1.0))]);
+                    r.extend([
+                        num(*p),
+                        format!("{} ({:+.0} %)", num(*a), 100.0 * (a / p - 1.0)),
+                    ]);
                 }
                 r
             })
@@ -111,7 +119,12 @@ impl Plot for Reduction<'_> {
         let n = rows.len().max(1);
         let lowest = rows
             .iter()
-            .flat_map(|r| r.sigma_after.iter().zip(&plan.sigma_before).map(|(a, b)| a / b))
+            .flat_map(|r| {
+                r.sigma_after
+                    .iter()
+                    .zip(&plan.sigma_before)
+                    .map(|(a, b)| a / b)
+            })
             .fold(1.0f64, f64::min)
             .max(1e-6);
         let mut chart = ChartBuilder::on(root)
