@@ -71,6 +71,8 @@ pub struct Skipped {
 /// The plan.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Plan {
+    /// Layout version ([`SCHEMA`]).
+    pub schema: &'static str,
     /// Model name.
     pub model: String,
     /// The target coefficients.
@@ -94,6 +96,9 @@ pub struct Plan {
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub verification: Vec<verify::Verified>,
 }
+
+/// plan.json's layout version.
+pub const SCHEMA: &str = "hydroid-plan/1";
 
 /// The assumptions every plan rests on.
 pub const ASSUMPTIONS: &[&str] = &[
@@ -128,7 +133,13 @@ pub fn plan(loaded: &LoadedConfig, output: &RunOutput, settings: &Settings) -> R
             scale,
         },
     )
-    .map_err(|p| Error::Usage(format!("plan: {}", p[0].message)))?
+    .map_err(|p| {
+        let what: Vec<String> = p
+            .iter()
+            .map(|p| format!("{}: {}", p.key, p.message))
+            .collect();
+        Error::Usage(format!("plan: {}", what.join("; ")))
+    })?
 }
 
 /// The planner generic over the model.
@@ -257,6 +268,7 @@ impl<'a, M: Model> Context<'a, M> {
             .map(|&i| self.prior.names[i].clone())
             .collect();
         Plan {
+            schema: SCHEMA,
             model: self.model.name().to_string(),
             units: names
                 .iter()

@@ -15,6 +15,8 @@ use std::path::Path;
 
 /// plan.json in the output folder.
 pub const PLAN_JSON: &str = "plan.json";
+/// plan.md in the output folder: the table and the assumptions.
+pub const PLAN_MD: &str = "plan.md";
 /// The figure in the output folder.
 pub const PLAN_SVG: &str = "plots/plan.svg";
 
@@ -86,8 +88,35 @@ pub fn write(dir: &Path, plan: &Plan) -> Result<()> {
     let json = crate::io::output::to_json(plan)?;
     let figure = plots::render(&Reduction(plan), None)?;
     crate::io::output::write_atomic(&dir.join(PLAN_JSON), &json)?;
+    crate::io::output::write_atomic(&dir.join(PLAN_MD), markdown(plan).as_bytes())?;
     crate::io::output::write_atomic(&dir.join(PLAN_SVG), figure.svg.as_bytes())?;
-    marker::record(dir, &[PLAN_JSON, PLAN_SVG])
+    marker::record(dir, &[PLAN_JSON, PLAN_MD, PLAN_SVG])
+}
+
+/// plan.md: what the table is, the table, and the assumptions.
+pub fn markdown(plan: &Plan) -> String {
+    let mut s = String::from(
+        "# Run plan
+
+",
+    );
+    s.push_str(&format!(
+        "Candidate runs of the {} model ranked by the predicted information on {} (D score: \
+         half the log of the ratio of the targets' covariance determinants before and after, \
+         nats; A score: the share of the targets' relative variance removed; cost in the \
+         candidates' unit). See docs/planner.md.\n\n",
+        plan.model,
+        plan.targets.join(", ")
+    ));
+    s.push_str(&table(plan));
+    s.push_str("\nAssumptions:\n\n");
+    for a in &plan.assumptions {
+        s.push_str(&format!("- {a}\n"));
+    }
+    for k in &plan.skipped {
+        s.push_str(&format!("\n- not evaluated: {}: {}\n", k.name, k.reason));
+    }
+    s
 }
 
 /// The figure: per candidate (best first, at most [`TABLE_ROWS`]), each target's predicted
