@@ -140,7 +140,10 @@ fn plan_writes_into_an_output_folder_and_refuses_a_bad_candidates_file() {
             String::from_utf8_lossy(&plan.stderr)
         );
         let table = String::from_utf8_lossy(&plan.stdout);
-        assert!(table.contains("| 1 | yaw |"), "{table}");
+        assert!(
+            table.contains("| 1 | drift |") && table.contains("| 2 | yaw |"),
+            "{table}"
+        );
     }
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("plan.json")).unwrap()).unwrap();
