@@ -25,6 +25,7 @@ fn bench(c: &mut Criterion) {
         let abilities = candidate::Abilities {
             captive: true,
             rudder: false,
+            planes: false,
             speed,
             length: 1.2,
         };

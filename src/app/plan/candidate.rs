@@ -2,7 +2,8 @@
 //! expected on its measurements, its cost), a user's own list read from TOML
 //! (`--candidates FILE`), and the default set per model from what the model can be run
 //! through: captive conditions when it gives captive forces, rudder runs, turning circles and
-//! zig-zags when it has a rudder, free runs from an initial sway or yaw when it has none.
+//! zig-zags when it has a rudder, vertical zig-zags and a helix when it has stern planes,
+//! free runs from an initial sway or yaw when it has no rudder.
 
 use crate::base::error::{Error, Result};
 use serde::{Deserialize, Serialize};
@@ -28,6 +29,11 @@ pub enum Kind {
     /// A free run from an initial sway `v0` (m/s) and yaw rate `r0_deg_s` with the inputs
     /// held (a vehicle without a rudder, as the spheroid's manoeuvres).
     Free,
+    /// Vertical zig-zag `planes_deg` / `pitch_deg` on the stern planes (an underwater
+    /// vehicle).
+    ZigzagVertical,
+    /// Helix: the rudder to `rudder_deg` and the stern planes held at `planes_deg`.
+    Helix,
 }
 
 impl Kind {
@@ -60,6 +66,12 @@ pub struct Candidate {
     /// Zig-zag heading change that reverses the rudder, deg.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub heading_deg: f64,
+    /// Stern planes angle, deg (vertical zig-zag, helix).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub planes_deg: f64,
+    /// Vertical zig-zag pitch change that reverses the planes, deg.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub pitch_deg: f64,
     /// PMM amplitude: sway velocity (m/s) or yaw rate (deg/s).
     #[serde(default, skip_serializing_if = "is_zero")]
     pub amplitude: f64,
@@ -107,6 +119,8 @@ impl Candidate {
             yaw_rate_deg_s: 0.0,
             rudder_deg: 0.0,
             heading_deg: 0.0,
+            planes_deg: 0.0,
+            pitch_deg: 0.0,
             amplitude: 0.0,
             frequency_hz: 0.0,
             v0: 0.0,
@@ -133,6 +147,8 @@ impl Candidate {
         add(self.yaw_rate_deg_s, "r deg/s");
         add(self.rudder_deg, "rudder deg");
         add(self.heading_deg, "psi deg");
+        add(self.planes_deg, "planes deg");
+        add(self.pitch_deg, "theta deg");
         match self.kind {
             Kind::PmmSway => add(self.amplitude, "v_a m/s"),
             Kind::PmmYaw => add(self.amplitude, "r_a deg/s"),
@@ -151,6 +167,8 @@ impl Candidate {
             self.yaw_rate_deg_s,
             self.rudder_deg,
             self.heading_deg,
+            self.planes_deg,
+            self.pitch_deg,
             self.amplitude,
             self.frequency_hz,
             self.v0,
@@ -185,6 +203,12 @@ impl Candidate {
             Kind::Turn if self.rudder_deg == 0.0 => Some("a turn needs rudder_deg".into()),
             Kind::Zigzag if self.rudder_deg == 0.0 || self.heading_deg <= 0.0 => {
                 Some("a zig-zag needs rudder_deg and a positive heading_deg".into())
+            }
+            Kind::ZigzagVertical if self.planes_deg == 0.0 || self.pitch_deg <= 0.0 => {
+                Some("a vertical zig-zag needs planes_deg and a positive pitch_deg".into())
+            }
+            Kind::Helix if self.rudder_deg == 0.0 || self.planes_deg == 0.0 => {
+                Some("a helix needs rudder_deg and planes_deg".into())
             }
             _ => None,
         }
@@ -246,6 +270,8 @@ pub struct Abilities {
     pub captive: bool,
     /// It has a rudder input.
     pub rudder: bool,
+    /// It has stern planes.
+    pub planes: bool,
     /// Its operating speed, m/s, and length, m.
     pub speed: f64,
     /// Length, m.
@@ -299,6 +325,9 @@ pub fn defaults(a: Abilities) -> Vec<Candidate> {
         }
         out.extend(pmm_defaults(a));
     }
+    if a.planes {
+        out.extend(planes_defaults());
+    }
     if a.rudder {
         out.extend(rudder_defaults(a));
     } else {
@@ -339,6 +368,30 @@ fn pmm_defaults(a: Abilities) -> Vec<Candidate> {
             out.push(c);
         }
     }
+    out
+}
+
+/// Vertical zig-zags 10/10 and 20/10 and a helix (rudder 20 deg, planes 10 deg).
+fn planes_defaults() -> Vec<Candidate> {
+    let mut out = Vec::new();
+    for d in [10.0, 20.0] {
+        let mut c = Candidate::new(
+            format!("vertical zig-zag {d}/10"),
+            Kind::ZigzagVertical,
+            MANOEUVRE_COST,
+        );
+        c.planes_deg = d;
+        c.pitch_deg = 10.0;
+        out.push(c);
+    }
+    let mut c = Candidate::new(
+        "helix rudder 20 deg, planes 10 deg",
+        Kind::Helix,
+        MANOEUVRE_COST,
+    );
+    c.rudder_deg = 20.0;
+    c.planes_deg = 10.0;
+    out.push(c);
     out
 }
 

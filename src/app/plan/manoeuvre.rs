@@ -1,4 +1,4 @@
-//! A candidate manoeuvre (turning circle, zig-zag, free run) as the HEKF would see it: the
+//! A candidate manoeuvre (turning circle, zig-zag, vertical zig-zag, helix, free run) as the HEKF would see it: the
 //! identified model simulated through it, then the hybrid EKF's covariance recursion run along
 //! the simulated measurements with the coefficients appended to the state (paper eq. 22) and
 //! their current covariance as prior, with the first fitted run's measurement and process
@@ -70,21 +70,26 @@ pub fn simulate_run<M: Model>(
     set(&mut x0, Quantity::V, c.v0);
     set(&mut x0, Quantity::R, c.r0_deg_s.to_radians());
     let law = law(c).ok_or_else(|| fail("not a manoeuvre".into()))?;
+    let quantities = model.input_quantities();
+    let steered = law.map(|l| l.surface().input());
+    let planes = (c.kind == Kind::Helix).then_some(c.planes_deg.to_radians());
+    for q in steered.iter().chain(planes.map(|_| &Quantity::SternPlanes)) {
+        if !quantities.contains(q) {
+            return Err(fail(format!("the {} model has no {q} input", model.name())));
+        }
+    }
     let mut inputs = InputSeries {
         t: times.clone(),
-        inputs: model
-            .input_quantities()
+        inputs: quantities
             .iter()
             .zip(&op.u0)
-            .map(|(q, u)| match (q, law) {
-                (Quantity::Rudder, Some(_)) => Input::Series(vec![0.0; times.len()]),
+            .map(|(q, u)| match (Some(*q) == steered, *q, planes) {
+                (true, _, _) => Input::Series(vec![0.0; times.len()]),
+                (false, Quantity::SternPlanes, Some(p)) => Input::Constant(p),
                 _ => Input::Constant(*u),
             })
             .collect(),
     };
-    if law.is_some() && !model.input_quantities().contains(&Quantity::Rudder) {
-        return Err(fail(format!("the {} model has no rudder", model.name())));
-    }
     let states = crate::app::simulate::synth::per_sample(
         model,
         &prior.base,
@@ -112,13 +117,14 @@ pub fn simulate_run<M: Model>(
     })
 }
 
-/// The helm's law of a turn or zig-zag from a straight approach at the default rudder rate
-/// (Some(None) for a free run; None for a captive candidate).
+/// The helm's law of a turn, zig-zag or helix from a straight approach at the default rudder
+/// rate, the stern planes' of a vertical zig-zag (Some(None) for a free run; None for a
+/// captive candidate).
 fn law(c: &Candidate) -> Option<Option<Steering>> {
     let rudder = c.rudder_deg.to_radians();
     let rate = RUDDER_RATE_DEG_S.to_radians();
     match c.kind {
-        Kind::Turn => Some(Some(Steering::Turn {
+        Kind::Turn | Kind::Helix => Some(Some(Steering::Turn {
             rudder,
             rate,
             execute: 0.0,
@@ -130,6 +136,13 @@ fn law(c: &Candidate) -> Option<Option<Steering>> {
             rate,
             execute: 0.0,
             surface: Surface::Rudder,
+        })),
+        Kind::ZigzagVertical => Some(Some(Steering::ZigZag {
+            rudder: c.planes_deg.to_radians(),
+            heading: c.pitch_deg.to_radians(),
+            rate,
+            execute: 0.0,
+            surface: Surface::SternPlanes,
         })),
         Kind::Free => Some(None),
         _ => None,

@@ -57,6 +57,8 @@ pub struct Row {
     pub a_score: f64,
     /// D score per unit cost.
     pub d_per_cost: f64,
+    /// Rank by D score per unit cost, 1 first.
+    pub rank_per_cost: usize,
 }
 
 /// A candidate that could not be evaluated.
@@ -159,7 +161,7 @@ impl ModelVisitor for Planner<'_> {
             self.settings.candidates.clone()
         };
         let mut plan = ctx.rank(&candidates);
-        plan.verification = verify::verify(&ctx, &plan, self.settings)?;
+        verify::verify(&ctx, &mut plan, self.settings);
         Ok(plan)
     }
 }
@@ -222,6 +224,10 @@ impl<'a, M: Model> Context<'a, M> {
                 .model
                 .input_quantities()
                 .contains(&crate::base::quantity::Quantity::Rudder),
+            planes: self
+                .model
+                .input_quantities()
+                .contains(&crate::base::quantity::Quantity::SternPlanes),
             speed: self.op.speed,
             length: self.scale.length,
         }
@@ -259,6 +265,16 @@ impl<'a, M: Model> Context<'a, M> {
         });
         for (k, r) in ranked.iter_mut().enumerate() {
             r.rank = k + 1;
+        }
+        let mut by_cost: Vec<usize> = (0..ranked.len()).collect();
+        by_cost.sort_by(|&a, &b| {
+            ranked[b]
+                .d_per_cost
+                .total_cmp(&ranked[a].d_per_cost)
+                .then(a.cmp(&b))
+        });
+        for (k, &i) in by_cost.iter().enumerate() {
+            ranked[i].rank_per_cost = k + 1;
         }
         let sigma = self.prior.sigma();
         let coef = |n: &str| self.output.result.coefficients.iter().find(|c| c.name == n);
@@ -302,6 +318,7 @@ impl<'a, M: Model> Context<'a, M> {
             d_score: s.d,
             a_score: s.a,
             d_per_cost: s.d / c.cost,
+            rank_per_cost: 0,
         }
     }
 }

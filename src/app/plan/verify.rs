@@ -36,45 +36,64 @@ pub struct Verified {
     pub ratio: Vec<f64>,
 }
 
-/// Verifies the top `settings.verify` candidates of `plan`.
-pub(crate) fn verify<M: Model>(
-    ctx: &Context<M>,
-    plan: &Plan,
-    settings: &Settings,
-) -> Result<Vec<Verified>> {
+/// Verifies the top `settings.verify` candidates of `plan` into its `verification`; a
+/// candidate whose replicas fail (a filter diverged) joins `skipped` with the reason.
+pub(crate) fn verify<M: Model>(ctx: &Context<M>, plan: &mut Plan, settings: &Settings) {
     let replicas = settings.replicas.max(2);
-    plan.ranked
+    let outcomes: Vec<(String, Result<Verified>)> = plan
+        .ranked
         .iter()
         .take(settings.verify)
         .enumerate()
         .map(|(k, row)| {
-            let seed = settings.seed.wrapping_add((k * replicas) as u64);
-            let estimates: Vec<Vec<f64>> = (0..replicas)
-                .into_par_iter()
-                .map(|r| replica(ctx, &row.candidate, seed.wrapping_add(r as u64)))
-                .collect::<Result<_>>()?;
-            let achieved: Vec<f64> = ctx
-                .targets
-                .iter()
-                .map(|&i| {
-                    let t = ctx.prior.base[ctx.prior.est[i]];
-                    let ss: f64 = estimates.iter().map(|e| (e[i] - t).powi(2)).sum();
-                    (ss / replicas as f64).sqrt()
-                })
-                .collect();
-            Ok(Verified {
-                name: row.candidate.name.clone(),
-                replicas,
-                ratio: achieved
-                    .iter()
-                    .zip(&row.sigma_after)
-                    .map(|(a, p)| a / p)
-                    .collect(),
-                predicted: row.sigma_after.clone(),
-                achieved,
-            })
+            let name = row.candidate.name.clone();
+            (name, verify_one(ctx, row, k, replicas, settings.seed))
         })
-        .collect()
+        .collect();
+    for (name, outcome) in outcomes {
+        match outcome {
+            Ok(v) => plan.verification.push(v),
+            Err(e) => plan.skipped.push(super::Skipped {
+                name,
+                reason: format!("verification failed: {e}"),
+            }),
+        }
+    }
+}
+
+/// The replicas of the `k`-th candidate (`row`) identified, and their spread.
+fn verify_one<M: Model>(
+    ctx: &Context<M>,
+    row: &super::Row,
+    k: usize,
+    replicas: usize,
+    seed: u64,
+) -> Result<Verified> {
+    let seed = seed.wrapping_add((k * replicas) as u64);
+    let estimates: Vec<Vec<f64>> = (0..replicas)
+        .into_par_iter()
+        .map(|r| replica(ctx, &row.candidate, seed.wrapping_add(r as u64)))
+        .collect::<Result<_>>()?;
+    let achieved: Vec<f64> = ctx
+        .targets
+        .iter()
+        .map(|&i| {
+            let t = ctx.prior.base[ctx.prior.est[i]];
+            let ss: f64 = estimates.iter().map(|e| (e[i] - t).powi(2)).sum();
+            (ss / replicas as f64).sqrt()
+        })
+        .collect();
+    Ok(Verified {
+        name: row.candidate.name.clone(),
+        replicas,
+        ratio: achieved
+            .iter()
+            .zip(&row.sigma_after)
+            .map(|(a, p)| a / p)
+            .collect(),
+        predicted: row.sigma_after.clone(),
+        achieved,
+    })
 }
 
 /// A draw from N(0, cov) by the symmetric square root (the covariance may be singular).

@@ -32,11 +32,12 @@ pub fn table(plan: &Plan) -> String {
         "A score".into(),
         "cost".into(),
         "D / cost".into(),
+        "rank by D / cost".into(),
     ]);
     let mut rows = vec![{
         let mut r = vec!["-".to_string(), "now".into(), "-".into()];
         r.extend(plan.sigma_before.iter().map(|s| num(*s)));
-        r.extend(["-".into(), "-".into(), "-".into(), "-".into()]);
+        r.extend(["-".into(), "-".into(), "-".into(), "-".into(), "-".into()]);
         r
     }];
     for row in plan.ranked.iter().take(TABLE_ROWS) {
@@ -51,6 +52,7 @@ pub fn table(plan: &Plan) -> String {
             format!("{:.3}", row.a_score),
             num(row.candidate.cost),
             num(row.d_per_cost),
+            row.rank_per_cost.to_string(),
         ]);
         rows.push(r);
     }
