@@ -9,6 +9,7 @@ pub mod check;
 pub mod export;
 pub mod inspect;
 pub mod pipeline;
+pub mod plan;
 pub mod report;
 pub(crate) mod resim;
 pub mod results;

@@ -12,6 +12,7 @@ mod init;
 mod inspect;
 mod json;
 mod manoeuvre;
+mod plan;
 mod progress;
 mod rerun;
 mod run;
@@ -55,6 +56,7 @@ enum Command {
     Init(init::Args),
     Manoeuvre(manoeuvre::Args),
     Export(export::Args),
+    Plan(plan::Args),
 }
 
 /// Parses the command line, runs the command and returns the exit code.
@@ -93,6 +95,7 @@ pub fn main() -> i32 {
         Command::Init(a) => init::run(a, &mut out, say),
         Command::Manoeuvre(a) => manoeuvre::run(a, &mut out),
         Command::Export(a) => export::run(a, &mut out),
+        Command::Plan(a) => plan::run(a, &mut out, say),
     };
     let _ = out.flush();
     match result {
@@ -123,6 +126,7 @@ impl Command {
             Command::Calibrate(a) => a.json,
             Command::Coefficients(a) => a.json,
             Command::Manoeuvre(a) => a.json,
+            Command::Plan(a) => a.json,
             Command::Simulate(_) | Command::Rerun(_) | Command::Init(_) | Command::Export(_) => {
                 false
             }

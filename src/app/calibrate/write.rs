@@ -15,8 +15,9 @@ pub const CALIBRATION_JSON: &str = "calibration.json";
 pub const CALIBRATION_MD: &str = "calibration.md";
 
 /// Refuses a folder that is not an output of `hydroid run` exactly as hydroid wrote it (its
-/// marker lists every file unchanged), naming what differs: calibrate writes into it.
-pub fn check_folder(dir: &Path) -> Result<()> {
+/// marker lists every file unchanged), naming what differs: `verb` (calibrate, plan) writes
+/// into it.
+pub fn check_folder(dir: &Path, verb: &str) -> Result<()> {
     match marker::inspect(dir)? {
         Found::Unchanged => Ok(()),
         Found::Nothing => Err(Error::Usage(format!(
@@ -28,8 +29,8 @@ pub fn check_folder(dir: &Path) -> Result<()> {
             dir.display()
         ))),
         Found::Changed(what) => Err(Error::Usage(format!(
-            "refusing to calibrate {}: it changed since hydroid wrote it ({}); calibrate \
-             checks and writes into an output exactly as `hydroid run` left it: `hydroid \
+            "refusing to {verb} {}: it changed since hydroid wrote it ({}); {verb} \
+             reads and writes into an output exactly as `hydroid run` left it: `hydroid \
              rerun {}` first",
             dir.display(),
             what.join("; "),

@@ -323,7 +323,7 @@ pub(crate) fn steered<M: Model>(
 
 /// Integrates sample by sample, with the helm of `law` (if any) moving its surface, and
 /// `forcing(x, dt)` applied to the state after each interval of `dt` (a process noise).
-fn per_sample<M: Model>(
+pub(crate) fn per_sample<M: Model>(
     model: &M,
     c: &[f64],
     x0: &[f64],

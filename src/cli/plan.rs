@@ -1,0 +1,100 @@
+//! `hydroid plan OUTDIR|CONFIG`: which run to do next (docs/planner.md): candidate runs ranked
+//! by the reduction of the target coefficients' uncertainty they are predicted to bring.
+
+use super::{CmdResult, Say};
+use crate::app::pipeline::{self, Scope};
+use crate::app::plan::{self, candidate, write, Settings};
+use crate::base::progress::Silent;
+use crate::config;
+use std::io::Write;
+use std::path::PathBuf;
+
+/// Rank candidate runs (CFD or basin) by how much they are predicted to reduce the target
+/// coefficients' uncertainty: each candidate simulated with the identified model, its
+/// information in the linearisation at the current estimate added to the current covariance
+/// (D- and A-optimal scores, each target's predicted sigma, per unit cost). With an output
+/// folder, plan.json and plots/plan.svg are written into it.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// An output folder written by `hydroid run` (unchanged since), or a configuration,
+    /// which is run first (nothing is written then).
+    source: PathBuf,
+    /// The coefficients that matter, comma-separated (default: every identified one).
+    #[arg(long, value_delimiter = ',')]
+    target: Vec<String>,
+    /// A TOML file of `[[candidate]]` tables (docs/planner.md) instead of the model's
+    /// default candidates.
+    #[arg(long)]
+    candidates: Option<PathBuf>,
+    /// Print plan.json on stdout instead of the table.
+    #[arg(long)]
+    pub(super) json: bool,
+    /// Verify the top K candidates (3 without a number): replicas simulated with the
+    /// current model and the candidate's noise, identified again; predicted against
+    /// achieved sigma.
+    #[arg(long, num_args = 0..=1, default_missing_value = "3", value_name = "K")]
+    verify: Option<usize>,
+    /// Replicas per verified candidate.
+    #[arg(long, default_value_t = 50, value_parser = clap::value_parser!(u32).range(2..=10_000))]
+    replicas: u32,
+    /// Seed of the verification's noise (the same seed gives the same output).
+    #[arg(long, default_value_t = 2026)]
+    seed: u64,
+}
+
+/// Runs the command.
+pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
+    let dir = args.source.is_dir().then(|| args.source.clone());
+    let loaded = match &dir {
+        Some(d) => {
+            crate::app::calibrate::write::check_folder(d, "plan")?;
+            super::rerun::load_recorded(d, false, false)?.0
+        }
+        None => config::load(&args.source, &[])?,
+    };
+    let candidates = match &args.candidates {
+        Some(p) => candidate::read(p)?,
+        None => Vec::new(),
+    };
+    say.note(&format!(
+        "plan: identifying {} first",
+        args.source.display()
+    ));
+    let inputs = pipeline::load_inputs(&loaded, pipeline::stage_inputs(&loaded.config))?;
+    let output = pipeline::run_on(&loaded, &inputs, &mut Silent, Scope::Full)?;
+    let settings = Settings {
+        targets: args.target.clone(),
+        candidates,
+        verify: args.verify.unwrap_or(0),
+        replicas: args.replicas as usize,
+        seed: args.seed,
+    };
+    let plan = plan::plan(&loaded, &output, &settings)?;
+    say.note(&format!(
+        "plan: {} candidates ranked for {}",
+        plan.ranked.len(),
+        plan.targets.join(", ")
+    ));
+    for s in &plan.skipped {
+        super::warning(&format!(
+            "candidate '{}' not evaluated: {}",
+            s.name, s.reason
+        ));
+    }
+    if let Some(d) = &dir {
+        write::write(d, &plan)?;
+        say.note(&format!(
+            "plan: {} and {} written in {}",
+            write::PLAN_JSON,
+            write::PLAN_SVG,
+            d.display()
+        ));
+    }
+    if args.json {
+        out.write_all(&crate::io::output::to_json(&plan)?)?;
+        writeln!(out)?;
+    } else {
+        write!(out, "{}", write::table(&plan))?;
+    }
+    Ok(0)
+}

@@ -1,0 +1,172 @@
+//! `hydroid plan` (docs/planner.md) on the bundled examples: the issue's done-when. On the
+//! spheroid identified from a polar, a surge run and one manoeuvre (configs/spheroid.toml),
+//! the planner ranks a PMM pure-yaw run first for Nrd and its verification by replicas
+//! achieves the predicted sigma within 25 %; on the KVLCC2 identified from turning circles
+//! (configs/ship_kvlcc2.toml), it names captive runs that determine the cubic terms the turns
+//! leave undetermined (Y'vvr, Y'rrr, N'vvv), where no further turning circle does.
+
+use hydroid::app::pipeline;
+use hydroid::app::plan::{self, Kind, Plan, Settings};
+use hydroid::base::progress::Silent;
+use std::path::Path;
+
+fn plan_for(config: &str, targets: &[&str], verify: usize) -> Plan {
+    let loaded = hydroid::config::load(Path::new(config), &[]).unwrap();
+    let output = pipeline::run(&loaded, &mut Silent).unwrap();
+    let settings = Settings {
+        targets: targets.iter().map(|t| t.to_string()).collect(),
+        verify,
+        replicas: 40,
+        seed: 2026,
+        ..Settings::default()
+    };
+    plan::plan(&loaded, &output, &settings).unwrap()
+}
+
+#[test]
+fn spheroid_pmm_pure_yaw_ranks_first_for_nrd_and_verifies() {
+    let p = plan_for("configs/spheroid.toml", &["Nrd"], 1);
+    assert!(p.skipped.is_empty(), "{:?}", p.skipped);
+    let top = &p.ranked[0];
+    assert_eq!(top.candidate.kind, Kind::PmmYaw, "{}", top.candidate.name);
+    // the numbers of docs/planner.md, to the digits printed there
+    assert!(
+        (p.sigma_before[0] - 0.105).abs() < 0.0005,
+        "{}",
+        p.sigma_before[0]
+    );
+    assert!(
+        (top.sigma_after[0] - 0.0045).abs() < 0.00005,
+        "{}",
+        top.sigma_after[0]
+    );
+    // no free-running manoeuvre comes near a captive run for Nrd
+    let best_free = p
+        .ranked
+        .iter()
+        .find(|r| r.candidate.kind == Kind::Free)
+        .expect("a free run ranked");
+    assert!(best_free.sigma_after[0] > 5.0 * top.sigma_after[0]);
+    let v = &p.verification[0];
+    assert_eq!(v.name, top.candidate.name);
+    assert!(
+        (0.75..=1.25).contains(&v.ratio[0]),
+        "achieved {} for predicted {}",
+        v.achieved[0],
+        v.predicted[0]
+    );
+    // docs/planner.md: 40 replicas of seed 2026 achieve 0.0041 (ratio 0.90)
+    assert!(
+        (v.achieved[0] - 0.0041).abs() < 0.00005,
+        "{}",
+        v.achieved[0]
+    );
+    assert!((v.ratio[0] - 0.90).abs() < 0.005, "{}", v.ratio[0]);
+}
+
+#[test]
+fn kvlcc2_from_turns_names_the_runs_that_determine_the_cubic_terms() {
+    let targets = ["Yvvr_p", "Yrrr_p", "Nvvv_p"];
+    let p = plan_for("configs/ship_kvlcc2.toml", &targets, 0);
+    assert!(p.skipped.is_empty(), "{:?}", p.skipped);
+    let top = &p.ranked[0];
+    assert_eq!(top.candidate.kind, Kind::Static, "{}", top.candidate.name);
+    assert!(top.candidate.drift_deg >= 15.0, "{}", top.candidate.name);
+    // Y'vvr and N'vvv known 4 and 5 times better after it (docs/planner.md, to its digits)
+    let near = |got: f64, want: f64, tol: f64| assert!((got - want).abs() < tol, "{got} {want}");
+    near(p.sigma_before[0], 0.205, 0.0005);
+    near(p.sigma_before[1], 0.0091, 0.00005);
+    near(p.sigma_before[2], 0.0285, 0.00005);
+    near(top.sigma_after[0], 0.047, 0.0005);
+    near(top.sigma_after[2], 0.0054, 0.00005);
+    assert!(top.sigma_after[0] < p.sigma_before[0] / 4.0);
+    assert!(top.sigma_after[2] < p.sigma_before[2] / 5.0);
+    // Y'rrr by a circular-motion run
+    let circ = p
+        .ranked
+        .iter()
+        .filter(|r| r.candidate.kind == Kind::Static && r.candidate.yaw_rate_deg_s > 0.0)
+        .map(|r| r.sigma_after[1])
+        .fold(f64::INFINITY, f64::min);
+    assert!(circ < p.sigma_before[1] / 2.5, "{circ}");
+    near(circ, 0.0031, 0.00005);
+    // another turning circle leaves them as they are: N'vvv within 10 %
+    for r in p.ranked.iter().filter(|r| r.candidate.kind == Kind::Turn) {
+        assert!(
+            r.sigma_after[2] > 0.9 * p.sigma_before[2],
+            "{}",
+            r.candidate.name
+        );
+        assert!(r.d_score < 0.25 * top.d_score, "{}", r.candidate.name);
+    }
+}
+
+/// The command on an output folder: plan.json, plan.md and plots/plan.svg written into it and
+/// recorded in its marker (a second plan is accepted: the folder is still hydroid's); a bad
+/// candidates file refused with its line, exit status 2.
+#[test]
+fn plan_writes_into_an_output_folder_and_refuses_a_bad_candidates_file() {
+    let exe = env!("CARGO_BIN_EXE_hydroid");
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let run = std::process::Command::new(exe)
+        .args(["run", "configs/spheroid.toml", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let cands = dir.path().join("c.toml");
+    std::fs::write(
+        &cands,
+        "[[candidate]]\nname = \"yaw\"\nkind = \"pmm_yaw\"\namplitude = 15.0\n\
+         frequency_hz = 0.5\ncost = 2\n\n[[candidate]]\nname = \"drift\"\nkind = \"static\"\n\
+         drift_deg = 8.0\n",
+    )
+    .unwrap();
+    for _ in 0..2 {
+        let plan = std::process::Command::new(exe)
+            .args(["plan", "--target", "Nrd", "--candidates"])
+            .arg(&cands)
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(
+            plan.status.success(),
+            "{}",
+            String::from_utf8_lossy(&plan.stderr)
+        );
+        let table = String::from_utf8_lossy(&plan.stdout);
+        assert!(
+            table.contains("| 1 | drift |") && table.contains("| 2 | yaw |"),
+            "{table}"
+        );
+    }
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("plan.json")).unwrap()).unwrap();
+    assert_eq!(json["schema"], "hydroid-plan/1");
+    assert_eq!(json["ranked"].as_array().unwrap().len(), 2);
+    assert!(out.join("plan.md").is_file() && out.join("plots/plan.svg").is_file());
+    let marker = std::fs::read_to_string(out.join(".hydroid-output.json")).unwrap();
+    assert!(marker.contains("plan.json") && marker.contains("plots/plan.svg"));
+    std::fs::write(
+        &cands,
+        "[[candidate]]\nname = \"a\"\nkind = \"static\"\ncost = -1\n",
+    )
+    .unwrap();
+    let bad = std::process::Command::new(exe)
+        .args(["plan", "--candidates"])
+        .arg(&cands)
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert_eq!(bad.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert!(
+        err.contains("c.toml") && err.contains("cost must be positive"),
+        "{err}"
+    );
+}
