@@ -11,8 +11,10 @@
 //! Processing, 3rd ed., 7.2: s = (2/dt) (1 - z^-1) / (1 + z^-1)). With k = tan(w_f dt / 2)
 //! and n = 1 + sqrt(2) k + k^2, the difference equation is
 //!
-//!     y_k = b0 (u_k + 2 u_k-1 + u_k-2) - a1 y_k-1 - a2 y_k-2,
-//!     b0 = k^2 / n,  a1 = 2 (k^2 - 1) / n,  a2 = (1 - sqrt(2) k + k^2) / n,
+//! ```text
+//! y_k = b0 (u_k + 2 u_k-1 + u_k-2) - a1 y_k-1 - a2 y_k-2,
+//! b0 = k^2 / n,  a1 = 2 (k^2 - 1) / n,  a2 = (1 - sqrt(2) k + k^2) / n,
+//! ```
 //!
 //! unit gain at zero frequency. The yaw rate the autopilot is fed is the backward difference
 //! of the filtered heading, (y_k - y_k-1) / dt: the compass alone, as the EKF wave filter has.
