@@ -62,6 +62,10 @@ pub struct Estimate {
     pub ratio_sigma: f64,
     /// The rudder bias, rad.
     pub delta0: f64,
+    /// The wave frequency w0, rad/s, and its sigma, when the feed estimates it
+    /// (`estimate_w0`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub w0: Option<(f64, f64)>,
     /// Whether the estimates passed the guard.
     pub trusted: bool,
     /// The guard they were held to (largest relative sigma).
@@ -71,9 +75,9 @@ pub struct Estimate {
 }
 
 impl Estimate {
-    /// The estimate from K, 1/T and delta0 (in that order) and their covariance (3 x 3 at
-    /// least, row-major over `ne` entries) at time `t`: T = 1/(1/T) and K/T = K (1/T) with
-    /// first-order sigmas (the delta method).
+    /// The estimate from K, 1/T and delta0 (in that order, then w0 when there are four) and
+    /// their covariance (3 x 3 at least, row-major over `ne` entries) at time `t`: T = 1/(1/T)
+    /// and K/T = K (1/T) with first-order sigmas (the delta method).
     pub fn from_filter(t: f64, values: &[f64], cov: &[f64], ne: usize, gains: Gains) -> Self {
         let (k, inv_t) = (values[0], values[1]);
         let (vk, vi, cki) = (cov[0], cov[ne + 1], cov[1]);
@@ -87,6 +91,7 @@ impl Estimate {
             ratio: k * inv_t,
             ratio_sigma: ratio_var.max(0.0).sqrt(),
             delta0: values[2],
+            w0: (ne > 3 && values.len() > 3).then(|| (values[3], cov[3 * ne + 3].max(0.0).sqrt())),
             trusted: false,
             guard: f64::INFINITY,
             gains,
