@@ -14,15 +14,19 @@
 
 use std::ops::Range;
 
-/// Lag-1 autocorrelation of `e` pooled over `segments` (no pair crosses a segment's end).
-pub fn lag1(e: &[f64], segments: &[Range<usize>]) -> Option<f64> {
+/// Lag-1 autocorrelation pooled over `series` (no pair crosses from one series to the next).
+pub fn lag1<'a>(series: impl IntoIterator<Item = &'a [f64]>) -> Option<f64> {
     let (mut num, mut den) = (0.0, 0.0);
-    for seg in segments {
-        let s = &e[seg.clone()];
+    for s in series {
         num += s.windows(2).map(|w| w[0] * w[1]).sum::<f64>();
         den += s.iter().map(|v| v * v).sum::<f64>();
     }
     (den > 0.0).then(|| num / den)
+}
+
+/// `e` cut into its `segments`.
+pub fn pieces<'a>(e: &'a [f64], segments: &'a [Range<usize>]) -> impl Iterator<Item = &'a [f64]> {
+    segments.iter().map(move |seg| &e[seg.clone()])
 }
 
 /// Andrews' (1991) plug-in bandwidth of the Bartlett kernel for residuals that follow an
@@ -36,14 +40,18 @@ pub fn bartlett_bandwidth(rho: f64, n: usize) -> usize {
     (lags.ceil() as usize).min(n / 2)
 }
 
+/// The products v_j = g_j e_j, one series per segment.
+fn products(g: &[f64], e: &[f64], segments: &[Range<usize>]) -> Vec<Vec<f64>> {
+    segments
+        .iter()
+        .map(|seg| seg.clone().map(|j| g[j] * e[j]).collect())
+        .collect()
+}
+
 /// Newey-West variance of sum_j g_j e_j over `segments` (lags never cross a segment's
 /// end) with `lags` Bartlett lags; `lags = 0` gives sum_j g_j^2 e_j^2 (White 1980).
 pub fn newey_west(g: &[f64], e: &[f64], segments: &[Range<usize>], lags: usize) -> f64 {
-    let series: Vec<Vec<f64>> = segments
-        .iter()
-        .map(|seg| seg.clone().map(|j| g[j] * e[j]).collect())
-        .collect();
-    bartlett(&series, lags)
+    bartlett(&products(g, e, segments), lags)
 }
 
 /// Largest AR(1) coefficient the prewhitening uses (Andrews & Monahan 1992, section 3).
@@ -55,10 +63,7 @@ const MAX_PREWHITEN: f64 = 0.97;
 /// is taken by Newey-West with Andrews' bandwidth for eta, and recoloured by 1 / (1 - phi)^2.
 /// Far less biased than plain Newey-West when the residuals are strongly correlated.
 pub fn prewhitened(g: &[f64], e: &[f64], segments: &[Range<usize>]) -> f64 {
-    let v: Vec<Vec<f64>> = segments
-        .iter()
-        .map(|seg| seg.clone().map(|j| g[j] * e[j]).collect())
-        .collect();
+    let v = products(g, e, segments);
     let (mut num, mut den) = (0.0, 0.0);
     for s in &v {
         num += s.windows(2).map(|w| w[0] * w[1]).sum::<f64>();
@@ -73,19 +78,8 @@ pub fn prewhitened(g: &[f64], e: &[f64], segments: &[Range<usize>]) -> f64 {
         .iter()
         .map(|s| s.windows(2).map(|w| w[1] - phi * w[0]).collect())
         .collect();
-    let spans: Vec<Range<usize>> = eta.iter().map(|s| 0..s.len()).collect();
-    let flat: Vec<f64> = eta.concat();
-    let mut offset = 0;
-    let segs: Vec<Range<usize>> = spans
-        .iter()
-        .map(|r| {
-            let s = offset..offset + r.len();
-            offset += r.len();
-            s
-        })
-        .collect();
-    let n = flat.len();
-    let lags = lag1(&flat, &segs).map_or(0, |r| bartlett_bandwidth(r, n));
+    let n = eta.iter().map(Vec::len).sum();
+    let lags = lag1(eta.iter().map(Vec::as_slice)).map_or(0, |r| bartlett_bandwidth(r, n));
     bartlett(&eta, lags) / (1.0 - phi).powi(2)
 }
 
@@ -135,7 +129,7 @@ mod tests {
             let e = ar1(n, rho, &mut rng);
             let mean = e.iter().sum::<f64>() / n as f64;
             let centred: Vec<f64> = e.iter().map(|v| v - mean).collect();
-            let r = lag1(&centred, std::slice::from_ref(&(0..n))).unwrap();
+            let r = lag1([centred.as_slice()]).unwrap();
             let lags = bartlett_bandwidth(r, n);
             nw += newey_west(&g, &centred, std::slice::from_ref(&(0..n)), lags);
             pw += prewhitened(&g, &centred, std::slice::from_ref(&(0..n)));
@@ -165,7 +159,7 @@ mod tests {
         let white: f64 = g.iter().map(|v| v * v).sum();
         let whole = 0..n;
         let seg = std::slice::from_ref(&whole);
-        let r = lag1(&e, seg).unwrap();
+        let r = lag1(pieces(&e, seg)).unwrap();
         assert!(r.abs() < 0.05, "{r}");
         let v = newey_west(&g, &e, seg, bartlett_bandwidth(r, n));
         assert!((v / white - 1.0).abs() < 0.1, "{v} {white}");

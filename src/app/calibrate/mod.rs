@@ -77,7 +77,13 @@ fn identify(
     seed: u64,
 ) -> Outcome {
     let data = replica::replica(loaded, inputs, bases, seed).map_err(|e| e.to_string())?;
-    let out = pipeline::run_on(loaded, &data, &mut Silent, Scope::Coefficients)
+    identified_on(loaded, &data)
+}
+
+/// The coefficients (name, value, sigma) identified on `data` with the configuration's
+/// settings, or why the identification failed.
+fn identified_on(loaded: &LoadedConfig, data: &InputsByStage<LoadedInput>) -> Outcome {
+    let out = pipeline::run_on(loaded, data, &mut Silent, Scope::Coefficients)
         .map_err(|e| e.to_string())?;
     Ok(out
         .result

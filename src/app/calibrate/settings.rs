@@ -14,9 +14,8 @@
 //! results.json's budget (row "noise model", the estimates with every noise halved and
 //! doubled), not repeated here.
 
-use crate::app::pipeline::{self, InputsByStage, Scope};
+use crate::app::pipeline::InputsByStage;
 use crate::app::results::{LoadedInput, RunOutput};
-use crate::base::progress::Silent;
 use crate::base::quantity::Quantity;
 use crate::base::warning::{Test, Warning};
 use crate::config::LoadedConfig;
@@ -79,7 +78,6 @@ pub struct SettingsRow {
 /// only the variants in progress hold a copy of the data.
 struct Planned {
     label: String,
-    kind: &'static str,
     change: Change,
 }
 
@@ -90,6 +88,16 @@ enum Change {
     Between,
     /// Run `k` of stage `stage` (an index into [`STAGES`]) left out.
     LeaveOut { stage: usize, k: usize },
+}
+
+impl Change {
+    /// Its `kind` in calibration.json.
+    fn kind(self) -> &'static str {
+        match self {
+            Change::Between => "between",
+            Change::LeaveOut { .. } => "leave_out",
+        }
+    }
 }
 
 /// The stages whose runs can be left out, by name.
@@ -118,17 +126,7 @@ pub fn check(
         .map(|p| {
             let outcome = made(inputs, original, p.change)
                 .ok_or_else(|| "no sampled input to read the other way".to_string())
-                .and_then(|data| {
-                    pipeline::run_on(loaded, &data, &mut Silent, Scope::Coefficients)
-                        .map_err(|e| e.to_string())
-                })
-                .map(|o| {
-                    o.result
-                        .coefficients
-                        .iter()
-                        .map(|c| (c.name.clone(), c.value, c.sigma))
-                        .collect()
-                });
+                .and_then(|data| super::identified_on(loaded, &data));
             compare(&p, &outcome, identified)
         })
         .collect();
@@ -154,7 +152,6 @@ fn planned(inputs: &InputsByStage<LoadedInput>, original: &RunOutput) -> Vec<Pla
     if sampled {
         out.push(Planned {
             label: "the inputs read the other way between samples (held <-> linear)".into(),
-            kind: "between",
             change: Change::Between,
         });
     }
@@ -171,7 +168,6 @@ fn planned(inputs: &InputsByStage<LoadedInput>, original: &RunOutput) -> Vec<Pla
         for (k, run) in runs.iter().enumerate() {
             out.push(Planned {
                 label: format!("{} run '{}' left out", STAGES[stage], run.record.name),
-                kind: "leave_out",
                 change: Change::LeaveOut { stage, k },
             });
         }
@@ -232,7 +228,7 @@ fn compare(
 ) -> Variant {
     let mut v = Variant {
         label: p.label.clone(),
-        kind: p.kind,
+        kind: p.change.kind(),
         error: None,
         moves: BTreeMap::new(),
         z: BTreeMap::new(),
@@ -254,7 +250,7 @@ fn compare(
         }
         let shift = value - c.value;
         v.moves.insert(c.name.clone(), shift / sigma);
-        if p.kind == "leave_out" {
+        if let Change::LeaveOut { .. } = p.change {
             // the difference of nested efficient estimates (Hausman 1978): its variance is
             // sigma_out^2 - sigma^2, floored at a tenth of sigma^2 against rounding
             let s_out = s_out.unwrap_or(f64::NAN);

@@ -117,11 +117,5 @@ pub(super) fn momentum(
 
 /// Lag-1 autocorrelation of the residuals, pooled over runs.
 pub(super) fn lag1(runs: &[RunResiduals]) -> Option<f64> {
-    let (mut num, mut den) = (0.0, 0.0);
-    for r in runs {
-        let e = &r.residual;
-        num += e.windows(2).map(|w| w[0] * w[1]).sum::<f64>();
-        den += e.iter().map(|v| v * v).sum::<f64>();
-    }
-    (den > 0.0).then(|| num / den)
+    crate::numerics::hac::lag1(runs.iter().map(|r| r.residual.as_slice()))
 }

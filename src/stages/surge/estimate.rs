@@ -223,7 +223,7 @@ fn long_run_variance(
             e[j] = s.u[j] - fj;
         }
     }
-    let rho = hac::lag1(&e, segments)?;
+    let rho = hac::lag1(hac::pieces(&e, segments))?;
     if rho <= CORRELATED_SE / (fit.n as f64).sqrt() {
         return None;
     }
