@@ -12,7 +12,7 @@ use common::root;
 use common::ship150_loop::{self as reference, nomoto, rms_from, sway_yaw, U0};
 use hydroid::config::autopilot::AutopilotConfig;
 use hydroid::dynamics::autopilot::seas::Seas;
-use hydroid::dynamics::autopilot::{AutopilotResult, Feed};
+use hydroid::dynamics::autopilot::{AutopilotResult, ClosedLoop, Feed};
 
 const SLOW_AT: f64 = 600.0;
 const SLOW: f64 = 5.0;
@@ -57,6 +57,50 @@ fn hydroid_loops(cfg: &AutopilotConfig) -> AutopilotResult {
     reference::hydroid_autopilot(cfg, nomoto(sway_yaw(U0)), &Seas::Generated)
 }
 
+/// hydroid's loops on `cfg` (printed), and the reference loop on the same `plant` form with
+/// the gains re-placed at the slow-down (the ideal) and kept (fixed): their heading errors.
+fn slow_down(
+    cfg: &AutopilotConfig,
+    plant: fn(f64) -> reference::SwayYaw,
+) -> (AutopilotResult, Vec<f64>, Vec<f64>) {
+    let r = hydroid_loops(cfg);
+    for l in r.lines() {
+        println!("{l}");
+    }
+    for w in r.warnings() {
+        println!("warning: {}", w.message);
+    }
+    let base = |retune| reference::Run {
+        plant,
+        slow: Some((SLOW_AT, SLOW)),
+        retune,
+        orders: orders(),
+        duration: DURATION,
+    };
+    let (ideal, _) = reference::run(&base(true));
+    let (fixed, _) = reference::run(&base(false));
+    (r, ideal, fixed)
+}
+
+/// RMS of `v` from the slow-down on.
+fn after(v: &[f64]) -> f64 {
+    rms_from(v, SLOW_AT)
+}
+
+/// RMS of `v` from 300 s after the slow-down on (settled).
+fn settled(v: &[f64]) -> f64 {
+    rms_from(v, SLOW_AT + 300.0)
+}
+
+/// The true-heading, adaptive and wave-filter loops of `r`.
+fn feeds(r: &AutopilotResult) -> (&ClosedLoop, &ClosedLoop, &ClosedLoop) {
+    (
+        r.feed(Feed::True).unwrap(),
+        r.feed(Feed::Adaptive).unwrap(),
+        r.feed(Feed::Filter).unwrap(),
+    )
+}
+
 /// `v` equals `expected` at the digits written (within half a unit of the last).
 fn at_digits(v: f64, expected: f64, half_unit: f64) {
     assert!((v - expected).abs() <= half_unit, "{v} against {expected}");
@@ -69,32 +113,14 @@ fn at_digits(v: f64, expected: f64, half_unit: f64) {
 /// asserted bounds below): ideal 0.2667 deg after the change, 0.2607 deg from 900 s (hydroid's
 /// true feed and the reference to four digits); adaptive 0.5042 and 0.3208 deg; fixed gains on
 /// the wave filter 1.498 deg after, fixed gains on the true heading 0.6986 deg; K/T 6.35e-4
-/// against 5.99e-4 1/s^2 (+6.1 %).
+/// against 5.99e-4 1/s^2 (+6.1 %: the plant is second order, see
+/// `the_sway_yaw_ship_responds_24_percent_above_its_first_order_model_at_the_loop_frequency`;
+/// on the paper's first-order plant K/T ends within 0.03 %).
 #[test]
 fn the_adaptive_loop_recovers_the_ideal_after_the_ship_slows_down() {
     let deg = f64::to_degrees;
-    let r = hydroid_loops(&config());
-    for l in r.lines() {
-        println!("{l}");
-    }
-    for w in r.warnings() {
-        println!("warning: {}", w.message);
-    }
-    let base = |retune| reference::Run {
-        slow: Some((SLOW_AT, SLOW)),
-        retune,
-        orders: orders(),
-        duration: DURATION,
-    };
-    let (ideal, _) = reference::run(&base(true));
-    let (fixed, _) = reference::run(&base(false));
-    let after = |v: &[f64]| rms_from(v, SLOW_AT);
-    let settled = |v: &[f64]| rms_from(v, SLOW_AT + 300.0);
-    let (true_feed, adaptive, filter) = (
-        r.feed(Feed::True).unwrap(),
-        r.feed(Feed::Adaptive).unwrap(),
-        r.feed(Feed::Filter).unwrap(),
-    );
+    let (r, ideal, fixed) = slow_down(&config(), reference::sway_yaw);
+    let (true_feed, adaptive, filter) = feeds(&r);
     println!(
         "reference ideal after {:.4} settled {:.4}; fixed after {:.4}; hydroid adaptive settled \
          {:.4}",
@@ -123,7 +149,7 @@ fn the_adaptive_loop_recovers_the_ideal_after_the_ship_slows_down() {
         .any(|w| w.message.contains("do not cover the plant's own"));
     assert_eq!(warned, !covered, "{e:?}");
     // docs/models/nomoto.md's table and numbers, at their digits
-    let stats = |l: &hydroid::dynamics::autopilot::ClosedLoop| {
+    let stats = |l: &ClosedLoop| {
         let (b, a) = (l.before_change.unwrap(), l.after_change.unwrap());
         [
             deg(b.heading_error_rms),
@@ -148,6 +174,93 @@ fn the_adaptive_loop_recovers_the_ideal_after_the_ship_slows_down() {
     at_digits(100.0 * (e.ratio / (k5 / t5) - 1.0), 6.1, 0.05);
     at_digits(e.k, 0.0534, 0.00005);
     at_digits(e.t_const, 84.0, 0.5);
+}
+
+/// The paper's ship model as the plant (Dinh, Hoang & Pham 2016: the first-order Nomoto model
+/// r' = (K delta - r) / T, K and T from the sway-yaw equations at the speed), slowed from 8 to
+/// 5 m/s at `SLOW_AT`: hydroid's `[plant]` (nomoto_wave with the plant's K and 1/T, changed
+/// at the slow-down).
+fn first_order_config() -> AutopilotConfig {
+    let mut cfg = config();
+    let (k8, t8) = nomoto(sway_yaw(U0));
+    let (k5, t5) = nomoto(sway_yaw(SLOW));
+    let w0 = std::f64::consts::FRAC_PI_4;
+    let text = format!(
+        "model = \"nomoto_wave\"\n\
+         coefficients = {{ K = {k8}, inv_T = {}, delta0 = 0.0, w0 = {w0}, zeta_w = 0.1 }}\n\
+         [change]\nat = {SLOW_AT}\ncoefficients = {{ K = {k5}, inv_T = {} }}\n",
+        1.0 / t8,
+        1.0 / t5
+    );
+    cfg.plant = Some(toml::from_str(&text).unwrap());
+    cfg
+}
+
+/// On the paper's plant (the first-order Nomoto model whose K and T the filter estimates),
+/// after the slow-down the adaptive loop's heading error returns to within 1.5 times the
+/// ideal loop's while fixed gains stay at least three times worse, and K/T comes within 5 %
+/// of the slow ship's own, K and T apart within their sigmas. Measured (asserted at these
+/// digits): K/T +0.03 %, K 0.0745 +- 0.0082 1/s (plant 0.0767), T 124.5 +- 13.2 s (128.1);
+/// heading error from 300 s after the change 0.299 deg against the ideal's 0.274; fixed
+/// gains on the wave filter 1.558 deg after the change (the ideal 0.280).
+#[test]
+fn on_the_papers_plant_the_adaptive_estimate_of_k_over_t_comes_within_5_percent() {
+    let deg = f64::to_degrees;
+    let (r, ideal, fixed) = slow_down(&first_order_config(), reference::first_order);
+    let (true_feed, adaptive, filter) = feeds(&r);
+    let (k5, t5) = nomoto(sway_yaw(SLOW));
+    let e = adaptive.final_estimate.unwrap();
+    println!(
+        "reference ideal after {:.4} settled {:.4}; fixed after {:.4}; hydroid true after {:.4}, \
+         adaptive settled {:.4}, filter after {:.4}; K/T {:+.2} %",
+        deg(after(&ideal)),
+        deg(settled(&ideal)),
+        deg(after(&fixed)),
+        deg(true_feed.after_change.unwrap().heading_error_rms),
+        deg(settled(&adaptive.heading_error)),
+        deg(filter.after_change.unwrap().heading_error_rms),
+        100.0 * (e.ratio / (k5 / t5) - 1.0)
+    );
+    let hydroid_ideal = true_feed.after_change.unwrap().heading_error_rms;
+    assert!((hydroid_ideal / after(&ideal) - 1.0).abs() < 0.01);
+    assert!(settled(&adaptive.heading_error) <= 1.5 * settled(&ideal));
+    assert!(filter.after_change.unwrap().heading_error_rms >= 3.0 * after(&ideal));
+    assert!((e.ratio / (k5 / t5) - 1.0).abs() < 0.05, "{e:?}");
+    assert!((e.k - k5).abs() <= e.k_sigma && (e.t_const - t5).abs() <= e.t_sigma);
+    at_digits(100.0 * (e.ratio / (k5 / t5) - 1.0), 0.03, 0.005);
+    at_digits(e.k, 0.0745, 0.00005);
+    at_digits(e.k_sigma, 0.0082, 0.00005);
+    at_digits(e.t_const, 124.5, 0.05);
+    at_digits(e.t_sigma, 13.2, 0.05);
+    at_digits(deg(settled(&adaptive.heading_error)), 0.299, 0.0005);
+    at_digits(deg(settled(&ideal)), 0.274, 0.0005);
+    at_digits(
+        deg(filter.after_change.unwrap().heading_error_rms),
+        1.558,
+        0.0005,
+    );
+    at_digits(deg(after(&ideal)), 0.280, 0.0005);
+}
+
+/// Why the sway-yaw plant's K/T is not the 5 % target: at the loop's natural frequency
+/// (omega_n 0.05 rad/s) the slow ship's yaw-rate response to the rudder, from its sway-yaw
+/// equations (Fossen 2011, 7.1: r/delta = (b_r s + a21 b_v - a11 b_r) / det(sI - A)), is
+/// 24 % larger than its first-order Nomoto model's K / (1 + T s): the gain a loop sees is
+/// not the first-order model's, and the running estimate (+6.1 %) lies between them.
+#[test]
+fn the_sway_yaw_ship_responds_24_percent_above_its_first_order_model_at_the_loop_frequency() {
+    let (a, b) = sway_yaw(SLOW);
+    let (k, t) = nomoto((a, b));
+    let w = reference::OMEGA_N;
+    // |(i w - a11) b_r + a21 b_v| / |(i w - a11)(i w - a22) - a12 a21|, in real arithmetic
+    let (nr, ni) = (-a[0][0] * b[1] + a[1][0] * b[0], w * b[1]);
+    let (dr, di) = (
+        -w * w + a[0][0] * a[1][1] - a[0][1] * a[1][0],
+        -w * (a[0][0] + a[1][1]),
+    );
+    let second = (nr.hypot(ni)) / dr.hypot(di);
+    let first = k / (1.0f64).hypot(t * w);
+    at_digits(100.0 * (second / first - 1.0), 24.0, 0.5);
 }
 
 /// The bundled example (configs/nomoto_adaptive.toml) runs end to end as `hydroid run` does:

@@ -28,6 +28,7 @@ fn sway_yaw(u: f64, s: f64) -> SwayYaw {
 fn reference_loop(plant: SwayYaw, _: (f64, f64)) -> (f64, f64) {
     assert_eq!(plant, ship150_loop::sway_yaw(U0));
     let (e, d) = ship150_loop::run(&ship150_loop::Run {
+        plant: ship150_loop::sway_yaw,
         slow: None,
         retune: false,
         orders: vec![(CHANGE_AT, COURSE)],

@@ -51,10 +51,21 @@ pub fn gains((k, t): (f64, f64)) -> (f64, f64, f64) {
     (kp, 2.0 * ZETA * OMEGA_N * m - d, OMEGA_N * kp / 10.0)
 }
 
+/// The paper's form of the ship at speed `u`: the first-order Nomoto model r' = (K delta -
+/// r) / T (Dinh, Hoang & Pham 2016, the model of eq. 20) with the sway-yaw system's K and T,
+/// written as a sway-yaw system whose sway is decoupled (a unit pole, v = 0): its
+/// [`nomoto`] indices are the same K and T.
+pub fn first_order(u: f64) -> SwayYaw {
+    let (k, t) = nomoto(sway_yaw(u));
+    ([[-1.0, 0.0], [0.0, -1.0 / t]], [0.0, k / t])
+}
+
 /// A run: the ship at 8 m/s, slowed to `slow.1` m/s at `slow.0` s (None: never), the gains
 /// re-placed on the slow ship's indices at the change when `retune`, the heading ordered
 /// `orders` (time s, heading rad) from the reference model, for `duration` s.
 pub struct Run {
+    /// The ship at a speed: [`sway_yaw`] or [`first_order`].
+    pub plant: fn(f64) -> SwayYaw,
     pub slow: Option<(f64, f64)>,
     pub retune: bool,
     pub orders: Vec<(f64, f64)>,
@@ -63,7 +74,7 @@ pub struct Run {
 
 /// Heading error and rudder per sample (the rudder held over the interval after each).
 pub fn run(r: &Run) -> (Vec<f64>, Vec<f64>) {
-    let mut plant = sway_yaw(U0);
+    let mut plant = (r.plant)(U0);
     let (mut kp, mut kd, mut ki) = gains(nomoto(plant));
     let (mut x, mut rudder, mut integral) = ([0.0f64; 3], 0.0f64, 0.0f64);
     let (w, z) = REFERENCE;
@@ -76,7 +87,7 @@ pub fn run(r: &Run) -> (Vec<f64>, Vec<f64>) {
         if step > 0 {
             if let Some((at, u)) = r.slow.filter(|(at, _)| !slowed && time - DT >= *at) {
                 let _ = at;
-                plant = sway_yaw(u);
+                plant = (r.plant)(u);
                 slowed = true;
                 if r.retune {
                     (kp, kd, ki) = gains(nomoto(plant));
