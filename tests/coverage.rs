@@ -2,9 +2,8 @@
 //! twin (configs/spheroid_joint.toml: polar, surge run, PMM pure sway and pure yaw, the
 //! paper's manoeuvre) re-simulated with 100 noise seeds and identified in both HEKF modes.
 //! Joint mode must hold the truth inside 2 sigma for 93-98 % of the coefficient-seed pairs
-//! and inside 1 sigma for 65-76 % (measured 96.2 % and 73.2 %: the noise-model direction
-//! of the budget makes the sigmas a little wide on a twin whose noise model is right; issue
-//! 22 asks 68 +- 3 %), and never give a sigma much larger than consider mode's. Consider mode (the HEKF from its own
+//! and inside 1 sigma for 65-76 % (measured 95.5 % and 72.2 %: the HEKF's Nrr and the
+//! polar-origin Xvv and Xuv come out a little wide; issue 22 asks 68 +- 3 %), and never give a sigma much larger than consider mode's. Consider mode (the HEKF from its own
 //! priors, the captive estimates not used) leaves the yaw equation's scale to free-running
 //! data, which cannot fix it (docs/hekf.md, "Identifiability"): its run flags those
 //! coefficients as not determined, and the 90-98 % holds for the rest.
@@ -137,6 +136,7 @@ fn joint_mode_covers_the_truth_over_100_seeds() {
     );
     let consider_all = share(outcomes.iter().flat_map(|(_, c)| c.z.clone()).collect());
     let mut per_coefficient = Vec::new();
+    let mut nrr_sd = f64::NAN;
     for (i, (name, _)) in truths.iter().enumerate() {
         let z: Vec<f64> = outcomes.iter().map(|(j, _)| j.z[i]).collect();
         let n = z.len() as f64;
@@ -144,6 +144,9 @@ fn joint_mode_covers_the_truth_over_100_seeds() {
         let mean = z.iter().sum::<f64>() / n;
         let sd = (z.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt();
         per_coefficient.push((within(1.0), *name));
+        if *name == "Nrr" {
+            nrr_sd = sd;
+        }
         eprintln!(
             "joint {name}: within 1 sigma {:.0} %, 2 sigma {:.0} %, z mean {mean:+.2}, sd {sd:.2}",
             100.0 * within(1.0),
@@ -167,21 +170,22 @@ fn joint_mode_covers_the_truth_over_100_seeds() {
         (0.90..=0.98).contains(&consider_determined),
         "consider, determined coefficients: {consider_determined}"
     );
-    // docs/hekf.md at its printed digits: "within 2 sigma for 96.2 % and within 1 sigma for
-    // 73.2 % ... per coefficient 67-84 % within 1 sigma, Nrr, Xuv and Yrd the widest"
+    // docs/hekf.md at its printed digits: "within 2 sigma for 95.5 % and within 1 sigma for
+    // 72.2 % ... per coefficient 65-82 % within 1 sigma, Nrr and Xvv the widest"
     per_coefficient.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let mut widest: Vec<&str> = per_coefficient.iter().rev().take(3).map(|p| p.1).collect();
+    let mut widest: Vec<&str> = per_coefficient.iter().rev().take(2).map(|p| p.1).collect();
     widest.sort_unstable();
     assert_eq!(
         format!(
-            "{:.1} % and {:.1} %; per coefficient {:.0}-{:.0} %, {} the widest",
+            "{:.1} % and {:.1} %; per coefficient {:.0}-{:.0} %, {} the widest; Nrr z sd {:.2}",
             100.0 * joint,
             100.0 * joint_1,
             100.0 * per_coefficient[0].0,
             100.0 * per_coefficient[per_coefficient.len() - 1].0,
-            widest.join(", ")
+            widest.join(", "),
+            nrr_sd
         ),
-        "96.2 % and 73.2 %; per coefficient 67-84 %, Nrr, Xuv, Yrd the widest"
+        "95.5 % and 72.2 %; per coefficient 65-82 %, Nrr, Xvv the widest; Nrr z sd 0.78"
     );
     // joint mode: the data's information only adds, but each mode's sigma also holds its
     // own noise-model direction and process noise (docs/hekf.md, "The noise model"), which

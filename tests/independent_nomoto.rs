@@ -224,6 +224,57 @@ fn zigzag_in_20_s_waves_w0_estimated() {
     assert_eq!(o.printed_row("w0", "0.3142 ± 0.0099"), "0.3142 ± 0.0099");
 }
 
+/// 20 s waves, w0 estimated (as above) over 8 seeds (2001-2008): how often issue 22's "K and
+/// T within 1 %" holds where the waves overlap the zig-zag's own frequencies. Measured
+/// (asserted): K and 1/T both within 1 % in 6 of the 8 seeds (those six within 0.20 % and
+/// 0.12 %); seed 2001 has T -1.39 % at z +1.07 (above); seed 2002 ends with K's sigma 170 % of
+/// its value, flagged as not determined with the warning that halving or doubling the noise
+/// model moves it hundreds of sigma. In every seed K and 1/T are within 2 sigma or flagged:
+/// no confident miss.
+#[test]
+fn zigzag_in_20_s_waves_over_seeds_k_and_t_within_1_percent_or_flagged() {
+    let outcomes: Vec<Outcome> = (2001..2009)
+        .map(|seed| run_case(20.0, W0::Default, true, seed))
+        .collect();
+    let mut within = Vec::new();
+    for (seed, o) in (2001..).zip(&outcomes) {
+        o.assert_undetermined_flagged();
+        let (k, t) = (o.row("K"), o.row("inv_T"));
+        for r in [k, t] {
+            assert!(r.z.abs() < 2.0 || r.flagged, "seed {seed}\n{}", o.table());
+        }
+        if k.error_percent().abs() < 1.0 && t.error_percent().abs() < 1.0 && !k.flagged {
+            within.push(seed);
+        }
+    }
+    assert_eq!(within, [2003, 2004, 2005, 2006, 2007, 2008]);
+    let worst = |name: &str| {
+        within
+            .iter()
+            .map(|s| {
+                outcomes[(s - 2001) as usize]
+                    .row(name)
+                    .error_percent()
+                    .abs()
+            })
+            .fold(0.0f64, f64::max)
+    };
+    assert_eq!(
+        format!("{:.2} {:.2}", worst("K"), worst("inv_T")),
+        "0.20 0.12"
+    );
+    let undetermined = &outcomes[1];
+    assert!(undetermined.row("K").flagged, "{}", undetermined.table());
+    assert!(
+        undetermined
+            .warnings
+            .iter()
+            .any(|w| w.contains("not determined by these runs: K")),
+        "{:?}",
+        undetermined.warnings
+    );
+}
+
 /// Calm water, w0 estimated: the compass shows no wave yaw, and the filter pulls w0 below
 /// zero; it is held at its bound (0.0008 rad/s, 0.001 of its expected size above zero) and
 /// the run says so in a warning naming w0 and its range. K and T are untouched (measured:

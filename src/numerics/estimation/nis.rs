@@ -46,6 +46,16 @@ pub fn chi2_bounds(dof: f64) -> [f64; 2] {
     }
 }
 
+/// One-sided 95 % bound of a sample variance over the true one when the sample variance has
+/// `dof` degrees of freedom: chi2_{dof, 0.95} / dof (a variance ratio above it says more
+/// than chance; infinite without degrees of freedom).
+pub fn variance_ratio_bound(dof: f64) -> f64 {
+    match ChiSquared::new(dof) {
+        Ok(c) if dof > 0.0 => c.inverse_cdf(0.95) / dof,
+        _ => f64::INFINITY,
+    }
+}
+
 /// Two-sided 95 % bounds on the mean of `k` NIS values of `dof` degrees of freedom: the
 /// chi-square bounds of their sum over `k`, their half-widths about `dof` widened by
 /// sqrt(1 + extra k / (2 dof)) for the variance `extra` that an estimated noise adds (module
@@ -92,6 +102,14 @@ mod tests {
     use super::*;
     use rand::{rngs::StdRng, SeedableRng};
     use rand_distr::{Distribution, StandardNormal};
+
+    #[test]
+    fn variance_ratio_bounds() {
+        // chi2_{4, 0.95} = 9.4877, chi2_{10, 0.95} = 18.307 (tables)
+        assert!((variance_ratio_bound(4.0) - 9.4877 / 4.0).abs() < 1e-4);
+        assert!((variance_ratio_bound(10.0) - 1.8307).abs() < 1e-4);
+        assert!(variance_ratio_bound(0.0).is_infinite());
+    }
 
     #[test]
     fn chi2_quantiles() {

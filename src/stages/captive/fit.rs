@@ -6,11 +6,12 @@
 //! covariance sigma^2 (J' W J)^-1 at the solution. When every value carries its own
 //! standard error (averaged or harmonic force histories), the covariance is (J' W J)^-1
 //! with each component's errors widened by its Birge ratio when the model misses it by
-//! more than they explain (Birge 1932).
+//! more than they explain beyond chance (Birge 1932; chi2 above its 95 % bound).
 
 use super::harmonic::HarmonicMotion;
 use crate::model::models::Model;
 use crate::numerics::ad::{self, Scalar};
+use crate::numerics::estimation::nis::variance_ratio_bound;
 use crate::numerics::lsq::scaled_least_squares;
 use nalgebra::{DMatrix, DVector};
 
@@ -68,7 +69,8 @@ pub struct Fit {
     /// Gauss-Newton iterations taken.
     pub iterations: usize,
     /// When every value has its own standard error: each component's Birge ratio
-    /// sqrt(chi2 / dof), at least 1, by which its errors were widened; else empty.
+    /// sqrt(chi2 / dof) beyond its 95 % bound (else 1), by which its errors were widened;
+    /// else empty.
     pub birge: Vec<f64>,
     /// Of the rows of steady tables (their noise from the residuals): each component's
     /// lack-of-fit ratio, residual variance over near-neighbour pure error
@@ -296,7 +298,7 @@ fn embed(cov: &[Vec<f64>], factor: f64, free: &[usize], p: usize) -> Vec<Vec<f64
 
 /// The covariance of a fit whose every value has its own standard error: (J' W J)^-1 as
 /// the scaled covariance and its factor, each component's errors widened by its own Birge
-/// ratio sqrt(chi2 / dof) when above 1 (a component the model misses, e.g. through a biased
+/// ratio sqrt(chi2 / dof) when beyond chance (a component the model misses, e.g. through a biased
 /// fixed coefficient, then widens only what it determines), and the Birge ratios. None when
 /// J' W J is singular.
 fn birge_covariance(
@@ -436,8 +438,9 @@ fn gauss_newton_step(
     }
 }
 
-/// Each force component's Birge ratio sqrt(chi2 / dof) over its weighted residuals, at
-/// least 1 (the degrees of freedom shared out by the component's share of the values).
+/// Each force component's Birge ratio sqrt(chi2 / dof) over its weighted residuals when chi2
+/// lies beyond its one-sided 95 % bound, else 1 (the degrees of freedom shared out by the
+/// component's share of the values).
 fn component_birge(
     conditions: &[Condition],
     r: &DVector<f64>,
@@ -457,8 +460,15 @@ fn component_birge(
     }
     (0..nf)
         .map(|i| {
-            let dof = count[i] as f64 * (1.0 - p as f64 / n as f64);
-            (chi2[i] / dof.max(1.0)).sqrt().max(1.0)
+            let dof = (count[i] as f64 * (1.0 - p as f64 / n as f64)).max(1.0);
+            // a lack of fit only beyond chance (the one-sided 95 % chi-square bound): the
+            // ratio floored at 1 alone widens half the fits of a right model
+            let ratio = chi2[i] / dof;
+            if ratio > variance_ratio_bound(dof) {
+                ratio.sqrt()
+            } else {
+                1.0
+            }
         })
         .collect()
 }

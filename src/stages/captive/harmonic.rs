@@ -14,6 +14,7 @@ use crate::base::numfmt::num;
 use crate::base::warning::Warning;
 use crate::model::models::Model;
 use crate::numerics::ad::Scalar;
+use crate::numerics::estimation::nis::variance_ratio_bound;
 use crate::numerics::signal::range;
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
@@ -344,10 +345,16 @@ fn force_parts(
         let f = fourier(phases, &y).ok_or(ReduceError::Unresolved)?;
         let mut se = f.standard_errors();
         if whole >= 3 {
-            // the spread of the periods' own parts, when it says more than white noise
-            let spread = period_spread(phases, &y, whole);
+            // the spread of the periods' own parts, when it says more than white noise: its
+            // variance above the white one's beyond the one-sided 95 % bound of a variance
+            // with (periods - 1) degrees of freedom (the larger of two estimates of one
+            // variance would widen every record of white noise)
+            let (spread, periods) = period_spread(phases, &y, whole);
+            let bound = variance_ratio_bound(periods.saturating_sub(1) as f64);
             for (s, p) in se.iter_mut().zip(spread) {
-                *s = s.max(p);
+                if p * p > bound * *s * *s {
+                    *s = p;
+                }
             }
         }
         // the first and the second half of the periods (at least MIN_PERIODS = 2 of them)
@@ -432,8 +439,8 @@ fn fourier(phases: &[f64], y: &[f64]) -> Option<Fourier> {
 }
 
 /// The standard error of each Fourier value from the spread of the periods' own values:
-/// sd / sqrt(periods).
-fn period_spread(phases: &[f64], y: &[f64], periods: usize) -> Vec<f64> {
+/// sd / sqrt(periods), and how many periods gave them.
+fn period_spread(phases: &[f64], y: &[f64], periods: usize) -> (Vec<f64>, usize) {
     let two_pi = 2.0 * std::f64::consts::PI;
     let mut per = Vec::new();
     for p in 0..periods {
@@ -448,15 +455,16 @@ fn period_spread(phases: &[f64], y: &[f64], periods: usize) -> Vec<f64> {
     }
     let n = per.len();
     if n < 3 {
-        return vec![0.0; PER_FORCE];
+        return (vec![0.0; PER_FORCE], n);
     }
-    (0..PER_FORCE)
+    let spread = (0..PER_FORCE)
         .map(|k| {
             let m = per.iter().map(|v| v[k]).sum::<f64>() / n as f64;
             let var = per.iter().map(|v| (v[k] - m).powi(2)).sum::<f64>() / (n - 1) as f64;
             (var / n as f64).sqrt()
         })
-        .collect()
+        .collect();
+    (spread, n)
 }
 
 /// The angular frequency of a periodic signal: the period from its upward crossings of the
