@@ -183,11 +183,14 @@ fn marin_identified_predicts_the_hsva_zigzags_better_than_the_published_set() {
     }
 }
 
-/// Identified from HSVA's three zig-zags: the surge balance the logged propeller speed
-/// contradicts is estimated by default (R0_p 0.0150 against the published 0.022) and said;
-/// MARIN's turns (other basin, full scale) are predicted with the tactical diameter +16.3 %
-/// and +8.0 % and the advance +3.7 % and +2.5 %: the 3 % and 2 % of issue 21 are not
-/// reached.
+/// Identified from HSVA's three zig-zags (the four linear derivatives, docs/models/ships.md
+/// "Which terms a run can give"): the surge balance the logged propeller speed contradicts
+/// is estimated by default (R0_p 0.0150 against the published 0.022) and said; MARIN's turns
+/// (other basin, full scale) are predicted with the tactical diameter +5.5 % and -1.6 % and
+/// the advance +1.8 % and +0.6 % (the published set, R0_p balanced the same way: +8.3 %,
+/// +0.8 % and +4.7 %, +4.3 %): the advance within issue 21's 2 %, the diameter not within
+/// its 3 % on both sides, since MARIN's own turns differ by 8.0 % between port and
+/// starboard (tactical diameters 21.47 and 23.34 m).
 #[test]
 #[ignore = "reads the real basin logs in ../shared/data/real; .ci/run runs it"]
 fn hsva_identified_estimates_the_surge_balance_and_predicts_the_marin_turns() {
@@ -204,21 +207,85 @@ fn hsva_identified_estimates_the_surge_balance_and_predicts_the_marin_turns() {
         .iter()
         .find(|c| c["name"] == "R0_p")
         .unwrap();
-    let turns: Vec<(f64, f64)> = MARIN_TURNS.iter().map(|n| turn_errors(&r, n)).collect();
-    println!("MARIN turns (not fitted), tactical diameter and advance %: {turns:?}");
-    let (mean, _) = mean_worst(&overshoot_errors(&r, &HSVA_ZIGZAGS));
-    println!("HSVA overshoot errors (fitted): mean {mean:.2} deg; R0_p {r0}");
     assert_eq!(r0["source"], "hekf", "{r0}");
     assert!(
         (r0["value"].as_f64().unwrap() - 0.0150).abs() < 0.00005,
         "{r0}"
     );
-    for ((td, adv), (want_td, want_adv)) in turns.iter().zip([(16.3, 3.7), (8.0, 2.5)]) {
-        assert!(
-            (td - want_td).abs() < 0.05 && (adv - want_adv).abs() < 0.05,
-            "{turns:?}"
-        );
+    let (p, _) = identify("kvlcc2_hsva.toml", &published);
+    for (model, want, want_mean) in [
+        (&r, [(5.5, 1.8), (-1.6, 0.6)], 1.75),
+        (&p, [(8.3, 4.7), (0.8, 4.3)], 2.33),
+    ] {
+        let turns: Vec<(f64, f64)> = MARIN_TURNS.iter().map(|n| turn_errors(model, n)).collect();
+        let (mean, _) = mean_worst(&overshoot_errors(model, &HSVA_ZIGZAGS));
+        println!("MARIN turns (not fitted), TD and advance %: {turns:?}; HSVA overshoot {mean:.3}");
+        for ((td, adv), (want_td, want_adv)) in turns.iter().zip(want) {
+            assert!(
+                (td - want_td).abs() < 0.05 && (adv - want_adv).abs() < 0.05,
+                "{turns:?}"
+            );
+        }
+        assert!((mean - want_mean).abs() < 0.005, "{mean}");
     }
-    // its own zig-zags: mean overshoot error 1.5 deg
+    // MARIN's measured turns: 8.0 % apart between port and starboard
+    let measured: Vec<f64> = MARIN_TURNS
+        .iter()
+        .map(|n| {
+            measures(&r, n, "turning_circle").0["tactical_diameter"]["value"]
+                .as_f64()
+                .unwrap()
+        })
+        .collect();
+    assert_eq!(
+        format!(
+            "{:.2} {:.2} {:+.1} %",
+            measured[0],
+            measured[1],
+            100.0 * (measured[0] / measured[1] - 1.0)
+        ),
+        "21.47 23.34 -8.0 %"
+    );
+}
+
+/// All 12 sway and yaw derivatives from HSVA's zig-zags, the cubic terms too: the zig-zags
+/// fit them to what the rest of the model misses (Y'vvv -5.7 +- 0.7 against the published
+/// -1.607, N'vvr -0.71 +- 0.11 against -0.294), the zig-zags themselves a little better (mean
+/// overshoot error 1.5 deg), MARIN's 35 deg turns extrapolated: tactical diameter +16.3 % and
+/// +8.0 % (docs/models/ships.md, "Which terms a run can give").
+#[test]
+#[ignore = "reads the real basin logs in ../shared/data/real; .ci/run runs it"]
+fn hsva_zigzags_fitting_the_cubic_terms_extrapolate_the_marin_turns() {
+    let all = |t: String| {
+        let start = t.find("\nestimate = [").expect("an estimate list");
+        let end = start + t[start..].find("]\n").unwrap() + 1;
+        format!(
+            "{}\nestimate = [\"Yv_p\", \"Yr_p\", \"Yvvv_p\", \"Yvvr_p\", \"Yvrr_p\", \
+             \"Yrrr_p\", \"Nv_p\", \"Nr_p\", \"Nvvv_p\", \"Nvvr_p\", \"Nvrr_p\", \
+             \"Nrrr_p\"]{}",
+            &t[..start],
+            &t[end..]
+        )
+    };
+    let (r, _) = identify("kvlcc2_hsva.toml", &all);
+    let printed = |name: &str| {
+        let c = r["coefficients"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|c| c["name"] == name)
+            .unwrap();
+        (c["value"].as_f64().unwrap(), c["sigma"].as_f64().unwrap())
+    };
+    let ((yv, ys), (nv, ns)) = (printed("Yvvv_p"), printed("Nvvr_p"));
+    assert_eq!(
+        format!("{yv:.1} {ys:.1} {nv:.2} {ns:.2}"),
+        "-5.7 0.7 -0.71 0.11"
+    );
+    let turns: Vec<(f64, f64)> = MARIN_TURNS.iter().map(|n| turn_errors(&r, n)).collect();
+    for ((td, _), want) in turns.iter().zip([16.3, 8.0]) {
+        assert!((td - want).abs() < 0.05, "{turns:?}");
+    }
+    let (mean, _) = mean_worst(&overshoot_errors(&r, &HSVA_ZIGZAGS));
     assert!((mean - 1.5).abs() < 0.05, "{mean}");
 }
