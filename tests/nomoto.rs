@@ -212,11 +212,11 @@ fn short_and_long_waves_with_the_wave_frequency_estimated() {
         Row {
             k: "-0.03",
             t: "-0.04",
-            bias: "+0.003",
-            smoothed: "0.066",
-            filtered: "0.203",
+            bias: "+0.002",
+            smoothed: "0.068",
+            filtered: "0.218",
             amplitude: "1.39",
-            w0: Some("1.263 ± 0.015"),
+            w0: Some("1.267 ± 0.015"),
         },
         Row {
             k: "-0.03",

@@ -199,17 +199,35 @@ impl Model for NomotoWave {
         Ok(())
     }
 
-    /// The wave frequency from the compass: the peak of the heading's periodogram between
+    /// The wave frequency from the compass: the peak of the heading rate's periodogram between
     /// wave periods of 3 and 30 s (Fossen 2011, 8.2: the peak frequency of the wave-yaw
-    /// spectrum), the slow heading taken away by a 30 s moving average.
+    /// spectrum), the slow part taken away by a 30 s moving average.
     fn initial_guess(&self, name: &str, runs: &[crate::io::record::Record]) -> Option<f64> {
         if name != "w0" {
             return None;
         }
         let rec = runs.first()?;
         let (t, psi) = (rec.time()?, rec.channel(Quantity::Yaw)?);
+        // the peak of the heading RATE's periodogram (backward differences at the interval
+        // midpoints): the wave yaw's rate peaks at w0 as its heading does (Fossen 2011, 8.2.1:
+        // s^2 / (s^2 + 2 zeta w0 s + w0^2) for small zeta), while the ship's own turning is
+        // weighted down by w^2 against it; on the heading itself what a 30 s moving average
+        // leaves of a zig-zag's swing outweighs a degree of 5 or 8 s waves, and the peak fell
+        // on the band's lower edge
+        let (mid, rate): (Vec<f64>, Vec<f64>) = t
+            .windows(2)
+            .zip(psi.windows(2))
+            .filter(|(a, _)| a[1] > a[0])
+            .map(|(a, p)| {
+                // a heading wrapped at +-180 deg steps by a turn, not a rate
+                let step = (p[1] - p[0] + std::f64::consts::PI)
+                    .rem_euclid(std::f64::consts::TAU)
+                    - std::f64::consts::PI;
+                (0.5 * (a[0] + a[1]), step / (a[1] - a[0]))
+            })
+            .unzip();
         let two_pi = 2.0 * std::f64::consts::PI;
-        crate::numerics::signal::spectral_peak(t, psi, 30.0, two_pi / 30.0, two_pi / 3.0)
+        crate::numerics::signal::spectral_peak(&mid, &rate, 30.0, two_pi / 30.0, two_pi / 3.0)
     }
 
     /// w0 of the wave-yaw model (Fossen 2011, 8.2.1), when positive.
