@@ -2,9 +2,10 @@
 //! twin (configs/spheroid_joint.toml: polar, surge run, PMM pure sway and pure yaw, the
 //! paper's manoeuvre) re-simulated with 100 noise seeds and identified in both HEKF modes.
 //! Joint mode must hold the truth inside 2 sigma for 93-98 % of the coefficient-seed pairs
-//! and inside 1 sigma for 65-76 % (measured 95.5 % and 72.2 %: the HEKF's Nrr and the
-//! polar-origin Xvv and Xuv come out a little wide; issue 22 asks 68 +- 3 %), and never give a sigma much larger than consider mode's. Consider mode (the HEKF from its own
-//! priors, the captive estimates not used) leaves the yaw equation's scale to free-running
+//! and inside 1 sigma for 65-76 % (measured 95.5 % and 72.2 %: the joint Nrr, Xvv and Xuv
+//! come out a little wide; issue 22 asks 68 +- 3 %), and never give a sigma much larger
+//! than consider mode's. Consider mode (the HEKF from its own priors, the captive
+//! estimates not used) leaves the yaw equation's scale to free-running
 //! data, which cannot fix it (docs/hekf.md, "Identifiability"): its run flags those
 //! coefficients as not determined, and the 90-98 % holds for the rest.
 
