@@ -129,7 +129,9 @@ pub(super) fn stack(config: &SurgeConfig, records: &[Record]) -> Result<Stack> {
     Ok(s)
 }
 
-/// The regression on `segments`, with X_uu (value) for `coefficients`.
+/// The regression on `segments`, with X_uu (value) for `coefficients`; in the whole-integral
+/// form its kappa variance from the noise's sensitivities, widened for autocorrelated
+/// residuals.
 pub(super) fn solve(
     s: &Stack,
     mode: DragFrom,
@@ -139,8 +141,7 @@ pub(super) fn solve(
     let r = match mode {
         DragFrom::Coefficients => {
             let x = xuu.expect("coefficients mode has Xuu").0;
-            // integral (Xuu u|u| + X_prop) dt (paper eq. 21 integrated from t0)
-            let i: Vec<f64> = s.j.iter().zip(&s.p).map(|(j, p)| x * j + p).collect();
+            let i = integrand(s, x);
             levels_or_windows(s, &[&i], segments).map(|mut f| {
                 if s.window.is_none() {
                     let s2 = f.rss / f.dof as f64;
@@ -158,6 +159,19 @@ pub(super) fn solve(
         DragFrom::Force => levels_or_windows(s, &[&s.g, &s.j], segments),
     };
     r.map_err(|e| FitFailure(e, mode))
+}
+
+/// integral (Xuu u|u| + X_prop) dt with X_uu = `xuu` (paper eq. 21 integrated from t0).
+fn integrand(s: &Stack, xuu: f64) -> Vec<f64> {
+    s.j.iter().zip(&s.p).map(|(j, p)| xuu * j + p).collect()
+}
+
+/// kappa = 1/(m - Xud) of the fit with X_uu = `xuu`, without its variance (the central
+/// difference of the sensitivity to X_uu needs the value only).
+fn kappa_with(s: &Stack, xuu: f64, segments: &[Range<usize>]) -> Option<f64> {
+    levels_or_windows(s, &[&integrand(s, xuu)], segments)
+        .ok()
+        .map(|f| f.theta[0])
 }
 
 /// First-order sensitivities g_j = d kappa / d n_j of kappa = 1/(m - Xud) in the
@@ -286,11 +300,7 @@ pub(super) fn part(
             // Sensitivity to Xuu by a central difference of the whole fit.
             let sensitivity = {
                 let h = 1e-6 * xuu_value.abs().max(1e-6);
-                let at = |x: f64| {
-                    solve(s, mode, Some((x, None)), segments)
-                        .ok()
-                        .map(|f| mass - 1.0 / f.theta[0])
-                };
+                let at = |x: f64| kappa_with(s, x, segments).map(|k| mass - 1.0 / k);
                 match (at(xuu_value + h), at(xuu_value - h)) {
                     (Some(a), Some(b)) => Some((a - b) / (2.0 * h)),
                     _ => None,
