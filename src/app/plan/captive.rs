@@ -11,7 +11,6 @@ use super::prior::{Operating, Prior};
 use crate::base::error::{Error, Result};
 use crate::base::quantity::Quantity;
 use crate::model::models::Model;
-use crate::numerics::ad;
 use crate::stages::captive::fit::Condition;
 use crate::stages::captive::harmonic::{HarmonicMotion, PER_FORCE};
 use nalgebra::DMatrix;
@@ -160,24 +159,11 @@ pub fn values_and_jacobian<M: Model>(
     cond: &Condition,
     theta: &[f64],
 ) -> (Vec<f64>, DMatrix<f64>) {
-    let (m, p) = (cond.f.len(), theta.len());
-    let mut value = vec![0.0; m];
-    let mut jac = vec![0.0; m * p];
-    ad::jacobian(
-        theta,
-        m,
-        |b, out| {
-            let mut cd: Vec<ad::Dual> = prior.base.iter().map(|v| ad::constant(*v)).collect();
-            for (q, &i) in prior.est.iter().enumerate() {
-                cd[i] = b[q];
-            }
-            model.relations().apply(&mut cd);
-            cond.predict(model, &cd, out);
-        },
-        &mut value,
-        &mut jac,
-    );
-    (value, DMatrix::from_row_slice(m, p, &jac))
+    let (value, jac) = cond.values_and_jacobian(model, &prior.base, &prior.est, theta);
+    (
+        value,
+        DMatrix::from_row_slice(cond.f.len(), theta.len(), &jac),
+    )
 }
 
 /// The posterior covariance after a captive candidate.

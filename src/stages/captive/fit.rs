@@ -48,6 +48,36 @@ impl Condition {
         }
     }
 
+    /// The model's values ([`Self::predict`]) at the coefficients `base` with those at `est`
+    /// set to `theta`, relations applied, and their sensitivities to `theta` by automatic
+    /// differentiation: (values, row-major m x p Jacobian).
+    pub fn values_and_jacobian<M: Model>(
+        &self,
+        model: &M,
+        base: &[f64],
+        est: &[usize],
+        theta: &[f64],
+    ) -> (Vec<f64>, Vec<f64>) {
+        let (m, p) = (self.f.len(), theta.len());
+        let mut value = vec![0.0; m];
+        let mut jac = vec![0.0; m * p];
+        ad::jacobian(
+            theta,
+            m,
+            |b, out| {
+                let mut cd: Vec<ad::Dual> = base.iter().map(|v| ad::constant(*v)).collect();
+                for (q, &i) in est.iter().enumerate() {
+                    cd[i] = b[q];
+                }
+                model.relations().apply(&mut cd);
+                self.predict(model, &cd, out);
+            },
+            &mut value,
+            &mut jac,
+        );
+        (value, jac)
+    }
+
     /// The force component of each of its values.
     pub fn component(&self, k: usize) -> usize {
         match self.harmonic {
@@ -490,22 +520,7 @@ fn residuals<M: Model>(
     let mut row0 = 0;
     for c in conditions {
         let m = c.f.len();
-        let mut value = vec![0.0; m];
-        let mut jac = vec![0.0; m * p];
-        ad::jacobian(
-            theta,
-            m,
-            |b, out| {
-                let mut cd: Vec<ad::Dual> = base.iter().map(|v| ad::constant(*v)).collect();
-                for (q, &i) in est.iter().enumerate() {
-                    cd[i] = b[q];
-                }
-                model.relations().apply(&mut cd);
-                c.predict(model, &cd, out);
-            },
-            &mut value,
-            &mut jac,
-        );
+        let (value, jac) = c.values_and_jacobian(model, base, est, theta);
         for k in 0..m {
             let s = scale[c.component(k)];
             let w = c.sigma.as_ref().map_or(s, |sig| sig[k].max(1e-12 * s));
