@@ -168,7 +168,7 @@ pub fn values_and_jacobian<M: Model>(
 
 /// The posterior covariance after a captive candidate.
 pub fn posterior<M: Model>(model: &M, prior: &Prior, cond: &Condition) -> Result<DMatrix<f64>> {
-    let theta: Vec<f64> = prior.est.iter().map(|&i| prior.base[i]).collect();
+    let theta = prior.values();
     let (_, j) = values_and_jacobian(model, prior, cond, &theta);
     let sigma = cond.sigma.clone().unwrap_or_default();
     let info = super::information::fisher(&j, &sigma);

@@ -232,7 +232,7 @@ pub fn posterior<M: Model>(
 ) -> Result<DMatrix<f64>> {
     let run = simulate_run(model, prior, op, c, &mut |_, _| {})?;
     let ys = outputs(model, prior, &run);
-    let theta: Vec<f64> = prior.est.iter().map(|&i| prior.base[i]).collect();
+    let theta = prior.values();
     filter(model, prior, op, &run, &theta, &ys)
         .map(|(_, cov)| cov)
         .map_err(|e| Error::numerical("plan", format!("candidate '{}': {e}", c.name)))

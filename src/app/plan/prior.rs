@@ -24,6 +24,11 @@ pub struct Prior {
 }
 
 impl Prior {
+    /// The parameters' current values (SI), in `names` order.
+    pub fn values(&self) -> Vec<f64> {
+        self.est.iter().map(|&i| self.base[i]).collect()
+    }
+
     /// The prior standard deviations.
     pub fn sigma(&self) -> Vec<f64> {
         (0..self.names.len())

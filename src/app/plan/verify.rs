@@ -74,12 +74,12 @@ fn verify_one<M: Model>(
         .into_par_iter()
         .map(|r| replica(ctx, &row.candidate, seed.wrapping_add(r as u64)))
         .collect::<Result<_>>()?;
+    let current = ctx.prior.values();
     let achieved: Vec<f64> = ctx
         .targets
         .iter()
         .map(|&i| {
-            let t = ctx.prior.base[ctx.prior.est[i]];
-            let ss: f64 = estimates.iter().map(|e| (e[i] - t).powi(2)).sum();
+            let ss: f64 = estimates.iter().map(|e| (e[i] - current[i]).powi(2)).sum();
             (ss / replicas as f64).sqrt()
         })
         .collect();
@@ -109,7 +109,7 @@ fn draw(cov: &DMatrix<f64>, rng: &mut StdRng) -> DVector<f64> {
 /// One replica identified: the parameters' estimate.
 fn replica<M: Model>(ctx: &Context<M>, c: &super::Candidate, seed: u64) -> Result<Vec<f64>> {
     let mut rng = StdRng::seed_from_u64(seed);
-    let truth: Vec<f64> = ctx.prior.est.iter().map(|&i| ctx.prior.base[i]).collect();
+    let truth = ctx.prior.values();
     let start: Vec<f64> = (DVector::from_vec(truth.clone()) + draw(&ctx.prior.cov, &mut rng))
         .iter()
         .copied()
@@ -128,8 +128,7 @@ fn replica<M: Model>(ctx: &Context<M>, c: &super::Candidate, seed: u64) -> Resul
     let q = ctx.op.q.clone();
     let mut forcing = |x: &mut [f64], dt: f64| {
         for (xi, qi) in x.iter_mut().zip(&q) {
-            let z: f64 = StandardNormal.sample(&mut rng);
-            *xi += (qi * dt).sqrt() * z;
+            *xi += (qi * dt).sqrt() * normal(&mut rng);
         }
     };
     let run = manoeuvre::simulate_run(ctx.model, &ctx.prior, &ctx.op, c, &mut forcing)?;
