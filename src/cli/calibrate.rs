@@ -40,7 +40,7 @@ pub struct Args {
 pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
     crate::io::output::clean_up_on_signals()?;
     let dir = &args.outdir;
-    write::check_folder(dir, "calibrate")?;
+    crate::io::output::marker::require_unchanged(dir, "calibrate")?;
     let (loaded, _) = super::rerun::load_recorded(dir, false, false)?;
     let inputs = pipeline::load_inputs(&loaded, pipeline::stage_inputs(&loaded.config))?;
     let original = pipeline::run_on(&loaded, &inputs, &mut Silent, Scope::Full)?;

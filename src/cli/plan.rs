@@ -13,7 +13,7 @@ use std::path::PathBuf;
 /// coefficients' uncertainty: each candidate simulated with the identified model, its
 /// information in the linearisation at the current estimate added to the current covariance
 /// (D- and A-optimal scores, each target's predicted sigma, per unit cost). With an output
-/// folder, plan.json and plots/plan.svg are written into it.
+/// folder, plan.json, plan.md and plots/plan.svg are written into it.
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// An output folder written by `hydroid run` (unchanged since), or a configuration,
@@ -47,7 +47,7 @@ pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
     let dir = args.source.is_dir().then(|| args.source.clone());
     let loaded = match &dir {
         Some(d) => {
-            crate::app::calibrate::write::check_folder(d, "plan")?;
+            crate::io::output::marker::require_unchanged(d, "plan")?;
             super::rerun::load_recorded(d, false, false)?.0
         }
         None => config::load(&args.source, &[])?,
@@ -84,8 +84,9 @@ pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
     if let Some(d) = &dir {
         write::write(d, &plan)?;
         say.note(&format!(
-            "plan: {} and {} written in {}",
+            "plan: {}, {} and {} written in {}",
             write::PLAN_JSON,
+            write::PLAN_MD,
             write::PLAN_SVG,
             d.display()
         ));

@@ -3,41 +3,16 @@
 //! stays hydroid's) and its table for the console and the Markdown file.
 
 use super::Calibration;
-use crate::base::error::{Error, Result};
+use crate::base::error::Result;
 use crate::base::markdown_text::markdown_table;
 use crate::base::numfmt::num;
-use crate::io::output::marker::{self, Found};
+use crate::io::output::marker;
 use std::path::Path;
 
 /// calibration.json in the output folder.
 pub const CALIBRATION_JSON: &str = "calibration.json";
 /// calibration.md in the output folder.
 pub const CALIBRATION_MD: &str = "calibration.md";
-
-/// Refuses a folder that is not an output of `hydroid run` exactly as hydroid wrote it (its
-/// marker lists every file unchanged), naming what differs: `verb` (calibrate, plan) writes
-/// into it.
-pub fn check_folder(dir: &Path, verb: &str) -> Result<()> {
-    match marker::inspect(dir)? {
-        Found::Unchanged => Ok(()),
-        Found::Nothing => Err(Error::Usage(format!(
-            "{}: no such output folder (give the folder `hydroid run` wrote)",
-            dir.display()
-        ))),
-        Found::Foreign(why) => Err(Error::Usage(format!(
-            "{} is not an output folder of `hydroid run`: {why}",
-            dir.display()
-        ))),
-        Found::Changed(what) => Err(Error::Usage(format!(
-            "refusing to {verb} {}: it changed since hydroid wrote it ({}); {verb} \
-             reads and writes into an output exactly as `hydroid run` left it: `hydroid \
-             rerun {}` first",
-            dir.display(),
-            what.join("; "),
-            dir.display()
-        ))),
-    }
-}
 
 /// Writes calibration.json and calibration.md into `dir` (replacing those hydroid wrote
 /// there before) and records them in the folder's marker.

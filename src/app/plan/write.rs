@@ -84,8 +84,8 @@ pub fn table(plan: &Plan) -> String {
     s
 }
 
-/// Writes plan.json and plots/plan.svg into the output folder `dir` (replacing those hydroid
-/// wrote there before) and records them in its marker.
+/// Writes plan.json, plan.md and plots/plan.svg into the output folder `dir` (replacing those
+/// hydroid wrote there before) and records them in its marker.
 pub fn write(dir: &Path, plan: &Plan) -> Result<()> {
     let json = crate::io::output::to_json(plan)?;
     let figure = plots::render(&Reduction(plan), None)?;
@@ -97,11 +97,7 @@ pub fn write(dir: &Path, plan: &Plan) -> Result<()> {
 
 /// plan.md: what the table is, the table, and the assumptions.
 pub fn markdown(plan: &Plan) -> String {
-    let mut s = String::from(
-        "# Run plan
-
-",
-    );
+    let mut s = String::from("# Run plan\n\n");
     s.push_str(&format!(
         "Candidate runs of the {} model ranked by the predicted information on {} (D score: \
          half the log of the ratio of the targets' covariance determinants before and after, \

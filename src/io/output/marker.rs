@@ -106,6 +106,31 @@ pub enum Found {
     Foreign(String),
 }
 
+/// Refuses a folder that is not an output of `hydroid run` exactly as hydroid wrote it (its
+/// marker lists every file unchanged), naming what differs: `verb` (calibrate, plan) writes
+/// into it.
+pub fn require_unchanged(dir: &Path, verb: &str) -> Result<()> {
+    match inspect(dir)? {
+        Found::Unchanged => Ok(()),
+        Found::Nothing => Err(Error::Usage(format!(
+            "{}: no such output folder (give the folder `hydroid run` wrote)",
+            dir.display()
+        ))),
+        Found::Foreign(why) => Err(Error::Usage(format!(
+            "{} is not an output folder of `hydroid run`: {why}",
+            dir.display()
+        ))),
+        Found::Changed(what) => Err(Error::Usage(format!(
+            "refusing to {verb} {}: it changed since hydroid wrote it ({}); {verb} \
+             reads and writes into an output exactly as `hydroid run` left it: `hydroid \
+             rerun {}` first",
+            dir.display(),
+            what.join("; "),
+            dir.display()
+        ))),
+    }
+}
+
 /// Looks at `target` (resolved, see [`super::paths::resolve`]).
 pub fn inspect(target: &Path) -> Result<Found> {
     let meta = match std::fs::symlink_metadata(target) {
