@@ -26,6 +26,7 @@ use super::{
 use crate::numerics::ad::Scalar;
 use crate::model::coefficients::{CompiledRelations, Relation};
 use crate::base::quantity::Quantity;
+use crate::base::units::wrap_pi;
 
 const fn c(name: &'static str, unit: &'static str, meaning: &'static str, size: f64) -> CoefDef {
     CoefDef::fixed(name, unit, meaning, size, None)
@@ -218,13 +219,8 @@ impl Model for NomotoWave {
             .windows(2)
             .zip(psi.windows(2))
             .filter(|(a, _)| a[1] > a[0])
-            .map(|(a, p)| {
-                // a heading wrapped at +-180 deg steps by a turn, not a rate
-                let step = (p[1] - p[0] + std::f64::consts::PI)
-                    .rem_euclid(std::f64::consts::TAU)
-                    - std::f64::consts::PI;
-                (0.5 * (a[0] + a[1]), step / (a[1] - a[0]))
-            })
+            // a heading wrapped at +-180 deg steps by a turn, not a rate
+            .map(|(a, p)| (0.5 * (a[0] + a[1]), wrap_pi(p[1] - p[0]) / (a[1] - a[0])))
             .unzip();
         let two_pi = 2.0 * std::f64::consts::PI;
         crate::numerics::signal::spectral_peak(&mid, &rate, 30.0, two_pi / 30.0, two_pi / 3.0)
