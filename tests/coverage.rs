@@ -2,8 +2,8 @@
 //! twin (configs/spheroid_joint.toml: polar, surge run, PMM pure sway and pure yaw, the
 //! paper's manoeuvre) re-simulated with 100 noise seeds and identified in both HEKF modes.
 //! Joint mode must hold the truth inside 2 sigma for 93-98 % of the coefficient-seed pairs
-//! and inside 1 sigma for 65-76 % (measured 95.5 % and 72.2 %: the joint Nrr, Xvv and Xuv
-//! come out a little wide; issue 22 asks 68 +- 3 %), and never give a sigma much larger
+//! and inside 1 sigma for 65-71 % (issue 22's 68 +- 3 %; measured 95.2 % and 70.5 %), and
+//! never give a sigma much larger
 //! than consider mode's. Consider mode (the HEKF from its own priors, the captive
 //! estimates not used) leaves the yaw equation's scale to free-running
 //! data, which cannot fix it (docs/hekf.md, "Identifiability"): its run flags those
@@ -35,6 +35,9 @@ struct Outcome {
     sigma: Vec<f64>,
     flagged: Vec<bool>,
     noise_warned: Vec<bool>,
+    /// Whether the noise-model direction entered the uncertainty budget (it does only beyond
+    /// what a right noise model moves the estimates by chance, docs/hekf.md).
+    noise_row: bool,
 }
 
 /// The twin identified in joint mode, with consider mode run beside it (`stages.hekf.modes`).
@@ -59,6 +62,7 @@ fn identify(example: &Path) -> (Outcome, Outcome) {
             sigma: Vec::new(),
             flagged: Vec::new(),
             noise_warned: Vec::new(),
+            noise_row: false,
         };
         for (name, truth) in common::spheroid_joint_truth() {
             let row = common::named(rows, name);
@@ -67,6 +71,7 @@ fn identify(example: &Path) -> (Outcome, Outcome) {
             outcome.sigma.push(s);
             let budget = &common::named(&r["comparison"], name)["budget"];
             let statistical = budget["hekf"].as_f64().unwrap_or(s);
+            outcome.noise_row |= key == "joint" && budget.get("noise").is_some();
             outcome.z_statistical.push((v - truth) / statistical);
             outcome
                 .flagged
@@ -222,16 +227,17 @@ fn joint_mode_covers_the_truth_over_100_seeds() {
         100.0 * consider_determined
     );
     assert!((0.93..=0.98).contains(&joint), "joint: {joint}");
+    // issue 22: 68 +- 3 % within 1 sigma
     assert!(
-        (0.65..=0.76).contains(&joint_1),
+        (0.65..=0.71).contains(&joint_1),
         "joint, 1 sigma: {joint_1}"
     );
     assert!(
         (0.90..=0.98).contains(&consider_determined),
         "consider, determined coefficients: {consider_determined}"
     );
-    // docs/hekf.md at its printed digits: "within 2 sigma for 95.5 % and within 1 sigma for
-    // 72.2 % ... per coefficient 65-82 % within 1 sigma, Nrr and Xvv the widest"
+    // docs/hekf.md at its printed digits: "within 2 sigma for 95.2 % and within 1 sigma for
+    // 70.5 % ... per coefficient 64-76 % within 1 sigma, Nrr and Xuu the widest"
     per_coefficient.sort_by(|a, b| a.0.total_cmp(&b.0));
     let mut widest: Vec<&str> = per_coefficient.iter().rev().take(2).map(|p| p.1).collect();
     widest.sort_unstable();
@@ -245,13 +251,20 @@ fn joint_mode_covers_the_truth_over_100_seeds() {
             widest.join(", "),
             nrr_sd
         ),
-        "95.5 % and 72.2 %; per coefficient 65-82 %, Nrr, Xvv the widest; Nrr z sd 0.78"
+        "95.2 % and 70.5 %; per coefficient 64-76 %, Nrr, Xuu the widest; Nrr z sd 0.83"
     );
-    // docs/hekf.md: "71.4 % with the statistical sigmas alone ... a standard error of 1.7 %"
+    // docs/hekf.md: "70.3 % with the statistical sigmas alone ... a standard error of 1.8 %
+    // ... the direction entered in 13 of 100 seeds"
     let (statistical, error) = statistical_share_and_its_error(&outcomes);
+    let with_noise_row = outcomes.iter().filter(|(j, _)| j.noise_row).count();
     assert_eq!(
-        format!("{:.1} % {:.1} %", 100.0 * statistical, 100.0 * error),
-        "71.4 % 1.7 %"
+        format!(
+            "{:.1} % {:.1} %; noise row in {with_noise_row} of {}",
+            100.0 * statistical,
+            100.0 * error,
+            outcomes.len()
+        ),
+        "70.3 % 1.8 %; noise row in 13 of 100"
     );
     joint_sigmas_near_consider_modes(&outcomes, &truths);
     // consider mode leaves the yaw scale (Nrd with Nvv, Nrr, Nuvl) to free-running data, and

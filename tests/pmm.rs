@@ -91,6 +91,16 @@ fn assert_joint_estimates(joint: &serde_json::Value) {
         "{}",
         estimates.table()
     );
+    // docs/hekf.md, "The noise model's share of the uncertainty": on the bundled seed the
+    // noise-model direction moves Yrr beyond chance, so it enters the budget (and no tuning
+    // note says it stayed within chance)
+    let yrr = &common::named(&joint["comparison"], "Yrr")["budget"];
+    assert!(yrr["noise"].as_f64().unwrap() > 0.0, "{yrr}");
+    let tuning = joint["stages"]["hekf"]["tuning"].to_string();
+    assert!(
+        !tuning.contains("within what a right noise model"),
+        "{tuning}"
+    );
     // Yuvl and Yvv, which the runs see only together, at -2.3 and +1.9 sigma
     estimates.assert_printed(&[
         ("Xud", "-1.1623 ± 0.0021 | 0.14 %"),

@@ -11,7 +11,7 @@
 use super::harmonic::HarmonicMotion;
 use crate::model::models::Model;
 use crate::numerics::ad::{self, Scalar};
-use crate::numerics::estimation::nis::variance_ratio_bound;
+use crate::numerics::estimation::nis::variance_ratio_bound_of;
 use crate::numerics::lsq::scaled_least_squares;
 use nalgebra::{DMatrix, DVector};
 
@@ -99,7 +99,7 @@ pub struct Fit {
     /// Gauss-Newton iterations taken.
     pub iterations: usize,
     /// When every value has its own standard error: each component's Birge ratio
-    /// sqrt(chi2 / dof) beyond its 95 % bound (else 1), by which its errors were widened;
+    /// sqrt(chi2 / dof) beyond its 95 % bound for the components together (else 1), by which its errors were widened;
     /// else empty.
     pub birge: Vec<f64>,
     /// Of the rows of steady tables (their noise from the residuals): each component's
@@ -469,7 +469,8 @@ fn gauss_newton_step(
 }
 
 /// Each force component's Birge ratio sqrt(chi2 / dof) over its weighted residuals when chi2
-/// lies beyond its one-sided 95 % bound, else 1 (the degrees of freedom shared out by the
+/// lies beyond its one-sided 95 % bound (Sidak-corrected for the components tested
+/// together), else 1 (the degrees of freedom shared out by the
 /// component's share of the values).
 fn component_birge(
     conditions: &[Condition],
@@ -491,10 +492,11 @@ fn component_birge(
     (0..nf)
         .map(|i| {
             let dof = (count[i] as f64 * (1.0 - p as f64 / n as f64)).max(1.0);
-            // a lack of fit only beyond chance (the one-sided 95 % chi-square bound): the
-            // ratio floored at 1 alone widens half the fits of a right model
+            // a lack of fit only beyond chance (the one-sided 95 % chi-square bound, for the
+            // components tested together): the ratio floored at 1 alone widens half the fits
+            // of a right model
             let ratio = chi2[i] / dof;
-            if ratio > variance_ratio_bound(dof) {
+            if ratio > variance_ratio_bound_of(dof, nf) {
                 ratio.sqrt()
             } else {
                 1.0

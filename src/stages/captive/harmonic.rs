@@ -14,7 +14,7 @@ use crate::base::numfmt::num;
 use crate::base::warning::Warning;
 use crate::model::models::Model;
 use crate::numerics::ad::Scalar;
-use crate::numerics::estimation::nis::variance_ratio_bound;
+use crate::numerics::estimation::nis::variance_ratio_bound_of;
 use crate::numerics::signal::range;
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
@@ -347,10 +347,11 @@ fn force_parts(
         if whole >= 3 {
             // the spread of the periods' own parts, when it says more than white noise: its
             // variance above the white one's beyond the one-sided 95 % bound of a variance
-            // with (periods - 1) degrees of freedom (the larger of two estimates of one
-            // variance would widen every record of white noise)
+            // with (periods - 1) degrees of freedom, for the record's values tested together
+            // (the larger of two estimates of one variance would widen every record of white
+            // noise; each value at 95 % alone, most records)
             let (spread, periods) = period_spread(phases, &y, whole);
-            let bound = variance_ratio_bound(periods.saturating_sub(1) as f64);
+            let bound = variance_ratio_bound_of(periods.saturating_sub(1) as f64, nf * PER_FORCE);
             for (s, p) in se.iter_mut().zip(spread) {
                 if p * p > bound * *s * *s {
                     *s = p;

@@ -357,6 +357,21 @@ pub fn estimates<M: Model>(
     passes(model, &setup, runs, &mut Silent, false).map(|id| id.passes)
 }
 
+/// The last pass of [`estimates`] with its coefficients' covariance (nb x nb, row-major, SI).
+pub fn last_estimate<M: Model>(
+    model: &M,
+    setup: &Setup,
+    runs: &[RunData],
+) -> Result<(PassEstimate, Vec<f64>), IdentifyError> {
+    let setup = Setup {
+        smoother: false,
+        ..setup.clone()
+    };
+    let id = passes(model, &setup, runs, &mut Silent, false)?;
+    let last = id.passes.last().cloned().expect("at least one pass");
+    Ok((last, id.covariance))
+}
+
 fn passes<M: Model>(
     model: &M,
     setup: &Setup,

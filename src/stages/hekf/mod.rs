@@ -256,7 +256,8 @@ impl ModelVisitor for Identify<'_> {
         };
         let (mut upstream, failed) = sensitivity::upstream(model, converged, inputs.known);
         let spread = sensitivity::noise_model(model, converged);
-        if let Some(s) = &spread {
+        // a move within chance is in the statistical sigma already (sensitivity::chance_variances)
+        if let Some(s) = spread.as_ref().filter(|s| s.within_chance.is_none()) {
             upstream.push(s.direction.clone());
         }
         let mut result = result::build(
@@ -272,6 +273,14 @@ impl ModelVisitor for Identify<'_> {
                 failed,
             },
         );
+        if let Some(worst) = spread.as_ref().and_then(|s| s.within_chance) {
+            result.tuning.push(format!(
+                "noise model: halving and doubling the noise moves the estimates within what a \
+                 right noise model moves them by chance (at most {} of that standard \
+                 deviation): in the statistical sigma, not added to the uncertainty budget",
+                crate::base::numfmt::num(worst)
+            ));
+        }
         result
             .warnings
             .extend(noise_model_warning(&plan.est_names, spread.as_ref()));
