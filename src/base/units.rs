@@ -560,5 +560,9 @@ mod tests {
     fn wrap() {
         assert!((wrap_pi(3.0 * PI / 2.0) + PI / 2.0).abs() < 1e-12);
         assert!((wrap_pi(PI) - PI).abs() < 1e-12);
+        // the short way round, and -pi to +pi (the autopilot's heading error)
+        assert!((wrap_pi(3.5) - (3.5 - 2.0 * PI)).abs() < 1e-12);
+        assert!((wrap_pi(-0.2) + 0.2).abs() < 1e-12);
+        assert!((wrap_pi(-PI) - PI).abs() < 1e-12);
     }
 }

@@ -1,5 +1,6 @@
 //! The PID heading controller with its pole-placement tuning and the steering gear's limits.
 
+use crate::base::units::wrap_pi;
 use serde::Serialize;
 
 /// PID gains on the heading error (rad -> rad of rudder).
@@ -104,7 +105,7 @@ impl Autopilot {
     /// delta_c = -(K_p e + K_d e_dot + K_i int e), moved towards at most at the rate limit
     /// and clipped at the angle limit.
     pub fn step(&mut self, heading_error: f64, rate_error: f64, dt: f64) -> f64 {
-        let e = wrap(heading_error);
+        let e = wrap_pi(heading_error);
         let g = &self.gains;
         let command = -(g.kp * e + g.kd * rate_error + g.ki * self.integral);
         let limited = command.clamp(-self.limits.angle, self.limits.angle);
@@ -146,17 +147,6 @@ impl Autopilot {
     /// The rudder angle now, rad.
     pub fn rudder(&self) -> f64 {
         self.rudder
-    }
-}
-
-/// An angle wrapped to (-pi, pi].
-pub fn wrap(a: f64) -> f64 {
-    let two_pi = 2.0 * std::f64::consts::PI;
-    let w = a - two_pi * (a / two_pi).round();
-    if w <= -std::f64::consts::PI {
-        w + two_pi
-    } else {
-        w
     }
 }
 
@@ -221,13 +211,5 @@ mod tests {
             ap.step(-0.01, 0.0, 0.1);
         }
         assert!((ap.rudder() - 0.01 * (1.0 - (-1.0f64).exp())).abs() < 1e-12);
-    }
-
-    #[test]
-    fn wrapping_keeps_the_short_way_round() {
-        assert!((wrap(3.5) - (3.5 - 2.0 * std::f64::consts::PI)).abs() < 1e-12);
-        assert!((wrap(-0.2) + 0.2).abs() < 1e-12);
-        assert!((wrap(std::f64::consts::PI) - std::f64::consts::PI).abs() < 1e-12);
-        assert!((wrap(-std::f64::consts::PI) - std::f64::consts::PI).abs() < 1e-12);
     }
 }
