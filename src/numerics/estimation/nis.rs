@@ -50,10 +50,7 @@ pub fn chi2_bounds(dof: f64) -> [f64; 2] {
 /// `dof` degrees of freedom: chi2_{dof, 0.95} / dof (a variance ratio above it says more
 /// than chance; infinite without degrees of freedom).
 pub fn variance_ratio_bound(dof: f64) -> f64 {
-    match ChiSquared::new(dof) {
-        Ok(c) if dof > 0.0 => c.inverse_cdf(0.95) / dof,
-        _ => f64::INFINITY,
-    }
+    variance_ratio_bound_of(dof, 1)
 }
 
 /// The bound of [`variance_ratio_bound`] for one of `tests` variance ratios tested together,

@@ -99,8 +99,8 @@ pub struct Fit {
     /// Gauss-Newton iterations taken.
     pub iterations: usize,
     /// When every value has its own standard error: each component's Birge ratio
-    /// sqrt(chi2 / dof) beyond its 95 % bound for the components together (else 1), by which its errors were widened;
-    /// else empty.
+    /// sqrt(chi2 / dof) beyond its 95 % bound for the components together (else 1), by
+    /// which its errors were widened; else empty.
     pub birge: Vec<f64>,
     /// Of the rows of steady tables (their noise from the residuals): each component's
     /// lack-of-fit ratio, residual variance over near-neighbour pure error

@@ -143,6 +143,32 @@ pub struct Setup {
     pub noise_scale: f64,
 }
 
+impl Setup {
+    /// The prior covariance of the estimated coefficients (nb x nb, row-major) with each
+    /// coefficient in units of `unit` (SI: ones): the prior sigmas with the prior
+    /// correlations (none: uncorrelated).
+    pub fn prior_covariance(&self, unit: &[f64]) -> Vec<f64> {
+        let nb = self.prior_sigma.len();
+        let sd: Vec<f64> = self
+            .prior_sigma
+            .iter()
+            .zip(unit)
+            .map(|(p, s)| p / s)
+            .collect();
+        let mut cov = vec![0.0; nb * nb];
+        for a in 0..nb {
+            for b in 0..nb {
+                let rho = match self.prior_correlation.get(a * nb + b) {
+                    Some(r) => *r,
+                    None => f64::from(u8::from(a == b)),
+                };
+                cov[a * nb + b] = rho * sd[a] * sd[b];
+            }
+        }
+        cov
+    }
+}
+
 /// Process noise adding less than this share of a state's measurement variance per sample
 /// is none: the data cannot tell it from none.
 const NEGLIGIBLE: f64 = 0.01;
@@ -350,11 +376,7 @@ pub fn estimates<M: Model>(
     setup: &Setup,
     runs: &[RunData],
 ) -> Result<Vec<PassEstimate>, IdentifyError> {
-    let setup = Setup {
-        smoother: false,
-        ..setup.clone()
-    };
-    passes(model, &setup, runs, &mut Silent, false).map(|id| id.passes)
+    silent_passes(model, setup, runs).map(|id| id.passes)
 }
 
 /// The last pass of [`estimates`] with its coefficients' covariance (nb x nb, row-major, SI).
@@ -363,13 +385,22 @@ pub fn last_estimate<M: Model>(
     setup: &Setup,
     runs: &[RunData],
 ) -> Result<(PassEstimate, Vec<f64>), IdentifyError> {
+    let mut id = silent_passes(model, setup, runs)?;
+    let last = id.passes.pop().expect("at least one pass");
+    Ok((last, id.covariance))
+}
+
+/// The passes without traces, smoother or progress.
+fn silent_passes<M: Model>(
+    model: &M,
+    setup: &Setup,
+    runs: &[RunData],
+) -> Result<Identification, IdentifyError> {
     let setup = Setup {
         smoother: false,
         ..setup.clone()
     };
-    let id = passes(model, &setup, runs, &mut Silent, false)?;
-    let last = id.passes.last().cloned().expect("at least one pass");
-    Ok((last, id.covariance))
+    passes(model, &setup, runs, &mut Silent, false)
 }
 
 fn passes<M: Model>(
@@ -752,29 +783,13 @@ struct ScaledPrior {
 
 impl ScaledPrior {
     fn new(setup: &Setup, nx: usize) -> Self {
-        let nb = setup.scale.len();
         let z: Vec<f64> = setup
             .initial
             .iter()
             .zip(&setup.scale)
             .map(|(v, s)| v / s)
             .collect();
-        let sd: Vec<f64> = setup
-            .prior_sigma
-            .iter()
-            .zip(&setup.scale)
-            .map(|(p, s)| p / s)
-            .collect();
-        let mut pzz = vec![0.0; nb * nb];
-        for a in 0..nb {
-            for b in 0..nb {
-                let rho = match setup.prior_correlation.get(a * nb + b) {
-                    Some(r) => *r,
-                    None => f64::from(u8::from(a == b)),
-                };
-                pzz[a * nb + b] = rho * sd[a] * sd[b];
-            }
-        }
+        let pzz = setup.prior_covariance(&setup.scale);
         let mut q = setup.q.clone();
         for (j, s) in setup.scale.iter().enumerate() {
             q[nx + j] /= s * s;

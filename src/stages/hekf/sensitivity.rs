@@ -167,18 +167,18 @@ pub fn noise_model<M: Model>(model: &M, converged: Converged<'_>) -> Option<Nois
         return None;
     };
     let nb = est_names.len();
+    let prior = base.prior_covariance(&vec![1.0; nb]);
     let chance = chance_variances(
-        &prior_covariance(&base),
+        &DMatrix::from_row_slice(nb, nb, &prior),
         &DMatrix::from_row_slice(nb, nb, posterior),
     );
     // a move beyond chance in any coefficient (the one-sided 95 % bound of one chi-square
     // degree of freedom, for the coefficients tested together)
     let bound = variance_ratio_bound_of(1.0, nb);
     let within_chance = chance.and_then(|v| {
-        let ratios: Vec<f64> = (0..nb)
+        let worst = (0..nb)
             .map(|j| 0.5 * (double[j] - half[j]).abs() / v[j].sqrt())
-            .collect();
-        let worst = ratios.iter().copied().fold(0.0, f64::max);
+            .fold(0.0, f64::max);
         (worst * worst <= bound).then_some(worst)
     });
     let deltas: BTreeMap<String, f64> = est_names
@@ -199,20 +199,6 @@ pub fn noise_model<M: Model>(model: &M, converged: Converged<'_>) -> Option<Nois
         },
         moves,
         within_chance,
-    })
-}
-
-/// The prior covariance of the estimated coefficients in `setup` (SI): their prior sigmas
-/// with the prior correlations (none: uncorrelated).
-fn prior_covariance(setup: &Setup) -> DMatrix<f64> {
-    let s = &setup.prior_sigma;
-    let nb = s.len();
-    DMatrix::from_fn(nb, nb, |a, b| {
-        let rho = match setup.prior_correlation.get(a * nb + b) {
-            Some(r) => *r,
-            None => f64::from(u8::from(a == b)),
-        };
-        rho * s[a] * s[b]
     })
 }
 
