@@ -220,11 +220,11 @@ fn the_autopilot_series_hold_the_runs_statistics_and_both_filters() {
         [
             "raw: EKF 0.0283 deg, LPF 0.5404 deg, heading error 1.979 deg, rudder 3.348 deg, \
              rate 2.249 deg/s",
-            "filter: EKF 0.0283 deg, LPF 0.2888 deg, heading error 1.393 deg, rudder 1.119 deg, \
+            "filter: EKF 0.0283 deg, LPF 0.2889 deg, heading error 1.394 deg, rudder 1.120 deg, \
              rate 0.022 deg/s",
-            "lowpass: EKF 0.0283 deg, LPF 0.3056 deg, heading error 1.226 deg, rudder 1.190 \
+            "lowpass: EKF 0.0283 deg, LPF 0.3056 deg, heading error 1.227 deg, rudder 1.191 \
              deg, rate 0.301 deg/s",
-            "true: EKF 0.0283 deg, LPF 0.2895 deg, heading error 1.394 deg, rudder 1.119 deg, \
+            "true: EKF 0.0283 deg, LPF 0.2895 deg, heading error 1.395 deg, rudder 1.119 deg, \
              rate 0.008 deg/s",
         ]
     );
@@ -326,9 +326,9 @@ fn with_a_plant_unlike_its_model_the_plain_ekf_loses_its_edge() {
     assert_eq!(
         measured,
         [
-            "filter: EKF 0.4289 deg, LPF 0.3528 deg, its own 0.4289 deg",
-            "lowpass: EKF 0.4488 deg, LPF 0.3523 deg, its own 0.3523 deg",
-            "adaptive: EKF 0.4370 deg, LPF 0.3331 deg, its own 0.0636 deg",
+            "filter: EKF 0.4263 deg, LPF 0.3528 deg, its own 0.4263 deg",
+            "lowpass: EKF 0.4464 deg, LPF 0.3523 deg, its own 0.3523 deg",
+            "adaptive: EKF 0.4345 deg, LPF 0.3331 deg, its own 0.0636 deg",
         ]
     );
 }

@@ -194,11 +194,11 @@ fn the_nomoto_replicas_carry_the_waves() {
         // the check's band at 8 replicas: 0.67 / (1 + 2 se) to 1.5 / (1 - 2 se), se = 1/sqrt(14)
         assert!((0.44..=3.2).contains(r), "{ratios:?}");
     }
-    // docs/calibrate.md: "spread/sigma 0.94-1.28 for K, 1/T and delta0"
+    // docs/calibrate.md: "spread/sigma 0.98-1.23 for K, 1/T and delta0"
     let (lo, hi) = ratios
         .iter()
         .fold((f64::INFINITY, 0f64), |(l, h), r| (l.min(*r), h.max(*r)));
-    assert_eq!(format!("{lo:.2}-{hi:.2}"), "0.94-1.28");
+    assert_eq!(format!("{lo:.2}-{hi:.2}"), "0.98-1.23");
     assert!(
         c["warnings"].as_array().unwrap().is_empty(),
         "{}",

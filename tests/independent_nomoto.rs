@@ -11,7 +11,7 @@
 
 mod independent;
 
-use independent::accuracy::{identify, Outcome};
+use independent::accuracy::{identify, Outcome, Study};
 use independent::nomoto::{self, NomotoShip};
 use std::fmt::Write as _;
 
@@ -111,17 +111,17 @@ fn check(o: &Outcome) {
     assert_eq!(k, n, "{}", o.table());
 }
 
-/// 8 s waves, w0 known (configs/nomoto.toml's set-up). Measured (2026-11-26): K 0.17974 +-
-/// 0.00251 (-0.14 %, z -0.10), 1/T 0.037097 +- 0.000608 (T 26.96 s, -0.16 %, z +0.10), bias
-/// 1.0146 +- 0.076 deg (z +0.19). Asserted at docs/validation.md's printed digits.
+/// 8 s waves, w0 known (configs/nomoto.toml's set-up). Measured (2026-11-27): K 0.17998 +-
+/// 0.00108 (-0.01 %, z -0.02), 1/T 0.037046 +- 0.000288 (T 26.99 s, -0.02 %, z +0.03), bias
+/// 1.0009 +- 0.043 deg (z +0.02). Asserted at docs/validation.md's printed digits.
 #[test]
 fn zigzag_in_8_s_waves_w0_known() {
     let o = run(8.0, false, 801);
     check(&o);
-    // docs/validation.md: "3 / 3 | K -0.14 %, T -0.16 %, worst z 0.19"
+    // docs/validation.md: "3 / 3 | K -0.01 %, T -0.02 %, worst z 0.03"
     assert_eq!(
         format!("{}, worst z {:.2}", k_and_t(&o), o.worst_z()),
-        "K -0.14 %, T -0.16 %, worst z 0.19",
+        "K -0.01 %, T -0.02 %, worst z 0.03",
         "{}",
         o.table()
     );
@@ -146,9 +146,9 @@ fn w0_said(o: &Outcome, decimals: usize) -> String {
 }
 
 /// 5 s waves, w0 estimated from the compass spectrum on, the logged rudder read as hydroid
-/// reads any log (`between = "auto"`: its ramps interpolated). Measured: K 0.17995 +- 0.00121
-/// (-0.03 %, z -0.04), 1/T +0.00 %, bias z -0.04, w0 1.2349 +- 0.0225 rad/s (truth 1.2566,
-/// -1.7 %, z -0.97). (Started from the heading's spectrum instead of its rate's, a record:
+/// reads any log (`between = "auto"`: its ramps interpolated). Measured: K 0.17994 +- 0.00136
+/// (-0.04 %, z -0.05), 1/T +0.01 %, bias z -0.02, w0 1.2360 +- 0.0176 rad/s (truth 1.2566,
+/// -1.6 %, z -1.17). (Started from the heading's spectrum instead of its rate's, a record:
 /// w0 -3.4 %, z -2.00.) Asserted: all four within 2 sigma, K and T within 0.1 %.
 #[test]
 fn zigzag_in_5_s_waves_w0_estimated() {
@@ -157,20 +157,21 @@ fn zigzag_in_5_s_waves_w0_estimated() {
     for name in ["K", "inv_T"] {
         assert!(o.row(name).error_percent().abs() < 0.1, "{}", o.table());
     }
-    // docs/validation.md: "4 / 4 | w0 -1.7 % (z -0.97); K -0.03 %, T -0.00 %"
+    // docs/validation.md: "4 / 4 | w0 -1.6 % (z -1.17); K -0.04 %, T -0.01 %"
     assert_eq!(
         format!("{}; {}", w0_said(&o, 2), k_and_t(&o)),
-        "w0 -1.7 % (z -0.97); K -0.03 %, T -0.00 %",
+        "w0 -1.6 % (z -1.17); K -0.04 %, T -0.01 %",
         "{}",
         o.table()
     );
 }
 
 /// 8 s waves, w0 estimated with hydroid's default prior (the peak of the compass rate's
-/// spectrum, sigma half of it). Measured: K 0.17998 +- 0.00107 (-0.01 %, z -0.02), 1/T
-/// +0.03 % (z +0.04), bias z +0.05; w0 0.7360 +- 0.0153 rad/s (truth 0.7854, -6.3 %, z -3.22:
-/// the wave frequency itself is not within 2 sigma; see the seeds below). Asserted: w0
-/// positive and within 8.5 %, K and T within 2 sigma and 0.1 %.
+/// spectrum, sigma half of it). Measured (2026-11-27): K 0.17983 +- 0.00117 (-0.09 %,
+/// z -0.14), 1/T +0.11 % (z +0.14), bias z +0.20; w0 0.7465 +- 0.0305 rad/s (truth 0.7854,
+/// -5.0 %, z -1.28). (Before the heading started with the unmeasured variance: w0 -6.3 % at
+/// z -3.22.) Asserted: w0 positive and within 8.5 %, all four within 2 sigma, K and T within
+/// 0.15 %.
 #[test]
 fn zigzag_in_8_s_waves_w0_estimated() {
     let o = run_case(8.0, W0::Default, true, 801);
@@ -181,34 +182,34 @@ fn zigzag_in_8_s_waves_w0_estimated() {
         "{}",
         o.table()
     );
-    k_and_t_within_2_sigma_and(&o, 0.1);
-    // docs/validation.md: "3 / 4 | w0 -6.3 % (z -3.22); K -0.01 %, T -0.03 %"
-    assert_eq!(o.within_two_sigma(), (3, 4), "{}", o.table());
+    k_and_t_within_2_sigma_and(&o, 0.15);
+    // docs/validation.md: "4 / 4 | w0 -5.0 % (z -1.28); K -0.09 %, T -0.11 %"
+    assert_eq!(o.within_two_sigma(), (4, 4), "{}", o.table());
     assert_eq!(
         format!("{}; {}", w0_said(&o, 2), k_and_t(&o)),
-        "w0 -6.3 % (z -3.22); K -0.01 %, T -0.03 %",
+        "w0 -5.0 % (z -1.28); K -0.09 %, T -0.11 %",
         "{}",
         o.table()
     );
     // docs/models/nomoto.md's table
-    assert_eq!(o.printed_row("w0", "0.7360 ± 0.0153"), "0.7360 ± 0.0153");
+    assert_eq!(o.printed_row("w0", "0.7465 ± 0.0305"), "0.7465 ± 0.0305");
 }
 
 /// 20 s waves (overlapping the zig-zag's own frequencies), w0 estimated with hydroid's
 /// default prior (sigma half the spectral start, 0.16 rad/s), the rudder read by
-/// `between = "auto"`. Measured: all four within 2 sigma: K 0.17873 +- 0.00218 (-0.71 %,
-/// z -0.58), 1/T +1.38 % (T -1.36 %, z +1.06), bias +10 % (z +1.86), w0 0.3142 +- 0.0099
-/// (+0.00 %). With the prior sigma 0.5 rad/s of before: K -2.49 % (z -1.92),
-/// T -2.44 %, w0 +3.2 %. Issue 22's 1 % is met for K, not for T (1.36 %) in waves this long:
-/// asserted within 2 sigma, K within 1 % and 1/T within 1.5 %.
+/// `between = "auto"`. Measured (2026-11-27): all four within 2 sigma: K 0.17953 +- 0.00108
+/// (-0.26 %, z -0.43), 1/T +0.11 % (T -0.11 %, z +0.14), bias -2.1 % (z -0.48), w0 0.3094
+/// +- 0.0096 (-1.5 %, z -0.49). (Before the heading started with the unmeasured variance:
+/// K -0.71 %, T -1.36 %; with the prior sigma 0.5 rad/s of before that: K -2.49 %, T -2.44 %.)
+/// Asserted within 2 sigma, K and 1/T within issue 22's 1 %.
 #[test]
 fn zigzag_in_20_s_waves_w0_estimated() {
     let o = run_case(20.0, W0::Default, true, 2001);
     check(&o);
     assert!(o.row("w0").estimate > 0.0, "{}", o.table());
     assert!(o.row("K").error_percent().abs() < 1.0, "{}", o.table());
-    assert!(o.row("inv_T").error_percent().abs() < 1.5, "{}", o.table());
-    // docs/validation.md: "4 / 4 | K -0.71 %, T -1.36 % (1/T z +1.06), bias z +1.86"
+    assert!(o.row("inv_T").error_percent().abs() < 1.0, "{}", o.table());
+    // docs/validation.md: "4 / 4 | K -0.26 %, T -0.11 % (1/T z +0.14), bias z -0.48"
     assert_eq!(
         format!(
             "{} (1/T z {:+.2}), bias z {:+.2}",
@@ -216,20 +217,19 @@ fn zigzag_in_20_s_waves_w0_estimated() {
             o.row("inv_T").z,
             o.row("delta0").z
         ),
-        "K -0.71 %, T -1.36 % (1/T z +1.06), bias z +1.86",
+        "K -0.26 %, T -0.11 % (1/T z +0.14), bias z -0.48",
         "{}",
         o.table()
     );
     // docs/models/nomoto.md's table
-    assert_eq!(o.printed_row("w0", "0.3142 ± 0.0099"), "0.3142 ± 0.0099");
+    assert_eq!(o.printed_row("w0", "0.3094 ± 0.0096"), "0.3094 ± 0.0096");
 }
 
 /// 20 s waves, w0 estimated (as above) over 8 seeds (2001-2008): how often issue 22's "K and
 /// T within 1 %" holds where the waves overlap the zig-zag's own frequencies. Measured
-/// (asserted): K and 1/T both within 1 % in 6 of the 8 seeds (those six within 0.20 % and
-/// 0.15 %); seed 2001 has T -1.36 % at z +1.06 (above); seed 2002 ends with K's sigma 79 % of
-/// its value, flagged as not determined. In every seed K and 1/T are within 2 sigma or
-/// flagged: no confident miss.
+/// (2026-11-27, asserted): in all 8 seeds, K within 0.33 % and 1/T within 0.21 %, all within
+/// 2 sigma. (Before the heading started with the unmeasured variance: 6 of the 8, seed 2001
+/// at T -1.36 % and seed 2002 with K undetermined.)
 #[test]
 fn zigzag_in_20_s_waves_over_seeds_k_and_t_within_1_percent_or_flagged() {
     let outcomes: Vec<Outcome> = (2001..2009)
@@ -246,31 +246,16 @@ fn zigzag_in_20_s_waves_over_seeds_k_and_t_within_1_percent_or_flagged() {
             within.push(seed);
         }
     }
-    assert_eq!(within, [2003, 2004, 2005, 2006, 2007, 2008]);
+    assert_eq!(within, (2001..2009).collect::<Vec<u64>>());
     let worst = |name: &str| {
-        within
+        outcomes
             .iter()
-            .map(|s| {
-                outcomes[(s - 2001) as usize]
-                    .row(name)
-                    .error_percent()
-                    .abs()
-            })
+            .map(|o| o.row(name).error_percent().abs())
             .fold(0.0f64, f64::max)
     };
     assert_eq!(
         format!("{:.2} {:.2}", worst("K"), worst("inv_T")),
-        "0.20 0.15"
-    );
-    let undetermined = &outcomes[1];
-    assert!(undetermined.row("K").flagged, "{}", undetermined.table());
-    assert!(
-        undetermined
-            .warnings
-            .iter()
-            .any(|w| w.contains("not determined by these runs: K")),
-        "{:?}",
-        undetermined.warnings
+        "0.33 0.21"
     );
 }
 
@@ -290,11 +275,16 @@ fn w0_over_seeds(period: f64) -> (f64, usize, usize) {
     (worst, w0_within, kt_within)
 }
 
-/// The default w0 prior over 8 seeds (801-808) in 5 and 8 s waves (docs/models/nomoto.md):
-/// w0 within 2.6 % in 5 s waves, all 8 within 2 sigma; within 6.3 % in 8 s waves, 6 of 8
-/// within 2 sigma (-6.3 % at z -3.2 and +4.6 % at z +2.3: the filter's w0 sigma is too small
-/// there); K and 1/T within 2 sigma in every seed. Before the start was read
-/// from the rate's spectrum, w0 collapsed towards 0 in all 8 seeds of the 5 s waves.
+/// The default w0 prior over 8 seeds (801-808) in 5 and 8 s waves (docs/models/nomoto.md),
+/// measured 2026-11-27: in 7 of the 8 seeds w0 is within 4 % (5 s) and 5.3 % (8 s) and K, T
+/// within 0.13 %. Seed 804 does not converge in either: in 5 s waves w0 ends at -64 % and K
+/// at -3.3 % (z -2.11), in 8 s waves w0 at -16 % with K and 1/T flagged undetermined; both
+/// runs say so (1/T, the bias and w0 not determined; the noise-model test moving the bias 231
+/// sigma; mean NIS 1.23 in 5 s waves). Hence "64.3 %" and "15.8 %" below; w0 within 2 sigma
+/// in 7 of 8 (804 in 5 s waves at z -2.73, flagged). (Before the heading started with the
+/// unmeasured variance: 2.6 % 8/8 and 6.3 % 6/8, with w0's sigma too small in 8 s waves;
+/// before the start was read from the rate's spectrum, w0 collapsed towards 0 in all 8 seeds
+/// of the 5 s waves.)
 #[test]
 fn the_default_w0_prior_finds_5_and_8_s_waves_over_seeds() {
     let said: Vec<String> = [5.0, 8.0]
@@ -304,13 +294,13 @@ fn the_default_w0_prior_finds_5_and_8_s_waves_over_seeds() {
             format!("{period} s: {worst:.1} % {w0_within}/8 {kt_within}/8")
         })
         .collect();
-    assert_eq!(said.join("; "), "5 s: 2.6 % 8/8 8/8; 8 s: 6.3 % 6/8 8/8");
+    assert_eq!(said.join("; "), "5 s: 64.3 % 7/8 7/8; 8 s: 15.8 % 7/8 8/8");
 }
 
 /// Calm water, w0 estimated: the compass shows no wave yaw, and the filter pulls w0 below
 /// zero; it is held at its bound (0.0008 rad/s, 0.001 of its expected size above zero) and
-/// the run says so in a warning naming w0 and its range. K and T are untouched (measured:
-/// K +0.01 %, T +0.01 %, w0 held at 3243 of 6001 samples of the last pass).
+/// the run says so in a warning naming w0 and its range. K and T are untouched (measured
+/// 2026-11-27: K +0.04 %, T +0.03 %, w0 held at 3073 of 6001 samples of the last pass).
 #[test]
 fn in_calm_water_w0_ends_at_its_bound_with_a_warning() {
     let o = run_case(8.0, W0::Default, false, 801);
@@ -323,12 +313,12 @@ fn in_calm_water_w0_ends_at_its_bound_with_a_warning() {
         "{:?}",
         o.warnings
     );
-    // docs/validation.md: "w0 held at its bound (0.0008 rad/s) ...; K, T within 0.01 %"
-    // (measured +0.011 % and +0.006 %)
+    // docs/validation.md: "w0 held at its bound (0.0008 rad/s) ...; K, T within 0.05 %"
+    // (measured +0.042 % and +0.026 %)
     assert_eq!(format!("{:.4}", w0.estimate), "0.0008", "{}", o.table());
-    // docs/models/nomoto.md's table: "+0.01 % | +0.01 %"
-    assert_eq!(k_and_t(&o), "K +0.01 %, T +0.01 %", "{}", o.table());
-    k_and_t_within_2_sigma_and(&o, 0.015);
+    // docs/models/nomoto.md's table: "+0.04 % | +0.03 %"
+    assert_eq!(k_and_t(&o), "K +0.04 %, T +0.03 %", "{}", o.table());
+    k_and_t_within_2_sigma_and(&o, 0.05);
 }
 
 /// K and 1/T within 2 sigma of the truth and within `percent` of it.
@@ -341,4 +331,42 @@ fn k_and_t_within_2_sigma_and(o: &Outcome, percent: f64) {
             o.table()
         );
     }
+}
+
+/// The 8 s waves with w0 known (the bundled set-up) over 100 noise seeds (5001-5100), two at
+/// a time: no confident miss. Measured (2026-11-27): K, 1/T and the bias within 2 sigma in
+/// every seed (300 of 300 pairs within 1 sigma: the sigmas are conservative, rms z 0.10,
+/// 0.08, 0.14, from the heading's random walk, src/stages/hekf/prepare.rs `jitter_variance`);
+/// K within 0.64 % of the truth in every seed. Before the heading started with the
+/// unmeasured states' variance (`initial_state`) 95.0 % were within 1 sigma and 99.0 % within
+/// 2, K's errors had a heavy low tail: seed 5019 K -9.1 % at z -20.6 (its first compass
+/// sample holds 2.6 deg of wave yaw), 5069 -4.7 %, 5099 -4.5 %.
+#[test]
+fn over_100_seeds_in_8_s_waves_no_confident_miss() {
+    let outcomes = independent::parallel::on_two_threads(100, |_, k| {
+        run_case(8.0, W0::Known, true, 5001 + k as u64)
+    });
+    let study = Study { outcomes };
+    let table = study.table();
+    println!("{table}");
+    for o in &study.outcomes {
+        o.assert_undetermined_flagged();
+    }
+    let (one, two, pairs) = study.coverage();
+    assert_eq!((pairs, one, two), (300, 1.0, 1.0), "{table}");
+    let worst_k = study
+        .outcomes
+        .iter()
+        .map(|o| o.row("K").error_percent().abs())
+        .fold(0.0f64, f64::max);
+    let said: Vec<String> = study
+        .spreads()
+        .iter()
+        .map(|c| format!("{} {:.2}", c.name, c.rms_z))
+        .collect();
+    assert_eq!(
+        format!("worst K {worst_k:.2} %; rms z {}", said.join(", ")),
+        "worst K 0.64 %; rms z K 0.10, inv_T 0.08, delta0 0.14",
+        "{table}"
+    );
 }

@@ -26,11 +26,12 @@ pub struct RunData {
     pub name: String,
     /// Sample times, s.
     pub times: Vec<f64>,
-    /// Indices of the measured states.
+    /// Indices of the measured outputs ([`Model::output_quantities`]; the states' for a model
+    /// whose outputs are its states).
     pub measured: Vec<usize>,
     /// Measurements, K x m row-major (SI).
     pub y: Vec<f64>,
-    /// Measurement noise variance of each measured state.
+    /// Measurement noise variance of each measured output.
     pub r: Vec<f64>,
     /// Rounding variance of each measurement (K x m, row-major), added to `r` at its sample;
     /// empty when the run is printed finely.

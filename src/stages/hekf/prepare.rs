@@ -15,6 +15,7 @@ use crate::dynamics::sim::inputs::InputSeries;
 use crate::io::record::Record;
 use crate::model::coefficients::{Coefficient, CoefficientSet};
 use crate::model::models::Model;
+use crate::numerics::ad;
 use crate::numerics::sampling::median_interval;
 use crate::numerics::signal::{self, noise_floor};
 
@@ -316,6 +317,17 @@ impl Plan {
     pub fn describe_estimates(&self) -> String {
         self.est_names.join(", ")
     }
+
+    /// The model's coefficient vector the filter starts from: the fixed values with the
+    /// estimated ones at their initial values, the model's relations applied.
+    pub fn start_coefficients<M: Model>(&self, model: &M) -> Vec<f64> {
+        let mut c = self.base.clone();
+        for (&i, &v) in self.est.iter().zip(&self.initial) {
+            c[i] = v;
+        }
+        model.relations().apply(&mut c);
+        c
+    }
 }
 
 fn sig(v: f64) -> String {
@@ -323,12 +335,16 @@ fn sig(v: f64) -> String {
 }
 
 /// The filter's view of one run: measurements, noise, inputs, initial state.
+///
+/// `start` is the model's coefficient vector the filter starts from
+/// ([`Plan::start_coefficients`]); it tells which states an output reads.
 pub fn run_data<M: Model>(
     model: &M,
     cfg: &HekfConfig,
     tuning: &Resolved,
     rec: &Record,
     base_dir: &std::path::Path,
+    start: &[f64],
 ) -> Result<(RunData, RunSummary)> {
     let times = rec
         .time()
@@ -352,7 +368,8 @@ pub fn run_data<M: Model>(
             ),
         )
     })?;
-    let (x0, p0) = initial_state(model, &measured_q, &y, &r, tuning);
+    let reads = OutputReads::of(model, start);
+    let (x0, p0) = initial_state(model, &measured_q, &y, &r, tuning, &reads);
     warnings.extend(coverage_warnings(model, rec, &times, &measured_q));
     let summary = RunSummary {
         name: rec.name.clone(),
@@ -612,20 +629,28 @@ fn rate_bias_warning(rec: &Record, bias: f64, drift: f64) -> Warning {
 
 /// The initial state and its covariance: the first measurement (that is not an outlier)
 /// with the measurement's variance where measured, zero with variance 1 elsewhere.
+///
+/// A state read through an output that other states enter as well (`reads`; the compass
+/// reads the ship's heading plus the wave yaw, Fossen 2011, 11.3) starts at its first sample
+/// but with the unmeasured states' variance: the sample contains the others' part (a wave
+/// yaw of degrees), and pinned at the measurement's variance the state would carry that part
+/// into the estimates. The first update then ties the sum to the sample.
 fn initial_state<M: Model>(
     model: &M,
     measured_q: &[Quantity],
     y: &[f64],
     r: &[f64],
     tuning: &Resolved,
+    reads: &OutputReads,
 ) -> (Vec<f64>, Vec<f64>) {
     let nx = model.nx();
     let m = measured_q.len();
     let k_len = y.len().checked_div(m).unwrap_or(0);
+    let unmeasured = tuning.p0_states.unwrap_or(1.0);
     let mut x0 = vec![0.0; nx];
     let mut p0 = vec![0.0; nx * nx];
     for i in 0..nx {
-        p0[i * nx + i] = tuning.p0_states.unwrap_or(1.0);
+        p0[i * nx + i] = unmeasured;
     }
     for (a, q) in measured_q.iter().enumerate() {
         // a state measured directly starts at its first sample that is not an outlier
@@ -636,9 +661,62 @@ fn initial_state<M: Model>(
             .map(|k| y[k * m + a])
             .find(|v| v.is_finite())
             .unwrap_or(0.0);
-        p0[i * nx + i] = tuning.p0_states.or(tuning.p0_measured).unwrap_or(r[a]);
+        let through_shared = model.output_index(*q).is_some_and(|o| reads.shared(o));
+        p0[i * nx + i] = if through_shared {
+            unmeasured
+        } else {
+            tuning.p0_states.or(tuning.p0_measured).unwrap_or(r[a])
+        };
     }
     (x0, p0)
+}
+
+/// Which states enter each output of the model: the sparsity of the Jacobian of
+/// [`Model::measure`] (forward-mode AD at the zero state and inputs, with the starting
+/// coefficients). Empty for a model whose outputs are its states.
+struct OutputReads {
+    /// Per output, per state: whether the state enters it (outputs x states, row-major).
+    enters: Vec<bool>,
+    nx: usize,
+}
+
+impl OutputReads {
+    fn of<M: Model>(model: &M, c: &[f64]) -> Self {
+        let (m, nx) = (model.outputs().len(), model.nx());
+        if m == 0 {
+            return OutputReads {
+                enters: Vec::new(),
+                nx,
+            };
+        }
+        let u = vec![0.0; model.inputs().len()];
+        let mut value = vec![0.0; m];
+        let mut jac = vec![0.0; m * nx];
+        ad::jacobian(
+            &vec![0.0; nx],
+            m,
+            |xd, yd| {
+                let cd: Vec<ad::Dual> = c.iter().map(|v| ad::constant(*v)).collect();
+                model.measure(xd, &u, &cd, yd);
+            },
+            &mut value,
+            &mut jac,
+        );
+        OutputReads {
+            enters: jac.iter().map(|d| *d != 0.0).collect(),
+            nx,
+        }
+    }
+
+    /// Whether state `i` enters output `o`.
+    fn enters(&self, o: usize, i: usize) -> bool {
+        self.enters.get(o * self.nx + i).copied().unwrap_or(false)
+    }
+
+    /// Whether more than one state enters output `o`.
+    fn shared(&self, o: usize) -> bool {
+        (0..self.nx).filter(|&i| self.enters(o, i)).count() > 1
+    }
 }
 
 /// Control inputs (rudder, planes) that never move in a run: the response to them, which
@@ -853,6 +931,49 @@ fn adaptable_states<M: Model>(model: &M, cfg: &HekfConfig, tuning: &Resolved) ->
         .collect()
 }
 
+/// The variance the state jitter of state `i` is a fraction of, in one run.
+///
+/// For a model whose outputs are its states: the measurement variance of the state where
+/// measured, 1 SI unit squared where not. For a model measured through outputs
+/// ([`OutputReads`]): the variance of an output that reads the state alone; 1 SI unit squared
+/// for a state that the run's only measured output reads together with others (the heading
+/// under a compass's wave yaw: a random walk of 1e-6 rad^2 per sample interval lets the filter
+/// follow slow heading changes the model lacks while the wave frequency converges, where
+/// nothing else in the run tells them from the ship's turning; measured in
+/// tests/independent_nomoto.rs); the run's smallest measurement variance otherwise (the yaw
+/// rate under a compass; every state when a gyro is logged with the compass, whose
+/// combination pins the heading's drift), which a unit variance would let wander away from
+/// the dynamics that identify the coefficients (K's sigma half of K with the gyro).
+fn jitter_variance<M: Model>(model: &M, reads: &OutputReads, run: &RunData, i: usize) -> f64 {
+    if model.outputs().is_empty() {
+        // the outputs are the states: output index = state index
+        return run
+            .measured
+            .iter()
+            .position(|&s| s == i)
+            .map_or(1.0, |k| run.r[k]);
+    }
+    let quantities = model.output_quantities();
+    let alone = run
+        .measured
+        .iter()
+        .position(|&o| model.state_index(quantities[o]) == Some(i) && !reads.shared(o));
+    if let Some(k) = alone {
+        return run.r[k];
+    }
+    if let [o] = run.measured[..] {
+        if reads.shared(o) && reads.enters(o, i) {
+            return 1.0;
+        }
+    }
+    let smallest = run.r.iter().copied().fold(f64::INFINITY, f64::min);
+    if smallest.is_finite() {
+        smallest
+    } else {
+        1.0
+    }
+}
+
 /// The filter set-up from the plan, the tuning and the runs; `hekf.process_noise` entries
 /// (by state or coefficient name) override the preset.
 pub fn setup<M: Model>(
@@ -871,6 +992,7 @@ pub fn setup<M: Model>(
         .fold(0.0f64, f64::max);
     let substeps = tuning.substeps_for(dt);
     let mut q = vec![tuning.q_states; nx];
+    let reads = OutputReads::of(model, &plan.start_coefficients(model));
     if let Some(j) = tuning.state_jitter {
         for (i, qi) in q.iter_mut().enumerate() {
             // the smallest measurement variance per sample interval over the runs
@@ -879,12 +1001,7 @@ pub fn setup<M: Model>(
                 .filter(|r| r.len() > 1)
                 .map(|r| {
                     let dt = (r.times[r.len() - 1] - r.times[0]) / (r.len() - 1) as f64;
-                    let var = r
-                        .measured
-                        .iter()
-                        .position(|&s| s == i)
-                        .map_or(1.0, |k| r.r[k]);
-                    var / dt
+                    jitter_variance(model, &reads, r, i) / dt
                 })
                 .fold(f64::INFINITY, f64::min);
             if per_second.is_finite() {
@@ -939,4 +1056,99 @@ pub fn setup<M: Model>(
         run_q: Vec::new(),
         noise_scale: 1.0,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::models::nomoto_wave::{NomotoWave, FRIGATE_9MS};
+    use crate::model::models::spheroid3::Spheroid3;
+
+    fn tuning() -> Resolved {
+        Resolved::preset(crate::config::hekf::Preset::Hydroid)
+    }
+
+    fn frigate() -> (NomotoWave, Vec<f64>) {
+        let m = NomotoWave::build(&NomotoWave::example_vehicle()).unwrap();
+        let c = m.coefficient_vector(FRIGATE_9MS);
+        (m, c)
+    }
+
+    /// A compass run of the frigate: output 0 (the compass) at `r`, 10 Hz.
+    fn compass_run(r: f64) -> RunData {
+        RunData {
+            name: "compass".into(),
+            times: vec![0.0, 0.1, 0.2],
+            measured: vec![0],
+            y: vec![0.05, 0.04, 0.03],
+            r: vec![r],
+            rounding: Vec::new(),
+            inputs: InputSeries::constant(&[0.0]),
+            x0: vec![0.0; 4],
+            p0: vec![0.0; 16],
+            lines: vec![2, 3, 4],
+        }
+    }
+
+    /// Fossen 2011, 11.3: the compass reads psi_L + psi_H, the gyro r_L plus the wave yaw's
+    /// rate (xi and psi_H through w0 and zeta_w); states r_L, psi_L, xi, psi_H.
+    #[test]
+    fn the_compass_reads_the_heading_with_the_wave_yaw() {
+        let (m, c) = frigate();
+        let reads = OutputReads::of(&m, &c);
+        let compass: Vec<bool> = (0..4).map(|i| reads.enters(0, i)).collect();
+        assert_eq!(compass, [false, true, false, true]);
+        let gyro: Vec<bool> = (0..4).map(|i| reads.enters(1, i)).collect();
+        assert_eq!(gyro, [true, false, true, true]);
+        assert!(reads.shared(0) && reads.shared(1));
+        let s = Spheroid3::paper_vehicle();
+        let none = OutputReads::of(&s, &vec![0.0; s.coefficients().len()]);
+        assert!(!none.shared(0) && !none.enters(0, 0));
+    }
+
+    /// The heading under the compass starts at the first sample with the unmeasured states'
+    /// variance (the sample holds the wave yaw too); a spheroid's measured velocity with R.
+    #[test]
+    fn a_state_read_with_others_starts_as_uncertain_as_the_unmeasured() {
+        let (m, c) = frigate();
+        let reads = OutputReads::of(&m, &c);
+        let (x0, p0) = initial_state(&m, &[Quantity::Yaw], &[0.05], &[1e-6], &tuning(), &reads);
+        assert_eq!(x0, [0.0, 0.05, 0.0, 0.0]);
+        assert_eq!([p0[0], p0[5], p0[10], p0[15]], [1.0, 1.0, 1.0, 1.0]);
+        let s = Spheroid3::paper_vehicle();
+        let none = OutputReads::of(&s, &[]);
+        let (x0, p0) = initial_state(&s, &[Quantity::U], &[1.5], &[1e-4], &tuning(), &none);
+        assert_eq!(x0[0], 1.5);
+        assert_eq!(p0[0], 1e-4);
+    }
+
+    /// The jitter's variance per state of the frigate under a compass of variance 1e-6: the
+    /// heading and the wave yaw (read together) 1 rad^2; the yaw rate and xi (not read) the
+    /// compass's 1e-6; with a gyro too, the smallest variance everywhere. A spheroid's
+    /// measured state gets its R, an unmeasured one 1.
+    #[test]
+    fn the_jitter_follows_what_each_output_reads() {
+        let (m, c) = frigate();
+        let reads = OutputReads::of(&m, &c);
+        let run = compass_run(1e-6);
+        let v: Vec<f64> = (0..4)
+            .map(|i| jitter_variance(&m, &reads, &run, i))
+            .collect();
+        assert_eq!(v, [1e-6, 1.0, 1e-6, 1.0]);
+        // a gyro logged as well: the combination pins the heading's drift
+        let mut both = compass_run(1e-6);
+        both.measured = vec![0, 1];
+        both.r = vec![1e-6, 4e-8];
+        both.y = vec![0.05, 0.0, 0.04, 0.0, 0.03, 0.0];
+        let v: Vec<f64> = (0..4)
+            .map(|i| jitter_variance(&m, &reads, &both, i))
+            .collect();
+        assert_eq!(v, [4e-8; 4]);
+        let s = Spheroid3::paper_vehicle();
+        let none = OutputReads::of(&s, &[]);
+        let mut run = compass_run(2e-4);
+        run.measured = vec![2];
+        assert_eq!(jitter_variance(&s, &none, &run, 2), 2e-4);
+        assert_eq!(jitter_variance(&s, &none, &run, 0), 1.0);
+    }
 }

@@ -28,8 +28,8 @@ pub struct Resolved {
     /// When set, each dynamic state also gets process noise of this fraction of its
     /// measurement noise variance per sample interval (1 SI unit^2 for unmeasured states).
     /// A part per million keeps the covariance numerically positive definite where the
-    /// dynamics make some state combination almost exactly known, without changing the
-    /// estimates measurably.
+    /// dynamics make some state combination almost exactly known. For a model measured
+    /// through outputs the variance is chosen per state (`prepare::jitter_variance`).
     pub state_jitter: Option<f64>,
     /// Process noise of the coefficients.
     pub q_coefficients: f64,
@@ -43,9 +43,9 @@ pub struct Resolved {
 }
 
 impl Resolved {
-    /// The preset's values, with explicit configuration keys applied on top.
-    pub fn from_config(c: &HekfConfig) -> Self {
-        let mut r = match c.preset {
+    /// A preset's values.
+    pub fn preset(preset: Preset) -> Self {
+        match preset {
             Preset::Hydroid => Resolved {
                 passes: 3,
                 substeps: None,
@@ -79,7 +79,12 @@ impl Resolved {
                 gate: 0.0,
                 adapt_noise: false,
             },
-        };
+        }
+    }
+
+    /// The preset's values, with explicit configuration keys applied on top.
+    pub fn from_config(c: &HekfConfig) -> Self {
+        let mut r = Self::preset(c.preset);
         if let Some(p) = c.passes {
             r.passes = p;
         }
