@@ -45,7 +45,7 @@ pub struct Variant {
     /// What was changed, in words.
     pub label: String,
     /// `between` (inputs read the other way) or `leave_out` (a run left out).
-    pub kind: &'static str,
+    pub kind: VariantKind,
     /// Why the identification failed, if it did.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub error: Option<String>,
@@ -55,6 +55,16 @@ pub struct Variant {
     /// sqrt(sigma_out^2 - sigma^2).
     #[serde(skip_serializing_if = "BTreeMap::is_empty")]
     pub z: BTreeMap<String, f64>,
+}
+
+/// What kind of setting a [`Variant`] changed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum VariantKind {
+    /// The fitted manoeuvres' sampled inputs read the other way.
+    Between,
+    /// One run left out.
+    LeaveOut,
 }
 
 /// One coefficient under the changed settings.
@@ -86,30 +96,17 @@ struct Planned {
 enum Change {
     /// The fitted manoeuvres' sampled inputs read the other way.
     Between,
-    /// Run `k` of stage `stage` (an index into [`STAGES`]) left out.
+    /// Run `k` of stage `stage` (an index into [`InputsByStage::fitted`]) left out.
     LeaveOut { stage: usize, k: usize },
 }
 
 impl Change {
-    /// Its `kind` in calibration.json.
-    fn kind(self) -> &'static str {
+    /// Its kind in calibration.json.
+    fn kind(self) -> VariantKind {
         match self {
-            Change::Between => "between",
-            Change::LeaveOut { .. } => "leave_out",
+            Change::Between => VariantKind::Between,
+            Change::LeaveOut { .. } => VariantKind::LeaveOut,
         }
-    }
-}
-
-/// The stages whose runs can be left out, by name.
-const STAGES: [&str; 4] = ["polar", "surge", "captive", "hekf"];
-
-/// The runs of stage `stage` (an index into [`STAGES`]).
-fn runs_of<T>(inputs: &mut InputsByStage<T>, stage: usize) -> &mut Vec<T> {
-    match stage {
-        0 => &mut inputs.polar,
-        1 => &mut inputs.surge,
-        2 => &mut inputs.captive,
-        _ => &mut inputs.hekf_fit,
     }
 }
 
@@ -155,19 +152,13 @@ fn planned(inputs: &InputsByStage<LoadedInput>, original: &RunOutput) -> Vec<Pla
             change: Change::Between,
         });
     }
-    let counts = [
-        &inputs.polar,
-        &inputs.surge,
-        &inputs.captive,
-        &inputs.hekf_fit,
-    ];
-    for (stage, runs) in counts.iter().enumerate() {
+    for (stage, (name, runs)) in inputs.fitted().into_iter().enumerate() {
         if runs.len() < 2 {
             continue;
         }
         for (k, run) in runs.iter().enumerate() {
             out.push(Planned {
-                label: format!("{} run '{}' left out", STAGES[stage], run.record.name),
+                label: format!("{name} run '{}' left out", run.record.name),
                 change: Change::LeaveOut { stage, k },
             });
         }
@@ -185,7 +176,7 @@ fn made(
         Change::Between => flipped_inputs(inputs, original),
         Change::LeaveOut { stage, k } => {
             let mut v = inputs.clone();
-            runs_of(&mut v, stage).remove(k);
+            v.fitted_mut()[stage].remove(k);
             Some(v)
         }
     }
@@ -270,11 +261,11 @@ fn row(c: &Coefficient, variants: &[Variant]) -> SettingsRow {
     let sigma = c.sigma.unwrap_or(f64::NAN);
     let between_sigmas = variants
         .iter()
-        .filter(|v| v.kind == "between")
+        .filter(|v| v.kind == VariantKind::Between)
         .find_map(|v| v.moves.get(&c.name).copied());
     let loo: Vec<(f64, f64)> = variants
         .iter()
-        .filter(|v| v.kind == "leave_out")
+        .filter(|v| v.kind == VariantKind::LeaveOut)
         .filter_map(|v| Some((*v.moves.get(&c.name)?, *v.z.get(&c.name)?)))
         .collect();
     let leave_out_max_z = loo.iter().map(|(_, z)| z.abs()).max_by(f64::total_cmp);
@@ -296,14 +287,14 @@ fn warnings(check: &SettingsCheck) -> Vec<Warning> {
     let mut out = Vec::new();
     for v in &check.variants {
         match (&v.error, v.kind) {
-            (Some(e), "between") => out.push(Warning::new(
+            (Some(e), VariantKind::Between) => out.push(Warning::new(
                 "calibration",
                 format!("with {}, the identification failed: {e}", v.label),
                 "the estimates depend on how the inputs are read between samples more than \
                  the sigmas can say",
             )),
             (Some(_), _) => {}
-            (None, "between") => out.extend(between_warning(v)),
+            (None, VariantKind::Between) => out.extend(between_warning(v)),
             (None, _) => out.extend(leave_out_warning(v)),
         }
     }

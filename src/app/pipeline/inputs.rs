@@ -50,6 +50,27 @@ impl<T> InputsByStage<T> {
             .chain(&self.hekf_validation)
     }
 
+    /// The runs each stage fits, by stage name, in the order of [`Self::iter`] (the HEKF's
+    /// validation runs fit nothing).
+    pub fn fitted(&self) -> [(&'static str, &Vec<T>); 4] {
+        [
+            ("polar", &self.polar),
+            ("surge", &self.surge),
+            ("captive", &self.captive),
+            ("hekf", &self.hekf_fit),
+        ]
+    }
+
+    /// [`Self::fitted`], to change.
+    pub fn fitted_mut(&mut self) -> [&mut Vec<T>; 4] {
+        [
+            &mut self.polar,
+            &mut self.surge,
+            &mut self.captive,
+            &mut self.hekf_fit,
+        ]
+    }
+
     /// The HEKF's manoeuvres: the fit runs, then the validation runs.
     pub fn hekf_all(&self) -> impl Iterator<Item = &T> {
         self.hekf_fit.iter().chain(&self.hekf_validation)
