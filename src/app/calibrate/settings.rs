@@ -358,3 +358,21 @@ fn listed(mut moved: Vec<(&String, f64)>) -> Option<String> {
     let list: Vec<String> = moved.iter().map(|(n, m)| format!("{n} {m:+.2}")).collect();
     Some(list.join(", "))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// calibration.json names a variant's kind `between` or `leave_out` (as before it was an enum).
+    #[test]
+    fn a_variants_kind_is_written_as_the_docs_name_it() {
+        let kinds = [VariantKind::Between, VariantKind::LeaveOut].map(|k| {
+            serde_json::to_value(k)
+                .unwrap()
+                .as_str()
+                .unwrap()
+                .to_string()
+        });
+        assert_eq!(kinds, ["between", "leave_out"]);
+    }
+}
