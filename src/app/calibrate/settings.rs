@@ -363,7 +363,8 @@ fn listed(mut moved: Vec<(&String, f64)>) -> Option<String> {
 mod tests {
     use super::*;
 
-    /// calibration.json names a variant's kind `between` or `leave_out` (as before it was an enum).
+    /// calibration.json names a variant's kind `between` or `leave_out`, as it did before
+    /// the kind was an enum.
     #[test]
     fn a_variants_kind_is_written_as_the_docs_name_it() {
         let kinds = [VariantKind::Between, VariantKind::LeaveOut].map(|k| {

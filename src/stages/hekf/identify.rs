@@ -360,6 +360,17 @@ pub struct IdentifyError {
     pub at_bounds: Vec<(usize, usize)>,
 }
 
+/// The model's coefficient vector: `base` with the estimated coefficients (indices `est`)
+/// at `values`, the model's relations applied.
+pub fn completed<M: Model>(model: &M, base: &[f64], est: &[usize], values: &[f64]) -> Vec<f64> {
+    let mut c = base.to_vec();
+    for (&i, &v) in est.iter().zip(values) {
+        c[i] = v;
+    }
+    model.relations().apply(&mut c);
+    c
+}
+
 /// Runs the passes, keeping the traces the report draws.
 pub fn identify<M: Model>(
     model: &M,
@@ -662,11 +673,7 @@ impl Calibration {
         if self.adaptable.iter().flatten().all(Option::is_none) {
             return;
         }
-        let mut c = setup.base.clone();
-        for (&i, v) in setup.est.iter().zip(values) {
-            c[i] = *v;
-        }
-        model.relations().apply(&mut c);
+        let c = completed(model, &setup.base, &setup.est, values);
         let mut largest: f64 = 1.0;
         for (i, run) in runs.iter().enumerate() {
             let Some(q) = super::adapt::from_misfit(model, &c, run, &setup.adaptable) else {

@@ -317,10 +317,9 @@ fn prepared_runs<M: Model>(
     let mut runs = Vec::new();
     let mut summaries = Vec::new();
     let held = held_estimates(model, plan);
-    let start_c = plan.start_coefficients(model);
     for rec in inputs.runs {
         let (mut data, mut summary) =
-            prepare::run_data(model, cfg, tuning, rec, inputs.base_dir, &start_c)?;
+            prepare::run_data(model, cfg, tuning, rec, inputs.base_dir, &plan.reads)?;
         summary.warnings.extend(
             plausibility::before_filter(model, rec, expect)
                 .into_iter()

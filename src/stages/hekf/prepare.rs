@@ -3,7 +3,7 @@
 
 use super::config::HekfConfig;
 use super::config::{FilterKind, Outliers};
-use super::identify::{RunData, Setup};
+use super::identify::{completed, RunData, Setup};
 use super::noise;
 use super::result::RunSummary;
 use super::tuning::{NoiseChoice, Resolved};
@@ -38,6 +38,8 @@ pub struct Plan {
     pub scale: Vec<f64>,
     /// Admissible ranges (SI) the model declares, kept inside the filter.
     pub ranges: Vec<crate::model::models::Range>,
+    /// Which states each of the model's outputs reads, at the starting coefficients.
+    pub reads: OutputReads,
     /// Prior correlations (nb x nb; empty: uncorrelated).
     pub prior_correlation: Vec<f64>,
     /// Coefficients whose prior is an earlier stage's estimate (`hekf.mode = "joint"`).
@@ -133,6 +135,7 @@ pub fn plan<M: Model>(
     }
     let prior_correlation = stage_correlation(known, &cfg.estimate, &held_prior, &prior_sigma);
     let ranges = est.iter().map(|&i| M::COEFFICIENTS[i].range).collect();
+    let reads = OutputReads::of(model, &completed(model, &base, &est, &initial));
     Ok(Plan {
         est_names: cfg.estimate.clone(),
         ranges,
@@ -142,6 +145,7 @@ pub fn plan<M: Model>(
         initial,
         prior_sigma,
         scale,
+        reads,
         prior_correlation,
         held_prior,
         notes,
@@ -317,17 +321,6 @@ impl Plan {
     pub fn describe_estimates(&self) -> String {
         self.est_names.join(", ")
     }
-
-    /// The model's coefficient vector the filter starts from: the fixed values with the
-    /// estimated ones at their initial values, the model's relations applied.
-    pub fn start_coefficients<M: Model>(&self, model: &M) -> Vec<f64> {
-        let mut c = self.base.clone();
-        for (&i, &v) in self.est.iter().zip(&self.initial) {
-            c[i] = v;
-        }
-        model.relations().apply(&mut c);
-        c
-    }
 }
 
 fn sig(v: f64) -> String {
@@ -336,15 +329,14 @@ fn sig(v: f64) -> String {
 
 /// The filter's view of one run: measurements, noise, inputs, initial state.
 ///
-/// `start` is the model's coefficient vector the filter starts from
-/// ([`Plan::start_coefficients`]); it tells which states an output reads.
+/// `reads` tells which states each output reads ([`Plan::reads`]).
 pub fn run_data<M: Model>(
     model: &M,
     cfg: &HekfConfig,
     tuning: &Resolved,
     rec: &Record,
     base_dir: &std::path::Path,
-    start: &[f64],
+    reads: &OutputReads,
 ) -> Result<(RunData, RunSummary)> {
     let times = rec
         .time()
@@ -368,8 +360,7 @@ pub fn run_data<M: Model>(
             ),
         )
     })?;
-    let reads = OutputReads::of(model, start);
-    let (x0, p0) = initial_state(model, &measured_q, &y, &r, tuning, &reads);
+    let (x0, p0) = initial_state(model, &measured_q, &y, &r, tuning, reads);
     warnings.extend(coverage_warnings(model, rec, &times, &measured_q));
     let summary = RunSummary {
         name: rec.name.clone(),
@@ -674,7 +665,8 @@ fn initial_state<M: Model>(
 /// Which states enter each output of the model: the sparsity of the Jacobian of
 /// [`Model::measure`] (forward-mode AD at the zero state and inputs, with the starting
 /// coefficients). Empty for a model whose outputs are its states.
-struct OutputReads {
+#[derive(Debug, Clone)]
+pub struct OutputReads {
     /// Per output, per state: whether the state enters it (outputs x states, row-major).
     enters: Vec<bool>,
     nx: usize,
@@ -992,7 +984,6 @@ pub fn setup<M: Model>(
         .fold(0.0f64, f64::max);
     let substeps = tuning.substeps_for(dt);
     let mut q = vec![tuning.q_states; nx];
-    let reads = OutputReads::of(model, &plan.start_coefficients(model));
     if let Some(j) = tuning.state_jitter {
         for (i, qi) in q.iter_mut().enumerate() {
             // the smallest measurement variance per sample interval over the runs
@@ -1001,7 +992,7 @@ pub fn setup<M: Model>(
                 .filter(|r| r.len() > 1)
                 .map(|r| {
                     let dt = (r.times[r.len() - 1] - r.times[0]) / (r.len() - 1) as f64;
-                    jitter_variance(model, &reads, r, i) / dt
+                    jitter_variance(model, &plan.reads, r, i) / dt
                 })
                 .fold(f64::INFINITY, f64::min);
             if per_second.is_finite() {
