@@ -25,6 +25,11 @@ pub struct CoefDef {
     /// What an estimate pressed against its range's bound usually means for this
     /// coefficient (None: the general reasons, docs/hekf.md).
     pub at_bound: Option<&'static str>,
+    /// A parameter of the disturbance model (a wave spectrum's peak frequency or damping),
+    /// which sets how the filter weighs the data rather than the vehicle's response: when
+    /// estimated, it is found by the innovations' likelihood, not as a filter state (an
+    /// augmented EKF is biased for such parameters; `stages::hekf::likelihood`).
+    pub disturbance: bool,
 }
 
 /// The values a coefficient may take: between `lo` and `hi` (either infinite), the bounds
@@ -120,6 +125,13 @@ impl CoefDef {
         self
     }
 
+    /// The same coefficient, a parameter of the disturbance model (see
+    /// [`CoefDef::disturbance`]).
+    pub const fn of_disturbance(mut self) -> Self {
+        self.disturbance = true;
+        self
+    }
+
     /// The same coefficient, with what an estimate at its range's bound usually means.
     pub const fn at_bound_means(mut self, means: &'static str) -> Self {
         self.at_bound = Some(means);
@@ -147,6 +159,7 @@ impl CoefDef {
             optional: false,
             range: Range::ANY,
             at_bound: None,
+            disturbance: false,
         }
     }
 
@@ -168,6 +181,7 @@ impl CoefDef {
             optional: false,
             range: Range::ANY,
             at_bound: None,
+            disturbance: false,
         }
     }
 
@@ -187,6 +201,7 @@ impl CoefDef {
             optional: false,
             range: Range::ANY,
             at_bound: None,
+            disturbance: false,
         }
     }
 }

@@ -42,12 +42,14 @@ crate::coefficient_table! {
     // rudder's convention and 1/T is negative for a course-unstable ship: not bounded
     W0 = c("w0", "rad/s", "wave peak (encounter) frequency w_0 of the wave-yaw model", 0.8)
         .positive()
+        .of_disturbance()
         .at_bound_means("a wave frequency falling to zero: the compass shows no wave yaw the \
             model can place (no waves in the data, or a heading record too short or sampled \
             too coarsely for the wave period), or the wave yaw is slower than the ship's own \
             response; hold w0 at the sea's encounter frequency or estimate it from a longer run"),
     ZETA = c("zeta_w", "-", "relative damping of the wave-yaw model", 0.1)
         .positive()
+        .of_disturbance()
         .at_bound_means("a wave-yaw damping falling to zero: the wave yaw is narrow-banded \
             (a swell) or w0 is off; hold zeta_w at a typical 0.05 to 0.2"),
 }

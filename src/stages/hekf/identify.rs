@@ -207,6 +207,9 @@ pub struct RunTrace {
     pub innovation_squares: Vec<f64>,
     /// Normalised innovation squared per sample.
     pub nis: Vec<f64>,
+    /// The innovations' -2 log-likelihood over the run, less its constant: the sum over the
+    /// samples of NIS + ln det S.
+    pub neg_log_likelihood: f64,
     /// Measurements the innovation gate rejected as outliers.
     pub rejected: Vec<Rejection>,
     /// Stretches where a quantity stayed beyond the gate (its measurements were used).
@@ -343,6 +346,9 @@ pub struct Identification {
     pub calibration: Vec<String>,
     /// Per estimated coefficient, what its admissible range did (empty: none bounded).
     pub bounds: Vec<BoundSummary>,
+    /// The innovations' -2 log-likelihood over every run of the last pass, less its
+    /// constant ([`RunTrace::neg_log_likelihood`]).
+    pub neg_log_likelihood: f64,
 }
 
 /// A failure, located by run and pass.
@@ -402,6 +408,19 @@ pub fn last_estimate<M: Model>(
     Ok((last, id.covariance))
 }
 
+/// The last pass's estimates (SI), the runs' process noise and the innovations' -2
+/// log-likelihood over the last pass ([`Identification::neg_log_likelihood`]): one point
+/// of a profile likelihood ([`super::likelihood`]).
+pub fn profile_point<M: Model>(
+    model: &M,
+    setup: &Setup,
+    runs: &[RunData],
+) -> Result<(PassEstimate, Vec<Vec<f64>>, f64), IdentifyError> {
+    let mut id = silent_passes(model, setup, runs)?;
+    let last = id.passes.pop().expect("at least one pass");
+    Ok((last, id.process_noise, id.neg_log_likelihood))
+}
+
 /// The passes without traces, smoother or progress.
 fn silent_passes<M: Model>(
     model: &M,
@@ -441,6 +460,7 @@ fn passes<M: Model>(
         total: runs.iter().map(RunData::len).sum(),
     };
     let mut pass = 0;
+    let mut neg_log_likelihood;
     loop {
         let last_pass = cal.is_last(pass, setup.passes);
         let keep = Keep {
@@ -477,6 +497,7 @@ fn passes<M: Model>(
             }
             Err(e) => return Err(e),
         };
+        neg_log_likelihood = pass_traces.iter().map(|t| t.neg_log_likelihood).sum();
         let summary = pass_summary(&f, setup, &mut prior, &mut covariance);
         bounds.clamp(&mut prior.z, None);
         summarise_bounds(&mut bound_summary, &logs);
@@ -509,6 +530,7 @@ fn passes<M: Model>(
         } else {
             Vec::new()
         },
+        neg_log_likelihood,
     })
 }
 
@@ -956,6 +978,7 @@ fn filter_run<M: Model>(
             &mut phi,
             setup.noise_scale,
         )?;
+        tr.neg_log_likelihood += nis + f.log_det_s;
         if let Some(h) = history.as_mut() {
             for j in 0..nb {
                 row_values[j] = f.x[nx + j] * setup.scale[j];

@@ -9,6 +9,7 @@ mod consistency;
 pub mod history;
 pub mod identifiability;
 pub mod identify;
+mod likelihood;
 pub mod memory;
 pub mod modes;
 mod noise;
@@ -227,8 +228,23 @@ impl ModelVisitor for Identify<'_> {
         let expect = expectation(model, cfg, &configured, &inputs.vehicle.vehicle);
         let (runs, summaries) = prepared_runs(model, cfg, &tuning, &plan, inputs, &expect)?;
         let setup = prepare::setup(model, cfg, &plan, &tuning, &runs)?;
-        let id = identify(model, &setup, &runs, self.progress)
+        let (setup, profile, kept) = match likelihood::search(model, &setup, &runs) {
+            likelihood::Outcome::Nothing => (setup, None, None),
+            likelihood::Outcome::Profiled(held, p) => (*held, Some(p), None),
+            likelihood::Outcome::Kept(why) => (setup, None, Some(why)),
+        };
+        let mut id = identify(model, &setup, &runs, self.progress)
             .map_err(|e| divergence_error(model, &plan, &runs, &summaries, e))?;
+        // the repeated identifications below hold the profiled coefficients: their sigmas
+        // are the filter's, before the likelihood's are added
+        let conditional = id
+            .passes
+            .last()
+            .map(|p| p.sigmas.clone())
+            .unwrap_or_default();
+        if let Some(p) = &profile {
+            likelihood::widen(&mut id, p, &plan.est_names);
+        }
         let defs: Vec<&crate::model::models::CoefDef> =
             plan.est.iter().map(|&i| &model.coefficients()[i]).collect();
         let bound_warnings = bounds::warnings(&defs, &id.bounds);
@@ -251,7 +267,7 @@ impl ModelVisitor for Identify<'_> {
             setup: &calibrated,
             runs: &runs,
             estimate: &last.values,
-            sigma: &last.sigmas,
+            sigma: &conditional,
             est_names: &plan.est_names,
         };
         let (mut upstream, failed) = sensitivity::upstream(model, converged, inputs.known);
@@ -284,6 +300,11 @@ impl ModelVisitor for Identify<'_> {
         result
             .warnings
             .extend(noise_model_warning(&plan.est_names, spread.as_ref()));
+        if let Some(why) = &kept {
+            let at = likelihood::profiled(model, &setup);
+            let names: Vec<&str> = at.iter().map(|&j| plan.est_names[j].as_str()).collect();
+            result.warnings.push(likelihood::kept_warning(why, &names));
+        }
         result.warnings.extend(balance_warnings);
         result.warnings.extend(bound_warnings);
         result.identifiability = advise(model, &plan, &runs, &result);

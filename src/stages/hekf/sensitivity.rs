@@ -109,7 +109,7 @@ pub fn upstream<M: Model>(
 
 /// One pass from the converged `estimate` with the prior later passes use (its `sigma`
 /// times the repeat factor at most), the calibrated noise held, no smoother.
-fn one_pass_setup(setup: &Setup, estimate: &[f64], sigma: &[f64]) -> Setup {
+pub(super) fn one_pass_setup(setup: &Setup, estimate: &[f64], sigma: &[f64]) -> Setup {
     let factor = setup.repeat_prior_factor.unwrap_or(f64::INFINITY);
     Setup {
         initial: estimate.to_vec(),

@@ -70,6 +70,10 @@ pub struct HybridEkf {
     /// only reported in [`HybridEkf::beyond_gate`].
     pub ungated: Vec<bool>,
     pub(super) beyond: Vec<GateEvent>,
+    /// ln det S of the last update's innovation covariance over the measurements it used
+    /// (with the NIS, the sample's term of the innovations' -2 log-likelihood; 0 for the
+    /// continuous filter).
+    pub log_det_s: f64,
     // work space
     pub(super) f: Vec<f64>,
     pub(super) fp: Vec<f64>,
@@ -124,6 +128,7 @@ impl HybridEkf {
             tmp2: z(n * n),
             upd: UpdateWork::default(),
             updates_since_check: 0,
+            log_det_s: 0.0,
             kb: Default::default(),
         }
     }
@@ -407,6 +412,59 @@ mod tests {
     use super::*;
     use crate::numerics::linalg::simd_check;
     use crate::numerics::ode::StageTime;
+
+    /// y = x_0 + x_1 of two constant states: an H that is not a selection (the matrix update).
+    struct Sum;
+
+    impl System for Sum {
+        fn n(&self) -> usize {
+            2
+        }
+        fn nd(&self) -> usize {
+            2
+        }
+        fn m(&self) -> usize {
+            1
+        }
+        fn derivative(&mut self, _at: StageTime, _x: &[f64], dx: &mut [f64]) {
+            dx.fill(0.0);
+        }
+        fn jacobian(&mut self, _at: StageTime, _x: &[f64], dx: &mut [f64], f: &mut [f64]) {
+            dx.fill(0.0);
+            f.fill(0.0);
+        }
+        fn observe(&mut self, _at: StageTime, x: &[f64], y: &mut [f64], h: &mut [f64]) {
+            y[0] = x[0] + x[1];
+            h.copy_from_slice(&[1.0, 1.0]);
+        }
+        fn check(&mut self, _x: &[f64]) -> Result<(), crate::base::error::Unphysical> {
+            Ok(())
+        }
+    }
+
+    /// ln det S of an update is that of H P H^T + R, by the matrix update and by the
+    /// sequential one (a selection H), and the NIS is the innovation's square over S.
+    #[test]
+    fn the_update_gives_ln_det_s_with_the_nis() {
+        let p0 = vec![0.5, 0.1, 0.1, 0.2];
+        let mut f = HybridEkf::new(2, 2, vec![0.0, 0.0], p0.clone(), vec![0.0; 2], 0.1);
+        let nis = f.update(&mut Sum, 0.0, &[0.3], &[0.05]).unwrap();
+        let s = 0.5 + 0.2 + 2.0 * 0.1 + 0.05;
+        assert!((f.log_det_s - f64::ln(s)).abs() < 1e-12, "{}", f.log_det_s);
+        assert!((nis - 0.09 / s).abs() < 1e-12, "{nis}");
+        let mut sys = crate::numerics::estimation::test_systems::Linear {
+            a: vec![0.0],
+            nd: 1,
+            n: 2,
+        };
+        let mut f = HybridEkf::new(2, 1, vec![0.0, 0.0], p0, vec![0.0; 2], 0.1);
+        f.update(&mut sys, 0.0, &[0.3], &[0.05]).unwrap();
+        assert!(
+            (f.log_det_s - f64::ln(0.55)).abs() < 1e-12,
+            "{}",
+            f.log_det_s
+        );
+    }
 
     /// Numbers of dynamic states tried with `n` states in all: one, about half, all.
     fn dynamic_sizes(n: usize) -> Vec<usize> {

@@ -54,6 +54,13 @@ impl HybridEkf {
             reason: format!("innovation covariance lost positive definiteness (pivot {i})"),
         })?;
         crate::numerics::linalg::cholesky_inverse(&w.ls, m, &mut w.sinv);
+        // ln det S = 2 sum ln L_kk; a dropped row (zero H, S_kk = r_k) is no measurement
+        self.log_det_s = (0..m)
+            .map(|k| {
+                let dropped = w.h[k * n..(k + 1) * n].iter().all(|v| *v == 0.0);
+                2.0 * w.ls[k * m + k].ln() - if dropped { r[k].ln() } else { 0.0 }
+            })
+            .sum();
         // K = P H^T S^-1 (n x m) and its transpose
         matmul(&w.pht, &w.sinv, n, m, m, &mut w.k);
         transpose(&w.k, n, m, &mut w.kt);
@@ -155,6 +162,7 @@ impl HybridEkf {
             w.s_diag[a] = p[j * n + j] + r[a];
         }
         let mut nis = 0.0;
+        self.log_det_s = 0.0;
         for a in 0..m {
             let j = w.sel[a];
             let s = p[j * n + j] + r[a];
@@ -181,6 +189,7 @@ impl HybridEkf {
                 continue;
             }
             nis += nu * nu / s;
+            self.log_det_s += s.ln();
             // p = P e_j (= row j, P symmetric), k = p / s
             row_j.copy_from_slice(&p[j * n..(j + 1) * n]);
             let pjj = row_j[j];
