@@ -410,7 +410,7 @@ pub fn last_estimate<M: Model>(
 
 /// The last pass's estimates (SI), the runs' process noise and the innovations' -2
 /// log-likelihood over the last pass ([`Identification::neg_log_likelihood`]): one point
-/// of a profile likelihood ([`super::likelihood`]).
+/// of a profile likelihood (`stages::hekf::likelihood`).
 pub fn profile_point<M: Model>(
     model: &M,
     setup: &Setup,

@@ -5,11 +5,11 @@
 //! the vehicle's response and the disturbance, so it enters the Kalman gain. Appended to the
 //! state, the extended Kalman filter ignores the gain's dependence on it and its estimate is
 //! biased (Ljung 1979, "Asymptotic behavior of the extended Kalman filter as a parameter
-//! estimator for linear systems", IEEE TAC 24(1), section IV): on independently generated
+//! estimator for linear systems", IEEE TAC 24(1)): on independently generated
 //! Nomoto runs the appended w0 went wrong in about one seed in ten and took K and T with it.
 //! The prediction-error (maximum-likelihood) method estimates it instead (Ljung 1999, System
-//! Identification, 2nd ed., sections 7.4 and 9.3; Maybeck 1982, Stochastic Models,
-//! Estimation and Control, vol. 2, section 10.3): with the coefficient held at a value, the
+//! Identification, 2nd ed., section 7.4 and chapter 9; Maybeck 1982, Stochastic Models,
+//! Estimation and Control, vol. 2, chapter 10): with the coefficient held at a value, the
 //! filter's innovations e_k with covariances S_k give
 //!
 //! ```text
@@ -17,10 +17,10 @@
 //! ```
 //!
 //! and the estimate minimises V over theta, each value's vehicle coefficients estimated by
-//! the filter as before (the profile likelihood). Its covariance is 2 H^-1, H the Hessian of
-//! V (Ljung 1999, 9.3: the inverse Fisher information); the vehicle coefficients' covariance
-//! adds G cov(theta) G^T, G their derivative along the profile (the delta method), so that
-//! the uncertainty of the disturbance model reaches them.
+//! the filter as before (the profile likelihood). Its covariance is 2 H^-1, H the Hessian
+//! of V (Ljung 1999, chapter 9: the inverse Fisher information); the vehicle coefficients'
+//! covariance adds G cov(theta) G^T, G their derivative along the profile (the delta
+//! method), so that the uncertainty of the disturbance model reaches them.
 
 use super::identify::{self, Identification, RunData, Setup};
 use crate::model::models::{CoefDef, Model};
