@@ -182,9 +182,10 @@ pub fn search<M: Model>(model: &M, setup: &Setup, runs: &[RunData]) -> Outcome {
                 .map(|(e, _, v)| (v, e.values))
         };
         let from = u.clone();
-        if let Err(why) = descend(&mut |w| v(w).map_or(f64::INFINITY, |p| p.0), &mut u) {
-            return Outcome::Kept(NotProfiled::NotDetermined(why));
-        }
+        let lowest = match descend(&mut |w| v(w).map_or(f64::INFINITY, |p| p.0), &mut u) {
+            Ok(lowest) => lowest,
+            Err(why) => return Outcome::Kept(NotProfiled::NotDetermined(why)),
+        };
         let moved = u
             .iter()
             .zip(&from)
@@ -194,7 +195,7 @@ pub fn search<M: Model>(model: &M, setup: &Setup, runs: &[RunData]) -> Outcome {
             recentred = true;
             continue;
         }
-        return match curvature(&mut v, &u, setup.est.len()) {
+        return match curvature(&mut v, &u, lowest, setup.est.len()) {
             Ok((covariance, gradient)) => {
                 let values = exp(&u);
                 let held_setup = held(setup, &at, &values);
@@ -214,8 +215,9 @@ pub fn search<M: Model>(model: &M, setup: &Setup, runs: &[RunData]) -> Outcome {
     }
 }
 
-/// Minimises `f` over `u` by coordinate sweeps of [`minimise`] (at most [`SWEEPS`]).
-fn descend(f: &mut dyn FnMut(&[f64]) -> f64, u: &mut [f64]) -> Result<(), String> {
+/// Minimises `f` over `u` by coordinate sweeps of [`minimise`] (at most [`SWEEPS`]); the
+/// minimum of `f`, at the `u` it leaves.
+fn descend(f: &mut dyn FnMut(&[f64]) -> f64, u: &mut [f64]) -> Result<f64, String> {
     let mut f0 = f(u);
     if !f0.is_finite() {
         return Err("the filter fails at the start value".into());
@@ -238,7 +240,7 @@ fn descend(f: &mut dyn FnMut(&[f64]) -> f64, u: &mut [f64]) -> Result<(), String
             break;
         }
     }
-    Ok(())
+    Ok(f0)
 }
 
 /// The minimum of `f` from `x0` (where it is `f0`): bracketed by steps doubling from
@@ -324,10 +326,12 @@ fn refine(f: &mut dyn FnMut(f64) -> f64, mut t: [(f64, f64); 3]) -> (f64, f64) {
 }
 
 /// The covariance of the profiled coefficients (SI) and every estimate's derivative along
-/// them, from central differences of V and of the estimates about the minimum `u`.
+/// them, from central differences of V and of the estimates about the minimum `u` (where V
+/// is `f0`, as the search found it).
 fn curvature(
     v: &mut dyn FnMut(&[f64]) -> Trial,
     u: &[f64],
+    f0: f64,
     nb: usize,
 ) -> Result<(Vec<f64>, Vec<f64>), String> {
     let np = u.len();
@@ -340,7 +344,6 @@ fn curvature(
         }
         v(&w).ok_or_else(fail)
     };
-    let (f0, _) = at(&[])?;
     let mut hess = nalgebra::DMatrix::<f64>::zeros(np, np);
     let mut gradient = vec![0.0; nb * np];
     for i in 0..np {
@@ -362,7 +365,6 @@ fn curvature(
     }
     // cov(ln theta) = 2 H^-1 (V is -2 ln L); in SI, scaled by theta on both sides
     let inverse = hess
-        .clone()
         .cholesky()
         .ok_or_else(|| "the likelihood has no curvature at its minimum".to_string())?
         .inverse();
@@ -484,7 +486,7 @@ mod tests {
             "{u:?}"
         );
         let mut v = |w: &[f64]| Some((vf(w), vec![w[0] + 3.0 * w[1]]));
-        let (cov, g) = curvature(&mut v, &m, 1).unwrap();
+        let (cov, g) = curvature(&mut v, &m, vf(&m), 1).unwrap();
         // cov(theta) = 2 H^-1 scaled; H = 2 C^-1, so cov(ln theta) = C
         let theta = [0.5, 2.0];
         assert!((cov[0] - c11 * theta[0] * theta[0]).abs() < 1e-9, "{cov:?}");
