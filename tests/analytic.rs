@@ -1,6 +1,6 @@
 //! Fossen's analytic added mass of a prolate spheroid (Lamb's k-factors), library and CLI.
 
-mod common;
+use crate::common;
 
 use common::{four_figures, named, ANALYTIC_PAPER_SPHEROID};
 use hydroid::model::analytic::Spheroid;

@@ -135,7 +135,7 @@ fn a_partial_quaternion_or_both_attitudes_is_refused() {
     );
 }
 
-mod common;
+use crate::common;
 
 /// A 6-DOF spheroid run (roll, pitch and a turn through 180 deg) written by `hydroid simulate` as a
 /// STAR-CCM+ table with both the Euler angles and the quaternion.

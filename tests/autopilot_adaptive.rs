@@ -6,7 +6,7 @@
 //! fed the true heading, with the gains re-placed on the slow ship's own indices (the ideal)
 //! or kept at the 8 m/s ones (fixed gains).
 
-mod common;
+use crate::common;
 
 use common::root;
 use common::ship150_loop::{self as reference, nomoto, rms_from, sway_yaw, U0};

@@ -7,7 +7,7 @@
 //! closer to the true low-frequency heading than the low-pass filter's; and the report holds
 //! the three figures.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

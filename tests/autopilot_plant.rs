@@ -6,7 +6,7 @@
 //! The reference, written from the equations alone: tests/common/ship150_loop.rs (the linear
 //! sway-yaw model of the ship, Fossen 2011, 7.1-7.2, and the PID loop fed the true heading).
 
-mod common;
+use crate::common;
 
 use common::ship150_loop::{self, nomoto, rms_from, SwayYaw, OMEGA_N, U0, ZETA};
 use hydroid::config::autopilot::AutopilotConfig;

@@ -3,7 +3,7 @@
 //! practice) and on the rudder (the zig-zag of ITTC 7.5-04-02-01), and the bundled
 //! configurations and exports (configs/simulate/npsauv_*.toml, cfd_exports/npsauv_*).
 
-mod common;
+use crate::common;
 
 use common::{hydroid, root, text};
 use hydroid::app::simulate::config::{load, load_str, LoadedSim};

@@ -4,7 +4,7 @@
 //! model set 10 times too small is flagged, a folder that is not an untouched output is
 //! refused naming what is wrong, and the same seed gives the same bytes.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

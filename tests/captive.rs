@@ -2,7 +2,7 @@
 //! the KVLCC2 model fitted to simulated steady forces of static drift, drift with rudder and
 //! circular-motion conditions, against the truth they were simulated with.
 
-mod common;
+use crate::common;
 
 use common::accuracy::printed_as;
 

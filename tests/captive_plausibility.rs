@@ -6,10 +6,10 @@
 //! (tests/independent/mmg.rs: Yasukawa & Yoshimura 2015 equations, not src/model/models), the
 //! forces on the hull held in the motion, with noise from a fixed seed.
 //!
-//!   cargo test --test captive_plausibility
+//!   cargo test --test suite captive_plausibility::
 
-mod common;
-mod independent;
+use crate::common;
+use crate::independent;
 
 use independent::mmg::{approach_speed, Kvlcc2};
 use independent::{Noise, Series};

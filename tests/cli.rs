@@ -1,7 +1,7 @@
 //! The command line as a user meets it: the bundled example end to end, exit codes, every
 //! problem of a bad configuration listed with its place, reruns and comparisons.
 
-mod common;
+use crate::common;
 
 use common::{
     copy_example, hydroid, hydroid_in, json, named, root, run_example, text, ExampleRun,

@@ -1,7 +1,7 @@
 //! What the command line prints and where: `--verbose` and `--quiet`, `--json` on stdout with
 //! everything else on stderr, and unchanged exit codes.
 
-mod common;
+use crate::common;
 
 use common::{bundled_config_text, hydroid, named, run_example, text, ExampleRun};
 

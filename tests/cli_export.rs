@@ -3,7 +3,7 @@
 //! overwrite and the message for a missing library. (FMPy runs the FMU in
 //! fmu/tests/test_fmu.py.)
 
-mod common;
+use crate::common;
 
 use common::{hydroid, run_config, text};
 use std::io::Read;

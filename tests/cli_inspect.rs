@@ -1,6 +1,6 @@
 //! `hydroid inspect` as a user runs it: text, JSON, --format, and a closed pipe.
 
-mod common;
+use crate::common;
 
 use common::{hydroid, named, root};
 use std::io::{BufRead, BufReader, Write};

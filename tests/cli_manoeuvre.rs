@@ -1,7 +1,7 @@
 //! `hydroid manoeuvre CONFIG`: the measures of every HEKF run of a configuration, read as the
 //! run reads it, with the reason for each measure a run cannot give.
 
-mod common;
+use crate::common;
 
 use common::{hydroid, text};
 

@@ -5,7 +5,7 @@
 //! Each file in tests/fixtures/configs/errors/ says what must be reported in `# expect:`
 //! lines at its top (`file:line: key: message`, or a fragment without a place).
 
-mod common;
+use crate::common;
 
 use common::{hydroid, root, text};
 use hydroid::base::error::Error;

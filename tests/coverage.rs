@@ -9,7 +9,7 @@
 //! data, which cannot fix it (docs/hekf.md, "Identifiability"): its run flags those
 //! coefficients as not determined, and the 90-98 % holds for the rest.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

@@ -6,7 +6,7 @@
 //! Each test starts from a copy of the bundled example (configs/ and cfd_exports/) in a
 //! temporary folder and changes one thing, as a user would.
 
-mod common;
+use crate::common;
 
 use common::accuracy::Accuracy;
 use common::{example_copy, json, named, text};

@@ -2,7 +2,7 @@
 //! log (truth K = 0.18 1/s, T = 27 s, bias 1 deg; docs/models/nomoto.md): the paper's
 //! discrete Euler EKF (configs/nomoto_paper.toml) and the continuous Kalman-Bucy filter.
 
-mod common;
+use crate::common;
 
 use common::root;
 use hydroid::numerics::estimation::FilterKind;

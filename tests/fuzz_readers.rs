@@ -7,7 +7,7 @@
 //!
 //! Deterministic: a fixed seed, and the corpus in sorted order. The number of cases keeps the
 //! file well under a minute in a debug build; `HYDROID_FUZZ_CASES=5000 HYDROID_FUZZ_SEED=7
-//! cargo test --release --test fuzz_readers` runs a longer search from another seed.
+//! cargo test --release --test suite fuzz_readers::` runs a longer search from another seed.
 
 use hydroid::base::quantity::Quantity;
 use hydroid::config::InputSpec;

@@ -2,7 +2,7 @@
 //! synthetic runs from a known model, identification with hydroid's defaults and with the
 //! paper's preset, noise-free recovery, 6-DOF against 3-DOF, and divergence handling.
 
-mod common;
+use crate::common;
 
 use common::accuracy::Accuracy;
 use hydroid::app::simulate::config::{

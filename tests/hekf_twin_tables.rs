@@ -7,7 +7,7 @@
 //! These are twins: `hydroid simulate` made the data with the model that identifies them
 //! (docs/validation.md says so); they check the filter's tuning and its sigmas, not the model.
 
-mod common;
+use crate::common;
 
 use common::root;
 use std::path::Path;

@@ -2,7 +2,7 @@
 //! checked against what its published equations predict, before its data is used to judge
 //! hydroid's identification (tests/independent_*.rs).
 
-mod independent;
+use crate::independent;
 
 use independent::{mmg, nomoto, npsauv, spheroid, Servo};
 use std::f64::consts::PI;

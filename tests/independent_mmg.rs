@@ -11,7 +11,7 @@
 //! tests these replace failed on their seed, 2801, at z -3.0 for Y'v, the tail of a spread the
 //! sigmas describe; see the first test).
 
-mod independent;
+use crate::independent;
 
 use independent::accuracy::{identify, Outcome, Study};
 use independent::mmg::{self, Kvlcc2, Sensors};

@@ -9,7 +9,7 @@
 //! positive, docs/hekf.md "Admissible ranges"), the wave process noise set to the sea's
 //! (q = 4 zeta w0 sigma^2).
 
-mod independent;
+use crate::independent;
 
 use independent::accuracy::{identify, Outcome, Study};
 use independent::nomoto::{self, NomotoShip};

@@ -7,7 +7,7 @@
 //! 20/20 zig-zag jointly, every other coefficient held at its published value, hydroid's
 //! default tuning and the sensors' noise as the bundled configuration gives it.
 
-mod independent;
+use crate::independent;
 
 use independent::accuracy::{identify, Outcome};
 use independent::npsauv::{self, CrossFlow, Hl, NpsAuv};

@@ -7,7 +7,7 @@
 //! coefficients held at their true values (given in [coefficients] instead of the polar and
 //! surge stages, so that only the HEKF is judged), hydroid's default tuning.
 
-mod independent;
+use crate::independent;
 
 use independent::accuracy::identify;
 use independent::spheroid::{self, Spheroid};

@@ -3,17 +3,17 @@
 //! Read from the source (tests/layers/), without the hydroid crate and without the project's
 //! hand tool `../shared/tools/layers.py`, which does the same check.
 //!
-//! `LAYERS_TABLE=/path/to/table cargo test --test layers` checks src/ against
+//! `LAYERS_TABLE=/path/to/table cargo test --test suite layers::` checks src/ against
 //! another table (a proposed one) instead of docs/layers.txt.
 //!
 //! The unit tests below check the reading on small crates written to a temporary folder.
 
 #[path = "layers/mod.rs"]
-mod layers;
+mod reading;
 
-use layers::graph::{self, Import};
-use layers::table::Table;
-use layers::{check, Fault};
+use reading::graph::{self, Import};
+use reading::table::Table;
+use reading::{check, Fault};
 use std::path::Path;
 
 /// The crate's src/ against its layer table: every fault listed in one failure.
@@ -252,7 +252,7 @@ fn grouped_and_nested_use_paths_are_each_an_import() {
     ];
     assert_eq!(got, want);
     assert_eq!(
-        layers::source::expand("a::{b,c::{d,e},self}"),
+        reading::source::expand("a::{b,c::{d,e},self}"),
         ["a::b", "a::c::d", "a::c::e", "a"]
     );
 }

@@ -5,7 +5,7 @@
 //! comes back to the truth. Read as `lift-only` (the paper's reading), the same polar counts
 //! the Munk moment twice.
 
-mod common;
+use crate::common;
 
 use common::{copy_example, hydroid_in, json, named, text};
 use std::path::Path;

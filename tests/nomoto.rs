@@ -2,7 +2,7 @@
 //! the nomoto_wave model, a 20/20 zig-zag of the frigate in waves with a noisy compass, the
 //! hybrid EKF identifying K, T and the rudder bias while separating the wave-induced yaw.
 
-mod common;
+use crate::common;
 
 use common::root;
 use hydroid::app::simulate::config::{load as load_sim, Manoeuvre};

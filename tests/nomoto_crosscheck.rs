@@ -22,7 +22,7 @@
 //! the fit (`first_order_fits_of_zigzags_and_turns`, which asserts the table of
 //! docs/models/nomoto.md).
 
-mod common;
+use crate::common;
 
 use common::root;
 use hydroid::app::simulate::config::load as load_sim;

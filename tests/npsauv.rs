@@ -3,7 +3,7 @@
 //! straight-line speed the propulsion law settles at, the turn and pitch directions of the
 //! control surfaces, and the paper's helix.
 
-mod common;
+use crate::common;
 
 use hydroid::dynamics::sim::{simulate, InputSeries};
 use hydroid::model::models::npsauv::{nps_auv_vehicle, NpsAuv, ADDED_MASS, PUBLISHED};

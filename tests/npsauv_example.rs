@@ -3,7 +3,7 @@
 //! realistic sensor noise) with hydroid's default hybrid EKF from zero, against the
 //! published set the export was made with.
 
-mod common;
+use crate::common;
 
 use common::accuracy::Accuracy;
 use hydroid::model::models::npsauv::{PAPER_17, PUBLISHED};

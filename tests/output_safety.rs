@@ -2,7 +2,7 @@
 //! hydroid wrote (docs/outputs.md). Every case runs the binary in its own temporary copy of
 //! configs/ and cfd_exports/.
 
-mod common;
+use crate::common;
 
 use common::{copy_example, root, text};
 use std::collections::BTreeMap;

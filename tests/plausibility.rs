@@ -6,7 +6,7 @@
 //! configuration problem; nothing written); the unchanged example and every bundled
 //! configuration have no finding; other models (the NPS AUV, Nomoto) are judged alike.
 
-mod common;
+use crate::common;
 
 use common::{example_copy, hydroid_in, text};
 use std::path::Path;

@@ -3,7 +3,7 @@
 //! of the joint HEKF estimate, against the truth they were simulated with; and the runs that
 //! must be refused (too few whole periods, a motion that is not one sine).
 
-mod common;
+use crate::common;
 
 use common::accuracy::Accuracy;
 use std::path::Path;

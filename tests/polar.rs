@@ -1,6 +1,6 @@
 //! The static polar stage (paper eq. 5-6) on polars built from the paper's Table 3.
 
-mod common;
+use crate::common;
 
 use common::{fluid, four_figures, record, vehicle};
 use hydroid::base::quantity::Quantity;

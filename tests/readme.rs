@@ -3,7 +3,7 @@
 //! checked against results.json's comparison to the digits the README prints, and the sentence
 //! under it ("within 2.3 sigma of the truth ...") against the truth the README lists.
 
-mod common;
+use crate::common;
 
 use serde_json::Value;
 

@@ -12,9 +12,9 @@
 //! 0.022 to -1.073 +- 0.044; 0.047 +- 0.011 to 0.173 +- 0.026). With the misfit test's
 //! widening, every cut moves each by at most 2 of the sigmas reported.
 //!
-//!   cargo test --test real_captive -- --ignored --nocapture
+//!   cargo test --test suite -- --ignored --nocapture real_captive::
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 

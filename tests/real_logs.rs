@@ -6,14 +6,14 @@
 //!
 //! The logs are not in the repository (their licence is not stated): they are read from
 //! `$HYDROID_REAL_DATA`, by default `../shared/data/real` beside the repository. Run by
-//! .ci/run as its own step: `cargo test --test real_logs -- --ignored` (`--nocapture`
+//! .ci/run as its own step: `cargo test --test suite -- --ignored real_logs::` (`--nocapture`
 //! prints the measures).
 //!
 //! The numbers asserted are the ones docs/models/ships.md states, at the precision it
 //! states them: overshoot errors in whole tenths of a degree, turning measures in whole
 //! percent.
 
-mod common;
+use crate::common;
 
 use common::{json, run_config, text};
 use serde_json::Value;

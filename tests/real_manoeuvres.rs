@@ -7,7 +7,7 @@
 //! `$HYDROID_REAL_DATA`, by default `../shared/data/real` beside the repository (README.md
 //! there describes them). hydroid reads them through tests/fixtures/real/*.toml, as a user
 //! would, with the file paths set to that folder; the reference parses them on its own.
-//! Run by .ci/run as its own step: `cargo test --test real_manoeuvres -- --ignored`
+//! Run by .ci/run as its own step: `cargo test --test suite -- --ignored real_manoeuvres::`
 //! (`-- --ignored --nocapture` prints the measures side by side).
 //!
 //! Tolerances: 0.01 L on distances, 0.1 deg on angles, 0.002 on the speed ratio; times
@@ -15,7 +15,7 @@
 //! of a zig-zag's peak for about 8 s at MARIN's yaw acceleration, and the execute may differ
 //! by a sample) and 0.1 s at model scale (2 samples).
 
-mod common;
+use crate::common;
 
 use common::{hydroid, text};
 use serde_json::Value;

@@ -5,9 +5,9 @@
 //! 7 m model of configs/ship_kvlcc2.toml; the correct mapping gives no plausibility finding,
 //! and each mistake a user makes with these logs is named by `hydroid check`.
 //!
-//!   cargo test --test real_plausibility -- --ignored --nocapture
+//!   cargo test --test suite -- --ignored --nocapture real_plausibility::
 
-mod common;
+use crate::common;
 
 use common::{root, text};
 use std::path::PathBuf;

@@ -3,7 +3,7 @@
 //! made by `hydroid simulate` with sensor noise, and the identified model sailing the turns
 //! and the validation 20/20 zig-zag against the truth model sailing them without noise.
 
-mod common;
+use crate::common;
 
 use common::accuracy::Accuracy;
 use common::{hydroid, json, root, text};

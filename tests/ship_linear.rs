@@ -3,7 +3,7 @@
 //! example set) and the paper's sensor-noise levels, and all 16 parameters identified with
 //! the hybrid EKF at hydroid's default tuning.
 
-mod common;
+use crate::common;
 
 use common::accuracy::Accuracy;
 use hydroid::base::quantity::Quantity;

@@ -2,7 +2,7 @@
 //! `states/NAME.csv`, listed in results.json, read back with the csv crate from a run of the
 //! bundled example (configs/spheroid.toml: one fit run, smoother on).
 
-mod common;
+use crate::common;
 
 use common::{json, named, run_example, text, ExampleRun};
 use std::path::Path;

@@ -1,6 +1,6 @@
 //! The surge stage (paper eq. 21) on a synthetic straight-line run of the paper's spheroid.
 
-mod common;
+use crate::common;
 
 use common::{record, vehicle};
 use hydroid::base::quantity::Quantity;

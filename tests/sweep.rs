@@ -1,7 +1,7 @@
 //! `hydroid simulate` with `[sweep]`: turning circles over rudder angle and approach speed
 //! (configs/simulate/kvlcc2_sweep.toml, the KVLCC2 model with mmg3).
 
-mod common;
+use crate::common;
 
 use common::{hydroid, root, text};
 use std::path::Path;
