@@ -5,13 +5,8 @@ use super::Truth;
 use std::path::Path;
 use std::time::Instant;
 
-// The rows, the determined rule and the checks, shared with the twin tests (issue 28). A
-// test that declares both `mod common` and `mod independent` compiles the file twice, as
-// two private modules of the same content: harmless, so clippy's duplicate_mod is allowed.
-#[allow(clippy::duplicate_mod)]
-#[path = "../common/accuracy.rs"]
-mod shared;
-pub use shared::{Accuracy, Row};
+// The rows, the determined rule and the checks, shared with the twin tests (issue 28).
+pub use crate::common::accuracy::{Accuracy, Row};
 
 /// What one identification gave: its estimates against the truth (the methods of
 /// [`Accuracy`] through `Deref`), its warnings and how long it took.

@@ -25,9 +25,7 @@ pub mod accuracy;
 pub mod mmg;
 pub mod nomoto;
 pub mod npsauv;
-#[allow(clippy::duplicate_mod)]
-#[path = "../common/parallel.rs"]
-pub mod parallel;
+pub use crate::common::parallel;
 pub mod spheroid;
 
 use rand::rngs::StdRng;
