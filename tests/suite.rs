@@ -5,6 +5,8 @@
 
 #[path = "common/mod.rs"]
 mod common;
+#[path = "hostile/mod.rs"]
+mod hostile;
 #[path = "independent/mod.rs"]
 mod independent;
 
