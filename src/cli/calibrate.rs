@@ -9,6 +9,7 @@ use crate::app::report;
 use crate::app::results::RunOutput;
 use crate::base::error::Error;
 use crate::base::progress::Silent;
+use crate::io::output::Claim;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
@@ -40,7 +41,7 @@ pub struct Args {
 pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
     crate::io::output::clean_up_on_signals()?;
     let dir = &args.outdir;
-    crate::io::output::marker::require_unchanged(dir, "calibrate")?;
+    let claim = Claim::open(dir, "calibrate", super::rerun::READ)?;
     let (loaded, _) = super::rerun::load_recorded(dir, false, false)?;
     let inputs = pipeline::load_inputs(&loaded, pipeline::stage_inputs(&loaded.config))?;
     let original = pipeline::run_on(&loaded, &inputs, &mut Silent, Scope::Full)?;
@@ -65,7 +66,7 @@ pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
         }
     };
     let cal = calibrate::calibrate(&loaded, &inputs, &original, settings, &done)?;
-    write::write(dir, &cal)?;
+    write::write(&claim, &cal)?;
     if args.json {
         out.write_all(&crate::io::output::to_json(&cal)?)?;
         writeln!(out)?;

@@ -6,6 +6,7 @@ use crate::app::pipeline::{self, Scope};
 use crate::app::plan::{self, candidate, write, Settings};
 use crate::base::progress::Silent;
 use crate::config;
+use crate::io::output::Claim;
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -44,12 +45,13 @@ pub struct Args {
 
 /// Runs the command.
 pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
-    let dir = args.source.is_dir().then(|| args.source.clone());
-    let loaded = match &dir {
-        Some(d) => {
-            crate::io::output::marker::require_unchanged(d, "plan")?;
-            super::rerun::load_recorded(d, false, false)?.0
-        }
+    let claim = if args.source.is_dir() {
+        Some(Claim::open(&args.source, "plan", super::rerun::READ)?)
+    } else {
+        None
+    };
+    let loaded = match &claim {
+        Some(c) => super::rerun::load_recorded(c.dir(), false, false)?.0,
         None => config::load(&args.source, &[])?,
     };
     let candidates = match &args.candidates {
@@ -81,8 +83,9 @@ pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
             s.name, s.reason
         ));
     }
-    if let Some(d) = &dir {
-        write::write(d, &plan)?;
+    if let Some(c) = &claim {
+        write::write(c, &plan)?;
+        let d = c.dir();
         say.note(&format!(
             "plan: {}, {} and {} written in {}",
             write::PLAN_JSON,

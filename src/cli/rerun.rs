@@ -61,6 +61,17 @@ struct Recorded {
 /// The files of an output folder a rerun reads: what it runs is what they record.
 const RECORDS: &[&str] = &[report::CONFIG_TOML, report::RERUN_JSON, report::INPUTS_JSON];
 
+/// The files of an output folder `calibrate` and `plan` read: the records a rerun reads and
+/// the results they check or build on. They must be the same when they write (a [`Claim`]).
+///
+/// [`Claim`]: crate::io::output::Claim
+pub(super) const READ: &[&str] = &[
+    report::CONFIG_TOML,
+    report::RERUN_JSON,
+    report::INPUTS_JSON,
+    report::RESULTS_JSON,
+];
+
 /// Refuses an output folder whose recorded files were edited since hydroid wrote them (their
 /// SHA-256 differs from the marker's), unless `--edited` accepts the edits; then says so.
 fn check_edits(dir: &Path, accept: bool) -> crate::Result<()> {

@@ -350,6 +350,7 @@ pub fn copy_tree(from: &Path, to: &Path) {
 }
 
 mod basics;
+mod writers;
 
 #[test]
 fn the_judge_catches_every_property() {

@@ -1,26 +1,26 @@
 //! The calibration written into the output folder it checks (calibration.json and
 //! calibration.md, each atomically, then recorded in the folder's marker so that the folder
-//! stays hydroid's) and its table for the console and the Markdown file.
+//! stays hydroid's; only into the folder read at the start: [`Claim`]) and its table for the
+//! console and the Markdown file.
 
 use super::Calibration;
 use crate::base::error::Result;
 use crate::base::markdown_text::markdown_table;
 use crate::base::numfmt::num;
-use crate::io::output::marker;
-use std::path::Path;
+use crate::io::output::Claim;
 
 /// calibration.json in the output folder.
 pub const CALIBRATION_JSON: &str = "calibration.json";
 /// calibration.md in the output folder.
 pub const CALIBRATION_MD: &str = "calibration.md";
 
-/// Writes calibration.json and calibration.md into `dir` (replacing those hydroid wrote
-/// there before) and records them in the folder's marker.
-pub fn write(dir: &Path, cal: &Calibration) -> Result<()> {
+/// Writes calibration.json and calibration.md into the claimed output folder (replacing
+/// those hydroid wrote there before) and records them in the folder's marker; nothing is
+/// written when another run replaced the folder or it changed since it was read.
+pub fn write(claim: &Claim, cal: &Calibration) -> Result<()> {
     let json = crate::io::output::to_json(cal)?;
-    crate::io::output::write_atomic(&dir.join(CALIBRATION_JSON), &json)?;
-    crate::io::output::write_atomic(&dir.join(CALIBRATION_MD), markdown(cal).as_bytes())?;
-    marker::record(dir, &[CALIBRATION_JSON, CALIBRATION_MD])
+    let md = markdown(cal);
+    claim.write(&[(CALIBRATION_JSON, &json), (CALIBRATION_MD, md.as_bytes())])
 }
 
 /// calibration.md: the table and what it means.

@@ -1,17 +1,17 @@
 //! The plan on the console and in the output folder: the ranked table (candidate,
 //! parameters, each target's sigma before and after, scores, cost), plan.json, and the figure
 //! of each candidate's predicted sigma reduction (plots/plan.svg), written atomically into an
-//! output folder exactly as hydroid left it and recorded in its marker.
+//! output folder exactly as hydroid left it (the one read at the start: [`Claim`]) and recorded
+//! in its marker.
 
 use super::Plan;
 use crate::app::report::plots::{self, style, FigureMeta, Plot, PlotError, Section};
 use crate::base::error::Result;
 use crate::base::markdown_text::markdown_table;
 use crate::base::numfmt::num;
-use crate::io::output::marker;
+use crate::io::output::Claim;
 use plotters::coord::Shift;
 use plotters::prelude::*;
-use std::path::Path;
 
 /// plan.json in the output folder.
 pub const PLAN_JSON: &str = "plan.json";
@@ -84,15 +84,18 @@ pub fn table(plan: &Plan) -> String {
     s
 }
 
-/// Writes plan.json, plan.md and plots/plan.svg into the output folder `dir` (replacing those
-/// hydroid wrote there before) and records them in its marker.
-pub fn write(dir: &Path, plan: &Plan) -> Result<()> {
+/// Writes plan.json, plan.md and plots/plan.svg into the claimed output folder (replacing
+/// those hydroid wrote there before) and records them in its marker; nothing is written when
+/// another run replaced the folder or it changed since it was read.
+pub fn write(claim: &Claim, plan: &Plan) -> Result<()> {
     let json = crate::io::output::to_json(plan)?;
     let figure = plots::render(&Reduction(plan), None)?;
-    crate::io::output::write_atomic(&dir.join(PLAN_JSON), &json)?;
-    crate::io::output::write_atomic(&dir.join(PLAN_MD), markdown(plan).as_bytes())?;
-    crate::io::output::write_atomic(&dir.join(PLAN_SVG), figure.svg.as_bytes())?;
-    marker::record(dir, &[PLAN_JSON, PLAN_MD, PLAN_SVG])
+    let md = markdown(plan);
+    claim.write(&[
+        (PLAN_JSON, &json),
+        (PLAN_MD, md.as_bytes()),
+        (PLAN_SVG, figure.svg.as_bytes()),
+    ])
 }
 
 /// plan.md: what the table is, the table, and the assumptions.

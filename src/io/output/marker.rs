@@ -79,8 +79,9 @@ impl Marker {
 
 /// Records the files `names` of the hydroid output `dir` in its marker as they are now (files
 /// hydroid has just written there, such as calibration.json), so that the folder stays
-/// hydroid's to replace. The marker is replaced atomically.
-pub fn record(dir: &Path, names: &[&str]) -> Result<()> {
+/// hydroid's to replace. The marker is replaced atomically. Only a [`super::Claim`] calls it,
+/// under the folder's lock, once it has checked the folder is the one it read.
+pub(super) fn record(dir: &Path, names: &[&str]) -> Result<()> {
     let path = dir.join(MARKER);
     let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
     let mut marker: Marker = serde_json::from_str(&text)

@@ -10,11 +10,15 @@
 //!   the home folder, the root ([`Protected`]).
 //! * Synthetic exports are overwritten only when a record beside them says hydroid wrote
 //!   them, unchanged ([`exports`]).
+//! * A command that adds files to an existing output folder (`calibrate`, `plan`) writes them
+//!   only into the folder it read at its start, unchanged, taking turns with every other
+//!   writer of the folder on a lock ([`claim`]).
 //! * SIGINT and SIGTERM remove what was being written ([`signals`]); what a killed process
 //!   left is swept by the next run ([`sweep`]).
 //!
 //! docs/outputs.md describes the rules as a user meets them.
 
+pub mod claim;
 pub mod exports;
 pub mod marker;
 pub mod paths;
@@ -24,6 +28,7 @@ pub mod staging;
 pub mod swap;
 pub mod sweep;
 
+pub use claim::Claim;
 pub use exports::write_export;
 pub use protect::Protected;
 pub use signals::clean_up_on_signals;

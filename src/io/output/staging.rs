@@ -75,7 +75,8 @@ impl Staging {
     /// protected place, a folder hydroid did not write, a file), `Some(why)` when it is a
     /// hydroid output that changed since (a run replaces it only with `--force`).
     pub fn preview(target: &Path, protected: &Protected) -> Result<Option<String>> {
-        let (target, _, _) = placed(target, protected)?;
+        let (target, parent, _) = placed(target, protected)?;
+        can_write_in(&parent, &target)?;
         match check_replaceable(&target, Replace::IfUnchanged) {
             Ok(()) => Ok(None),
             Err(e) if matches!(inspect(&target)?, Found::Changed(_)) => Ok(Some(e.to_string())),
@@ -238,9 +239,13 @@ impl Staging {
 
     /// Puts the staged folder in place of the target (checked again: it may have changed
     /// while the run went on), with its marker; the old output is removed only once the new
-    /// one is in place.
+    /// one is in place. The old output's lock ([`super::claim`]) is held meanwhile, so that
+    /// a command adding files to it is not half-way through.
     pub fn commit(mut self) -> Result<PathBuf> {
         {
+            // no claim is writing into the old output while it is checked and swapped out
+            // (taken first: a signal while it is awaited ends the run as usual)
+            let _held = super::claim::lock_folder_at(&self.target);
             // a signal now waits until the folders are where they belong
             let _moving = signals::lock();
             check_replaceable(&self.target, self.replace)?;
@@ -267,7 +272,8 @@ impl Drop for Staging {
 }
 
 /// The checks of an output's place that read nothing in it: not a protected place, and a
-/// name in a folder. The resolved target, its folder and its name.
+/// name in a folder, short enough for the staging folder's name beside it. The resolved
+/// target, its folder and its name.
 fn placed(target: &Path, protected: &Protected) -> Result<(PathBuf, PathBuf, String)> {
     let target = protected.check_path(target)?;
     let (Some(parent), Some(name)) = (target.parent(), target.file_name()) else {
@@ -277,7 +283,45 @@ fn placed(target: &Path, protected: &Protected) -> Result<(PathBuf, PathBuf, Str
         )));
     };
     let (parent, name) = (parent.to_path_buf(), name.to_string_lossy().into_owned());
+    // the staging folder's name, `.NAME.partial-PID`, must be a file name too
+    let staging = super::sweep::staging_name(&name, u32::MAX).len();
+    let longest = NAME_BYTES - (staging - name.len());
+    if staging > NAME_BYTES {
+        return Err(Error::Usage(format!(
+            "{}: the output folder's name is {} bytes long; hydroid assembles the output beside \
+             it under the name .NAME.partial-PID, and a name is at most {NAME_BYTES} bytes: \
+             give an output folder name of at most {longest} bytes",
+            target.display(),
+            name.len()
+        )));
+    }
     Ok((target, parent, name))
+}
+
+/// The most bytes of a file or folder name (Linux, macOS and Windows file systems).
+const NAME_BYTES: usize = 255;
+
+/// Whether an output can be assembled in `parent` (for `hydroid check`, which writes
+/// nothing that stays): a folder is made in its nearest existing folder and removed at once,
+/// as a run makes its staging folder there. The error is a run's.
+fn can_write_in(parent: &Path, target: &Path) -> Result<()> {
+    let Some(existing) = parent.ancestors().find(|a| a.is_dir()) else {
+        return Ok(());
+    };
+    let trial = existing.join(format!(".hydroid-check-{}", std::process::id()));
+    match std::fs::create_dir(&trial) {
+        Ok(()) => {
+            let _ = std::fs::remove_dir(&trial);
+            Ok(())
+        }
+        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => Ok(()),
+        Err(e) => Err(Error::Usage(format!(
+            "cannot write in {}: {} (the output goes to {})",
+            existing.display(),
+            crate::base::error::io_reason(&e),
+            target.display()
+        ))),
+    }
 }
 
 /// Refuses a target that holds anything but a hydroid output that may be replaced.
@@ -450,6 +494,43 @@ mod tests {
         let s = Staging::guarded(&target, &Protected::new(), Replace::EvenIfChanged).unwrap();
         s.commit().unwrap();
         assert!(!target.join("notes.txt").exists());
+    }
+
+    #[test]
+    fn a_name_too_long_for_the_staging_folder_is_refused_before_anything_is_written() {
+        let root = tempfile::tempdir().unwrap();
+        let ok = root.path().join("n".repeat(235));
+        Staging::new(&ok).unwrap().commit().unwrap();
+        assert!(ok.is_dir());
+        let long = root.path().join("n".repeat(236));
+        for e in [
+            Staging::new(&long).unwrap_err().to_string(),
+            Staging::preview(&long, &Protected::new())
+                .unwrap_err()
+                .to_string(),
+        ] {
+            assert!(
+                e.contains("is 236 bytes long") && e.contains("of at most 235 bytes"),
+                "{e}"
+            );
+        }
+        assert_eq!(entries(root.path()), 1);
+    }
+
+    #[test]
+    fn a_place_hydroid_cannot_write_in_is_seen_by_the_preview() {
+        let root = tempfile::tempdir().unwrap();
+        // the preview's trial folder is gone again
+        assert_eq!(
+            Staging::preview(&root.path().join("a/b/out"), &Protected::new()).unwrap(),
+            None
+        );
+        assert_eq!(entries(root.path()), 0);
+        // /proc takes no folder, even for root
+        let e = Staging::preview(Path::new("/proc/hydroid-out"), &Protected::new())
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("cannot write in /proc: "), "{e}");
     }
 
     #[test]
