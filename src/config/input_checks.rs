@@ -5,17 +5,32 @@
 use super::Problems;
 use crate::base::units::{check_dim, Unit};
 use crate::io::input_spec::{
-    InputSpec, ManoeuvreSpec, MAX_COLUMN_INDEX, MAX_NOMINAL_ANGLE_DEG, MAX_SKIP_LINES,
+    InputSpec, ManoeuvreSpec, MAX_COLUMN_INDEX, MAX_NOMINAL_ANGLE_DEG, MAX_RUN_NAME_CHARS,
+    MAX_SKIP_LINES,
 };
 
 impl InputSpec {
     /// Adds every problem with this input (at key path `key`, e.g. `hekf.runs[0]`) to `p`,
-    /// except whether its file exists: constants finite and of their quantity's dimension,
-    /// column units known and of their quantity's dimension, column numbers from 1, scales
-    /// finite and not zero, names listed once, no quantity both a column and a constant.
+    /// except whether its file exists: a name of at most [`MAX_RUN_NAME_CHARS`] characters,
+    /// constants finite and of their quantity's dimension, column units known and of their
+    /// quantity's dimension, column numbers from 1, scales finite and not zero, names listed
+    /// once, no quantity both a column and a constant.
     pub fn validate(&self, key: &str, p: &mut Problems) {
         if self.file.as_os_str().is_empty() {
             p.add(&format!("{key}.file"), "is empty; name the export to read");
+        }
+        if let Some(n) = self.name.as_ref().map(|n| n.chars().count()) {
+            if n > MAX_RUN_NAME_CHARS {
+                p.add(
+                    &format!("{key}.name"),
+                    format!(
+                        "is {n} characters long, more than the {MAX_RUN_NAME_CHARS} a run name \
+                         may have (it labels the run in the report and, for an HEKF run, names \
+                         its file in the output, states/NAME.csv, which a file system limits \
+                         to 255 bytes): shorten it"
+                    ),
+                );
+            }
         }
         self.validate_constants(key, p);
         self.validate_columns(key, p);

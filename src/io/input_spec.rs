@@ -135,6 +135,11 @@ pub struct ManoeuvreSpec {
 /// Largest nominal rudder or check angle, deg (a bare number is in rad: 20 would be 1146 deg).
 pub const MAX_NOMINAL_ANGLE_DEG: f64 = 90.0;
 
+/// The longest run name, in characters: a name labels the run in the report and names the
+/// file of its state series (`states/NAME.csv`), which must stay within the 255 bytes a file
+/// name may have.
+pub const MAX_RUN_NAME_CHARS: usize = 200;
+
 /// Highest 1-based column number a column map may name (a CFD export has far fewer).
 pub const MAX_COLUMN_INDEX: u64 = 1_000_000;
 

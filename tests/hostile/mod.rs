@@ -350,6 +350,7 @@ pub fn copy_tree(from: &Path, to: &Path) {
 }
 
 mod basics;
+mod check;
 mod writers;
 
 #[test]

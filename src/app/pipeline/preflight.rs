@@ -137,6 +137,22 @@ pub fn preflight(loaded: &LoadedConfig, inputs: &InputsByStage<LoadedInput>) -> 
     let Some(hc) = cfg.hekf.as_ref().filter(|c| c.enabled) else {
         return out;
     };
+    // what the stage refuses in a fit run before it filters (named by the key to fix)
+    for i in &inputs.hekf_fit {
+        if let Some(p) = hekf::fit_run_problem(hc, &loaded.vehicle, &i.record) {
+            let key = p
+                .run_key
+                .map_or_else(|| "hekf.measure".to_string(), |k| format!("{}.{k}", i.key));
+            if !out.problems.iter().any(|q| q.message == p.message) {
+                out.problems.push(ConfigProblem {
+                    file: loaded.path.clone(),
+                    line: None,
+                    key: Some(key),
+                    message: p.message,
+                });
+            }
+        }
+    }
     let runs: Vec<&Record> = inputs.hekf_all().map(|i| &i.record).collect();
     let found = hekf::preflight(hc, &loaded.vehicle, &available, &cfg.coefficients, &runs);
     let fit_names: Vec<&str> = inputs

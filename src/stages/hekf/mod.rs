@@ -150,6 +150,12 @@ pub fn preflight(
                     }
                 }
             }
+            p.extend(
+                self.cfg
+                    .process_noise
+                    .keys()
+                    .filter_map(|n| prepare::process_noise_problem(model, self.cfg, n)),
+            );
             p.extend(memory_problem(self.cfg, model.nx(), self.runs));
             Preflight {
                 problems: p,
@@ -171,6 +177,48 @@ pub fn preflight(
     // a model that cannot be built for the vehicle is reported by the configuration's
     // validation, against the vehicle's keys
     .unwrap_or_default()
+}
+
+/// Why one of the HEKF's fit runs cannot be filtered, found before any stage runs.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RunProblem {
+    /// The key to fix, after the run's own (`hekf.runs[0]`): `columns` (no time column, no
+    /// output of the model mapped), or None when it is `hekf.measure` (a quantity the model
+    /// or the run lacks).
+    pub run_key: Option<&'static str>,
+    /// What the stage would say.
+    pub message: String,
+}
+
+/// What keeps one of the HEKF's fit runs from being filtered, found before any stage runs
+/// (the stage's own check of the run): no time column, no output of the model measured (a
+/// column map that maps none of them, `columns = {}`), a `hekf.measure` the model or the run
+/// lacks. None when the run can be filtered, or when the model cannot be built for the
+/// vehicle (the configuration's validation says why).
+pub fn fit_run_problem(cfg: &HekfConfig, vehicle: &RunVehicle, run: &Record) -> Option<RunProblem> {
+    struct Check<'a> {
+        cfg: &'a HekfConfig,
+        run: &'a Record,
+    }
+    impl ModelVisitor for Check<'_> {
+        type Output = Option<String>;
+        fn visit<M: Model>(self, model: &M) -> Option<String> {
+            match prepare::filterable(model, self.cfg, self.run) {
+                Ok(()) => None,
+                Err(Error::Numerical { message, .. }) => Some(message),
+                Err(e) => Some(e.to_string()),
+            }
+        }
+    }
+    let message = with_model(cfg.model, vehicle, Check { cfg, run })
+        .ok()
+        .flatten()?;
+    // with a time column, what the filter measures is hekf.measure's when it is given
+    let measure = run.time().is_some() && cfg.measure.is_some();
+    Some(RunProblem {
+        run_key: (!measure).then_some("columns"),
+        message,
+    })
 }
 
 /// What the model expects of the runs: its coefficients at the priors' initial values that

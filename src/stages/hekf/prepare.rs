@@ -338,10 +338,8 @@ pub fn run_data<M: Model>(
     base_dir: &std::path::Path,
     reads: &OutputReads,
 ) -> Result<(RunData, RunSummary)> {
-    let times = rec
-        .time()
-        .ok_or_else(|| run_error(rec, "the run has no time column".into()))?
-        .to_vec();
+    filterable(model, cfg, rec)?;
+    let times = rec.time().unwrap_or_default().to_vec();
     let measured_q = measured_quantities(model, cfg, rec)?;
     let measured: Vec<usize> = measured_q
         .iter()
@@ -392,6 +390,16 @@ pub fn run_data<M: Model>(
         },
         summary,
     ))
+}
+
+/// What [`run_data`] refuses in a run before it reads a sample (no time column, nothing the
+/// filter can measure), as the stage says it; run before any stage by `preflight`, so that
+/// `hydroid check` refuses it too.
+pub(super) fn filterable<M: Model>(model: &M, cfg: &HekfConfig, rec: &Record) -> Result<()> {
+    if rec.time().is_none() {
+        return Err(run_error(rec, "the run has no time column".into()));
+    }
+    measured_quantities(model, cfg, rec).map(drop)
 }
 
 /// A numerical error of the stage about one run, naming it and its file.
@@ -456,13 +464,17 @@ fn measured_quantities<M: Model>(
         return Err(run_error(
             rec,
             format!(
-                "none of the model's {} ({}) is in the run",
+                "none of the {} model's {} ({}) is in the run: its column map (columns) maps \
+                 none of them; map at least one to a column of the file (e.g. `{} = \"<column \
+                 name>\"`)",
+                model.name(),
                 what.1,
                 outputs
                     .iter()
                     .map(|q| q.key())
                     .collect::<Vec<_>>()
-                    .join(", ")
+                    .join(", "),
+                outputs.first().map_or("u", |q| q.key())
             ),
         ));
     }
@@ -966,6 +978,30 @@ fn jitter_variance<M: Model>(model: &M, reads: &OutputReads, run: &RunData, i: u
     }
 }
 
+/// The problem with the `hekf.process_noise` entry `name` when it is neither a state of the
+/// model nor an estimated coefficient (checked before any stage runs, and by [`setup`]).
+pub(super) fn process_noise_problem<M: Model>(
+    model: &M,
+    cfg: &HekfConfig,
+    name: &str,
+) -> Option<String> {
+    let state = model.states().iter().any(|s| s.name == name);
+    let estimated = cfg.estimate.iter().any(|e| e == name);
+    (!state && !estimated).then(|| {
+        format!(
+            "hekf.process_noise.{name}: not a state of the {} model ({}) nor an estimated \
+             coefficient",
+            model.name(),
+            model
+                .states()
+                .iter()
+                .map(|s| s.name)
+                .collect::<Vec<_>>()
+                .join(", ")
+        )
+    })
+}
+
 /// The filter set-up from the plan, the tuning and the runs; `hekf.process_noise` entries
 /// (by state or coefficient name) override the preset.
 pub fn setup<M: Model>(
@@ -1007,20 +1043,8 @@ pub fn setup<M: Model>(
         } else if let Some(j) = plan.est_names.iter().position(|e| e == name) {
             q[nx + j] = *v;
         } else {
-            return Err(Error::numerical(
-                "hekf",
-                format!(
-                    "hekf.process_noise.{name}: not a state of the {} model ({}) nor an \
-                     estimated coefficient",
-                    model.name(),
-                    model
-                        .states()
-                        .iter()
-                        .map(|s| s.name)
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ),
-            ));
+            let m = process_noise_problem(model, cfg, name).unwrap_or_default();
+            return Err(Error::numerical("hekf", m));
         }
     }
     Ok(Setup {

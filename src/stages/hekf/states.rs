@@ -364,10 +364,14 @@ pub fn header<M: Model>(
     h
 }
 
+/// The longest name (before `_2`, `_3` ... and `.csv`) of a state series' file: with them it
+/// stays within the 255 bytes of a file name.
+const LONGEST_STEM: usize = 240;
+
 /// The file of each run's table, `states/NAME.csv`: the run's name with every stretch of
 /// characters but ASCII letters, digits, `-` and `.` made one `_` (none at the end, no leading
-/// `.`), and `_2`, `_3` ... after a name an earlier run took (compared without case, for file
-/// systems that ignore it).
+/// `.`), cut at [`LONGEST_STEM`] bytes, and `_2`, `_3` ... after a name an earlier run took
+/// (compared without case, for file systems that ignore it).
 pub fn file_names(names: &[String]) -> Vec<String> {
     let mut taken: Vec<String> = Vec::new();
     names
@@ -381,6 +385,8 @@ pub fn file_names(names: &[String]) -> Vec<String> {
                     safe.push('_');
                 }
             }
+            // only ASCII is left: any byte is a character boundary
+            safe.truncate(LONGEST_STEM);
             if safe.len() > 1 && safe.ends_with('_') {
                 safe.pop();
             }
@@ -429,6 +435,16 @@ mod tests {
                 "states/paper_manoeuvre_u0_3_22_N.csv"
             ]
         );
+        // a name of any length, or a default name from a long file name, fits a file name
+        let long = vec!["a".repeat(5000), "a".repeat(300), "é".repeat(300)];
+        let files = file_names(&long);
+        assert_eq!(files[0], format!("states/{}.csv", "a".repeat(LONGEST_STEM)));
+        assert_eq!(
+            files[1],
+            format!("states/{}_2.csv", "a".repeat(LONGEST_STEM))
+        );
+        assert_eq!(files[2], "states/_.csv");
+        assert!(files.iter().all(|f| f.len() - "states/".len() <= 255));
     }
 
     #[test]
