@@ -24,8 +24,18 @@ pub struct Applied {
 /// Applies one `KEY=VALUE` to the document. The error says what was expected.
 pub fn apply(doc: &mut DocumentMut, spec: &str) -> Result<Applied, String> {
     let (segs, rest) = parse_path(spec).map_err(|m| format!("{m}; {SYNTAX}"))?;
-    let Some(value) = rest.trim_start().strip_prefix('=') else {
-        return Err(SYNTAX.to_string());
+    let rest = rest.trim_start();
+    let Some(value) = rest.strip_prefix('=') else {
+        if rest.is_empty() {
+            return Err(SYNTAX.to_string());
+        }
+        // where the key stops making sense: a character a bare key cannot hold
+        let shown: String = rest.chars().take(20).collect();
+        return Err(format!(
+            "the key stops at '{}': a bare key holds ASCII letters, digits, _ and - only \
+             (quote any other: \"hékf\", 'pure sway'); {SYNTAX}",
+            shown.escape_debug()
+        ));
     };
     let value = parse_value(value)?;
     let mut place = Place {
@@ -348,5 +358,40 @@ mod tests {
             .starts_with("hekf.runs[0].constants.thrust is the value \"22 N\", not a table"));
         assert!(err("polar.runs[0].file=x").starts_with("polar.runs is not in the configuration"));
         assert!(err("nonsense").starts_with("expected KEY=VALUE"));
+        assert!(err("h\u{e9}kf.passes=1").starts_with("the key stops at '\u{e9}kf.passes=1'"));
+        assert!(err("hekf.pa\u{1}sses=1").starts_with("the key stops at '\\u{1}sses=1'"));
+        assert!(err("hekf.passes 3").starts_with("the key stops at '3'"));
+    }
+
+    #[test]
+    fn keys_are_bounded_in_steps_bytes_and_positions() {
+        use crate::config::paths::{MAX_PATH_BYTES, MAX_PATH_STEPS};
+        let doc = doc();
+        let err = |spec: &str| apply(&mut doc.clone(), spec).unwrap_err();
+        // 20,000 steps overflowed the stack of the setter; refused at the 33rd
+        let deep = format!("{}=1", vec!["a"; 20_000].join("."));
+        let e = err(&deep);
+        assert!(e.starts_with("the key has more than 32 steps"), "{e}");
+        let deepest = format!("{}=1", vec!["a"; MAX_PATH_STEPS].join("."));
+        let a = apply(&mut doc.clone(), &deepest).unwrap();
+        assert_eq!(a.path.matches('.').count(), MAX_PATH_STEPS - 1);
+        let lists = format!("hekf.estimate{}=1", "[0]".repeat(MAX_PATH_STEPS));
+        assert!(err(&lists).starts_with("the key has more than 32 steps"));
+        let long = format!("a.\"{}\"=1", "x".repeat(MAX_PATH_BYTES));
+        assert!(err(&long).starts_with("the key is longer than 1024 bytes"));
+        assert!(err(&format!("{}=1", "b".repeat(100_000))).contains("longer than 1024 bytes"));
+        for big in ["99999999999", "100000", "18446744073709551616"] {
+            let e = err(&format!("hekf.runs[{big}].file=x"));
+            assert!(
+                e.contains("past the highest list position hydroid reads ([99999])"),
+                "{e}"
+            );
+        }
+        assert_eq!(
+            err("hekf.runs[99999].file=x"),
+            "hekf.runs has 1 entry, so [99999] does not exist (the only position is [0])"
+        );
+        assert!(err("hekf.runs[-1].file=x").contains("'[-1]' is not a list position"));
+        assert!(err("hekf.runs[].file=x").contains("'[]' is not a list position"));
     }
 }

@@ -60,36 +60,78 @@ fn is_bare(key: &str) -> bool {
             .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
 }
 
+/// The most steps (keys and list positions) a key path may have: the deepest key of a
+/// configuration has 6 (`hekf.runs[0].columns.rudder.scale`). It bounds the work of setting
+/// a key and of every later walk of the document (each nested table is a level of it).
+pub const MAX_PATH_STEPS: usize = 32;
+/// The longest key path, in bytes (quoted keys included).
+pub const MAX_PATH_BYTES: usize = 1024;
+/// The highest list position a key path may name: far more runs than any configuration has.
+pub const MAX_POSITION: usize = 99_999;
+
 /// Reads a key path as `--set` and messages write it: TOML's dotted keys (bare keys,
 /// "basic" keys with escapes, 'literal' keys, whitespace around the dots), each followed by
 /// any number of list positions `[N]` (0-based). Returns the segments and the text after
 /// the path (after `KEY` in `KEY=VALUE`: the `=` and the value). The error says what was
-/// expected where the path stops making sense.
+/// expected where the path stops making sense. A path of more than [`MAX_PATH_STEPS`] steps
+/// or [`MAX_PATH_BYTES`] bytes, or a position above [`MAX_POSITION`], is refused with the
+/// limit: the reading stops there, so a path of any length costs no more than the limits.
 pub fn parse_path(text: &str) -> Result<(Vec<Seg>, &str), String> {
     let mut segs = Vec::new();
-    let mut s = text.trim_start();
+    let start = text.trim_start();
+    let mut s = start;
     loop {
         let (key, rest) = one_key(s)?;
         segs.push(Seg::Key(key));
         s = rest.trim_start();
         while let Some(inner) = s.strip_prefix('[') {
             let close = inner.find(']').ok_or_else(|| {
-                format!("'[{inner}': a list position ends with ']', e.g. runs[0]")
+                let shown: String = inner.chars().take(20).collect();
+                format!("'[{shown}': a list position ends with ']', e.g. runs[0]")
             })?;
-            let n = inner[..close].trim();
-            let i: usize = n.parse().map_err(|_| {
-                format!(
-                    "'[{n}]' is not a list position: expected a whole number from 0, e.g. runs[0]"
-                )
-            })?;
-            segs.push(Seg::Index(i));
+            segs.push(Seg::Index(position(inner[..close].trim())?));
             s = inner[close + 1..].trim_start();
         }
+        path_within_limits(segs.len(), start.len() - s.len())?;
         match s.strip_prefix('.') {
             Some(rest) => s = rest.trim_start(),
             None => return Ok((segs, s)),
         }
     }
+}
+
+/// A list position `[N]`: a whole number from 0 to [`MAX_POSITION`].
+fn position(n: &str) -> Result<usize, String> {
+    let shown: String = n.chars().take(20).collect();
+    if !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()) {
+        if let Some(i) = n.parse::<usize>().ok().filter(|&i| i <= MAX_POSITION) {
+            return Ok(i);
+        }
+        return Err(format!(
+            "'[{shown}]' is past the highest list position hydroid reads ([{MAX_POSITION}]); \
+             a list of a configuration has a few entries, from [0]"
+        ));
+    }
+    Err(format!(
+        "'[{shown}]' is not a list position: expected a whole number from 0, e.g. runs[0]"
+    ))
+}
+
+/// Refuses a key path past [`MAX_PATH_STEPS`] steps or [`MAX_PATH_BYTES`] bytes.
+fn path_within_limits(steps: usize, bytes: usize) -> Result<(), String> {
+    if steps > MAX_PATH_STEPS {
+        return Err(format!(
+            "the key has more than {MAX_PATH_STEPS} steps (keys and list positions), the most \
+             a key path may have (the deepest key of a configuration has 6, e.g. \
+             hekf.runs[0].columns.rudder.scale)"
+        ));
+    }
+    if bytes > MAX_PATH_BYTES {
+        return Err(format!(
+            "the key is longer than {MAX_PATH_BYTES} bytes, the longest key path hydroid reads"
+        ));
+    }
+    Ok(())
 }
 
 /// One key at the start of `s` (bare, "basic" or 'literal'), and the text after it.

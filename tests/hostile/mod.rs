@@ -351,6 +351,7 @@ pub fn copy_tree(from: &Path, to: &Path) {
 
 mod basics;
 mod check;
+mod setkeys;
 mod writers;
 
 #[test]
