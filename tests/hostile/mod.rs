@@ -351,6 +351,7 @@ pub fn copy_tree(from: &Path, to: &Path) {
 
 mod basics;
 mod check;
+mod lines;
 mod setkeys;
 mod writers;
 

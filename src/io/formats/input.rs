@@ -50,29 +50,29 @@ impl Limits {
     /// numbers: a table of any shape then takes memory in proportion to its cells (docs/formats.md).
     pub const DEFAULT_MAX_COLUMNS: u64 = 10_000;
 
+    /// The most [`MAX_COLUMNS_ENV`] may be: 100,000 columns. What a table keeps per column
+    /// does not depend on its rows (following an earlier refusal's advice,
+    /// `HYDROID_MAX_COLUMNS=33554432`, aborted at 7.5 GB); a table at this maximum reads
+    /// within the hostile corpus's 3 GiB (tests/hostile/lines.rs).
+    pub const MOST_COLUMNS: u64 = 100_000;
+    /// The most [`MAX_SIZE_ENV`] and [`MAX_LINE_ENV`] may be: 64 GiB. These limits cost
+    /// nothing themselves (a read takes memory in proportion to the file actually read, about
+    /// 20 times its size); beyond this no table is read whole.
+    pub const MOST_BYTES: u64 = 64 << 30;
+
     /// The defaults, overridden by [`MAX_SIZE_ENV`], [`MAX_LINE_ENV`] and [`MAX_COLUMNS_ENV`]
-    /// when they are set. A value that is not a size (a count of columns) is an error naming
-    /// the variable.
+    /// when they are set. A value that is not a size (a count of columns), or is above its
+    /// maximum ([`Limits::MOST_BYTES`], [`Limits::MOST_COLUMNS`]), is an error naming the
+    /// variable and what it may be.
     pub fn from_env() -> Result<Limits, String> {
         let mut limits = Limits::default();
-        for (var, slot, example) in [
-            (MAX_SIZE_ENV, &mut limits.max_bytes, "8G"),
-            (MAX_LINE_ENV, &mut limits.max_line_bytes, "1G"),
-            (MAX_COLUMNS_ENV, &mut limits.max_columns, "100000"),
+        for (var, slot) in [
+            (MAX_SIZE_ENV, &mut limits.max_bytes),
+            (MAX_LINE_ENV, &mut limits.max_line_bytes),
+            (MAX_COLUMNS_ENV, &mut limits.max_columns),
         ] {
             if let Some(value) = std::env::var_os(var) {
-                let text = value.to_string_lossy();
-                let what = if var == MAX_COLUMNS_ENV {
-                    "a number of columns (a whole number above 0, K = 1024)"
-                } else {
-                    "a number of bytes with an optional K, M, G or T suffix (powers of 1024)"
-                };
-                *slot = parse_size(&text).ok_or_else(|| {
-                    format!(
-                        "the environment variable {var}='{text}' is not a size; write {what}, \
-                         e.g. {var}={example}"
-                    )
-                })?;
+                *slot = env_limit(var, &value.to_string_lossy())?;
             }
         }
         Ok(limits)
@@ -92,6 +92,59 @@ impl Default for Limits {
             max_columns: Limits::DEFAULT_MAX_COLUMNS,
         }
     }
+}
+
+/// The value `text` of the limit variable `var`: a size (a count of columns) from 1 to its
+/// maximum, or an error saying what to write.
+fn env_limit(var: &str, text: &str) -> Result<u64, String> {
+    let (what, most, example) = if var == MAX_COLUMNS_ENV {
+        (
+            "a number of columns (a whole number above 0, K = 1024)",
+            Limits::MOST_COLUMNS,
+            "100000".to_string(),
+        )
+    } else {
+        (
+            "a number of bytes with an optional K, M, G or T suffix (powers of 1024)",
+            Limits::MOST_BYTES,
+            if var == MAX_LINE_ENV { "1G" } else { "8G" }.to_string(),
+        )
+    };
+    let shown: String = text.chars().take(40).collect();
+    let most_text = if var == MAX_COLUMNS_ENV {
+        most.to_string()
+    } else {
+        suggested_size(most)
+    };
+    match parse_size(text) {
+        Some(n) if n <= most => Ok(n),
+        Some(_) => Err(format!(
+            "the environment variable {var}='{shown}' is above {most_text}, the most it may be \
+             ({}); write at most {var}={most_text}",
+            if var == MAX_COLUMNS_ENV {
+                "a wider table would take memory out of proportion with its numbers"
+            } else {
+                "no file larger than this is read whole"
+            }
+        )),
+        None => Err(format!(
+            "the environment variable {var}='{shown}' is not a size; write {what} from 1 to \
+             {most_text}, e.g. {var}={example}"
+        )),
+    }
+}
+
+/// The smallest size of the form `parse_size` reads (`700K`, `3M`, `4G`) that is at least
+/// `bytes`: the value to give a limit so that it admits `bytes`.
+pub fn suggested_size(bytes: u64) -> String {
+    let mut shift = 0;
+    while shift < 40 && bytes >> (shift + 10) > 0 {
+        shift += 10;
+    }
+    let unit = 1u64 << shift;
+    let n = bytes.div_ceil(unit);
+    let suffix = ["", "K", "M", "G", "T"][shift / 10];
+    format!("{n}{suffix}")
 }
 
 /// `4096`, `64K`, `512M`, `2G`, `1T` (also `2GiB`, `2GB`, `2 g`): bytes, powers of 1024.
@@ -236,11 +289,29 @@ fn too_large(path: &Path, size: Option<u64>, limits: &Limits) -> InputError {
         Some(s) => format!("the file is {}, larger than", format_size(s)),
         None => "the file grew while being read beyond".to_string(),
     };
+    // what to set that reads the file (when it is known and within the maximum)
+    let advice = match size {
+        Some(s) if s > Limits::MOST_BYTES => format!(
+            "no file larger than {} is read (the most {MAX_SIZE_ENV} may be): split it, or \
+             keep only the rows the run needs",
+            format_size(Limits::MOST_BYTES)
+        ),
+        Some(s) => format!(
+            "set the environment variable {MAX_SIZE_ENV} to raise the limit, to \
+             {MAX_SIZE_ENV}={} for this file (reading it takes about 20 times its size in \
+             memory)",
+            suggested_size(s)
+        ),
+        None => format!(
+            "set the environment variable {MAX_SIZE_ENV} above the file's size, once it is \
+             written whole, to raise the limit (at most {})",
+            suggested_size(Limits::MOST_BYTES)
+        ),
+    };
     InputError::new(
         Place::file(path),
         format!(
-            "{how} the {} hydroid reads from one file; set the environment variable \
-             {MAX_SIZE_ENV} to raise the limit (e.g. {MAX_SIZE_ENV}=8G)",
+            "{how} the {} hydroid reads from one file; {advice}",
             format_size(limits.max_bytes)
         ),
     )
@@ -347,14 +418,19 @@ pub fn read_bytes(path: &Path, limits: &Limits) -> Result<Vec<u8>, InputError> {
     Ok(out)
 }
 
-/// The error for line `line` (1-based), longer than the limit.
+/// The error for line `line` (1-based), longer than the limit. The value advised is the
+/// file's size, which no line of it can exceed.
 fn line_too_long(path: &Path, line: usize, limits: &Limits) -> InputError {
+    let size = fs::metadata(path).map_or(0, |m| m.len());
+    let enough = size.max(limits.max_line_bytes + 1).min(Limits::MOST_BYTES);
     InputError::new(
         Place::line(path, line),
         format!(
             "line {line} is longer than {}, the longest line hydroid reads; set the environment \
-             variable {MAX_LINE_ENV} to raise the limit (e.g. {MAX_LINE_ENV}=1G)",
-            format_size(limits.max_line_bytes)
+             variable {MAX_LINE_ENV} to raise the limit (the file's size, \
+             {MAX_LINE_ENV}={}, admits any line of it)",
+            format_size(limits.max_line_bytes),
+            suggested_size(enough)
         ),
     )
     .expected("a text export with line ends (a file without them is binary data or a stream)")
@@ -394,6 +470,45 @@ mod tests {
         assert_eq!(format_size(2 << 30), "2 GiB");
         assert_eq!(format_size(100), "100 B");
         assert_eq!(format_size(3 << 29), "1.5 GiB");
+        for (bytes, text) in [
+            (1, "1"),
+            (1023, "1023"),
+            (1024, "1K"),
+            (1025, "2K"),
+            (700 << 10, "700K"),
+            ((3 << 30) + 1, "4G"),
+            (64 << 30, "64G"),
+            (5 << 40, "5T"),
+        ] {
+            assert_eq!(suggested_size(bytes), text);
+            assert!(parse_size(text).unwrap() >= bytes);
+        }
+    }
+
+    #[test]
+    fn every_limit_has_a_maximum_and_garbage_is_named() {
+        let ok = |var: &str, text: &str| env_limit(var, text).unwrap();
+        let err = |var: &str, text: &str| env_limit(var, text).unwrap_err();
+        assert_eq!(ok(MAX_COLUMNS_ENV, "100000"), 100_000);
+        assert_eq!(ok(MAX_SIZE_ENV, "64G"), 64 << 30);
+        assert_eq!(ok(MAX_LINE_ENV, "1"), 1);
+        // the refusal's old advice, which aborted at 7.5 GB
+        assert_eq!(
+            err(MAX_COLUMNS_ENV, "33554432"),
+            "the environment variable HYDROID_MAX_COLUMNS='33554432' is above 100000, the most \
+             it may be (a wider table would take memory out of proportion with its numbers); \
+             write at most HYDROID_MAX_COLUMNS=100000"
+        );
+        assert!(err(MAX_COLUMNS_ENV, "100001").contains("above 100000"));
+        assert!(err(MAX_SIZE_ENV, "65G").contains("above 64G, the most it may be"));
+        assert!(err(MAX_LINE_ENV, "1T").contains("write at most HYDROID_MAX_LINE_LENGTH=64G"));
+        for bad in ["0", "-1", "lots", "", "1e5", "99999999999T", "0x10"] {
+            let e = err(MAX_COLUMNS_ENV, bad);
+            assert!(
+                e.contains("is not a size") && e.contains("from 1 to 100000"),
+                "{e}"
+            );
+        }
     }
 
     /// A file that grows after its size was checked is still cut at the limit.

@@ -5,6 +5,7 @@
 
 mod cfx;
 mod columns;
+mod cut;
 mod delimited;
 pub mod detect;
 mod fluent;
@@ -187,7 +188,8 @@ pub fn read_raw_within(
     };
     let mut table = table;
     table.meta.splice(0..0, titles);
-    if let Some(w) = text::check_cut_off(&src, &table.lines)? {
+    let last_column = table.columns.last().map(|c| c.name.as_str());
+    if let Some(w) = cut::check_cut_off(&src, &table.lines, last_column)? {
         table.warnings.push(w);
     }
     if table.rows() == 0 {

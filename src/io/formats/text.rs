@@ -137,15 +137,28 @@ pub(crate) fn check_width(src: &Source, max_columns: u64) -> Result<(), InputErr
         }
         let (n, delim) = widest_split(line);
         if n > max {
-            use super::input::MAX_COLUMNS_ENV;
+            use super::input::{Limits, MAX_COLUMNS_ENV};
+            let most = Limits::MOST_COLUMNS;
+            // advice that reads the file, where any value may
+            let advice = if n as u64 <= most {
+                format!(
+                    "set the environment variable {MAX_COLUMNS_ENV} to read a wider one \
+                     ({MAX_COLUMNS_ENV}={} reads this line)",
+                    (n.next_power_of_two() as u64).min(most)
+                )
+            } else {
+                format!(
+                    "hydroid reads no table of more than {most} columns (the most \
+                     {MAX_COLUMNS_ENV} may be): a table has one row per line, and this line is \
+                     not one (binary data, or text without line ends?)"
+                )
+            };
             return Err(InputError::new(
                 src.at(i),
                 format!(
                     "this line has {n} cells separated by {}, more than the {max} columns \
-                     hydroid reads in a table; set the environment variable {MAX_COLUMNS_ENV} \
-                     to read a wider one (e.g. {MAX_COLUMNS_ENV}={})",
+                     hydroid reads in a table; {advice}",
                     delim.describe(),
-                    n.next_power_of_two()
                 ),
             )
             .expected(format!(
@@ -221,109 +234,6 @@ fn windows_1252(b: u8) -> char {
         0x80..=0x9F => HIGH[usize::from(b - 0x80)],
         _ => char::from(b),
     }
-}
-
-/// The last cell of a line, without quotes or brackets, a decimal comma read as a point
-/// (`-1.25e-3` of `0.1, 2, -1.25e-3`; `1.5` of `0,2;1,5`).
-fn last_token(line: &str) -> String {
-    let seps: &[char] = if line.contains([';', '\t']) {
-        &[';', '\t', ' ']
-    } else {
-        &[',', ' ', '\t']
-    };
-    let cell = line.rsplit(seps).next().unwrap_or("");
-    cell.trim_matches(|c| matches!(c, '"' | '(' | ')'))
-        .replace(',', ".")
-}
-
-/// How a number is written: its decimals and the digits of its exponent (`1.250e-03` is
-/// (3, Some(2))); `None` for a token that is not a plain number.
-fn number_shape(token: &str) -> Option<(usize, Option<usize>)> {
-    token.parse::<f64>().ok()?;
-    let (mantissa, exponent) = match token.find(['e', 'E']) {
-        Some(k) => (
-            &token[..k],
-            Some(token[k + 1..].trim_start_matches(['+', '-']).len()),
-        ),
-        None => (token, None),
-    };
-    let decimals = mantissa.split_once('.').map_or(0, |(_, d)| d.len());
-    Some((decimals, exponent))
-}
-
-/// The error for a last line cut while being written.
-fn cut_error(src: &Source, index: usize, what: String) -> InputError {
-    InputError::new(
-        src.at(index),
-        format!("{what}, and has no line end: was the file cut off while being written?"),
-    )
-    .expected(
-        "a complete last line (if the solver is still writing the file, wait for it to \
-         finish, or cut the file after the last complete line)",
-    )
-}
-
-/// A solver still writing a file leaves its last row cut. For a last line without a line end
-/// that is the table's last row (`rows` are the 1-based lines of the rows): a number cut short
-/// (`0.`, `1.2e`, `3e-`) or a delimiter with nothing after it, where the rows above have a
-/// value, is an error; a last value written with other decimals or exponent digits than the
-/// same column in every row above (`1.2` under `1.2345e+01`) is a warning naming the line,
-/// returned for the table's warnings.
-pub(crate) fn check_cut_off(src: &Source, rows: &[usize]) -> Result<Option<String>, InputError> {
-    match rows.last() {
-        Some(&last) if src.unterminated && last == src.lines.len() => {}
-        _ => return Ok(None),
-    }
-    let index = src.lines.len() - 1;
-    let trim = |l: &'_ str| l.trim_end_matches([' ', '\r']).to_string();
-    let line = trim(src.lines[index]);
-    let above: Vec<String> = rows
-        .iter()
-        .rev()
-        .skip(1)
-        .take(10)
-        .map(|&l| trim(src.lines[l - 1]))
-        .collect();
-    if let Some(d) = line
-        .chars()
-        .last()
-        .filter(|c| matches!(c, ',' | ';' | '\t'))
-    {
-        if above.first().is_some_and(|a| !a.ends_with(d)) {
-            return Err(cut_error(
-                src,
-                index,
-                format!("the last line ends in '{d}' with no value after it"),
-            ));
-        }
-    }
-    let token = last_token(&line);
-    let token = token.as_str();
-    let numeric = token.bytes().any(|b| b.is_ascii_digit())
-        && token
-            .bytes()
-            .all(|b| b.is_ascii_digit() || matches!(b, b'.' | b'e' | b'E' | b'+' | b'-'));
-    if numeric && token.ends_with(['.', 'e', 'E', '+', '-']) {
-        return Err(cut_error(
-            src,
-            index,
-            format!("the last line ends in '{token}', a number cut short"),
-        ));
-    }
-    let shapes: Vec<_> = above.iter().map(|a| number_shape(&last_token(a))).collect();
-    let (Some(Some(shape)), Some(own)) = (shapes.first(), number_shape(token)) else {
-        return Ok(None);
-    };
-    if shapes.len() >= 2 && shapes.iter().all(|s| *s == Some(*shape)) && own != *shape {
-        return Ok(Some(format!(
-            "line {} (the last) has no line end and its last value '{token}' is written with \
-             other digits than the rows above ('{}'): the file may have been cut off while \
-             being written; the row is read as it is",
-            index + 1,
-            last_token(&above[0])
-        )));
-    }
-    Ok(None)
 }
 
 /// The text after a comment marker (`#`, `%`, `//`), or `None` for other lines.
