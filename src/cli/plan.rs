@@ -3,7 +3,8 @@
 
 use super::{CmdResult, Say};
 use crate::app::pipeline::{self, Scope};
-use crate::app::plan::{self, candidate, write, Settings};
+use crate::app::plan::{self, limits, write, Settings};
+use crate::base::error::Error;
 use crate::base::progress::Silent;
 use crate::config;
 use crate::io::output::Claim;
@@ -30,12 +31,12 @@ pub struct Args {
     /// Print plan.json on stdout instead of the table.
     #[arg(long)]
     pub(super) json: bool,
-    /// Verify the top K candidates (3 without a number): replicas simulated with the
-    /// current model and the candidate's noise, identified again; predicted against
+    /// Verify the top K candidates (3 without a number; at most 20): replicas simulated
+    /// with the current model and the candidate's noise, identified again; predicted against
     /// achieved sigma.
     #[arg(long, num_args = 0..=1, default_missing_value = "3", value_name = "K")]
     verify: Option<usize>,
-    /// Replicas per verified candidate.
+    /// Replicas per verified candidate (at most 10,000 replicas in all, K times N).
     #[arg(long, default_value_t = 50, value_parser = clap::value_parser!(u32).range(2..=10_000))]
     replicas: u32,
     /// Seed of the verification's noise (the same seed gives the same output).
@@ -55,9 +56,12 @@ pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
         None => config::load(&args.source, &[])?,
     };
     let candidates = match &args.candidates {
-        Some(p) => candidate::read(p)?,
+        Some(p) => limits::read(p)?,
         None => Vec::new(),
     };
+    let verify = args.verify.unwrap_or(0);
+    limits::check_settings(&args.target, verify, args.replicas as usize)?;
+    check_targets(&loaded, &args.target)?;
     say.note(&format!(
         "plan: identifying {} first",
         args.source.display()
@@ -67,11 +71,21 @@ pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
     let settings = Settings {
         targets: args.target.clone(),
         candidates,
-        verify: args.verify.unwrap_or(0),
+        verify,
         replicas: args.replicas as usize,
         seed: args.seed,
     };
-    let plan = plan::plan(&loaded, &output, &settings)?;
+    // a line at every tenth of each candidate's replicas (the count, not the order, is
+    // certain), as calibrate says them
+    let step = (settings.replicas / 10).max(1);
+    let progress = |k: usize, of: usize, n: usize, replicas: usize| {
+        if n.is_multiple_of(step) || n == replicas {
+            say.note(&format!(
+                "plan: verifying candidate {k} of {of}: {n} of {replicas} replicas identified"
+            ));
+        }
+    };
+    let plan = plan::plan_with(&loaded, &output, &settings, &progress)?;
     say.note(&format!(
         "plan: {} candidates ranked for {}",
         plan.ranked.len(),
@@ -101,4 +115,25 @@ pub fn run(args: Args, out: &mut impl Write, say: Say) -> CmdResult {
         write!(out, "{}", write::table(&plan))?;
     }
     Ok(0)
+}
+
+/// Refuses a target that is no coefficient of the run's model, before the identification
+/// (whether the run identifies it is known after it).
+fn check_targets(loaded: &crate::config::LoadedConfig, targets: &[String]) -> Result<(), Error> {
+    let Some(hekf) = &loaded.config.hekf else {
+        return Ok(());
+    };
+    let names: Vec<&str> = hekf.model.coefficients().iter().map(|c| c.name).collect();
+    for t in targets {
+        if !names.contains(&t.as_str()) {
+            return Err(Error::Usage(format!(
+                "--target {t}: not a coefficient of the {} model{} (`hydroid coefficients {}` \
+                 lists them)",
+                hekf.model,
+                crate::base::suggest::did_you_mean(t, names.iter().copied()),
+                hekf.model
+            )));
+        }
+    }
+    Ok(())
 }

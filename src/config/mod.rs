@@ -11,6 +11,7 @@ mod collect;
 pub mod hekf;
 mod input_checks;
 mod load;
+pub mod motion_limits;
 mod overrides;
 mod paths;
 pub mod polar;

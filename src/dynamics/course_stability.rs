@@ -243,9 +243,10 @@ pub fn nomoto_model_indices<M: Model>(
     set: &CoefficientSet,
 ) -> Result<SteeringIndices, NotSteerable> {
     with_sigmas(model, set, "its own coefficients K and 1/T".into(), |c| {
-        let (k, t) = model.nomoto_gains(c).ok_or_else(|| {
-            NotSteerable("the identified 1/T is not positive: no time constant T".into())
-        })?;
+        let (k, t) = model
+            .nomoto_gains(c)
+            .ok_or_else(|| NotSteerable(format!("{} is not a Nomoto model", model.name())))?
+            .map_err(NotSteerable)?;
         Ok(Nomoto {
             speed: None,
             k,

@@ -405,3 +405,5 @@ fn the_judge_catches_every_property() {
     .is_some());
     assert!(judge(&fine, &o(Some(3), "", false), &same, &same).is_some());
 }
+
+mod limits;

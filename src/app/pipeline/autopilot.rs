@@ -3,89 +3,25 @@
 //! recorded disturbance), once per feed asked for (src/dynamics/autopilot/closed_loop.rs).
 
 mod plant;
+mod plausible;
+mod seas;
 
 use crate::base::error::{ConfigProblem, Error, InputError, Place, Result};
-use crate::base::quantity::Quantity;
-use crate::config::autopilot::{AngleUnit, AutopilotConfig};
+use crate::config::autopilot::AutopilotConfig;
 use crate::config::autopilot_plant::PlantConfig;
 use crate::config::{Config, FluidConfig, VehicleConfig};
 use crate::dynamics::autopilot::closed_loop::{self, Scenario};
-use crate::dynamics::autopilot::seas::{DisturbanceKind, Recording, Seas};
+use crate::dynamics::autopilot::seas::Seas;
 use crate::dynamics::autopilot::PlantIndices;
 use crate::dynamics::autopilot::{AutopilotResult, Gains, RudderLimits};
-use crate::io::formats::{self, FormatChoice, ReadOptions};
 use crate::model::coefficients::{Coefficient, CoefficientSet, Source};
 use crate::model::models::{with_model, Model, ModelName, ModelVisitor, RunVehicle};
 use crate::stages::hekf::HekfConfig;
 use std::collections::BTreeMap;
 use std::path::Path;
 
-/// The seas `cfg` asks for: the generator, or its disturbance file (relative to `base`) read
-/// with the table readers, in SI, refused when it does not cover the closed loop's duration.
-pub fn load_seas(cfg: &AutopilotConfig, base: &Path) -> Result<Seas> {
-    let Some(file) = &cfg.disturbance_file else {
-        return Ok(Seas::Generated);
-    };
-    let path = base.join(file);
-    let table = formats::read(&path, FormatChoice::Auto, &ReadOptions::default())?;
-    let place = Place::file(&path);
-    let expected = "a time column (s) and the disturbance (autopilot.disturbance: a wave yaw or \
-                    rudder angle in autopilot.disturbance_unit, a yaw moment in N m, unless the \
-                    header states a unit): two columns, or the ones \
-                    autopilot.disturbance_columns names; covering the closed loop's duration";
-    let bad = |m: String| Error::from(InputError::new(place.clone(), m).expected(expected));
-    let (t_i, v_i) = match &cfg.disturbance_columns {
-        Some(c) => {
-            let find = |key: &str, name: &str| {
-                table
-                    .columns
-                    .iter()
-                    .position(|col| col.name == name)
-                    .ok_or_else(|| {
-                        let names: Vec<&str> =
-                            table.columns.iter().map(|c| c.name.as_str()).collect();
-                        bad(format!(
-                        "no column `{name}` (autopilot.disturbance_columns.{key}); the file has {}",
-                        names.join(", ")
-                    ))
-                    })
-            };
-            (find("time", &c.time)?, find("disturbance", &c.disturbance)?)
-        }
-        None if table.columns.len() == 2 => {
-            let t_i = table.time.unwrap_or(0);
-            (t_i, 1 - t_i)
-        }
-        None => {
-            return Err(bad(format!(
-                "{} columns and no autopilot.disturbance_columns",
-                table.columns.len()
-            )))
-        }
-    };
-    let value = &table.columns[v_i];
-    let moment = cfg.disturbance == DisturbanceKind::YawMoment;
-    if let (true, Some(u)) = (moment, &value.unit) {
-        if u.dim != Quantity::Mz.dim() {
-            return Err(bad(format!(
-                "the yaw moment column `{}` is in {}, not a moment",
-                value.name, u.text
-            )));
-        }
-    }
-    // degrees accepted and converted here, at the edge
-    let scale = match (value.unit.is_some(), cfg.disturbance_unit) {
-        (false, AngleUnit::Deg) if !moment => std::f64::consts::PI / 180.0,
-        _ => 1.0,
-    };
-    let values = value.values.iter().map(|v| v * scale).collect();
-    let recording = Recording::new(cfg.disturbance, table.columns[t_i].values.clone(), values)
-        .map_err(|e| bad(e.to_string()))?;
-    recording
-        .covers(cfg.duration)
-        .map_err(|e| bad(e.to_string()))?;
-    Ok(Seas::Recorded(recording))
-}
+pub use plausible::{loop_warnings, MAX_SURGE_ACCELERATION};
+pub use seas::{load_seas, MAX_WAVE_YAW_RMS};
 
 /// The seas with the yaw inertia a recorded yaw moment accelerates: the configuration's, or
 /// the plant's vehicle izz.
@@ -235,14 +171,17 @@ impl ModelVisitor for Step<'_> {
         let fail = |m: String| Error::numerical("autopilot", m);
         let c = crate::dynamics::sim::complete_coefficients(model, self.set)
             .map_err(|missing| fail(format!("no value for {}", missing.join(", "))))?;
-        let (k, t) = model.nomoto_gains(&c).ok_or_else(|| {
-            fail(format!(
-                "the {} model does not give Nomoto's K and T (the autopilot is tuned and \
-                 its wave filter run on a Nomoto model such as nomoto_wave; another model can \
-                 be the plant: [autopilot.plant])",
-                model.name()
-            ))
-        })?;
+        let (k, t) = model
+            .nomoto_gains(&c)
+            .ok_or_else(|| {
+                fail(format!(
+                    "the {} model does not give Nomoto's K and T (the autopilot is tuned and \
+                     its wave filter run on a Nomoto model such as nomoto_wave; another model \
+                     can be the plant: [autopilot.plant])",
+                    model.name()
+                ))
+            })?
+            .map_err(|e| fail(format!("the identified {} model: {e}", model.name())))?;
         let a = self.cfg;
         let gains = Gains::pole_placement(k, t, a.omega_n, a.zeta)
             .map_err(|e| fail(format!("the identified K = {k:.4} 1/s, T = {t:.2} s: {e}")))?;

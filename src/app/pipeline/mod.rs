@@ -183,6 +183,7 @@ fn autopilot_step(
                 })
                 .collect();
             log.stage(&format!("autopilot: rudder rate RMS {}", rates.join(", ")));
+            log.say(autopilot::loop_warnings(&r, a, plant));
             log.say(r.warnings());
             Some(r)
         }

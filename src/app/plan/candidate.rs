@@ -1,14 +1,12 @@
 //! Candidate runs: what a planned CFD run or basin test is (its kind and parameters, the noise
 //! expected on its measurements, its cost), a user's own list read from TOML
-//! (`--candidates FILE`), and the default set per model from what the model can be run
-//! through: captive conditions when it gives captive forces, rudder runs, turning circles and
-//! zig-zags when it has a rudder, vertical zig-zags and a helix when it has stern planes,
-//! free runs from an initial sway or yaw when it has no rudder.
+//! (`--candidates FILE`, by [`super::limits::read`]), and the default set per model from what
+//! the model can be run through: captive conditions when it gives captive forces, rudder
+//! runs, turning circles and zig-zags when it has a rudder, vertical zig-zags and a helix when
+//! it has stern planes, free runs from an initial sway or yaw when it has no rudder.
 
-use crate::base::error::{Error, Result};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
-use std::path::Path;
 
 /// What kind of run a candidate is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -159,101 +157,6 @@ impl Candidate {
         add(self.r0_deg_s, "r0 deg/s");
         p.join(", ")
     }
-
-    /// What is wrong with the candidate's parameters, if anything.
-    fn problem(&self) -> Option<String> {
-        let finite = [
-            self.drift_deg,
-            self.yaw_rate_deg_s,
-            self.rudder_deg,
-            self.heading_deg,
-            self.planes_deg,
-            self.pitch_deg,
-            self.amplitude,
-            self.frequency_hz,
-            self.v0,
-            self.r0_deg_s,
-            self.cost,
-        ]
-        .iter()
-        .chain(self.speed.iter())
-        .chain(self.duration_s.iter())
-        .chain(self.dt_s.iter())
-        .chain(self.noise.values())
-        .all(|v| v.is_finite());
-        if !finite {
-            return Some("a parameter is not a finite number".into());
-        }
-        if self.cost <= 0.0 {
-            return Some(format!("cost must be positive, not {}", self.cost));
-        }
-        if self.speed.is_some_and(|s| s <= 0.0) {
-            return Some("speed must be positive".into());
-        }
-        if self.duration_s.is_some_and(|d| d <= 0.0) || self.dt_s.is_some_and(|d| d <= 0.0) {
-            return Some("duration_s and dt_s must be positive".into());
-        }
-        if let Some((k, v)) = self.noise.iter().find(|(_, v)| **v <= 0.0) {
-            return Some(format!("noise.{k} must be positive, not {v}"));
-        }
-        match self.kind {
-            Kind::PmmSway | Kind::PmmYaw if self.amplitude == 0.0 || self.frequency_hz <= 0.0 => {
-                Some("a PMM run needs a non-zero amplitude and a positive frequency_hz".into())
-            }
-            Kind::Turn if self.rudder_deg == 0.0 => Some("a turn needs rudder_deg".into()),
-            Kind::Zigzag if self.rudder_deg == 0.0 || self.heading_deg <= 0.0 => {
-                Some("a zig-zag needs rudder_deg and a positive heading_deg".into())
-            }
-            Kind::ZigzagVertical if self.planes_deg == 0.0 || self.pitch_deg <= 0.0 => {
-                Some("a vertical zig-zag needs planes_deg and a positive pitch_deg".into())
-            }
-            Kind::Helix if self.rudder_deg == 0.0 || self.planes_deg == 0.0 => {
-                Some("a helix needs rudder_deg and planes_deg".into())
-            }
-            _ => None,
-        }
-    }
-}
-
-/// A candidates file: `[[candidate]]` tables.
-#[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct File {
-    candidate: Vec<Candidate>,
-}
-
-/// Reads a user's candidates from a TOML file of `[[candidate]]` tables; an error names the
-/// file, the line and column, and what was expected.
-pub fn read(path: &Path) -> Result<Vec<Candidate>> {
-    let text = crate::config::read(path)?;
-    let file: File = toml::from_str(&text).map_err(|e| {
-        let at = e
-            .span()
-            .map(|s| {
-                let line = text[..s.start].matches('\n').count() + 1;
-                let col = s.start - text[..s.start].rfind('\n').map_or(0, |i| i + 1) + 1;
-                format!(" line {line}, column {col}:")
-            })
-            .unwrap_or_default();
-        Error::Usage(format!("{}:{at} {}", path.display(), e.message()))
-    })?;
-    if file.candidate.is_empty() {
-        return Err(Error::Usage(format!(
-            "{}: no [[candidate]] tables",
-            path.display()
-        )));
-    }
-    for (k, c) in file.candidate.iter().enumerate() {
-        if let Some(p) = c.problem() {
-            return Err(Error::Usage(format!(
-                "{}: candidate {} ('{}'): {p}",
-                path.display(),
-                k + 1,
-                c.name
-            )));
-        }
-    }
-    Ok(file.candidate)
 }
 
 /// Cost of a default captive run, CPU hours (a placeholder: a user's list gives its own).
@@ -446,28 +349,4 @@ fn free_defaults(a: Abilities) -> Vec<Candidate> {
         c
     })
     .collect()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_bad_candidate_file_names_the_line() {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("c.toml");
-        std::fs::write(&path, "[[candidate]]\nname = \"a\"\nkind = \"pmm_roll\"\n").unwrap();
-        let e = read(&path).unwrap_err().to_string();
-        assert!(e.contains("line 3"), "{e}");
-        std::fs::write(&path, "[[candidate]]\nname = \"a\"\nkind = \"pmm_yaw\"\n").unwrap();
-        let e = read(&path).unwrap_err().to_string();
-        assert!(e.contains("amplitude"), "{e}");
-        std::fs::write(
-            &path,
-            "[[candidate]]\nname = \"a\"\nkind = \"static\"\ndrift_deg = 5\ncost = 3\n",
-        )
-        .unwrap();
-        let c = read(&path).unwrap();
-        assert_eq!((c[0].drift_deg, c[0].cost), (5.0, 3.0));
-    }
 }

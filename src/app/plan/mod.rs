@@ -10,6 +10,7 @@
 pub mod candidate;
 pub mod captive;
 pub mod information;
+pub mod limits;
 pub mod manoeuvre;
 pub mod prior;
 pub mod verify;
@@ -115,8 +116,23 @@ pub const ASSUMPTIONS: &[&str] = &[
      candidates file gives real ones",
 ];
 
+/// Called as the verification goes: (candidate 1-based, candidates verified, replicas
+/// identified of that candidate so far, its replicas), from any thread.
+pub type VerifyProgress<'a> = &'a (dyn Fn(usize, usize, usize, usize) + Sync);
+
 /// Plans the next run for the identified model of `output`.
 pub fn plan(loaded: &LoadedConfig, output: &RunOutput, settings: &Settings) -> Result<Plan> {
+    plan_with(loaded, output, settings, &|_, _, _, _| {})
+}
+
+/// [`plan`], telling `progress` how the verification goes.
+pub fn plan_with(
+    loaded: &LoadedConfig,
+    output: &RunOutput,
+    settings: &Settings,
+    progress: VerifyProgress,
+) -> Result<Plan> {
+    limits::check_settings(&settings.targets, settings.verify, settings.replicas)?;
     let hekf =
         loaded.config.hekf.as_ref().ok_or_else(|| {
             Error::Usage("plan needs a configuration with an [hekf] stage".into())
@@ -133,6 +149,7 @@ pub fn plan(loaded: &LoadedConfig, output: &RunOutput, settings: &Settings) -> R
             output,
             settings,
             scale,
+            progress,
         },
     )
     .map_err(|p| {
@@ -149,6 +166,7 @@ struct Planner<'a> {
     output: &'a RunOutput,
     settings: &'a Settings,
     scale: captive::ForceScale,
+    progress: VerifyProgress<'a>,
 }
 
 impl ModelVisitor for Planner<'_> {
@@ -160,8 +178,9 @@ impl ModelVisitor for Planner<'_> {
         } else {
             self.settings.candidates.clone()
         };
+        ctx.check(&candidates)?;
         let mut plan = ctx.rank(&candidates);
-        verify::verify(&ctx, &mut plan, self.settings);
+        verify::verify(&ctx, &mut plan, self.settings, self.progress);
         Ok(plan)
     }
 }
@@ -231,6 +250,42 @@ impl<'a, M: Model> Context<'a, M> {
             speed: self.op.speed,
             length: self.scale.length,
         }
+    }
+
+    /// Refuses candidates whose defaults, resolved on the identified run, make them
+    /// implausible ([`limits::against`]), naming each with the speed and length used.
+    fn check(&self, candidates: &[Candidate]) -> Result<()> {
+        let resolved = limits::Resolved {
+            speed: self.op.speed,
+            dt: self.op.dt,
+            duration: self.op.duration,
+            length: self.scale.length,
+            forces: self.model.force_quantities(),
+            measured: self.op.measured.iter().map(|(q, _)| *q).collect(),
+            model: self.model.name(),
+        };
+        let problems: Vec<String> = candidates
+            .iter()
+            .flat_map(|c| {
+                limits::against(c, &resolved)
+                    .into_iter()
+                    .map(move |m| format!("candidate '{}': {m}", c.name))
+            })
+            .collect();
+        if problems.is_empty() {
+            return Ok(());
+        }
+        Err(Error::Usage(format!(
+            "{} problem{} with the candidates on the identified run (U = {} m/s, L = {} m, a \
+             manoeuvre's default {} s sampled every {} s):\n  - {}",
+            problems.len(),
+            if problems.len() == 1 { "" } else { "s" },
+            crate::base::numfmt::short(resolved.speed),
+            crate::base::numfmt::short(resolved.length),
+            crate::base::numfmt::short(resolved.duration),
+            crate::base::numfmt::short(resolved.dt),
+            problems.join("\n  - ")
+        )))
     }
 
     /// The posterior covariance after candidate `c`.

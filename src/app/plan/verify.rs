@@ -17,6 +17,7 @@ use rand::SeedableRng;
 use rand_distr::{Distribution, StandardNormal};
 use rayon::prelude::*;
 use serde::Serialize;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Gauss-Newton iterations of a captive replica's update.
 const ITERATIONS: usize = 4;
@@ -38,16 +39,31 @@ pub struct Verified {
 
 /// Verifies the top `settings.verify` candidates of `plan` into its `verification`; a
 /// candidate whose replicas fail (a filter diverged) joins `skipped` with the reason.
-pub(crate) fn verify<M: Model>(ctx: &Context<M>, plan: &mut Plan, settings: &Settings) {
+/// `progress` hears of every replica identified.
+pub(crate) fn verify<M: Model>(
+    ctx: &Context<M>,
+    plan: &mut Plan,
+    settings: &Settings,
+    progress: super::VerifyProgress,
+) {
     let replicas = settings.replicas.max(2);
+    let count = settings.verify.min(plan.ranked.len());
     let outcomes: Vec<(String, Result<Verified>)> = plan
         .ranked
         .iter()
-        .take(settings.verify)
+        .take(count)
         .enumerate()
         .map(|(k, row)| {
             let name = row.candidate.name.clone();
-            (name, verify_one(ctx, row, k, replicas, settings.seed))
+            let done = AtomicUsize::new(0);
+            let tick = || {
+                let n = done.fetch_add(1, Ordering::Relaxed) + 1;
+                progress(k + 1, count, n, replicas);
+            };
+            (
+                name,
+                verify_one(ctx, row, (k, replicas), settings.seed, &tick),
+            )
         })
         .collect();
     for (name, outcome) in outcomes {
@@ -61,18 +77,23 @@ pub(crate) fn verify<M: Model>(ctx: &Context<M>, plan: &mut Plan, settings: &Set
     }
 }
 
-/// The replicas of the `k`-th candidate (`row`) identified, and their spread.
+/// The `replicas` replicas of the `k`-th candidate (`row`) identified, and their spread;
+/// `tick` after each.
 fn verify_one<M: Model>(
     ctx: &Context<M>,
     row: &super::Row,
-    k: usize,
-    replicas: usize,
+    (k, replicas): (usize, usize),
     seed: u64,
+    tick: &(dyn Fn() + Sync),
 ) -> Result<Verified> {
     let seed = seed.wrapping_add((k * replicas) as u64);
     let estimates: Vec<Vec<f64>> = (0..replicas)
         .into_par_iter()
-        .map(|r| replica(ctx, &row.candidate, seed.wrapping_add(r as u64)))
+        .map(|r| {
+            let e = replica(ctx, &row.candidate, seed.wrapping_add(r as u64));
+            tick();
+            e
+        })
         .collect::<Result<_>>()?;
     let current = ctx.prior.values();
     let achieved: Vec<f64> = ctx

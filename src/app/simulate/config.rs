@@ -483,7 +483,9 @@ impl SimFile {
                 }
             };
         let produces = Produces::of(self.manoeuvre.kind, states, inputs, forces);
-        let manoeuvre = self.manoeuvre.check(self.model, &produces, p);
+        let manoeuvre = self
+            .manoeuvre
+            .check(self.model, self.vehicle.length, &produces, p);
         check_noise(&self.noise, &produces, p);
         let (layout, sweep) = output(
             self.export.as_ref(),
@@ -549,8 +551,15 @@ impl ManoeuvreFile {
         ]
     }
 
-    /// Checks the manoeuvre: keys its kind does not use, then the keys of its kind.
-    fn check(self, model: ModelName, produces: &Produces, p: &mut Problems) -> Option<Manoeuvre> {
+    /// Checks the manoeuvre of a vehicle `length` m long: keys its kind does not use, then
+    /// the keys of its kind.
+    fn check(
+        self,
+        model: ModelName,
+        length: f64,
+        produces: &Produces,
+        p: &mut Problems,
+    ) -> Option<Manoeuvre> {
         let kind = self.kind.name();
         for (key, given) in self.given() {
             if given && !self.kind.keys().contains(&key) {
@@ -572,6 +581,7 @@ impl ManoeuvreFile {
                     duration: self.duration,
                     dt: self.dt,
                     inputs: self.inputs,
+                    length,
                 },
                 &produces.states,
                 &produces.inputs,
@@ -608,7 +618,10 @@ impl ManoeuvreFile {
         let steering = match &self.steering {
             None => None,
             Some(s) => match s.check("manoeuvre.steering") {
-                Ok(law) => Some(law),
+                Ok(law) => {
+                    ok &= super::plausible::helm_within(&law, duration, p);
+                    Some(law)
+                }
                 Err(problems) => {
                     for (k, m) in problems {
                         p.add(&k, m);
@@ -681,12 +694,7 @@ impl ManoeuvreFile {
                 ok = false;
             }
         }
-        for (i, u) in speeds.iter().enumerate() {
-            if !(u.is_finite() && *u > 0.0) {
-                p.positive(&format!("manoeuvre.speeds[{i}]"), *u, "m/s");
-                ok = false;
-            }
-        }
+        ok &= super::plausible::speeds(&speeds, p);
         p.positive("manoeuvre.moment_reference_length", l_ref, "m");
         let cubic = self.cubic.unwrap_or_default();
         for (q, v) in &cubic {
@@ -730,13 +738,7 @@ impl ManoeuvreFile {
         let drift_deg = self.drift_deg.unwrap_or_else(|| vec![0.0]);
         let yaw_rate_prime = self.yaw_rate_prime.unwrap_or_else(|| vec![0.0]);
         let rudder_deg = self.rudder_deg.unwrap_or_else(|| vec![0.0]);
-        let mut ok = true;
-        for (i, u) in speeds.iter().enumerate() {
-            if !(u.is_finite() && *u > 0.0) {
-                p.positive(&format!("manoeuvre.speeds[{i}]"), *u, "m/s");
-                ok = false;
-            }
-        }
+        let mut ok = super::plausible::speeds(&speeds, p);
         for (key, list, limit) in [
             ("drift_deg", &drift_deg, 90.0),
             ("rudder_deg", &rudder_deg, 90.0),
@@ -940,6 +942,8 @@ fn check_initial_and_inputs(
         member(p, &key, *q, &produces.states, "a state", model_name);
         if let Err(m) = c.expect_quantity(*q) {
             p.add(&key, m);
+        } else if *q == Quantity::U {
+            super::plausible::initial_speed(&key, c.si, p);
         }
     }
     for (q, c) in inputs {

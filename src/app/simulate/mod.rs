@@ -3,6 +3,7 @@
 
 pub mod config;
 pub mod export;
+mod plausible;
 pub mod pmm;
 pub mod run;
 pub mod sweep;

@@ -8,7 +8,7 @@ use super::config::{Manoeuvre, SimConfig};
 use super::synth::Columns;
 use crate::base::error::{Error, Result};
 use crate::base::quantity::Quantity;
-use crate::config::{Constant, Problems};
+use crate::config::{motion_limits, Constant, Problems};
 use crate::dynamics::sim::integrate::complete_coefficients;
 use crate::model::coefficients::CoefficientSet;
 use crate::model::models::{Model, ModelVisitor};
@@ -40,6 +40,8 @@ pub(super) struct PmmKeys {
     pub(super) duration: Option<f64>,
     pub(super) dt: Option<f64>,
     pub(super) inputs: Option<BTreeMap<Quantity, Constant>>,
+    /// The vehicle's length, m (the scale of r' and omega').
+    pub(super) length: f64,
 }
 
 /// The velocities a PMM may oscillate: the body velocities and rates.
@@ -78,7 +80,14 @@ pub(super) fn check(
         return None;
     }
     let mut ok = sampling_fits(frequency, duration, dt, p);
-    let amplitude = amplitudes(&given, states, &mut ok, p);
+    if let Some(m) = motion_limits::speed(speed) {
+        p.add("manoeuvre.speed", m);
+        ok = false;
+    } else if let Some(m) = motion_limits::omega_prime(frequency, keys.length, speed) {
+        p.add("manoeuvre.frequency", m);
+        ok = false;
+    }
+    let amplitude = amplitudes(&given, states, (speed, keys.length), &mut ok, p);
     if given.is_empty() {
         p.add("manoeuvre.amplitude", "names no oscillating velocity");
         ok = false;
@@ -150,10 +159,12 @@ fn sampling_fits(frequency: f64, duration: f64, dt: f64, p: &mut Problems) -> bo
 }
 
 /// The oscillating velocities' amplitudes in SI: each a velocity of the model, in its
-/// quantity's unit, positive (clears `ok` at a problem).
+/// quantity's unit, positive, a translation within the speed and a rate within r' = 2 at
+/// `(speed, length)` (clears `ok` at a problem).
 fn amplitudes(
     given: &BTreeMap<Quantity, Constant>,
     states: &[Quantity],
+    (speed, length): (f64, f64),
     ok: &mut bool,
     p: &mut Problems,
 ) -> BTreeMap<Quantity, f64> {
@@ -183,6 +194,21 @@ fn amplitudes(
         }
         if !(c.si.is_finite() && c.si > 0.0) {
             p.add(&key, format!("must be positive, got {}", c.text));
+            *ok = false;
+        }
+        let rate = matches!(q, Quantity::P | Quantity::Q | Quantity::R);
+        let absurd = match rate {
+            true => {
+                let shown = match c.unit {
+                    Some(_) => c.text.clone(),
+                    None => format!("{} rad/s", c.text),
+                };
+                motion_limits::rate_prime(c.si, length, speed, &shown)
+            }
+            false => motion_limits::translation_amplitude(c.si, speed),
+        };
+        if let Some(m) = absurd.filter(|_| speed > 0.0 && length > 0.0) {
+            p.add(&key, m);
             *ok = false;
         }
         amplitude.insert(*q, c.si);

@@ -124,6 +124,8 @@ impl SweepFile {
                     &format!("sweep.speed[{i}]"),
                     format!("a positive approach speed, got {u} m/s"),
                 );
+            } else if let Some(m) = crate::config::motion_limits::speed(*u) {
+                p.add(&format!("sweep.speed[{i}]"), m);
             }
         }
         if !speed.is_empty() {

@@ -195,6 +195,18 @@ pub enum LoopError {
     /// The wave filter diverged (the filter's reason).
     #[error("the wave filter diverged: {0}")]
     FilterDiverged(String),
+    /// The plant after its change mid-run has no gains the ideal feed can be re-placed on
+    /// (the reason).
+    #[error("the plant after its change at {at} s: {reason}")]
+    ChangedPlant {
+        /// When it changed, s.
+        at: f64,
+        /// Why.
+        reason: String,
+    },
+    /// A recorded disturbance the rudder cannot hold (the reason, with the file's values).
+    #[error("{0}")]
+    Disturbance(String),
 }
 
 /// Runs the scenario on `model` with coefficients `c` as the plant and as the wave filter,
@@ -299,6 +311,7 @@ fn run_loop<M: Model>(
     let (mut delta, mut command) = (0.0, 0.0);
     let recorded = matches!(s.seas, Seas::Recorded(_));
     let per_rudder = plant.yaw_per_rudder();
+    super::plausibility::disturbance_within_rudder(&s.seas, per_rudder, s)?;
     let mut ideal_switch = plant.change_at().filter(|_| feed == Feed::True);
     for k in 0..n {
         let t = k as f64 * s.dt;
@@ -343,6 +356,12 @@ fn run_loop<M: Model>(
         command = ap.command();
     }
     summarize(&mut out, s.dt, plant.change_at());
+    if !(out.heading_error_rms.is_finite() && out.rudder_rms.is_finite()) {
+        return Err(LoopError::Missing(
+            "finite motion: the plant's heading left every finite value (a plant that runs \
+             away: its held inputs, speed or rudder sign)",
+        ));
+    }
     out.ekf_error_rms = out.series.ekf.as_deref().map(|e| out.series.error_rms(e));
     out.lowpass_error_rms = out
         .series
@@ -357,11 +376,18 @@ fn run_loop<M: Model>(
 /// The ideal loop's gains after the plant's change: placed on the plant's own Nomoto
 /// indices then (the same pole placement).
 fn ideal_gains(plant: &dyn Plant, s: &Scenario) -> Result<Gains, LoopError> {
-    let n = plant
-        .nomoto()
-        .map_err(|e| LoopError::FilterDiverged(format!("the changed plant: {e}")))?;
-    Gains::pole_placement(n.k, n.t, s.gains.omega_n, s.gains.zeta)
-        .map_err(|e| LoopError::FilterDiverged(format!("the changed plant: {e}")))
+    let changed = |reason: String| LoopError::ChangedPlant {
+        at: plant.change_at().unwrap_or(f64::NAN),
+        reason,
+    };
+    let n = plant.nomoto().map_err(|e| changed(e.to_string()))?;
+    Gains::pole_placement(n.k, n.t, s.gains.omega_n, s.gains.zeta).map_err(|e| {
+        changed(format!(
+            "the ideal (true heading) feed's gains re-placed on its K = {:.4} 1/s, T = {:.2} \
+             s: {e}",
+            n.k, n.t
+        ))
+    })
 }
 
 /// A recorded wave yaw at `t` and its rate (zero for generated seas or a recorded rudder

@@ -10,6 +10,7 @@ pub mod closed_loop;
 pub mod lowpass;
 mod pid;
 pub mod plant;
+pub mod plausibility;
 mod reference;
 mod result;
 pub mod seas;

@@ -210,15 +210,48 @@ impl<P: Model> Plant for ModelPlant<'_, P> {
     }
 
     fn yaw_per_rudder(&self) -> f64 {
-        let h = 0.1f64.to_radians();
-        let f = |delta: f64| {
-            let mut dx = vec![0.0; self.x.len()];
-            self.model
-                .derivatives(&self.x, &self.inputs(delta), &self.c, &mut dx);
-            dx[self.r_i]
-        };
-        (f(h) - f(-h)) / (2.0 * h)
+        yaw_per_rudder_at(self.model, &self.c, &self.x, &self.u).unwrap_or(0.0)
     }
+}
+
+/// The yaw acceleration per rudder angle d r_dot / d delta (1/s^2) of `model` with
+/// coefficients `c` at the state `x` with the inputs `u` (their rudder replaced), by a
+/// central difference of 0.1 deg about amidships: positive when a positive rudder turns the
+/// ship to a positive yaw rate, as the autopilot's tuning assumes (K / T of a Nomoto model).
+/// None without a rudder input or a yaw-rate state.
+pub fn yaw_per_rudder_at<P: Model>(model: &P, c: &[f64], x: &[f64], u: &[f64]) -> Option<f64> {
+    let rudder_i = model
+        .input_quantities()
+        .iter()
+        .position(|q| *q == Quantity::Rudder)?;
+    let r_i = model.state_index(Quantity::R)?;
+    let h = 0.1f64.to_radians();
+    let f = |delta: f64| {
+        let mut inputs = u.to_vec();
+        inputs[rudder_i] = delta;
+        let mut dx = vec![0.0; x.len()];
+        model.derivatives(x, &inputs, c, &mut dx);
+        dx[r_i]
+    };
+    Some((f(h) - f(-h)) / (2.0 * h))
+}
+
+/// The surge acceleration u_dot (m/s^2) of `model` with `c` at the state `x` with the held
+/// inputs `u` and the rudder amidships: how far the held inputs are from balancing its speed.
+/// None without a surge state.
+pub fn surge_acceleration<P: Model>(model: &P, c: &[f64], x: &[f64], u: &[f64]) -> Option<f64> {
+    let iu = model.state_index(Quantity::U)?;
+    let mut inputs = u.to_vec();
+    if let Some(i) = model
+        .input_quantities()
+        .iter()
+        .position(|q| *q == Quantity::Rudder)
+    {
+        inputs[i] = 0.0;
+    }
+    let mut dx = vec![0.0; x.len()];
+    model.derivatives(x, &inputs, c, &mut dx);
+    Some(dx[iu])
 }
 
 /// Nomoto's indices of `model` with `c` about straight motion at the state `x` with the
@@ -230,7 +263,8 @@ pub fn nomoto_of<P: Model>(
     x: &[f64],
     u: &[f64],
 ) -> Result<Nomoto, NotSteerable> {
-    if let Some((k, t)) = model.nomoto_gains(c) {
+    if let Some(gains) = model.nomoto_gains(c) {
+        let (k, t) = gains.map_err(NotSteerable)?;
         return Ok(Nomoto {
             speed: None,
             k,

@@ -165,6 +165,24 @@ impl Recording {
         out[0]
     }
 
+    /// The RMS and the largest magnitude of its samples from 0 to `duration` s (SI).
+    pub fn rms_and_peak(&self, duration: f64) -> (f64, f64) {
+        let Some(Input::Series(v)) = self.series.inputs.first() else {
+            return (0.0, 0.0);
+        };
+        let within: Vec<f64> = self
+            .series
+            .t
+            .iter()
+            .zip(v)
+            .filter(|(t, _)| **t >= 0.0 && **t <= duration)
+            .map(|(_, v)| *v)
+            .collect();
+        let n = within.len().max(1) as f64;
+        let rms = (within.iter().map(|v| v * v).sum::<f64>() / n).sqrt();
+        (rms, within.iter().fold(0.0, |m: f64, v| m.max(v.abs())))
+    }
+
     /// Its rate at `t`: the central difference over `h` (a gyro's view of a recorded wave
     /// yaw; second-order accurate for a recording sampled every `h`).
     pub fn rate(&self, t: f64, h: f64) -> f64 {

@@ -280,8 +280,9 @@ pub trait Model: Send + Sync + Sized {
     }
 
     /// Nomoto's K (1/s) and T (s) when the model is itself a Nomoto steering model (its
-    /// coefficients hold them), for the autopilot's tuning; None (the default) otherwise.
-    fn nomoto_gains(&self, _c: &[f64]) -> Option<(f64, f64)> {
+    /// coefficients hold them), for the autopilot's tuning, or why its coefficients give none
+    /// (a 1/T of zero: no yaw damping); None (the default) when it is not a Nomoto model.
+    fn nomoto_gains(&self, _c: &[f64]) -> Option<Result<(f64, f64), String>> {
         None
     }
 

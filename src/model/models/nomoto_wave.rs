@@ -233,8 +233,23 @@ impl Model for NomotoWave {
         (c[W0].is_finite() && c[W0] > 0.0).then_some(c[W0])
     }
 
-    fn nomoto_gains(&self, c: &[f64]) -> Option<(f64, f64)> {
-        (c[INV_T] > 0.0).then(|| (c[K], 1.0 / c[INV_T]))
+    fn nomoto_gains(&self, c: &[f64]) -> Option<Result<(f64, f64), String>> {
+        let inv_t = c[INV_T];
+        Some(if inv_t > 0.0 && inv_t.is_finite() {
+            Ok((c[K], 1.0 / inv_t))
+        } else if inv_t == 0.0 {
+            Err("1/T = inv_T = 0: no yaw damping (T infinite, the yaw rate grows without \
+                 bound under a held rudder): Nomoto's K and T are not defined; a course-stable \
+                 ship has inv_T > 0"
+                .into())
+        } else {
+            Err(format!(
+                "1/T = inv_T = {inv_t} 1/s is not positive: a course-unstable Nomoto model \
+                 (T = {} s), which the pole-placement tuning and the plant's indices do not \
+                 take; a course-stable ship has inv_T > 0",
+                crate::base::numfmt::num(1.0 / inv_t)
+            ))
+        })
     }
 
     fn example_vehicle() -> Vehicle {

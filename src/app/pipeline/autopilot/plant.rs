@@ -5,6 +5,8 @@
 use super::PlantSpec;
 use crate::base::error::{Error, Result};
 use crate::base::quantity::Quantity;
+use crate::config::autopilot_plant::internal;
+use crate::config::Constant;
 use crate::dynamics::autopilot::closed_loop::{self, ClosedLoop, Scenario};
 use crate::dynamics::autopilot::plant::{nomoto_of, Change, ModelPlant, Setup};
 use crate::dynamics::autopilot::{Feed, PlantIndices};
@@ -53,6 +55,7 @@ impl<M: Model> ModelVisitor for PlantVisit<'_, M> {
     fn visit<P: Model>(self, plant_model: &P) -> Self::Output {
         let fail = |m: String| Error::numerical("autopilot", m);
         let (setup, x_after) = setup(plant_model, self.spec)?;
+        super::plausible::at_rest(plant_model, &setup, self.spec)?;
         let before = nomoto_of(plant_model, &setup.coefficients, &setup.x0, &setup.inputs)
             .map_err(|e| fail(format!("the plant {}: {e}", plant_model.name())))?;
         let after = match (&setup.change, &x_after) {
@@ -66,6 +69,13 @@ impl<M: Model> ModelVisitor for PlantVisit<'_, M> {
             ),
             _ => None,
         };
+        super::plausible::plant(
+            plant_model,
+            &setup,
+            x_after.as_deref(),
+            self.scenario,
+            self.spec,
+        )?;
         let change_at = setup.change.as_ref().map(|c| c.at);
         let mut plant = ModelPlant::new(plant_model, setup).map_err(|e| fail(e.to_string()))?;
         let feeds = self
@@ -147,7 +157,7 @@ fn setup<P: Model>(model: &P, spec: &PlantSpec) -> Result<(Setup, Option<Vec<f64
 /// autopilot's.
 fn held_inputs<P: Model>(
     model: &P,
-    given: &BTreeMap<String, f64>,
+    given: &BTreeMap<String, Constant>,
     base: Option<&[f64]>,
 ) -> Vec<f64> {
     model
@@ -157,7 +167,7 @@ fn held_inputs<P: Model>(
         .map(|(i, q)| {
             given
                 .get(q.key())
-                .copied()
+                .map(|c| internal(*q, c))
                 .unwrap_or_else(|| base.map_or(0.0, |b| b[i]))
         })
         .collect()
