@@ -401,3 +401,4 @@ fn the_judge_catches_every_property() {
     .is_some());
     assert!(judge(&fine, &o(Some(3), "", false), &same, &same).is_some());
 }
+mod exports;
