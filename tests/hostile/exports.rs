@@ -1,20 +1,19 @@
 //! Hostile cases of the exports (issue 48): `hydroid export fmu` and `hydroid simulate` aimed
 //! at the run's own inputs and configuration, its output folder, the record of exports, other
-//! exports, folders, links, pipes and devices; the FMU library as a device, a pipe, a program,
-//! a library without the FMI functions, a truncated or huge file; absurd `--max-step` values;
-//! folders that are not (or no longer) what a run wrote. docs/outputs.md and docs/fmu.md say
-//! what is refused and why.
+//! exports, earlier FMUs, folders, links, pipes and devices. docs/outputs.md says what is
+//! refused and why. The library, `--max-step` and the folders exported are in hostile/fmu.rs,
+//! which shares the set-up steps here.
 
-use super::{copy_run_output, refused, run_table, warned, Case, Expect};
+use super::{copy_run_output, refused, run_table, Case, Expect};
 use crate::common;
-use hydroid::app::export::fmu::library::{self, stand_in, stand_in_fmi};
+use hydroid::app::export::fmu::library::stand_in_fmi;
 use sha2::{Digest, Sha256};
 use std::path::Path;
 
 /// The stand-in FMI library every case that needs a valid one gives with `--library`.
-const LIB: &str = "lib.so";
+pub(super) const LIB: &str = "lib.so";
 /// The state series of the spheroid run's first fit run.
-const STATES: &str = "states/paper_manoeuvre_u0_3_v0_1_m_s_22_N.csv";
+pub(super) const STATES: &str = "states/paper_manoeuvre_u0_3_v0_1_m_s_22_N.csv";
 
 fn sha(bytes: &[u8]) -> String {
     Sha256::digest(bytes)
@@ -43,14 +42,14 @@ fn rebase(d: &Path, name: &str) {
 }
 
 /// The run of `config` (with `args`) as the case's own `out/NAME`, and the stand-in library.
-fn run_as(d: &Path, config: &str, args: &[&str], name: &str) {
+pub(super) fn run_as(d: &Path, config: &str, args: &[&str], name: &str) {
     copy_run_output(d, config, args, name);
     rebase(d, name);
     std::fs::write(d.join(LIB), stand_in_fmi()).unwrap();
 }
 
 /// The spheroid run as out/s.
-fn spheroid(d: &Path) {
+pub(super) fn spheroid(d: &Path) {
     run_as(d, "configs/spheroid.toml", &[], "s");
 }
 
@@ -60,14 +59,14 @@ fn kvlcc2(d: &Path) {
 }
 
 /// The spheroid run and an FMU exported from it to `to`.
-fn spheroid_and_fmu(d: &Path, to: &str) {
+pub(super) fn spheroid_and_fmu(d: &Path, to: &str) {
     spheroid(d);
     let o = common::hydroid_in(d, &["export", "fmu", "out/s", "-o", to, "--library", LIB]);
     assert!(o.status.success(), "{}", common::text(&o.stderr));
 }
 
 /// `export fmu RUN -o OUT --library lib.so EXTRA`.
-fn export(run: &str, out: &str, extra: &str) -> String {
+pub(super) fn export(run: &str, out: &str, extra: &str) -> String {
     format!("export fmu out/{run} -o {out} --library {LIB} {extra}")
 }
 
@@ -81,7 +80,7 @@ fn list_as_fmu(d: &Path, dir: &str, name: &str) {
     std::fs::write(&path, serde_json::to_vec_pretty(&record).unwrap()).unwrap();
 }
 
-fn mkfifo(p: &Path) {
+pub(super) fn mkfifo(p: &Path) {
     let status = std::process::Command::new("mkfifo").arg(p).status();
     assert!(status.is_ok_and(|s| s.success()), "mkfifo {}", p.display());
 }
@@ -96,7 +95,7 @@ fn an_fmu_never_lands_on_the_run_it_exports() {
         )
         .setup(kvlcc2)
     };
-    let mut cases = vec![
+    let cases = vec![
         // the issue's data loss
         input("fit input", "kvlcc2_turn35.csv", "hekf.runs[0]"),
         input("second fit input", "kvlcc2_turn35_port.csv", "hekf.runs[1]"),
@@ -142,6 +141,15 @@ fn an_fmu_never_lands_on_the_run_it_exports() {
             refused(&["refusing", "the configuration of the run"]),
         )
         .setup(kvlcc2),
+    ];
+    run_table("exports (the KVLCC2 run's inputs)", cases);
+}
+
+/// Only the run's inputs stop these: the record lists them as FMUs, one is gone, or its
+/// stage was disabled; and every input of the spheroid run.
+#[test]
+fn an_input_listed_as_an_fmu_removed_or_of_a_disabled_stage_is_refused() {
+    let mut cases = vec![
         // the record says FMU (a file hydroid may replace): only the run's inputs stop it
         Case::new(
             "input listed as an FMU",
@@ -275,7 +283,7 @@ fn an_fmu_never_lands_in_an_output_folder_or_on_a_record() {
 }
 
 #[test]
-fn one_kind_of_export_never_replaces_the_other() {
+fn an_fmu_never_replaces_a_simulations_export() {
     let cases = vec![
         Case::new(
             "a simulation's export the run does not read",
@@ -306,6 +314,13 @@ fn one_kind_of_export_never_replaces_the_other() {
             let o = common::hydroid_in(d, &["simulate", sim, "--out", "sims/surge.csv"]);
             assert!(o.status.success(), "{}", common::text(&o.stderr));
         }),
+    ];
+    run_table("exports (an FMU onto simulations' exports)", cases);
+}
+
+#[test]
+fn a_simulation_replaces_neither_an_fmu_nor_another_simulations_export() {
+    let cases = vec![
         Case::new(
             "a simulation onto an FMU",
             "simulate configs/simulate/surge_run.toml --out v.fmu",
@@ -376,7 +391,7 @@ fn one_kind_of_export_never_replaces_the_other() {
             "cfd_exports/.hydroid-exports.json",
         ]),
     ];
-    run_table("exports (kinds)", cases);
+    run_table("exports (simulations onto exports)", cases);
 }
 
 #[test]
@@ -426,6 +441,13 @@ fn an_fmu_replaces_only_its_own_earlier_fmu() {
             spheroid_and_fmu(d, "v.fmu");
             std::fs::remove_file(d.join("v.fmu")).unwrap();
         }),
+    ];
+    run_table("exports (earlier FMUs)", cases);
+}
+
+#[test]
+fn foreign_files_links_and_damaged_records_stop_an_fmu() {
+    let cases = vec![
         Case::new(
             "a foreign file",
             &export("s", "notes.txt", "--force"),
@@ -501,7 +523,7 @@ fn an_fmu_replaces_only_its_own_earlier_fmu() {
             f.set_len(1 << 30).unwrap();
         }),
     ];
-    run_table("exports (earlier FMUs)", cases);
+    run_table("exports (foreign files and records)", cases);
 }
 
 #[test]
@@ -581,345 +603,4 @@ fn an_fmu_is_written_only_as_a_file() {
         .setup(spheroid),
     );
     run_table("exports (places)", cases);
-}
-
-/// The system's C library, if it is where Linux distributions put it.
-fn libc() -> Option<&'static str> {
-    [
-        "/lib/x86_64-linux-gnu/libc.so.6",
-        "/usr/lib/x86_64-linux-gnu/libc.so.6",
-        "/lib64/libc.so.6",
-        "/usr/lib64/libc.so.6",
-        "/usr/lib/libc.so.6",
-    ]
-    .into_iter()
-    .find(|p| Path::new(p).is_file())
-}
-
-/// The FMU library as cargo built it: beside the test's hydroid (`cargo build`) or in its
-/// deps/ folder (`cargo test`, for fmu/tests/ffi.rs), if the fmu member was built.
-fn built_library() -> Option<std::path::PathBuf> {
-    let bin = Path::new(env!("CARGO_BIN_EXE_hydroid"));
-    let name = "libhydroid_fmu.so";
-    [
-        bin.with_file_name(name),
-        bin.with_file_name("deps").join(name),
-    ]
-    .into_iter()
-    .find(|p| p.is_file())
-}
-
-#[test]
-fn the_library_is_a_bounded_regular_file_with_the_fmi_functions() {
-    let lib = |name: &str, library: &str, words: &[&str]| {
-        Case::new(
-            name,
-            &format!("export fmu out/s -o v.fmu --library {library}"),
-            refused(words),
-        )
-        .setup(spheroid)
-    };
-    let written = |name: &str, bytes: Vec<u8>, words: &[&str]| {
-        lib(name, "written.so", words).setup(move |d| {
-            spheroid(d);
-            std::fs::write(d.join("written.so"), &bytes).unwrap();
-        })
-    };
-    let all = library::FMI2_CO_SIMULATION_FUNCTIONS;
-    let elf = object::elf::EM_X86_64;
-    let mut truncated = stand_in_fmi();
-    truncated.truncate(200);
-    let mut narrow = stand_in_fmi();
-    narrow[library::EI_CLASS] = 1;
-    let mut cases = vec![
-        lib("/dev/zero", "/dev/zero", &["/dev/zero", "character device"]),
-        lib("/dev/null", "/dev/null", &["/dev/null", "character device"]),
-        lib("a folder", "cfd_exports", &["cfd_exports", "directory"]),
-        lib(
-            "a missing file",
-            "none.so",
-            &["none.so", "does not exist", "cargo build"],
-        ),
-        lib("a text file", "configs/spheroid.toml", &["not an ELF file"]),
-        lib(
-            "a CSV export",
-            "cfd_exports/surge_run.csv",
-            &["not an ELF file"],
-        ),
-        written("an empty file", Vec::new(), &["written.so", "empty"]),
-        written(
-            "a truncated ELF",
-            truncated,
-            &["written.so", "truncated or damaged"],
-        ),
-        written("a 32-bit ELF", narrow, &["32-bit"]),
-        written(
-            "a library for another processor",
-            stand_in(object::elf::ET_DYN, object::elf::EM_AARCH64, all, None),
-            &["another processor"],
-        ),
-        written(
-            "an executable",
-            stand_in(object::elf::ET_EXEC, elf, all, None),
-            &["executable", "not a shared library"],
-        ),
-        written(
-            "a position-independent executable",
-            stand_in(
-                object::elf::ET_DYN,
-                elf,
-                &["main"],
-                Some(object::elf::DF_1_PIE),
-            ),
-            &["position-independent executable", "FMI"],
-        ),
-        written(
-            "an object file",
-            stand_in(object::elf::ET_REL, elf, all, None),
-            &["object file"],
-        ),
-        written(
-            "a library without the FMI functions",
-            stand_in(object::elf::ET_DYN, elf, &["malloc"], None),
-            &[
-                "defines none of the 34 FMI 2.0 co-simulation functions",
-                "fmi2Instantiate",
-            ],
-        ),
-        written(
-            "a library lacking fmi2DoStep",
-            stand_in(
-                object::elf::ET_DYN,
-                elf,
-                &all.iter()
-                    .copied()
-                    .filter(|f| *f != "fmi2DoStep")
-                    .collect::<Vec<_>>(),
-                None,
-            ),
-            &["lacks 1 of the FMI 2.0 co-simulation functions: fmi2DoStep"],
-        ),
-        Case::new(
-            "a named pipe",
-            "export fmu out/s -o v.fmu --library lib.fifo",
-            refused(&["lib.fifo", "named pipe"]),
-        )
-        .setup(|d| {
-            spheroid(d);
-            mkfifo(&d.join("lib.fifo"));
-        }),
-        Case::new(
-            "a link to /dev/zero",
-            "export fmu out/s -o v.fmu --library zero.so",
-            refused(&["zero.so", "character device"]),
-        )
-        .setup(|d| {
-            spheroid(d);
-            std::os::unix::fs::symlink("/dev/zero", d.join("zero.so")).unwrap();
-        }),
-        Case::new(
-            "a dangling link",
-            "export fmu out/s -o v.fmu --library gone.so",
-            refused(&["gone.so", "dangling"]),
-        )
-        .setup(|d| {
-            spheroid(d);
-            std::os::unix::fs::symlink(d.join("nowhere.so"), d.join("gone.so")).unwrap();
-        }),
-        // refused from its size: a read of it would take minutes and 600 MB
-        Case::new(
-            "a huge sparse file",
-            "export fmu out/s -o v.fmu --library huge.so",
-            refused(&["huge.so", "larger than the 512 MiB"]),
-        )
-        .setup(|d| {
-            spheroid(d);
-            let f = std::fs::File::create(d.join("huge.so")).unwrap();
-            f.set_len(library::MAX_LIBRARY_BYTES + 1).unwrap();
-        }),
-        Case::new(
-            "an FMU as the library",
-            "export fmu out/s -o w.fmu --library v.fmu",
-            refused(&["v.fmu", "not an ELF file"]),
-        )
-        .setup(|d| spheroid_and_fmu(d, "v.fmu")),
-        Case::new(
-            "the stand-in library",
-            "export fmu out/s -o v.fmu --library lib.so",
-            Expect::Fine,
-        )
-        .setup(spheroid),
-    ];
-    if Path::new("/bin/ls").is_file() {
-        cases.push(lib("/bin/ls", "/bin/ls", &["/bin/ls", "executable", "FMI"]));
-    }
-    match libc() {
-        Some(c) => cases.push(lib(
-            "the C library",
-            c,
-            &[
-                "libc.so.6",
-                "defines none of the 34 FMI 2.0 co-simulation functions",
-            ],
-        )),
-        None => eprintln!("hostile::exports: no libc.so.6 in the usual places; case skipped"),
-    }
-    match built_library() {
-        Some(p) => cases.push(
-            Case::new(
-                "the built library",
-                &format!("export fmu out/s -o v.fmu --library {}", p.display()),
-                Expect::Fine,
-            )
-            .setup(spheroid),
-        ),
-        None => eprintln!(
-            "hostile::exports: no libhydroid_fmu.so beside the test's hydroid (the fmu member \
-             was not built); case skipped"
-        ),
-    }
-    run_table("exports (the library)", cases);
-}
-
-#[test]
-fn absurd_steps_are_refused() {
-    let step = |value: &str, expect: Expect| {
-        Case::new(
-            &format!("--max-step {value}"),
-            &export("s", "v.fmu", &format!("--max-step {value}")),
-            expect,
-        )
-        .setup(spheroid)
-    };
-    let bounds = || refused(&["--max-step", "1e-5 s", "communication step"]);
-    let mut cases: Vec<Case> = [
-        "0", "-0", "-1", "nan", "NaN", "inf", "-inf", "1e-300", "1e300",
-    ]
-    .into_iter()
-    .chain(["9e-6", "1.5", "-1e-3"])
-    .map(|v| step(v, bounds()))
-    .collect();
-    cases.push(step("abc", refused(&["--max-step", "invalid value"])));
-    cases.push(step("1e-5", Expect::Fine));
-    cases.push(step("1", Expect::Fine));
-    run_table("exports (--max-step)", cases);
-}
-
-#[test]
-fn only_an_unedited_run_with_an_hekf_stage_is_exported() {
-    let folder = |name: &str, outdir: &str, words: &[&str]| {
-        Case::new(
-            name,
-            &format!("export fmu {outdir} -o v.fmu --library {LIB}"),
-            refused(words),
-        )
-        .setup(spheroid)
-    };
-    let edited = |file: &'static str| {
-        Case::new(
-            &format!("edited {file}"),
-            &export("s", "v.fmu", "--force"),
-            refused(&["out/s", file, "edited since hydroid wrote it"]),
-        )
-        .setup(move |d| {
-            spheroid(d);
-            let p = d.join("out/s").join(file);
-            let mut text = std::fs::read(&p).unwrap();
-            text.extend_from_slice(b"\n ");
-            std::fs::write(p, text).unwrap();
-        })
-    };
-    let cases = vec![
-        folder(
-            "the exports folder",
-            "cfd_exports",
-            &["cfd_exports", "no results.json"],
-        ),
-        folder("the configs folder", "configs", &["no results.json"]),
-        folder(
-            "a missing folder",
-            "out/nope",
-            &["out/nope", "no results.json"],
-        ),
-        folder("a file", "configs/spheroid.toml", &["no results.json"]),
-        folder("/dev/null", "/dev/null", &["no results.json"]),
-        edited("results.json"),
-        edited("config.toml"),
-        edited("inputs.json"),
-        edited("rerun.json"),
-        edited(STATES),
-        Case::new(
-            "garbled results without a marker",
-            &export("s", "v.fmu", ""),
-            refused(&["results.json", "not a hydroid results file"]),
-        )
-        .setup(|d| {
-            spheroid(d);
-            std::fs::remove_file(d.join("out/s/.hydroid-output.json")).unwrap();
-            std::fs::write(d.join("out/s/results.json"), "{").unwrap();
-        }),
-        Case::new(
-            "garbled rerun.json without a marker",
-            &export("s", "v.fmu", ""),
-            refused(&["rerun.json", "not a hydroid file"]),
-        )
-        .setup(|d| {
-            spheroid(d);
-            std::fs::remove_file(d.join("out/s/.hydroid-output.json")).unwrap();
-            std::fs::write(d.join("out/s/rerun.json"), "[]").unwrap();
-        }),
-        // an output of an earlier hydroid (no marker) is exported as it is
-        Case::new(
-            "an output without a marker",
-            &export("s", "v.fmu", ""),
-            Expect::Fine,
-        )
-        .setup(|d| {
-            spheroid(d);
-            std::fs::remove_file(d.join("out/s/.hydroid-output.json")).unwrap();
-        }),
-        Case::new(
-            "a run without HEKF",
-            &export("p", "v.fmu", ""),
-            refused(&["results.json", "no HEKF stage", "[hekf]"]),
-        )
-        .setup(|d| {
-            run_as(
-                d,
-                "configs/spheroid.toml",
-                &["--set", "hekf.enabled=false"],
-                "p",
-            )
-        }),
-        Case::new(
-            "the smoother off: filtered start values",
-            &export("f", "v.fmu", ""),
-            warned(&["start values: the filtered states", "smoother was off"]),
-        )
-        .setup(|d| {
-            run_as(
-                d,
-                "configs/spheroid.toml",
-                &["--set", "hekf.smoother=false"],
-                "f",
-            )
-        }),
-        Case::new(
-            "the smoother on: smoothed start values",
-            &export("s", "v.fmu", ""),
-            warned(&["start values: the smoothed states", STATES]),
-        )
-        .setup(spheroid),
-        Case::new(
-            "no state series: zero start values",
-            &export("s", "v.fmu", ""),
-            warned(&["start values: zero"]),
-        )
-        .setup(|d| {
-            spheroid(d);
-            std::fs::remove_file(d.join("out/s/.hydroid-output.json")).unwrap();
-            std::fs::remove_file(d.join("out/s").join(STATES)).unwrap();
-        }),
-    ];
-    run_table("exports (output folders)", cases);
 }

@@ -402,3 +402,4 @@ fn the_judge_catches_every_property() {
     assert!(judge(&fine, &o(Some(3), "", false), &same, &same).is_some());
 }
 mod exports;
+mod fmu;
