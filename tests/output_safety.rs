@@ -456,12 +456,24 @@ fn the_bundled_exports_are_listed_with_their_hashes() {
         .collect();
     exports.sort();
     assert_eq!(files.keys().cloned().collect::<Vec<_>>(), exports);
-    for (name, sha) in files {
+    assert_eq!(record["format"], "hydroid-exports/2");
+    for (name, entry) in files {
         assert_eq!(
-            sha.as_str().unwrap(),
+            entry["sha256"].as_str().unwrap(),
             hydroid::app::pipeline::file_sha256(&root().join("cfd_exports").join(name)).unwrap(),
             "cfd_exports/.hydroid-exports.json is stale for {name}: regenerate the export with \
              hydroid simulate"
+        );
+        // each was written by the simulation whose export.file it is
+        assert_eq!(entry["kind"], "simulate", "{name}");
+        let source = root()
+            .join("cfd_exports")
+            .join(entry["source"].as_str().unwrap());
+        let sim = std::fs::read_to_string(&source).unwrap();
+        assert!(
+            sim.contains(&format!("file = \"../../cfd_exports/{name}\"")),
+            "{name}: {}",
+            source.display()
         );
     }
 }

@@ -232,3 +232,35 @@ fn file_uris_are_decoded() {
     assert!(p("file://server/x").is_err());
     assert!(p("file:///tmp/%zz").is_err());
 }
+
+/// The library as cargo built it (the cdylib beside this test's executable) defines exactly
+/// the FMI functions `hydroid export fmu` checks a library for, and passes that check: the
+/// list of app::export::fmu::library and fmu/src/api.rs cannot drift apart.
+#[test]
+fn the_built_library_defines_the_functions_the_export_checks_for() {
+    use hydroid::app::export::fmu::library;
+    let deps = std::env::current_exe()
+        .unwrap()
+        .parent()
+        .unwrap()
+        .to_path_buf();
+    let built = [
+        deps.join("libhydroid_fmu.so"),
+        deps.join("../libhydroid_fmu.so"),
+    ];
+    let Some(path) = built.iter().find(|p| p.is_file()) else {
+        // cargo builds the cdylib with the rlib the tests link; say so if it ever does not
+        panic!("no libhydroid_fmu.so beside {}", deps.display());
+    };
+    let bytes = std::fs::read(path).unwrap();
+    library::check(&bytes).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut fmi: Vec<String> = library::defined_functions(&bytes)
+        .unwrap()
+        .into_iter()
+        .filter(|n| n.starts_with("fmi2"))
+        .collect();
+    fmi.sort();
+    let mut want = library::FMI2_CO_SIMULATION_FUNCTIONS.to_vec();
+    want.sort();
+    assert_eq!(fmi, want);
+}

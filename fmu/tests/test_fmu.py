@@ -6,8 +6,9 @@ zig-zag-like rudder sequence with FMPy against `hydroid simulate` of the same mo
 coefficients, initial state and inputs (an independent program path: the simulation
 configuration is written here from the run's config.toml and results.json).
 
-Needs the debug builds of hydroid and of the FMU library (`cargo build -p hydroid -p
-hydroid-fmu`), or HYDROID_BIN naming a hydroid executable with libhydroid_fmu.so beside it.
+Needs the debug builds of hydroid and of the FMU library (`cargo build` or `cargo test` at
+the repository root builds both, the workspace's default members), or HYDROID_BIN naming a
+hydroid executable with libhydroid_fmu.so beside it.
 """
 
 import csv

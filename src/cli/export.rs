@@ -4,6 +4,7 @@
 use super::CmdResult;
 use crate::app::export::fmu;
 use crate::base::error::Error;
+use crate::io::output::exports::{write_export, Export, ExportKind};
 use crate::io::output::Replace;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -30,16 +31,16 @@ struct FmuArgs {
     /// The FMU to write (`vessel.fmu`).
     #[arg(short = 'o', long = "out")]
     out: PathBuf,
-    /// The FMU's shared library, built by `cargo build -p hydroid-fmu` (default:
-    /// libhydroid_fmu.so beside the running hydroid executable).
+    /// The FMU's shared library (default: libhydroid_fmu.so beside the running hydroid
+    /// executable, which `cargo build --release` at the repository root builds beside it).
     #[arg(long)]
     library: Option<PathBuf>,
-    /// Longest RK4 step inside the FMU, s: a communication step of H takes ceil(H / STEP)
-    /// equal steps.
-    #[arg(long, default_value_t = crate::numerics::ode::DEFAULT_MAX_STEP)]
+    /// Longest RK4 step inside the FMU, s (1e-5 to 1): a communication step of H takes
+    /// ceil(H / STEP) equal steps.
+    #[arg(long, default_value_t = crate::numerics::ode::DEFAULT_MAX_STEP, allow_hyphen_values = true)]
     max_step: f64,
-    /// Overwrite an FMU hydroid wrote even if it was changed since (a file hydroid did not
-    /// write is never overwritten).
+    /// Overwrite an FMU hydroid exported even if it was changed since (a file hydroid did not
+    /// write, an export of `hydroid simulate` or an input of the run are never overwritten).
     #[arg(long)]
     force: bool,
 }
@@ -47,7 +48,8 @@ struct FmuArgs {
 /// The library's file name.
 const LIBRARY: &str = "libhydroid_fmu.so";
 
-/// The library given, else the one beside the running executable.
+/// The library given, else the one beside the running executable: its path and bytes, read
+/// and checked (`fmu::library`).
 fn library(given: Option<&Path>) -> crate::Result<(PathBuf, Vec<u8>)> {
     let path = match given {
         Some(p) => p.to_path_buf(),
@@ -55,48 +57,41 @@ fn library(given: Option<&Path>) -> crate::Result<(PathBuf, Vec<u8>)> {
             .map_err(|e| Error::Usage(format!("cannot find the running hydroid: {e}")))?
             .with_file_name(LIBRARY),
     };
-    match std::fs::read(&path) {
-        Ok(bytes) => Ok((path, bytes)),
-        Err(e) => Err(Error::Usage(format!(
-            "cannot read the FMU library {}: {}; build it with `cargo build -p hydroid-fmu` \
-             (it lands beside the hydroid executable, in the same profile: add --release for \
-             a release hydroid) or give it with --library",
-            path.display(),
-            crate::base::error::io_reason(&e)
-        ))),
+    if given.is_none() && std::fs::symlink_metadata(&path).is_err() {
+        return Err(Error::Usage(format!(
+            "the FMU library {} is missing: build it with `cargo build --release` at the \
+             repository root (the README's first command builds it beside hydroid; `cargo \
+             build -p hydroid-fmu` for a debug hydroid), or give it with --library",
+            path.display()
+        )));
     }
+    let bytes = fmu::library::read(&path)?;
+    Ok((path, bytes))
 }
 
 /// Runs the command.
 pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
     let What::Fmu(a) = args.what;
     crate::io::output::clean_up_on_signals()?;
-    if !(a.max_step.is_finite() && a.max_step > 0.0) {
-        return Err(Error::Usage(format!(
-            "--max-step {} is not a positive step in s",
-            a.max_step
-        ))
-        .into());
-    }
-    let spec = fmu::read_folder(&a.outdir, a.max_step)?;
-    let (lib_path, lib) = library(a.library.as_deref())?;
-    if !lib.starts_with(b"\x7fELF") {
-        return Err(Error::Usage(format!(
-            "{} is not a Linux shared library (no ELF header)",
-            lib_path.display()
-        ))
-        .into());
-    }
-    let bytes = fmu::package(&spec, &lib)?;
-    let written =
-        crate::io::output::exports::write_export(&a.out, &bytes, &[], Replace::forced(a.force))?;
+    fmu::spec::check_max_step(a.max_step).map_err(|e| Error::Usage(format!("--max-step {e}")))?;
+    let exported = fmu::read_folder(&a.outdir, a.max_step)?;
+    let (_, lib) = library(a.library.as_deref())?;
+    let bytes = fmu::package(&exported.spec, &lib)?;
+    let export = Export {
+        kind: ExportKind::Fmu,
+        source: &a.outdir,
+        guarded: &exported.guarded,
+    };
+    let written = write_export(&a.out, &bytes, &export, Replace::forced(a.force))?;
+    let spec = &exported.spec;
     writeln!(
         out,
-        "wrote {} (FMI 2.0 co-simulation, {} model: {} inputs, {} outputs)",
+        "wrote {} (FMI 2.0 co-simulation, {} model: {} inputs, {} outputs); start values: {}",
         written.display(),
         spec.model,
         spec.inputs.len(),
-        spec.states.len()
+        spec.states.len(),
+        exported.starts
     )?;
     Ok(0)
 }

@@ -407,3 +407,5 @@ fn the_judge_catches_every_property() {
 }
 
 mod limits;
+mod exports;
+mod fmu;

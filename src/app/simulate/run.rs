@@ -2,12 +2,14 @@
 
 use super::{config, export, synth};
 use crate::base::error::Result;
+use crate::io::output::exports::{Export, ExportKind, Guarded};
 use crate::io::output::{write_export, Replace};
 use std::path::{Path, PathBuf};
 
 /// Runs a simulation configuration and writes its export; returns the file and row count.
-/// An existing file is overwritten only if hydroid wrote it and it is unchanged (or changed,
-/// with [`Replace::EvenIfChanged`]); never the configuration (see `output::exports`).
+/// An existing file is overwritten only if a simulation of this configuration wrote it and it
+/// is unchanged (or changed, or another simulation's, with [`Replace::EvenIfChanged`]); never
+/// the configuration or an FMU (see `output::exports`).
 pub fn run_file(
     config_path: &Path,
     out: Option<&Path>,
@@ -31,7 +33,16 @@ pub fn run_file(
         Some(p) => p.to_path_buf(),
         None => loaded.base_dir.join(&export_cfg.file),
     };
-    write_export(&path, text.as_bytes(), &[config_path], replace)?;
+    let guarded = [Guarded {
+        path: config_path.to_path_buf(),
+        what: "the simulation's configuration".into(),
+    }];
+    let export = Export {
+        kind: ExportKind::Simulate,
+        source: config_path,
+        guarded: &guarded,
+    };
+    write_export(&path, text.as_bytes(), &export, replace)?;
     let rows = cols.values().next().map_or(0, Vec::len);
     Ok((path, rows))
 }

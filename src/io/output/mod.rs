@@ -8,8 +8,10 @@
 //!   folder without the marker, a file or a link, and never a protected place: the
 //!   configuration, an input or a folder holding one, the working folder or one above it,
 //!   the home folder, the root ([`Protected`]).
-//! * Synthetic exports are overwritten only when a record beside them says hydroid wrote
-//!   them, unchanged ([`exports`]).
+//! * Exports (a simulation's synthetic CFD export, an FMU) are overwritten only when a record
+//!   beside them says hydroid wrote them, as the same kind of export, unchanged; never onto
+//!   a file the caller guards (a configuration, an input of the run an FMU is made from) or
+//!   into a run's output folder ([`exports`]).
 //! * A command that adds files to an existing output folder (`calibrate`, `plan`) writes them
 //!   only into the folder it read at its start, unchanged, taking turns with every other
 //!   writer of the folder on a lock ([`claim`]).

@@ -62,6 +62,17 @@ pub fn contains(outer: &Path, inner: &Path) -> bool {
     inner.starts_with(outer)
 }
 
+/// `to` as a path relative to the folder `from` (both absolute and resolved):
+/// `relative("/p/cfd_exports", "/p/configs/sim.toml")` is `../configs/sim.toml`.
+pub fn relative(from: &Path, to: &Path) -> PathBuf {
+    let f: Vec<Component> = from.components().collect();
+    let t: Vec<Component> = to.components().collect();
+    let common = f.iter().zip(&t).take_while(|(a, b)| a == b).count();
+    let mut out: PathBuf = std::iter::repeat_n(Component::ParentDir, f.len() - common).collect();
+    out.extend(&t[common..]);
+    out
+}
+
 /// The resolved location of a file that is read (an input, a configuration): the file itself
 /// with every link followed, and the place its name is in (the link's own folder when the
 /// name is a link). Both matter: replacing either folder would lose the file.
@@ -107,6 +118,18 @@ mod tests {
         // a final link is not followed
         assert_eq!(resolve(&real.join("link")).unwrap(), real.join("link"));
         assert_eq!(resolve(&real.join("link/")).unwrap(), real.join("link"));
+    }
+
+    #[test]
+    fn relative_paths_climb_to_the_common_folder() {
+        let rel = |a: &str, b: &str| relative(Path::new(a), Path::new(b));
+        assert_eq!(
+            rel("/p/cfd_exports", "/p/configs/sim.toml"),
+            Path::new("../configs/sim.toml")
+        );
+        assert_eq!(rel("/p", "/p/a.toml"), Path::new("a.toml"));
+        assert_eq!(rel("/p/a/b", "/q"), Path::new("../../../q"));
+        assert_eq!(rel("/p", "/p"), Path::new(""));
     }
 
     #[test]

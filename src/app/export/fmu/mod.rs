@@ -5,16 +5,18 @@
 //! reads when it is instantiated.
 
 pub mod description;
+pub mod folder;
+pub mod library;
 pub mod spec;
 
-use crate::app::report::{CONFIG_TOML, RESULTS_JSON};
+pub use folder::{read_folder, Exported, Starts};
+
 use crate::base::error::{Error, Result};
 use crate::dynamics::sim::complete_coefficients;
 use crate::model::coefficients::{Coefficient, CoefficientSet, Source};
 use crate::model::models::{Model, ModelVisitor, RunVehicle};
 use spec::{FmuSpec, Named, Variable};
 use std::io::Write;
-use std::path::Path;
 
 /// The archive's path of the model file.
 pub const MODEL_JSON: &str = "resources/model.json";
@@ -22,73 +24,6 @@ pub const MODEL_JSON: &str = "resources/model.json";
 /// The FMU's model identifier (the library's name inside it) for a model: `hydroid_mmg3`.
 pub fn model_identifier(spec: &FmuSpec) -> String {
     format!("hydroid_{}", spec.model)
-}
-
-fn not_output(dir: &Path, why: &str) -> Error {
-    Error::Usage(format!(
-        "{}: {why} (give an output folder of `hydroid run`)",
-        dir.display()
-    ))
-}
-
-/// The model an output folder of `hydroid run` identified: its HEKF model with the folder's
-/// coefficients, vehicle and yaw-moment reading (config.toml), the initial states of its
-/// first fit run's smoothed series (states/, zero without it) and the inputs starting at
-/// zero; `max_step` is the longest RK4 step the FMU takes, s.
-pub fn read_folder(dir: &Path, max_step: f64) -> Result<FmuSpec> {
-    let edited = crate::io::output::marker::edited(dir, &[RESULTS_JSON, CONFIG_TOML])?;
-    if !edited.is_empty() {
-        return Err(not_output(
-            dir,
-            &format!(
-                "{} edited since hydroid wrote it; export packages what a run identified",
-                edited.join(", ")
-            ),
-        ));
-    }
-    let results_path = dir.join(RESULTS_JSON);
-    if !results_path.is_file() {
-        return Err(not_output(dir, "no results.json"));
-    }
-    let text = crate::config::read(&results_path)?;
-    let results: serde_json::Value = serde_json::from_str(&text).map_err(|e| {
-        Error::Usage(format!(
-            "{}: not a hydroid results file: {e}",
-            results_path.display()
-        ))
-    })?;
-    let hekf = &results["stages"]["hekf"];
-    let Some(model) = hekf["model"].as_str() else {
-        return Err(Error::Usage(format!(
-            "{}: the run has no HEKF stage (`stages.hekf.model`): only a model identified in \
-             time (a [hekf] section) can be exported as an FMU",
-            results_path.display()
-        )));
-    };
-    let mut set = CoefficientSet::new();
-    for c in results["coefficients"].as_array().into_iter().flatten() {
-        if let (Some(n), Some(v)) = (c["name"].as_str(), c["value"].as_f64()) {
-            set.insert(Coefficient::new(n, v, None, Source::Config));
-        }
-    }
-    let loaded = recorded_config(dir)?;
-    let first_run = hekf["runs"][0]["name"].as_str().map(str::to_string);
-    let starts = match first_run {
-        Some(name) => initial_states(dir, &name)?,
-        None => Vec::new(),
-    };
-    let spec = from_parts(
-        model,
-        &loaded.vehicle,
-        &set,
-        &starts,
-        max_step,
-        loaded.config.title.clone(),
-    );
-    spec.map_err(|e| match e {
-        Error::Usage(m) => Error::Usage(format!("{}: {m}", dir.display())),
-        e => e,
-    })
 }
 
 /// The FMU's model: `model` built for `vehicle` with the coefficients of `set` (the model's
@@ -125,57 +60,6 @@ pub fn from_parts(
     spec.inputs = inputs;
     spec.states = states;
     Ok(spec)
-}
-
-/// The output folder's config.toml as loaded: the input files it names are not needed (the
-/// model is built from the vehicle and the identified coefficients), so a missing one is
-/// not a problem here; any other problem is.
-fn recorded_config(dir: &Path) -> Result<crate::config::LoadedConfig> {
-    let path = dir.join(CONFIG_TOML);
-    let (loaded, problems) = crate::config::load_lenient(&path, &crate::config::read(&path)?, &[]);
-    let problems: Vec<_> = problems
-        .into_iter()
-        .filter(|p| !p.key.as_deref().is_some_and(|k| k.ends_with(".file")))
-        .collect();
-    match loaded {
-        Some(l) if problems.is_empty() => Ok(l),
-        _ => Err(Error::Config(problems)),
-    }
-}
-
-/// The smoothed state at the first sample of the run `name`'s series (states/NAME.csv), by
-/// state name; empty when the folder has none.
-fn initial_states(dir: &Path, name: &str) -> Result<Vec<(String, f64)>> {
-    let file = crate::stages::hekf::states::file_names(&[name.to_string()]).remove(0);
-    let path = dir.join(file);
-    if !path.is_file() {
-        return Ok(Vec::new());
-    }
-    let bad = |why: String| Error::Usage(format!("{}: {why}", path.display()));
-    let mut reader = csv::Reader::from_path(&path).map_err(|e| bad(e.to_string()))?;
-    let header = reader.headers().map_err(|e| bad(e.to_string()))?.clone();
-    let Some(row) = reader.records().next() else {
-        return Ok(Vec::new());
-    };
-    let row = row.map_err(|e| bad(e.to_string()))?;
-    let mut out = Vec::new();
-    for (h, v) in header.iter().zip(row.iter()) {
-        // `u_smoothed [m/s]`
-        let Some(state) = h
-            .split(' ')
-            .next()
-            .and_then(|n| n.strip_suffix("_smoothed"))
-        else {
-            continue;
-        };
-        let value: f64 = v
-            .parse()
-            .ok()
-            .filter(|x: &f64| x.is_finite())
-            .ok_or_else(|| bad(format!("column {h}: {v} is not a number")))?;
-        out.push((state.to_string(), value));
-    }
-    Ok(out)
 }
 
 /// The model's coefficient vector, inputs and states, or the coefficients the set lacks.

@@ -4,13 +4,39 @@
 //! same RK4 as `hydroid simulate` with the inputs held over the step.
 
 use crate::base::error::{Error, Result};
+use crate::base::numfmt::short;
 use crate::dynamics::sim::{simulate, steps_for, InputSeries};
 use crate::model::coefficients::YawMoment;
 use crate::model::models::{with_model, Model, ModelName, ModelVisitor, RunVehicle, Vehicle};
+use crate::numerics::ode::{DEFAULT_MAX_STEP, MAX_STEPS_PER_INTERVAL};
 use serde::{Deserialize, Serialize};
 
 /// The format tag of model.json.
 pub const FORMAT: &str = "hydroid-fmu/1";
+
+/// The range of the longest RK4 step an FMU takes (`max_step`, `--max-step`), s. A
+/// communication step of H takes ceil(H / max_step) steps and at most
+/// [`MAX_STEPS_PER_INTERVAL`] (one million): 1e-5 s keeps communication steps up to 10 s
+/// within that bound, and is a thousand times finer than the default (0.01 s). Above 1 s a
+/// step no longer resolves the motions of the vehicles hydroid models, whose time scales are
+/// seconds (docs/fmu.md).
+pub const MAX_STEP_RANGE: (f64, f64) = (1e-5, 1.0);
+
+/// Checks a longest step against [`MAX_STEP_RANGE`]; the error says why the bounds are there.
+pub fn check_max_step(step: f64) -> std::result::Result<(), String> {
+    let (lo, hi) = MAX_STEP_RANGE;
+    if step.is_finite() && (lo..=hi).contains(&step) {
+        return Ok(());
+    }
+    Err(format!(
+        "{} s is not a step between {lo:e} s and {hi} s: a communication step of H takes \
+         ceil(H / step) RK4 steps, at most {MAX_STEPS_PER_INTERVAL}, which {lo:e} s keeps \
+         within reach for communication steps up to {} s, and a step above {hi} s no longer \
+         resolves the vehicle's motion (the default is {DEFAULT_MAX_STEP} s)",
+        short(step),
+        lo * MAX_STEPS_PER_INTERVAL as f64
+    ))
+}
 
 /// resources/model.json of an exported FMU.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -74,12 +100,7 @@ impl FmuSpec {
                 spec.format
             )));
         }
-        if !(spec.max_step.is_finite() && spec.max_step > 0.0) {
-            return Err(Error::Usage(format!(
-                "{what}: max_step {} is not a positive step in s",
-                spec.max_step
-            )));
-        }
+        check_max_step(spec.max_step).map_err(|e| Error::Usage(format!("{what}: max_step {e}")))?;
         Ok(spec)
     }
 
@@ -102,9 +123,11 @@ impl FmuSpec {
         }
     }
 
-    /// Checks that the model builds from the vehicle and has exactly the coefficients,
-    /// inputs and states listed (an FMU of another hydroid version is refused, not misread).
+    /// Checks that the longest step is in [`MAX_STEP_RANGE`] and that the model builds from
+    /// the vehicle and has exactly the coefficients, inputs and states listed (an FMU of
+    /// another hydroid version is refused, not misread).
     pub fn check(&self) -> Result<()> {
+        check_max_step(self.max_step).map_err(|e| Error::Usage(format!("max_step {e}")))?;
         self.visit(Check(self))?
     }
 

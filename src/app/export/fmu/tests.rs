@@ -148,3 +148,33 @@ fn a_missing_folder_is_a_clear_error() {
     let e = read_folder(dir.path(), 0.01).unwrap_err().to_string();
     assert!(e.contains("no results.json"), "{e}");
 }
+
+/// A model.json whose longest step is outside 1e-5 s to 1 s is refused when read (the
+/// library reads it at fmi2Instantiate) and when packaged: a step of 1e-300 s would fail every
+/// communication step, one of 1e300 s not resolve the motion.
+#[test]
+fn a_step_outside_its_range_is_refused() {
+    let mut spec = example(ModelName::Mmg3).unwrap();
+    for step in [1e-300, 9e-6, 0.0, -0.01, 1.5, 1e300, f64::NAN] {
+        spec.max_step = step;
+        let e = spec.check().unwrap_err().to_string();
+        assert!(
+            e.contains("max_step") && e.contains("1e-5 s"),
+            "{step}: {e}"
+        );
+        let mut json: serde_json::Value = serde_json::to_value(&spec).unwrap();
+        json["max_step"] = serde_json::json!(if step.is_finite() { step } else { -1.0 });
+        let e = FmuSpec::from_json(&json.to_string(), "model.json").unwrap_err();
+        assert!(
+            e.to_string().contains("model.json: max_step"),
+            "{step}: {e}"
+        );
+    }
+    for step in [1e-5, 0.01, 1.0] {
+        spec.max_step = step;
+        spec.check().unwrap();
+    }
+    // the bounds keep a communication step of 10 s within the steps one may take
+    let (lo, _) = spec::MAX_STEP_RANGE;
+    assert!(crate::numerics::ode::steps_for(10.0, lo).is_some());
+}
