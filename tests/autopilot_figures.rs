@@ -112,108 +112,7 @@ fn the_autopilot_series_hold_the_runs_statistics_and_both_filters() {
         (w0 - 2.0 * std::f64::consts::PI / 8.0).abs() < 1e-11,
         "{w0}"
     );
-    let mut measured = Vec::new();
-    for f in feeds {
-        let name = f["feed"].as_str().unwrap();
-        assert_eq!(f["series"], format!("autopilot/{name}.csv"));
-        let t = Table::read(&out.join(f["series"].as_str().unwrap()));
-        assert_eq!(t.header, COLUMNS);
-        assert_eq!(t.rows.len(), 6001, "600 s at 10 Hz");
-        let get = |k: &str| f[k].as_f64().unwrap();
-        let close = |a: f64, b: f64, what: &str| {
-            assert!(
-                (a - b).abs() <= 1e-12 * b.abs(),
-                "{name} {what}: {a} vs {b}"
-            )
-        };
-        // the heading error from the reference: the true low-frequency heading less psi_d
-        let lf = t.col("heading_lf_true [rad]");
-        let e: Vec<f64> = lf
-            .iter()
-            .zip(t.col("heading_reference [rad]"))
-            .map(|(a, b)| a - b)
-            .collect();
-        close(rms(e), get("heading_error_rms"), "heading error");
-        close(
-            rms(t.col("heading_error [rad]")),
-            get("heading_error_rms"),
-            "column",
-        );
-        let rudder = t.col("rudder [rad]");
-        close(rms(rudder.iter().copied()), get("rudder_rms"), "rudder");
-        let rate = rudder.windows(2).map(|w| (w[1] - w[0]) / 0.1);
-        close(rms(rate), get("rudder_rate_rms"), "rudder rate");
-        // the filters' errors against the true low-frequency heading
-        let err = |col: &str| {
-            let v = t.col(col);
-            rms(v.iter().zip(&lf).map(|(a, b)| a - b))
-        };
-        close(err("heading_ekf [rad]"), get("ekf_error_rms"), "EKF error");
-        close(
-            err("heading_lowpass [rad]"),
-            get("lowpass_error_rms"),
-            "LPF error",
-        );
-        close(
-            rms(t.col("error_lowpass [rad]")),
-            get("lowpass_error_rms"),
-            "LPF col",
-        );
-        // the ordinary filter written here from its transfer function, on the compass
-        let low = butterworth(&t.col("compass [rad]"), w0 / 4.0, 0.1);
-        let worst = low
-            .iter()
-            .zip(t.col("heading_lowpass [rad]"))
-            .map(|(a, b)| (a - b).abs())
-            .fold(0.0, f64::max);
-        assert!(
-            worst < 1e-12,
-            "{name}: the low-pass column is off by {worst} rad"
-        );
-        // the feed's own filter is the heading the autopilot saw
-        let own = match name {
-            "filter" => Some("heading_ekf [rad]"),
-            "lowpass" => Some("heading_lowpass [rad]"),
-            "raw" => Some("compass [rad]"),
-            _ => None,
-        };
-        if let Some(own) = own {
-            assert_eq!(t.col(own), t.col("heading_seen [rad]"), "{name}");
-        }
-        // the course ordered: 0 until 50 s, then 10 deg
-        let ordered = t.col("course_ordered [rad]");
-        assert_eq!(ordered[499], 0.0);
-        assert!((ordered[500] - 10f64.to_radians()).abs() < 1e-15);
-        if name == "lowpass" {
-            // the largest errors: the low-pass filter's lag in the turn, the EKF's start
-            let peak = |col: &str| {
-                let v = t.col(col);
-                let i = (0..v.len())
-                    .max_by(|a, b| v[*a].abs().total_cmp(&v[*b].abs()))
-                    .unwrap();
-                format!(
-                    "{:.3} deg at {:.1} s",
-                    v[i].abs().to_degrees(),
-                    i as f64 * 0.1
-                )
-            };
-            assert_eq!(
-                [peak("error_lowpass [rad]"), peak("error_ekf [rad]")],
-                ["0.838 deg at 135.2 s", "0.168 deg at 0.3 s"]
-            );
-        }
-        let (ekf, lpf) = (get("ekf_error_rms"), get("lowpass_error_rms"));
-        assert!(ekf * 10.0 <= lpf, "{name}: EKF {ekf} against LPF {lpf}");
-        measured.push(format!(
-            "{name}: EKF {:.4} deg, LPF {:.4} deg, heading error {:.3} deg, rudder {:.3} deg, \
-             rate {:.3} deg/s",
-            ekf.to_degrees(),
-            lpf.to_degrees(),
-            get("heading_error_rms").to_degrees(),
-            get("rudder_rms").to_degrees(),
-            get("rudder_rate_rms").to_degrees()
-        ));
-    }
+    let measured: Vec<String> = feeds.iter().map(|f| feed_checked(f, &out, w0)).collect();
     // docs/models/nomoto.md, "The paper's figures", at its printed digits
     assert_eq!(
         measured,
@@ -229,17 +128,142 @@ fn the_autopilot_series_hold_the_runs_statistics_and_both_filters() {
         ]
     );
     the_report_holds_the_papers_figures(&out);
-    // the same run gives the same bytes
-    let again = dir.path().join("again");
+    the_same_run_gives_the_same_bytes(dir.path(), &out, &names);
+}
+
+/// The statistic `key` of a feed of results.json.
+fn stat(feed: &serde_json::Value, key: &str) -> f64 {
+    feed[key].as_f64().unwrap()
+}
+
+/// One feed's table (its `series`, autopilot/FEED.csv): its columns and length, its run's
+/// statistics, both filters; the EKF's error a tenth of the low-pass filter's or less. Returns
+/// the feed's row of the docs' table.
+fn feed_checked(f: &serde_json::Value, out: &Path, w0: f64) -> String {
+    let name = f["feed"].as_str().unwrap();
+    assert_eq!(f["series"], format!("autopilot/{name}.csv"));
+    let t = Table::read(&out.join(f["series"].as_str().unwrap()));
+    assert_eq!(t.header, COLUMNS);
+    assert_eq!(t.rows.len(), 6001, "600 s at 10 Hz");
+    the_statistics_are_the_tables(name, f, &t);
+    the_filters_are_the_tables(name, &t, w0);
+    let (ekf, lpf) = (stat(f, "ekf_error_rms"), stat(f, "lowpass_error_rms"));
+    assert!(ekf * 10.0 <= lpf, "{name}: EKF {ekf} against LPF {lpf}");
+    format!(
+        "{name}: EKF {:.4} deg, LPF {:.4} deg, heading error {:.3} deg, rudder {:.3} deg, \
+         rate {:.3} deg/s",
+        ekf.to_degrees(),
+        lpf.to_degrees(),
+        stat(f, "heading_error_rms").to_degrees(),
+        stat(f, "rudder_rms").to_degrees(),
+        stat(f, "rudder_rate_rms").to_degrees()
+    )
+}
+
+/// The feed `f`'s statistics in results.json recomputed from its table `t` (to 1e-12): the
+/// heading error, the rudder and its rate, both filters' errors.
+fn the_statistics_are_the_tables(name: &str, f: &serde_json::Value, t: &Table) {
+    let get = |k: &str| stat(f, k);
+    let close = |a: f64, b: f64, what: &str| {
+        assert!(
+            (a - b).abs() <= 1e-12 * b.abs(),
+            "{name} {what}: {a} vs {b}"
+        )
+    };
+    // the heading error from the reference: the true low-frequency heading less psi_d
+    let lf = t.col("heading_lf_true [rad]");
+    let e: Vec<f64> = lf
+        .iter()
+        .zip(t.col("heading_reference [rad]"))
+        .map(|(a, b)| a - b)
+        .collect();
+    close(rms(e), get("heading_error_rms"), "heading error");
+    close(
+        rms(t.col("heading_error [rad]")),
+        get("heading_error_rms"),
+        "column",
+    );
+    let rudder = t.col("rudder [rad]");
+    close(rms(rudder.iter().copied()), get("rudder_rms"), "rudder");
+    let rate = rudder.windows(2).map(|w| (w[1] - w[0]) / 0.1);
+    close(rms(rate), get("rudder_rate_rms"), "rudder rate");
+    // the filters' errors against the true low-frequency heading
+    let err = |col: &str| {
+        let v = t.col(col);
+        rms(v.iter().zip(&lf).map(|(a, b)| a - b))
+    };
+    close(err("heading_ekf [rad]"), get("ekf_error_rms"), "EKF error");
+    close(
+        err("heading_lowpass [rad]"),
+        get("lowpass_error_rms"),
+        "LPF error",
+    );
+    close(
+        rms(t.col("error_lowpass [rad]")),
+        get("lowpass_error_rms"),
+        "LPF col",
+    );
+}
+
+/// The feed `name`'s table `t`: its low-pass column is the Butterworth filter (cut-off
+/// `w0 / 4`) of its compass column, the heading the autopilot saw is the feed's own, the
+/// course ordered steps at 50 s; the largest filter errors of the lowpass feed.
+fn the_filters_are_the_tables(name: &str, t: &Table, w0: f64) {
+    // the ordinary filter written here from its transfer function, on the compass
+    let low = butterworth(&t.col("compass [rad]"), w0 / 4.0, 0.1);
+    let worst = low
+        .iter()
+        .zip(t.col("heading_lowpass [rad]"))
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(
+        worst < 1e-12,
+        "{name}: the low-pass column is off by {worst} rad"
+    );
+    // the feed's own filter is the heading the autopilot saw
+    let own = match name {
+        "filter" => Some("heading_ekf [rad]"),
+        "lowpass" => Some("heading_lowpass [rad]"),
+        "raw" => Some("compass [rad]"),
+        _ => None,
+    };
+    if let Some(own) = own {
+        assert_eq!(t.col(own), t.col("heading_seen [rad]"), "{name}");
+    }
+    // the course ordered: 0 until 50 s, then 10 deg
+    let ordered = t.col("course_ordered [rad]");
+    assert_eq!(ordered[499], 0.0);
+    assert!((ordered[500] - 10f64.to_radians()).abs() < 1e-15);
+    if name == "lowpass" {
+        // the largest errors: the low-pass filter's lag in the turn, the EKF's start
+        let peak = |col: &str| {
+            let v = t.col(col);
+            let i = (0..v.len())
+                .max_by(|a, b| v[*a].abs().total_cmp(&v[*b].abs()))
+                .unwrap();
+            format!(
+                "{:.3} deg at {:.1} s",
+                v[i].abs().to_degrees(),
+                i as f64 * 0.1
+            )
+        };
+        assert_eq!(
+            [peak("error_lowpass [rad]"), peak("error_ekf [rad]")],
+            ["0.838 deg at 135.2 s", "0.168 deg at 0.3 s"]
+        );
+    }
+}
+
+/// The same run of configs/nomoto.toml (into `dir`/again) gives the same bytes as `out` in
+/// every feed's table.
+fn the_same_run_gives_the_same_bytes(dir: &Path, out: &Path, names: &[&str]) {
+    let again = dir.join("again");
     let o = common::run_config(&common::root().join("configs/nomoto.toml"), &again, &[]);
     assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
     for name in names {
         let file = format!("autopilot/{name}.csv");
         let read = |d: &Path| std::fs::read(d.join(&file)).unwrap();
-        assert!(
-            read(&out) == read(&again),
-            "{file} differs between two runs"
-        );
+        assert!(read(out) == read(&again), "{file} differs between two runs");
     }
 }
 

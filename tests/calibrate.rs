@@ -320,8 +320,11 @@ fn a_folder_replaced_while_calibrate_or_plan_runs_is_not_written() {
     }
 }
 
+/// Coefficients by name: (value, sigma).
+type Values = std::collections::BTreeMap<String, (f64, f64)>;
+
 /// Each coefficient of a results.json as (value, sigma) by name.
-fn values(r: &serde_json::Value) -> std::collections::BTreeMap<String, (f64, f64)> {
+fn values(r: &serde_json::Value) -> Values {
     r["coefficients"]
         .as_array()
         .unwrap()
@@ -365,6 +368,24 @@ fn the_settings_row_is_what_runs_with_those_settings_give() {
         ]
     );
     // the inputs read the other way: each run's `between` flipped in the configuration
+    let set = between_flipped(&original);
+    assert!(!set.is_empty());
+    let set: Vec<&str> = set.iter().map(String::as_str).collect();
+    let flipped_out = dir.join("flipped");
+    let o = common::run_config(&config, &flipped_out, &set);
+    assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
+    let flipped = values(&common::json(&flipped_out.join("results.json")));
+    expect_moves(&base, &variants[0], &flipped);
+    // the port turn left out: the configuration without its [[hekf.runs]] block
+    let alone = values(&starboard_only_run(dir, &config));
+    expect_moves(&base, &variants[2], &alone);
+    the_z_of_a_run_left_out(&base, &variants[2], &alone);
+    the_settings_rows_and_warning(&c);
+}
+
+/// The `--set` overrides reading each hekf run's inputs of `original` (a results.json) the
+/// other way between samples: each run's `between` flipped.
+fn between_flipped(original: &serde_json::Value) -> Vec<String> {
     let mut set = Vec::new();
     for (i, run) in original["stages"]["hekf"]["runs"]
         .as_array()
@@ -377,27 +398,27 @@ fn the_settings_row_is_what_runs_with_those_settings_give() {
             set.push(format!("hekf.runs[{i}].between.{q}=\"{other}\""));
         }
     }
-    assert!(!set.is_empty());
-    let set: Vec<&str> = set.iter().map(String::as_str).collect();
-    let flipped_out = dir.join("flipped");
-    let o = common::run_config(&config, &flipped_out, &set);
-    assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
-    let flipped = values(&common::json(&flipped_out.join("results.json")));
-    let expect_moves =
-        |v: &serde_json::Value, other: &std::collections::BTreeMap<String, (f64, f64)>| {
-            for (name, m) in v["moves"].as_object().unwrap() {
-                let ((v0, s0), (v1, _)) = (base[name], other[name]);
-                let want = (v1 - v0) / s0;
-                let got = m.as_f64().unwrap();
-                assert!(
-                    (got - want).abs() < 1e-6 * want.abs().max(1.0),
-                    "{name}: {got} {want}"
-                );
-            }
-        };
-    expect_moves(&variants[0], &flipped);
-    // the port turn left out: the configuration without its [[hekf.runs]] block
-    let text = std::fs::read_to_string(&config).unwrap();
+    set
+}
+
+/// A settings variant `v`'s moves: each coefficient's move from `base` to `other`, in the
+/// sigmas of `base`.
+fn expect_moves(base: &Values, v: &serde_json::Value, other: &Values) {
+    for (name, m) in v["moves"].as_object().unwrap() {
+        let ((v0, s0), (v1, _)) = (base[name], other[name]);
+        let want = (v1 - v0) / s0;
+        let got = m.as_f64().unwrap();
+        assert!(
+            (got - want).abs() < 1e-6 * want.abs().max(1.0),
+            "{name}: {got} {want}"
+        );
+    }
+}
+
+/// The results.json of `config` (in the example copy `dir`) run without its second
+/// [[hekf.runs]] block, the port turn (written to configs/starboard_only.toml).
+fn starboard_only_run(dir: &Path, config: &Path) -> serde_json::Value {
+    let text = std::fs::read_to_string(config).unwrap();
     let second = text.match_indices("[[hekf.runs]]").nth(1).unwrap().0;
     let end = text.find("[[hekf.validation]]").unwrap();
     let starboard_only = dir.join("configs/starboard_only.toml");
@@ -409,11 +430,13 @@ fn the_settings_row_is_what_runs_with_those_settings_give() {
     let alone_out = dir.join("alone");
     let o = common::run_config(&starboard_only, &alone_out, &[]);
     assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
-    let alone = common::json(&alone_out.join("results.json"));
-    expect_moves(&variants[2], &values(&alone));
-    // its z: the move over sqrt(sigma_alone^2 - sigma^2) (Hausman 1978)
-    let alone = values(&alone);
-    for (name, z) in variants[2]["z"].as_object().unwrap() {
+    common::json(&alone_out.join("results.json"))
+}
+
+/// A run left out (variant `v`, the coefficients `alone` without it): its z, the move over
+/// sqrt(sigma_alone^2 - sigma^2) (Hausman 1978).
+fn the_z_of_a_run_left_out(base: &Values, v: &serde_json::Value, alone: &Values) {
+    for (name, z) in v["z"].as_object().unwrap() {
         let ((v0, s0), (v1, s1)) = (base[name], alone[name]);
         let spread = (s1 * s1 - s0 * s0).max(0.01 * s0 * s0).sqrt();
         assert!(
@@ -421,8 +444,11 @@ fn the_settings_row_is_what_runs_with_those_settings_give() {
             "{name}"
         );
     }
-    // the rows and the warning: Nr_p moves by 7.1 sigma when the inputs are read the other
-    // way (docs/calibrate.md), which the run is told about
+}
+
+/// The calibration `c`'s settings rows and warning: Nr_p moves by 7.1 sigma when the inputs
+/// are read the other way (docs/calibrate.md), which the run is told about.
+fn the_settings_rows_and_warning(c: &serde_json::Value) {
     let rows = c["settings"]["coefficients"].as_array().unwrap();
     let nr = common::named(&c["settings"]["coefficients"], "Nr_p");
     assert_eq!(

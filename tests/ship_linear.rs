@@ -172,31 +172,7 @@ fn identify(runs: &[Record]) -> HekfResult {
 fn turns_to_both_sides_identify_all_sixteen_parameters() {
     let m = ShipLinear::build(&ShipLinear::example_vehicle()).unwrap();
     let truth = m.coefficient_vector(&truth_set());
-    // +35 deg at 10 rev/s, -35 deg at 12 rev/s slowed to 9 rev/s in the turn: two rates and a
-    // change of rate separate a1 u, a8 u n and a9 n^2
-    let runs = [
-        turn(
-            &m,
-            &truth,
-            &Turn {
-                rudder_deg: 35.0,
-                rates: (10.0, 10.0),
-                rate_change_time: DURATION,
-                seed: 11,
-            },
-        ),
-        turn(
-            &m,
-            &truth,
-            &Turn {
-                rudder_deg: -35.0,
-                rates: (12.0, 9.0),
-                rate_change_time: 35.0,
-                seed: 12,
-            },
-        ),
-    ];
-    let r = identify(&runs);
+    let r = identify(&both_turns(&m, &truth));
     let accuracy = Accuracy::of_hekf_result("ship_linear twin", &r, |name| {
         truth[m.coefficient_index(name).unwrap()]
     });
@@ -222,30 +198,7 @@ fn turns_to_both_sides_identify_all_sixteen_parameters() {
     assert!(accuracy.worst_z() < 3.0, "{}", accuracy.table());
     // the surge terms of the turn (a2-a7) within 1 % to 35 %, correlated up to 0.98 (a7 with
     // a3)
-    assert_eq!(format!("{:.2}", largest_correlation(&r)), "0.98");
-    // docs/models/ships.md: "a6 and a5 are correlated at -0.96, a7 and a3 at -0.98, a9 and a8
-    // at -0.93, b3 and b2 at -0.92 ..., c3 and c2 at -0.87"
-    let pairs = [
-        ("a6", "a5"),
-        ("a7", "a3"),
-        ("a9", "a8"),
-        ("b3", "b2"),
-        ("c3", "c2"),
-    ];
-    let said: Vec<String> = pairs
-        .iter()
-        .map(|(a, b)| format!("{a} {b} {:+.2}", correlation(&r, a, b)))
-        .collect();
-    assert_eq!(
-        said,
-        [
-            "a6 a5 -0.96",
-            "a7 a3 -0.98",
-            "a9 a8 -0.93",
-            "b3 b2 -0.92",
-            "c3 c2 -0.87"
-        ]
-    );
+    the_correlations_are_the_docs(&r);
     for name in ["a2", "a3", "a4", "a5", "a6", "a7"] {
         let e = accuracy.row(name).error_percent().abs();
         assert!(
@@ -272,6 +225,62 @@ fn turns_to_both_sides_identify_all_sixteen_parameters() {
         let e = accuracy.row(name).error_percent().abs();
         assert!(e < 1.7, "{name}: {e}\n{}", accuracy.table());
     }
+}
+
+/// The two turns identified: +35 deg at 10 rev/s, -35 deg at 12 rev/s slowed to 9 rev/s in
+/// the turn (two rates and a change of rate separate a1 u, a8 u n and a9 n^2).
+fn both_turns(m: &ShipLinear, truth: &[f64]) -> [Record; 2] {
+    [
+        turn(
+            m,
+            truth,
+            &Turn {
+                rudder_deg: 35.0,
+                rates: (10.0, 10.0),
+                rate_change_time: DURATION,
+                seed: 11,
+            },
+        ),
+        turn(
+            m,
+            truth,
+            &Turn {
+                rudder_deg: -35.0,
+                rates: (12.0, 9.0),
+                rate_change_time: 35.0,
+                seed: 12,
+            },
+        ),
+    ]
+}
+
+/// The largest correlation of `r`'s estimates (0.98, a7 with a3) and the pairs
+/// docs/models/ships.md names, at its digits.
+fn the_correlations_are_the_docs(r: &HekfResult) {
+    assert_eq!(format!("{:.2}", largest_correlation(r)), "0.98");
+    // docs/models/ships.md: "a6 and a5 are correlated at -0.96, a7 and a3 at -0.98, a9 and a8
+    // at -0.93, b3 and b2 at -0.92 ..., c3 and c2 at -0.87"
+    let pairs = [
+        ("a6", "a5"),
+        ("a7", "a3"),
+        ("a9", "a8"),
+        ("b3", "b2"),
+        ("c3", "c2"),
+    ];
+    let said: Vec<String> = pairs
+        .iter()
+        .map(|(a, b)| format!("{a} {b} {:+.2}", correlation(r, a, b)))
+        .collect();
+    assert_eq!(
+        said,
+        [
+            "a6 a5 -0.96",
+            "a7 a3 -0.98",
+            "a9 a8 -0.93",
+            "b3 b2 -0.92",
+            "c3 c2 -0.87"
+        ]
+    );
 }
 
 /// The correlation of the estimates `a` and `b` of `r`.

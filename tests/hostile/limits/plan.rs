@@ -54,8 +54,8 @@ fn settings(name: &str, args: &str, expect: Expect) -> Case {
         .may_change(&["out"])
 }
 
-/// Speeds, durations and samples: refused while the file is read.
-fn timing() -> Vec<Case> {
+/// Speeds and durations: refused while the file is read.
+fn speeds_and_durations() -> Vec<Case> {
     let s = spheroid;
     vec![
         s(
@@ -118,6 +118,14 @@ fn timing() -> Vec<Case> {
             "kind = \"static\"\nduration_s = 0.0",
             refused(&["candidate[0].duration_s", "positive"]),
         ),
+    ]
+}
+
+/// Samples and costs: refused while the file is read (a manoeuvre at the run's sampling
+/// right after the identification).
+fn samples_and_costs() -> Vec<Case> {
+    let s = spheroid;
+    vec![
         s(
             "dt zero",
             "kind = \"static\"\ndt_s = 0.0",
@@ -271,8 +279,9 @@ fn pmm() -> Vec<Case> {
     ]
 }
 
-/// Angles and rates: the quantity's magnitude, the helm's limit, zig-zag changes.
-fn angles() -> Vec<Case> {
+/// The helm: rudder angles against the quantity's magnitude and the helm's limit, zig-zag
+/// changes, turns.
+fn helm() -> Vec<Case> {
     let (s, k) = (spheroid, kvlcc2);
     vec![
         s(
@@ -340,6 +349,14 @@ fn angles() -> Vec<Case> {
             "kind = \"turn\"\nrudder_deg = 35.0\namplitude = 3.0",
             refused(&["candidate[0].amplitude", "not used by a turn candidate"]),
         ),
+    ]
+}
+
+/// Other angles and rates: planes, pitch, drift, yaw rate, initial motion; keys a kind does
+/// not read.
+fn attitudes_and_rates() -> Vec<Case> {
+    let s = spheroid;
+    vec![
         s(
             "vertical zig-zag pitch 95 deg",
             "kind = \"zigzag_vertical\"\nplanes_deg = 10.0\npitch_deg = 95.0",
@@ -580,9 +597,11 @@ fn settings_cases() -> Vec<Case> {
 
 #[test]
 fn planner_candidates_and_settings_are_bounded() {
-    let mut cases = timing();
+    let mut cases = speeds_and_durations();
+    cases.extend(samples_and_costs());
     cases.extend(pmm());
-    cases.extend(angles());
+    cases.extend(helm());
+    cases.extend(attitudes_and_rates());
     cases.extend(noise());
     cases.extend(files());
     cases.extend(settings_cases());

@@ -30,9 +30,11 @@ fn sea(name: &str, extra: &str, file: String, expect: Expect) -> Case {
     })
 }
 
-/// Refused before anything runs.
-fn refusals() -> Vec<Case> {
-    let deg_hint = "disturbance_unit = \"deg\"";
+/// The fix a recording in degrees read as radians is told.
+const DEG_HINT: &str = "disturbance_unit = \"deg\"";
+
+/// Refused before anything runs: a wave yaw's magnitude and the units of its header.
+fn wave_yaw_refusals() -> Vec<Case> {
     vec![
         sea(
             "degrees read as radians",
@@ -43,7 +45,7 @@ fn refusals() -> Vec<Case> {
                 "wave_yaw column `psi`",
                 "read in rad",
                 "1.059 rad (60.70 deg)",
-                deg_hint,
+                DEG_HINT,
             ]),
         ),
         sea(
@@ -98,11 +100,17 @@ fn refusals() -> Vec<Case> {
             recording("t [ms],psi", waves(0.01)),
             refused(&["sea.csv", "covers"]),
         ),
+    ]
+}
+
+/// Refused before anything runs: a rudder disturbance or a yaw moment in the wrong unit.
+fn rudder_and_moment_refusals() -> Vec<Case> {
+    vec![
         sea(
             "rudder in degrees read as radians",
             "disturbance = \"rudder\"",
             recording("t,delta", |_| 2.0),
-            refused(&["rudder column `delta`", "rudder_limit", deg_hint]),
+            refused(&["rudder column `delta`", "rudder_limit", DEG_HINT]),
         ),
         sea(
             "rudder peak beyond 90 deg",
@@ -128,6 +136,12 @@ fn refusals() -> Vec<Case> {
             recording("t,N", |_| 1.0),
             refused(&["autopilot.disturbance_unit"]),
         ),
+    ]
+}
+
+/// Refused before anything runs: the file itself (its values, times, columns, keys, path).
+fn file_refusals() -> Vec<Case> {
+    vec![
         sea(
             "a value nan",
             "",
@@ -218,7 +232,9 @@ fn runs() -> Vec<Case> {
 
 #[test]
 fn recorded_seas_are_plausible_or_refused() {
-    let mut cases = refusals();
+    let mut cases = wave_yaw_refusals();
+    cases.extend(rudder_and_moment_refusals());
+    cases.extend(file_refusals());
     cases.extend(runs());
     let n = run_table("limits (seas)", cases);
     assert!(n >= 25, "{n} cases");

@@ -30,173 +30,181 @@ const SWAY: &str = "spheroid_pmm_sway.toml";
 const YAW: &str = "spheroid_pmm_yaw.toml";
 const TURN: &str = "kvlcc2_turn35.toml";
 
-/// PMM runs.
-fn pmm() -> Vec<Case> {
-    let speed = |to: &'static str| [("speed = \"2 m/s\"", to)];
-    let sway = |to: &'static str| [("amplitude = { v = \"0.25 m/s\" }", to)];
-    let timing = |f: &str, duration: &str, dt: &str| {
-        vec![
-            (
-                "frequency = \"0.5 Hz\"".to_string(),
-                format!("frequency = \"{f}\""),
-            ),
-            (
-                "duration = 10.0".to_string(),
-                format!("duration = {duration}"),
-            ),
-            ("dt = 0.01".to_string(), format!("dt = {dt}")),
-        ]
-    };
-    let t = |name: &str, f: &str, d: &str, dt: &str, expect: Expect| {
-        let e = timing(f, d, dt);
-        let pairs: Vec<(&str, &str)> = e.iter().map(|(a, b)| (a.as_str(), b.as_str())).collect();
-        sim(name, SWAY, &pairs, expect)
-    };
+/// A PMM's speed (`speed = "2 m/s"` of the sway run) replaced by `to`.
+fn pmm_speed(to: &'static str) -> [(&'static str, &'static str); 1] {
+    [("speed = \"2 m/s\"", to)]
+}
+
+/// The sway run's amplitude (`amplitude = { v = "0.25 m/s" }`) replaced by `to`.
+fn sway_amplitude(to: &'static str) -> [(&'static str, &'static str); 1] {
+    [("amplitude = { v = \"0.25 m/s\" }", to)]
+}
+
+/// The yaw run's amplitude (`amplitude = { r = "15 deg/s" }`) replaced by `to`.
+fn yaw_amplitude(to: &'static str) -> [(&'static str, &'static str); 1] {
+    [("amplitude = { r = \"15 deg/s\" }", to)]
+}
+
+/// The sway run with frequency `f`, `duration` and `dt` replaced.
+fn pmm_timing(name: &str, f: &str, duration: &str, dt: &str, expect: Expect) -> Case {
+    let frequency = format!("frequency = \"{f}\"");
+    let duration = format!("duration = {duration}");
+    let dt = format!("dt = {dt}");
+    let edits = [
+        ("frequency = \"0.5 Hz\"", frequency.as_str()),
+        ("duration = 10.0", duration.as_str()),
+        ("dt = 0.01", dt.as_str()),
+    ];
+    sim(name, SWAY, &edits, expect)
+}
+
+/// PMM runs: their speeds.
+fn pmm_speeds() -> Vec<Case> {
     vec![
         sim(
             "pmm at 100 m/s",
             SWAY,
-            &speed("speed = \"100 m/s\""),
+            &pmm_speed("speed = \"100 m/s\""),
             refused(&["manoeuvre.speed", "100 m/s", "faster"]),
         ),
         sim(
             "pmm at 1e6 m/s",
             SWAY,
-            &speed("speed = \"1e6 m/s\""),
+            &pmm_speed("speed = \"1e6 m/s\""),
             refused(&["manoeuvre.speed", "1e6 m/s"]),
         ),
         sim(
             "pmm at 200 km/h",
             SWAY,
-            &speed("speed = \"200 km/h\""),
+            &pmm_speed("speed = \"200 km/h\""),
             refused(&["manoeuvre.speed", "55.56 m/s", "km/h"]),
         ),
         sim(
             "pmm at 100 (bare)",
             SWAY,
-            &speed("speed = 100.0"),
+            &pmm_speed("speed = 100.0"),
             refused(&["manoeuvre.speed", "100 m/s"]),
         ),
         sim(
             "pmm at -2 m/s",
             SWAY,
-            &speed("speed = \"-2 m/s\""),
+            &pmm_speed("speed = \"-2 m/s\""),
             refused(&["manoeuvre.speed", "positive"]),
         ),
         sim(
             "pmm speed in deg",
             SWAY,
-            &speed("speed = \"2 deg\""),
+            &pmm_speed("speed = \"2 deg\""),
             refused(&["manoeuvre.speed", "deg"]),
         ),
         sim(
             "pmm at 4 kn",
             SWAY,
-            &speed("speed = \"4 kn\""),
+            &pmm_speed("speed = \"4 kn\""),
             Expect::Fine,
         ),
+    ]
+}
+
+/// PMM runs: their sway and yaw amplitudes (and the yaw run's speed).
+fn pmm_amplitudes() -> Vec<Case> {
+    vec![
         sim(
             "sway amplitude 10 m/s",
             SWAY,
-            &sway("amplitude = { v = \"10 m/s\" }"),
+            &sway_amplitude("amplitude = { v = \"10 m/s\" }"),
             refused(&["manoeuvre.amplitude.v", "more than the speed"]),
         ),
         sim(
             "sway amplitude 1e6 m/s",
             SWAY,
-            &sway("amplitude = { v = \"1e6 m/s\" }"),
+            &sway_amplitude("amplitude = { v = \"1e6 m/s\" }"),
             refused(&["manoeuvre.amplitude.v", "beyond any plausible"]),
         ),
         sim(
             "sway amplitude in deg",
             SWAY,
-            &sway("amplitude = { v = \"0.25 deg\" }"),
+            &sway_amplitude("amplitude = { v = \"0.25 deg\" }"),
             refused(&["manoeuvre.amplitude.v", "deg"]),
         ),
         sim(
             "sway amplitude negative",
             SWAY,
-            &sway("amplitude = { v = \"-0.25 m/s\" }"),
+            &sway_amplitude("amplitude = { v = \"-0.25 m/s\" }"),
             refused(&["manoeuvre.amplitude.v", "positive"]),
         ),
         sim(
             "yaw amplitude 900 deg/s",
             YAW,
-            &[(
-                "amplitude = { r = \"15 deg/s\" }",
-                "amplitude = { r = \"900 deg/s\" }",
-            )],
+            &yaw_amplitude("amplitude = { r = \"900 deg/s\" }"),
             refused(&["manoeuvre.amplitude.r", "r' = r L / U"]),
         ),
         sim(
             "yaw amplitude 10 rad/s bare",
             YAW,
-            &[(
-                "amplitude = { r = \"15 deg/s\" }",
-                "amplitude = { r = 10.0 }",
-            )],
+            &yaw_amplitude("amplitude = { r = 10.0 }"),
             refused(&["manoeuvre.amplitude.r", "10 rad/s"]),
         ),
         sim(
             "yaw amplitude 1e5 deg/s",
             YAW,
-            &[(
-                "amplitude = { r = \"15 deg/s\" }",
-                "amplitude = { r = \"1e5 deg/s\" }",
-            )],
+            &yaw_amplitude("amplitude = { r = \"1e5 deg/s\" }"),
             refused(&["manoeuvre.amplitude.r", "beyond any plausible"]),
         ),
         sim(
             "yaw amplitude in m/s",
             YAW,
-            &[(
-                "amplitude = { r = \"15 deg/s\" }",
-                "amplitude = { r = \"15 m/s\" }",
-            )],
+            &yaw_amplitude("amplitude = { r = \"15 m/s\" }"),
             refused(&["manoeuvre.amplitude.r", "m/s"]),
         ),
         sim(
             "pmm at 100 m/s yaw",
             YAW,
-            &[("speed = \"2 m/s\"", "speed = \"100 m/s\"")],
+            &pmm_speed("speed = \"100 m/s\""),
             refused(&["manoeuvre.speed", "100 m/s"]),
         ),
-        t(
+    ]
+}
+
+/// PMM runs: frequency, duration and sampling.
+fn pmm_sampling() -> Vec<Case> {
+    vec![
+        pmm_timing(
             "50 Hz on a 1.2 m body",
             "50 Hz",
             "1.0",
             "0.0005",
             refused(&["manoeuvre.frequency", "omega'"]),
         ),
-        t(
+        pmm_timing(
             "1000 Hz at 100 Hz",
             "1000 Hz",
             "10.0",
             "0.01",
             refused(&["manoeuvre.dt", "fewer than 20 samples"]),
         ),
-        t(
+        pmm_timing(
             "frequency in rad/s",
             "3 rad/s",
             "10.0",
             "0.01",
             refused(&["manoeuvre.frequency", "rad/s"]),
         ),
-        t(
+        pmm_timing(
             "duration 1e9",
             "0.5 Hz",
             "1e9",
             "0.01",
             refused(&["manoeuvre.duration", "rows"]),
         ),
-        t(
+        pmm_timing(
             "dt 1e-9",
             "0.5 Hz",
             "10.0",
             "1e-9",
             refused(&["manoeuvre.duration", "rows"]),
         ),
-        t(
+        pmm_timing(
             "dt zero",
             "0.5 Hz",
             "10.0",
@@ -206,40 +214,52 @@ fn pmm() -> Vec<Case> {
     ]
 }
 
-/// Time histories: the helm's execute, the initial speed, inputs, sampling.
-fn time_history() -> Vec<Case> {
-    let ex = |to: &'static str| [("execute = \"5 s\"", to)];
-    let init = |to: &'static str| [("initial = { u = \"1.179 m/s\" }", to)];
-    let rpm = |to: &'static str| [("inputs = { rpm = \"710.8 rpm\" }", to)];
+/// The turn's execute (`execute = "5 s"`) replaced by `to`.
+fn execute(to: &'static str) -> [(&'static str, &'static str); 1] {
+    [("execute = \"5 s\"", to)]
+}
+
+/// The turn's initial state (`initial = { u = "1.179 m/s" }`) replaced by `to`.
+fn initial(to: &'static str) -> [(&'static str, &'static str); 1] {
+    [("initial = { u = \"1.179 m/s\" }", to)]
+}
+
+/// The turn's inputs (`inputs = { rpm = "710.8 rpm" }`) replaced by `to`.
+fn turn_rpm(to: &'static str) -> [(&'static str, &'static str); 1] {
+    [("inputs = { rpm = \"710.8 rpm\" }", to)]
+}
+
+/// Time histories: the helm's execute, angle and rate.
+fn helm() -> Vec<Case> {
     vec![
         sim(
             "execute at 1e6 s",
             TURN,
-            &ex("execute = \"1e6 s\""),
+            &execute("execute = \"1e6 s\""),
             refused(&["manoeuvre.steering.execute", "1e6 s", "never act"]),
         ),
         sim(
             "execute at the end",
             TURN,
-            &ex("execute = \"200 s\""),
+            &execute("execute = \"200 s\""),
             refused(&["manoeuvre.steering.execute", "200 s"]),
         ),
         sim(
             "execute in ms read as s",
             TURN,
-            &ex("execute = 5000.0"),
+            &execute("execute = 5000.0"),
             refused(&["manoeuvre.steering.execute", "5000 s"]),
         ),
         sim(
             "execute negative",
             TURN,
-            &ex("execute = \"-5 s\""),
+            &execute("execute = \"-5 s\""),
             refused(&["manoeuvre.steering.execute"]),
         ),
         sim(
             "execute in deg",
             TURN,
-            &ex("execute = \"5 deg\""),
+            &execute("execute = \"5 deg\""),
             refused(&["manoeuvre.steering.execute", "deg"]),
         ),
         sim(
@@ -260,40 +280,46 @@ fn time_history() -> Vec<Case> {
             &[("rate = \"15.8 deg/s\"", "rate = \"0 deg/s\"")],
             refused(&["manoeuvre.steering.rate"]),
         ),
+    ]
+}
+
+/// Time histories: the initial state, the inputs, the sampling.
+fn turn_state_and_sampling() -> Vec<Case> {
+    vec![
         sim(
             "initial u 100 m/s",
             TURN,
-            &init("initial = { u = \"100 m/s\" }"),
+            &initial("initial = { u = \"100 m/s\" }"),
             refused(&["manoeuvre.initial.u", "100 m/s", "faster"]),
         ),
         sim(
             "initial u 1e6 m/s",
             TURN,
-            &init("initial = { u = \"1e6 m/s\" }"),
+            &initial("initial = { u = \"1e6 m/s\" }"),
             refused(&["manoeuvre.initial.u", "beyond any plausible"]),
         ),
         sim(
             "initial u in deg",
             TURN,
-            &init("initial = { u = \"1.179 deg\" }"),
+            &initial("initial = { u = \"1.179 deg\" }"),
             refused(&["manoeuvre.initial.u", "deg"]),
         ),
         sim(
             "initial r 1e3 rad/s",
             TURN,
-            &init("initial = { u = \"1.179 m/s\", r = 1000.0 }"),
+            &initial("initial = { u = \"1.179 m/s\", r = 1000.0 }"),
             refused(&["manoeuvre.initial.r", "beyond any plausible"]),
         ),
         sim(
             "rpm 1e9 rpm",
             TURN,
-            &rpm("inputs = { rpm = \"1e9 rpm\" }"),
+            &turn_rpm("inputs = { rpm = \"1e9 rpm\" }"),
             refused(&["manoeuvre.inputs.rpm", "beyond any plausible"]),
         ),
         sim(
             "rpm in m/s",
             TURN,
-            &rpm("inputs = { rpm = \"710.8 m/s\" }"),
+            &turn_rpm("inputs = { rpm = \"710.8 m/s\" }"),
             refused(&["manoeuvre.inputs.rpm", "m/s"]),
         ),
         sim(
@@ -380,8 +406,11 @@ fn sweeps() -> Vec<Case> {
 
 #[test]
 fn simulate_manoeuvres_are_bounded() {
-    let mut cases = pmm();
-    cases.extend(time_history());
+    let mut cases = pmm_speeds();
+    cases.extend(pmm_amplitudes());
+    cases.extend(pmm_sampling());
+    cases.extend(helm());
+    cases.extend(turn_state_and_sampling());
     cases.extend(sweeps());
     let n = run_table("limits (simulate)", cases);
     assert!(n >= 40, "{n} cases");
