@@ -138,11 +138,58 @@ fn an_unreadable_file_says_permission_denied() {
         let p = dir.path().join("locked.csv");
         std::fs::write(&p, "t,u\n0,1\n1,2\n2,3\n").unwrap();
         std::fs::set_permissions(&p, std::fs::Permissions::from_mode(0o000)).unwrap();
-        // Root reads anything: then there is nothing to check.
         if std::fs::File::open(&p).is_err() {
             refused_everywhere(&p, "permission denied");
+        } else {
+            // Root reads anything (CI runs as root): the binary is run as the unprivileged
+            // user `nobody` instead, through util-linux's setpriv.
+            refused_as_nobody(dir.path(), &p);
         }
         std::fs::set_permissions(&p, std::fs::Permissions::from_mode(0o644)).unwrap();
+    }
+}
+
+/// `hydroid inspect FILE` and `hydroid check` of a configuration naming it, run as the user
+/// `nobody`, refuse the unreadable `file` saying "permission denied" (root reads any file).
+#[cfg(unix)]
+fn refused_as_nobody(dir: &Path, file: &Path) {
+    use std::os::unix::fs::PermissionsExt;
+    let setpriv = Path::new("/usr/bin/setpriv");
+    assert!(
+        setpriv.exists(),
+        "running as root without util-linux's setpriv: the permission test cannot run"
+    );
+    std::fs::set_permissions(dir, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let config = dir.join("c.toml");
+    std::fs::write(
+        &config,
+        "[vehicle]\nname = \"x\"\n[surge]\nruns = [{ file = \"locked.csv\" }]\n",
+    )
+    .unwrap();
+    std::fs::set_permissions(&config, std::fs::Permissions::from_mode(0o644)).unwrap();
+    // A copy of the binary in the (world-readable) test folder: the clone's own may sit under
+    // a home folder `nobody` cannot enter.
+    let binary = dir.join("hydroid");
+    std::fs::copy(env!("CARGO_BIN_EXE_hydroid"), &binary).unwrap();
+    std::fs::set_permissions(&binary, std::fs::Permissions::from_mode(0o755)).unwrap();
+    for args in [
+        vec!["inspect", file.to_str().unwrap()],
+        vec!["check", config.to_str().unwrap()],
+    ] {
+        let o = Command::new(setpriv)
+            .args(["--reuid=65534", "--regid=65534", "--clear-groups", "--"])
+            .arg(&binary)
+            .args(&args)
+            .stdin(Stdio::null())
+            .output()
+            .unwrap();
+        let printed =
+            String::from_utf8_lossy(&o.stdout).to_string() + &String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{args:?} as nobody: {printed}");
+        assert!(
+            printed.contains("locked.csv") && printed.contains("permission denied"),
+            "{args:?} as nobody: {printed}"
+        );
     }
 }
 

@@ -105,52 +105,8 @@ impl PlantConfig {
             }
             return;
         };
-        let known = |p: &mut Problems, key: &str, map: &BTreeMap<String, f64>| {
-            for (n, v) in map {
-                if !name.coefficients().iter().any(|c| c.name == n) {
-                    p.add(
-                        &format!("{key}.{n}"),
-                        format!("not a coefficient of the {name} model"),
-                    );
-                } else if !v.is_finite() {
-                    p.add(&format!("{key}.{n}"), "a finite number");
-                }
-            }
-        };
-        let inputs = |p: &mut Problems, key: &str, map: &BTreeMap<String, Constant>| {
-            for (n, v) in map {
-                let held = name
-                    .inputs()
-                    .iter()
-                    .map(|i| i.quantity)
-                    .find(|q| q.key() == n && *q != Quantity::Rudder);
-                match held {
-                    Some(q) => held_input(p, &format!("{key}.{n}"), q, v),
-                    None => {
-                        let names: Vec<&str> = name
-                            .inputs()
-                            .iter()
-                            .map(|i| i.quantity.key())
-                            .filter(|q| *q != "rudder")
-                            .collect();
-                        p.add(
-                            &format!("{key}.{n}"),
-                            format!(
-                                "an input of the {name} model other than the rudder (the \
-                                 autopilot's): {}",
-                                if names.is_empty() {
-                                    "it has none".to_string()
-                                } else {
-                                    names.join(", ")
-                                }
-                            ),
-                        );
-                    }
-                }
-            }
-        };
-        known(p, "autopilot.plant.coefficients", &self.coefficients);
-        inputs(p, "autopilot.plant.inputs", &self.inputs);
+        known(p, name, "autopilot.plant.coefficients", &self.coefficients);
+        inputs(p, name, "autopilot.plant.inputs", &self.inputs);
         if !name
             .inputs()
             .iter()
@@ -179,8 +135,13 @@ impl PlantConfig {
             }
         }
         if let Some(ch) = &self.change {
-            known(p, "autopilot.plant.change.coefficients", &ch.coefficients);
-            inputs(p, "autopilot.plant.change.inputs", &ch.inputs);
+            known(
+                p,
+                name,
+                "autopilot.plant.change.coefficients",
+                &ch.coefficients,
+            );
+            inputs(p, name, "autopilot.plant.change.inputs", &ch.inputs);
             if !(ch.at > 0.0 && ch.at < duration) {
                 p.add(
                     "autopilot.plant.change.at",
@@ -197,6 +158,53 @@ impl PlantConfig {
 
     fn change_speed(&self) -> Option<f64> {
         self.change.as_ref().and_then(|c| c.speed)
+    }
+}
+
+/// Each coefficient of `map` (under `key`) is one of the `name` model's, and finite.
+fn known(p: &mut Problems, name: ModelName, key: &str, map: &BTreeMap<String, f64>) {
+    for (n, v) in map {
+        if !name.coefficients().iter().any(|c| c.name == n) {
+            p.add(
+                &format!("{key}.{n}"),
+                format!("not a coefficient of the {name} model"),
+            );
+        } else if !v.is_finite() {
+            p.add(&format!("{key}.{n}"), "a finite number");
+        }
+    }
+}
+
+/// Each held input of `map` (under `key`) is an input of the `name` model other than the
+/// rudder, with a unit of its quantity and a plausible value ([`held_input`]).
+fn inputs(p: &mut Problems, name: ModelName, key: &str, map: &BTreeMap<String, Constant>) {
+    for (n, v) in map {
+        let held = name
+            .inputs()
+            .iter()
+            .map(|i| i.quantity)
+            .find(|q| q.key() == n && *q != Quantity::Rudder);
+        if let Some(q) = held {
+            held_input(p, &format!("{key}.{n}"), q, v);
+            continue;
+        }
+        let names: Vec<&str> = name
+            .inputs()
+            .iter()
+            .map(|i| i.quantity.key())
+            .filter(|q| *q != "rudder")
+            .collect();
+        let names = if names.is_empty() {
+            "it has none".to_string()
+        } else {
+            names.join(", ")
+        };
+        p.add(
+            &format!("{key}.{n}"),
+            format!(
+                "an input of the {name} model other than the rudder (the autopilot's): {names}"
+            ),
+        );
     }
 }
 
