@@ -3,7 +3,7 @@
 //! run's inputs and configurations, which the folder's config.toml, inputs.json and rerun.json
 //! record).
 
-use super::{from_parts, spec::FmuSpec};
+use super::{assemble::from_parts, spec::FmuSpec};
 use crate::app::report::{RerunManifest, CONFIG_TOML, INPUTS_JSON, RERUN_JSON, RESULTS_JSON};
 use crate::base::error::{Error, Result};
 use crate::io::output::exports::Guarded;

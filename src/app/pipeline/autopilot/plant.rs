@@ -2,7 +2,7 @@
 //! spec (coefficients completed, held inputs, surge speed, the change mid-run), its Nomoto
 //! indices from the course-stability linearisation, one run per feed.
 
-use super::PlantSpec;
+use super::spec::PlantSpec;
 use crate::base::error::{Error, Result};
 use crate::base::quantity::Quantity;
 use crate::config::autopilot_plant::internal;

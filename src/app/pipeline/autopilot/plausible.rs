@@ -5,7 +5,7 @@
 //! read as rev/s); and after the run, the warning of a loop that holds no course, with what
 //! to check.
 
-use super::PlantSpec;
+use super::spec::PlantSpec;
 use crate::base::error::{Error, Result};
 use crate::base::numfmt::num;
 use crate::base::quantity::Quantity;
