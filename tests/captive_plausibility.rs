@@ -168,18 +168,30 @@ fn run_text(dir: &Path, text: &str) -> (Option<i32>, Option<serde_json::Value>, 
 }
 
 /// The captive stage on the steady table of `mistake`, estimating `estimate` (the other hull
-/// derivatives held at their published values, those in `zero` at 0): the exit status,
-/// results.json when written and the console.
+/// derivatives held at their published values, those in `zero` at 0), with
+/// `captive.checks = "warn"` (a clear mistake is named and the fit runs anyway): the exit
+/// status, results.json when written and the console.
 fn steady(
     mistake: Mistake,
     estimate: &[&str],
     zero: &[&str],
 ) -> (Option<i32>, Option<serde_json::Value>, String) {
+    steady_checked(mistake, estimate, zero, "warn")
+}
+
+/// [`steady`] with `captive.checks = checks`.
+fn steady_checked(
+    mistake: Mistake,
+    estimate: &[&str],
+    zero: &[&str],
+    checks: &str,
+) -> (Option<i32>, Option<serde_json::Value>, String) {
     let dir = tempfile::tempdir().unwrap();
     let file = steady_table(dir.path(), mistake, 11);
     let list: Vec<String> = estimate.iter().map(|e| format!("\"{e}\"")).collect();
     let text = format!(
-        "{}[captive]\nmodel = \"mmg3\"\nestimate = [{}]\n[[captive.runs]]\nname = \"programme\"\n\
+        "{}[captive]\nmodel = \"mmg3\"\nchecks = \"{checks}\"\nestimate = [{}]\n\
+         [[captive.runs]]\nname = \"programme\"\n\
          file = \"{}\"\nsource = \"measured\"\n[captive.runs.columns]\nu = \"u\"\nv = \"v\"\n\
          r = \"yaw rate\"\nrudder = \"rudder\"\nrpm = \"propeller\"\nfx = \"Fx\"\nfy = \"Fy\"\n\
          mz = \"Mz\"\n",
@@ -234,12 +246,37 @@ fn a_yaw_rate_in_rad_per_s_under_a_deg_per_s_label_is_named() {
 
 #[test]
 fn a_flipped_sway_force_is_named() {
-    warned(Mistake::FlippedFy, &HULL, &["sign of fy", "Y_v > 0"]);
+    warned(
+        Mistake::FlippedFy,
+        &HULL,
+        &["fy has the opposite sign convention", "scale = -1"],
+    );
 }
 
 #[test]
 fn forces_in_kilonewton_labelled_newton_are_named() {
-    warned(Mistake::KiloAsUnit, &HULL, &["kN read as N", "m U / L"]);
+    warned(
+        Mistake::KiloAsUnit,
+        &HULL,
+        &["kN read as N", "columns.fy", "kN m read as N m"],
+    );
+}
+
+/// A clear mistake stops the run before any stage by default (`captive.checks = "error"`),
+/// with the fix and the way to run anyway; nothing is written.
+#[test]
+fn a_clear_mistake_stops_the_run_unless_checks_warn() {
+    let (code, r, err) = steady_checked(Mistake::FlippedFy, &HULL, &[], "error");
+    assert_eq!(code, Some(2), "{err}");
+    assert!(r.is_none(), "results written");
+    for words in [
+        "run 'programme'",
+        "fy has the opposite sign convention",
+        "captive.runs[0].columns.fy",
+        "captive.checks = \"warn\" runs anyway",
+    ] {
+        assert!(err.contains(words), "{words}: {err}");
+    }
 }
 
 #[test]

@@ -230,3 +230,30 @@ fn swapped_u_and_v_are_named() {
         );
     }
 }
+
+/// A full-scale MARIN log without its Froude scaling is a full-scale test for the model (not
+/// "rev/s read as rpm": that advice leaves the speeds at full scale), also after the rpm
+/// column was read as rev/s.
+#[test]
+#[ignore = "reads ../shared/data/real; run by .ci/run"]
+fn marin_without_its_froude_scaling_is_named_a_full_scale_log() {
+    let scaling = "froude = { lambda = 45.7, to = \"model\" }\n";
+    // the Froude number over the model's and the scale the speeds give (docs/hekf.md: 7.2
+    // to 7.4, 52 to 54 for the true 45.7)
+    let found = [("7.247", 53), ("7.220", 52), ("7.365", 54)];
+    for (file, (ratio, lambda)) in MARIN.into_iter().zip(found) {
+        let scale = format!("froude = {{ lambda = {lambda}, to = \"model\" }}");
+        let times = format!("{ratio} times that of the model's example (0.1329)");
+        let says = [
+            "full-scale test read for the model-scale vehicle",
+            &scale,
+            &times,
+        ];
+        named_in_check(&marin(file), scaling, "", &says);
+        let rps = marin(file).replace(
+            r#"rpm = { column = "rev", unit = "rpm" }"#,
+            r#"rpm = { column = "rev", unit = "rps" }"#,
+        );
+        named_in_check(&rps, scaling, "", &says);
+    }
+}

@@ -222,6 +222,7 @@ fn stage_checks(l: &LoadedConfig, found: &mut Findings) {
         .map_or_else(|| stage_of(&e), |u| u.key.clone());
         found.input_problems.push((key, e));
     }
+    found.warnings.extend(pre.captive_warnings);
     found.warnings.extend(pre.fit_warnings);
     found.warnings.extend(pre.validation_warnings);
     // the autopilot's recorded disturbance, read as `run` reads it before any stage

@@ -53,6 +53,15 @@ pub struct CaptiveConfig {
     /// and the measured forces (`fx`, `fy`, `mz` in SI about the model's origin, or
     /// `x_prime`, `y_prime`, `n_prime`).
     pub runs: Vec<InputSpec>,
+    /// What a clear mistake the plausibility checks find in a table does (a unit, a sign,
+    /// swapped columns that the data contradict: docs/stages.md, "Captive plausibility"):
+    /// `error` (the default) stops the run, `warn` warns and fits anyway.
+    #[serde(default, skip_serializing_if = "is_default_checks")]
+    pub checks: super::hekf::Checks,
+}
+
+fn is_default_checks(c: &super::hekf::Checks) -> bool {
+    *c == super::hekf::Checks::default()
 }
 
 /// The normalisation of non-dimensional captive results.

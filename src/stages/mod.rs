@@ -4,6 +4,7 @@
 
 pub mod captive;
 pub mod hekf;
+pub mod plausible;
 pub mod polar;
 pub mod spread;
 pub mod surge;

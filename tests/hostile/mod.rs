@@ -42,6 +42,10 @@ pub enum Expect {
     Warned(Vec<String>),
     /// Exit code 0.
     Fine,
+    /// Exit code 0 and no warning printed: no line opens with "warning" (`check`'s
+    /// "warnings:" list, `run`'s "warning: STAGE ..."; an input's notes are indented). A
+    /// sound variation that must not raise a false alarm.
+    Quiet,
     /// Any exit code (never a signal); only the common properties are checked.
     Any,
 }
@@ -261,7 +265,12 @@ fn judge(
         Expect::Refused(words) | Expect::Warned(words) if !missing(words).is_empty() => Some(
             format!("exit {code}, missing the words {:?}", missing(words)),
         ),
-        Expect::Warned(_) | Expect::Fine if code != 0 => Some(format!("exit {code}, expected 0")),
+        Expect::Warned(_) | Expect::Fine | Expect::Quiet if code != 0 => {
+            Some(format!("exit {code}, expected 0"))
+        }
+        Expect::Quiet if lower.lines().any(|l| l.starts_with("warning")) => {
+            Some("a warning, expected none".into())
+        }
         _ => None,
     };
     bad.map(|b| format!("{b}\n{}", tail(&o.printed)))
@@ -406,8 +415,18 @@ fn the_judge_catches_every_property() {
     )
     .is_some());
     assert!(judge(&fine, &o(Some(3), "", false), &same, &same).is_some());
+    let quiet = case(Expect::Quiet);
+    assert!(judge(&quiet, &o(Some(0), "ok: usable", false), &same, &same).is_none());
+    let note = "  run: a.csv\n      warning: Froude-scaled\nok";
+    assert!(judge(&quiet, &o(Some(0), note, false), &same, &same).is_none());
+    let said = "warning: captive: x\nwrote out";
+    assert!(judge(&quiet, &o(Some(0), said, false), &same, &same).is_some());
+    assert!(judge(&quiet, &o(Some(0), "warnings:\n - x", false), &same, &same).is_some());
+    assert!(judge(&quiet, &o(Some(2), "ok", false), &same, &same).is_some());
 }
 
 mod exports;
 mod fmu;
 mod limits;
+mod captive;
+mod freerunning;

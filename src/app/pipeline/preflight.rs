@@ -72,6 +72,9 @@ pub struct Preflight {
     /// run in its time window, no polar point within the fitting range, too few distinct
     /// angles), as the stage says it, with the exit code it has (1).
     pub refusals: Vec<Error>,
+    /// The plausibility checks' warnings about the captive tables (the stage repeats them
+    /// with its result).
+    pub captive_warnings: Vec<Warning>,
     /// The plausibility checks' warnings about the HEKF's fit runs (the stage repeats them
     /// with its result) ...
     pub fit_warnings: Vec<Warning>,
@@ -130,9 +133,14 @@ pub fn preflight(loaded: &LoadedConfig, inputs: &InputsByStage<LoadedInput>) -> 
     if let Some(cc) = cfg.captive.as_ref().filter(|c| c.enabled) {
         let runs: Vec<&Record> = inputs.captive.iter().map(|i| &i.record).collect();
         let known = known_before_captive(cfg);
-        if let Some(e) = captive::preflight(cc, &loaded.vehicle, &known, &runs) {
+        let found = captive::preflight(cc, &loaded.vehicle, &known, &cfg.coefficients, &runs);
+        if let Some(e) = found.error {
             out.problem(loaded, "captive", e);
         }
+        for m in found.problems {
+            out.problem(loaded, "captive", Error::numerical("captive", m));
+        }
+        out.captive_warnings = found.warnings;
     }
     let Some(hc) = cfg.hekf.as_ref().filter(|c| c.enabled) else {
         return out;

@@ -406,6 +406,9 @@ fn no_data(src: &Source, cand: &[usize]) -> InputError {
         )
         .expected(expected);
     }
+    if let Some(e) = text_columns(src, cand) {
+        return e.expected(expected);
+    }
     match cand.first() {
         Some(&i) if cand.len() <= 3 => InputError::new(
             src.at(i),
@@ -430,6 +433,84 @@ fn no_data(src: &Source, cand: &[usize]) -> InputError {
     }
 }
 
+/// Rows of numbers with one or more columns of text (a published table's `test type`): the
+/// error naming those columns, when at least three rows have the same cells, every one a
+/// number except those columns, text on every row.
+fn text_columns(src: &Source, cand: &[usize]) -> Option<InputError> {
+    for (delim, dc) in CANDIDATES {
+        let rows: Vec<(usize, Vec<Field>)> = cand
+            .iter()
+            .map(|&i| (i, split_fields(src.lines[i], delim)))
+            .filter(|(_, f)| f.len() > 1 && opens_with_number(f, dc))
+            .collect();
+        let Some(n) = rows.first().map(|r| r.1.len()) else {
+            continue;
+        };
+        let text = |f: &Field| !f.text.is_empty() && number(&f.text, dc).is_none();
+        let same: Vec<&(usize, Vec<Field>)> = rows.iter().filter(|r| r.1.len() == n).collect();
+        let columns: Vec<usize> = (0..n)
+            .filter(|&j| same.iter().all(|r| text(&r.1[j])))
+            .collect();
+        let numeric = |r: &&(usize, Vec<Field>)| {
+            r.1.iter()
+                .enumerate()
+                .all(|(j, f)| columns.contains(&j) || !text(f))
+        };
+        if same.len() < 3 || columns.is_empty() || columns.len() == n || !same.iter().all(numeric) {
+            continue;
+        }
+        let header = cand
+            .iter()
+            .take_while(|&&i| i < same[0].0)
+            .map(|&i| split_fields(src.lines[i], delim))
+            .filter(|f| f.len() == n && is_header_like(f, dc))
+            .last();
+        let named: Vec<String> = columns
+            .iter()
+            .map(|&j| {
+                let name = header
+                    .as_ref()
+                    .map(|h| format!(" '{}'", h[j].text))
+                    .unwrap_or_default();
+                let mut values: Vec<&str> = same.iter().map(|r| r.1[j].text.as_str()).collect();
+                values.sort_unstable();
+                values.dedup();
+                let shown: Vec<String> = values
+                    .iter()
+                    .take(3)
+                    .map(|v| format!("'{}'", shorten(v, 30)))
+                    .collect();
+                format!(
+                    "column {}{name} ({}{})",
+                    j + 1,
+                    shown.join(", "),
+                    if values.len() > 3 { ", ..." } else { "" }
+                )
+            })
+            .collect();
+        return Some(InputError::new(
+            src.at(same[0].0),
+            format!(
+                "no rows of numbers: {} rows (from line {}) are numbers except {} of text: {}; \
+                 hydroid reads columns of numbers only: delete the text column{} from the file \
+                 (or export the table without {}), then map the numeric columns in the run's \
+                 `columns`",
+                same.len(),
+                same[0].0 + 1,
+                if columns.len() == 1 {
+                    "one column"
+                } else {
+                    "columns"
+                },
+                named.join(", "),
+                if columns.len() == 1 { "" } else { "s" },
+                if columns.len() == 1 { "it" } else { "them" }
+            ),
+        ));
+    }
+    None
+}
+
 /// `s` cut to `n` characters with `...`.
 pub(crate) fn shorten(s: &str, n: usize) -> String {
     if s.chars().count() > n {
@@ -446,6 +527,21 @@ mod tests {
 
     fn layout(text: &str) -> Layout {
         scan(&Source::new(Path::new("t.csv"), text)).unwrap()
+    }
+
+    #[test]
+    fn a_text_column_is_named_with_its_values() {
+        let text = "run,beta(deg),X',test type\n1,0,0.1,rudder angle\n2,5,0.2,drift angle\n\
+                    3,10,0.3,drift angle\n";
+        let e = scan(&Source::new(Path::new("t.csv"), text))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("3 rows (from line 2)"), "{e}");
+        assert!(
+            e.contains("column 4 'test type' ('drift angle', 'rudder angle')"),
+            "{e}"
+        );
+        assert!(e.contains("delete the text column"), "{e}");
     }
 
     #[test]

@@ -5,12 +5,14 @@
 //! prescribed motion has this stage. Unlike free-running motion, measured forces fix each
 //! equation's scale (docs/hekf.md, "Identifiability").
 
+mod checks;
 pub mod fit;
 pub mod harmonic;
 pub mod plausibility;
 pub mod replica;
 
 pub use crate::config::captive::CaptiveConfig;
+pub use checks::{preflight, Preflight};
 
 use crate::base::error::{Error, Result};
 use crate::base::quantity::Quantity;
@@ -20,6 +22,7 @@ use crate::model::coefficients::{
     directions_of, Coefficient, CoefficientSet, Correlation, Direction, Source,
 };
 use crate::model::models::{with_model, Model, ModelVisitor, RunVehicle, Vehicle};
+use crate::stages::plausible::Finding;
 use fit::Condition;
 use serde::Serialize;
 
@@ -127,6 +130,7 @@ pub fn run(
             known,
             runs,
             reference: reference_of(&vehicle.vehicle),
+            vehicle: &vehicle.vehicle,
         },
     )
     .map_err(Error::vehicle)?
@@ -138,6 +142,8 @@ struct Fit<'a> {
     runs: &'a [Record],
     /// The vehicle's scales (its length is that of a rate's steadiness).
     reference: plausibility::Reference,
+    /// The vehicle.
+    vehicle: &'a Vehicle,
 }
 
 /// The scales of the vehicle the plausibility checks compare with: its mass and length, and
@@ -190,18 +196,30 @@ struct Prepared {
     conditions: Vec<Condition>,
     sizes: Vec<(String, usize, Option<harmonic::Periods>)>,
     warnings: Vec<Warning>,
+    /// What the plausibility checks of the tables found (a clear mistake stops the run
+    /// before any stage, `captive.checks`).
+    findings: Vec<Finding>,
+}
+
+/// What the checks of the runs compare with: the vehicle and its scales, and the value of a
+/// coefficient the configuration (or an earlier stage) gives.
+struct View<'a> {
+    vehicle: &'a Vehicle,
+    reference: plausibility::Reference,
+    expected: &'a dyn Fn(&str) -> Option<f64>,
 }
 
 /// Everything the stage checks before it fits (the model gives forces, the estimated
 /// coefficients are the model's own, every held one has a value from `known`, every run reads
-/// into conditions), shared by the fit and [`preflight`].
+/// into conditions, the plausibility of each table), shared by the fit and [`preflight`].
 fn prepare<M: Model>(
     model: &M,
     cfg: &CaptiveConfig,
     runs: &[&Record],
-    reference: &plausibility::Reference,
+    view: &View,
     known: &dyn Fn(&str) -> Option<f64>,
 ) -> Result<Prepared> {
+    let reference = &view.reference;
     let (rho, length) = (reference.rho, reference.length);
     let layout = plausibility::Layout::of(model);
     let forces = model.force_quantities();
@@ -226,9 +244,18 @@ fn prepare<M: Model>(
         conditions: Vec::new(),
         sizes: Vec::new(),
         warnings: Vec::new(),
+        findings: Vec::new(),
     };
-    for rec in runs {
+    let expectation = checks::expectation(model, cfg, view);
+    let judge = checks::judge(model, cfg, view, &expectation);
+    prepared.findings.extend(
+        cfg.prime
+            .and_then(|p| plausibility::table::prime_length(p.length, length)),
+    );
+    for (index, rec) in runs.iter().enumerate() {
         let oscillation = cfg.oscillations.get(&rec.name);
+        let mut names = checks::names(rec, index, view.vehicle);
+        names.oscillation = oscillation.map(|_| format!("captive.oscillations.\"{}\"", rec.name));
         let mut c = conditions_of(model, rec, &frame, oscillation)?;
         let mut periods = None;
         if let Some(after) = cfg.average_after {
@@ -241,8 +268,14 @@ fn prepare<M: Model>(
             prepared.warnings.extend(w);
             periods = p;
             c = vec![one];
+        } else {
+            let (kept, copies) = plausibility::table::duplicates(c, &names);
+            prepared.findings.extend(copies);
+            c = kept;
         }
-        let found = plausibility::before(&rec.name, &c, &layout, reference)
+        let (found, explained) = checks::examine(&judge, &names, rec, &c, &prepared.est);
+        prepared.findings.extend(found);
+        let found = plausibility::before(&rec.name, &c, &layout, reference, explained)
             .map_err(|m| Error::numerical(STAGE, format!("run '{}': {m}", rec.name)))?;
         prepared.warnings.extend(found);
         prepared.sizes.push((rec.name.clone(), c.len(), periods));
@@ -259,41 +292,6 @@ fn prepare<M: Model>(
     Ok(prepared)
 }
 
-/// The checks of the stage that need the runs but no fit (`prepare`), for `hydroid check`
-/// and `hydroid run` before any stage runs: the first problem, if any. `available` names the
-/// coefficients the configuration and the stages before this one will provide (the fit holds
-/// every coefficient it does not estimate at one of those).
-pub fn preflight(
-    cfg: &CaptiveConfig,
-    vehicle: &RunVehicle,
-    available: &[String],
-    runs: &[&Record],
-) -> Option<Error> {
-    struct Check<'a> {
-        cfg: &'a CaptiveConfig,
-        runs: &'a [&'a Record],
-        reference: plausibility::Reference,
-        available: &'a [String],
-    }
-    impl ModelVisitor for Check<'_> {
-        type Output = Option<Error>;
-        fn visit<M: Model>(self, model: &M) -> Option<Error> {
-            // only whether a value exists matters before the fit
-            let known = |n: &str| self.available.iter().any(|a| a == n).then_some(0.0);
-            prepare(model, self.cfg, self.runs, &self.reference, &known).err()
-        }
-    }
-    let check = Check {
-        cfg,
-        runs,
-        reference: reference_of(&vehicle.vehicle),
-        available,
-    };
-    // a model the vehicle cannot build is the configuration's problem, reported by its
-    // validation ([`CaptiveConfig::validate`])
-    with_model(cfg.model, vehicle, check).unwrap_or(None)
-}
-
 impl ModelVisitor for Fit<'_> {
     type Output = Result<CaptiveResult>;
 
@@ -302,13 +300,21 @@ impl ModelVisitor for Fit<'_> {
         let forces = model.force_quantities();
         let runs: Vec<&Record> = self.runs.iter().collect();
         let known = |n: &str| self.known.get(n).map(|c| c.value);
+        let view = View {
+            vehicle: self.vehicle,
+            reference: self.reference,
+            expected: &known,
+        };
         let Prepared {
             base,
             est,
             conditions,
             sizes,
             mut warnings,
-        } = prepare(model, cfg, &runs, &self.reference, &known)?;
+            findings,
+        } = prepare(model, cfg, &runs, &view, &known)?;
+        // a clear mistake stopped the run before any stage unless `captive.checks = "warn"`
+        warnings.extend(findings.into_iter().map(|f| f.warning));
         let start: Vec<f64> = cfg
             .estimate
             .iter()
@@ -1032,6 +1038,7 @@ mod tests {
             known: &known,
             runs: &[],
             reference: plausibility::Reference::new(1000.0, 1.2, 10.0, None, None),
+            vehicle: &Surge1::example_vehicle(),
         }
         .visit(&model)
         .unwrap_err()

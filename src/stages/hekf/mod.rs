@@ -140,13 +140,9 @@ pub fn preflight(
                     }
                 }
                 for f in plausibility::before_filter(model, r, &expect) {
-                    if f.blocking && self.cfg.checks == Checks::Error {
-                        p.push(format!(
-                            "run '{}': {}; {} (hekf.checks = \"warn\" runs anyway)",
-                            r.name, f.warning.message, f.warning.meaning
-                        ));
-                    } else {
-                        warnings.push(f.warning);
+                    match f.sorted(self.cfg.checks, "hekf.checks") {
+                        Ok(w) => warnings.push(w),
+                        Err(problem) => p.push(problem),
                     }
                 }
             }

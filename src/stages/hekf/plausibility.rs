@@ -23,6 +23,7 @@
 //! warning. A check that cannot judge a run (the heading does not move, the rudder is still)
 //! says nothing.
 
+mod froude;
 mod inputs;
 mod propeller;
 mod rates;
@@ -33,98 +34,15 @@ pub use inputs::{constant_inputs, Held, Start};
 
 use super::STAGE;
 use crate::base::quantity::Quantity;
-use crate::base::warning::Warning;
 use crate::io::record::Record;
-use crate::model::models::{Model, Vehicle};
-
-/// A finding of a check: a warning, and whether it is a clear mistake that stops the run
-/// (with `hekf.checks = "error"`).
-#[derive(Debug, Clone, PartialEq)]
-pub struct Finding {
-    /// What was found and what it means.
-    pub warning: Warning,
-    /// A clear mistake: the data contradict the configuration and an alternative fits.
-    pub blocking: bool,
-}
+use crate::model::models::Model;
+use crate::stages::plausible::{file, named};
+pub use crate::stages::plausible::{Expectation, Finding};
 
 impl Finding {
     fn new(rec: &Record, blocking: bool, message: String, meaning: String) -> Self {
-        Finding {
-            warning: Warning::new(STAGE, message, meaning).for_run(&rec.name),
-            blocking,
-        }
+        Finding::of(STAGE, &rec.name, blocking, message, meaning)
     }
-}
-
-/// What the model expects of a run, for the checks that compare the run with the model:
-/// its coefficients at the starting point and the vehicle's propeller diameter.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Expectation {
-    /// The model's coefficient vector: the configured values (`[coefficients]`, a prior's
-    /// `initial`) where given, the model's example values elsewhere (they carry the model's
-    /// sign conventions and sizes), completed by the relations.
-    pub coefficients: Vec<f64>,
-    /// Whether the sizes of the model's responses carry over to this vehicle: every
-    /// coefficient taken from the example is non-dimensional (a dimensional one belongs to
-    /// the example's vehicle, and then only the signs of the responses are judged).
-    pub sizes_known: bool,
-    /// `vehicle.particulars.propeller_diameter`, m, when given.
-    pub propeller_diameter: Option<f64>,
-    /// The wake fraction at the propeller in straight motion: the model's `wP0` when it has
-    /// one, else 0.
-    pub wake: f64,
-}
-
-impl Expectation {
-    /// The expectation of `model` for `vehicle`, with `configured` giving a coefficient's
-    /// configured value by name.
-    pub fn new<M: Model>(
-        model: &M,
-        configured: &dyn Fn(&str) -> Option<f64>,
-        vehicle: &Vehicle,
-    ) -> Self {
-        let example = model.example();
-        let mut sizes_known = true;
-        let mut values: Vec<(&str, f64)> = Vec::new();
-        for def in model.coefficients() {
-            if let Some(v) = configured(def.name) {
-                values.push((def.name, v));
-            } else if let Some(&(_, v)) = example.coefficients.iter().find(|e| e.0 == def.name) {
-                sizes_known &= def.unit == "-" || v == 0.0;
-                values.push((def.name, v));
-            }
-        }
-        let coefficients = model.coefficient_vector(&values);
-        let wake = model
-            .coefficient_index("wP0")
-            .map(|i| coefficients[i])
-            .filter(|w| w.is_finite())
-            .map_or(0.0, |w| w.clamp(0.0, 0.9));
-        Expectation {
-            coefficients,
-            sizes_known,
-            propeller_diameter: propeller_diameter(vehicle),
-            wake,
-        }
-    }
-}
-
-/// `vehicle.particulars.propeller_diameter` in m (a number in m or a string with a unit),
-/// whatever model reads the particulars.
-fn propeller_diameter(vehicle: &Vehicle) -> Option<f64> {
-    #[derive(serde::Deserialize)]
-    struct Propeller {
-        #[serde(
-            default,
-            deserialize_with = "crate::base::si::option::<_, crate::base::si::Length>"
-        )]
-        propeller_diameter: Option<f64>,
-    }
-    vehicle
-        .particulars::<Propeller>("")
-        .ok()?
-        .propeller_diameter
-        .filter(|d| d.is_finite() && *d > 0.0)
 }
 
 /// Every check of a run before it is filtered: duplicated columns, positions and time
@@ -144,94 +62,40 @@ pub fn before_filter<M: Model>(model: &M, rec: &Record, expect: &Expectation) ->
     let speed_found = speed.is_some();
     out.extend(speed.map(|(f, _)| f));
     let mut rate_trusted = true;
+    let mut heading_trusted = true;
     if !time_wrong {
         for (q, f) in rates::all(rec) {
             rate_trusted &= !(q == Quantity::R && f.blocking);
+            heading_trusted &= !(q == Quantity::Yaw && f.blocking);
             out.push(f);
         }
     }
-    if !speed_found {
+    if !speed_found && heading_trusted {
         out.extend(travel::track(rec));
     }
     out.extend(travel::sway_over_surge(rec));
+    // a log at another scale than the vehicle's (a speed unit is the travel check's): the
+    // propeller's advance ratio and the rudder's response are then off by the scale, not by
+    // a unit of their own
+    let scale = (!speed_found).then(|| froude::check(rec, expect)).flatten();
+    let scaled = scale.is_some();
+    out.extend(scale);
     if !time_wrong {
-        out.extend(rudder::check(model, rec, expect, rate_trusted));
+        let sizes = Expectation {
+            sizes_known: expect.sizes_known && !scaled,
+            ..expect.clone()
+        };
+        out.extend(rudder::check(model, rec, &sizes, rate_trusted));
     }
-    out.extend(propeller::check(rec, expect));
+    if !scaled {
+        out.extend(propeller::check(rec, expect));
+    }
     out
 }
 
 /// Quantities with identical values: one column mapped to several quantities.
 fn duplicates(rec: &Record) -> Vec<Finding> {
-    let chans: Vec<(&Quantity, &Vec<f64>)> = rec
-        .channels
-        .iter()
-        .filter(|(q, v)| **q != Quantity::Time && v.iter().any(|x| *x != v[0]))
-        .collect();
-    // groups of identical channels, each named once
-    let mut seen = vec![false; chans.len()];
-    let mut out = Vec::new();
-    for i in 0..chans.len() {
-        if seen[i] {
-            continue;
-        }
-        let group: Vec<&Quantity> = (i..chans.len())
-            .filter(|&j| chans[j].1 == chans[i].1)
-            .inspect(|&j| seen[j] = true)
-            .map(|j| chans[j].0)
-            .collect();
-        // control surfaces commanded together (the helix of Mousavian et al. 2015 steps
-        // rudder and stern planes to the same angle) are a manoeuvre, not a mapping mistake
-        let commanded = group.iter().all(|q| is_control(**q)) && piecewise_constant(chans[i].1);
-        if group.len() > 1 && !commanded {
-            let names = group.iter().map(|q| q.key()).collect::<Vec<_>>().join(", ");
-            out.push(Finding::new(
-                rec,
-                true,
-                format!(
-                    "{names} hold identical values in all {} rows",
-                    chans[i].1.len()
-                ),
-                format!(
-                    "one column is almost certainly mapped to several quantities; check the \
-                     run's `columns` for {names}"
-                ),
-            ));
-        }
-    }
-    out
-}
-
-/// Control inputs a manoeuvre may command to identical values.
-fn is_control(q: Quantity) -> bool {
-    matches!(
-        q,
-        Quantity::Rudder
-            | Quantity::SternPlanes
-            | Quantity::BowPlanes
-            | Quantity::Rpm
-            | Quantity::Thrust
-    )
-}
-
-/// A series that changes in at most one sample in ten (steps, not a measured signal).
-fn piecewise_constant(v: &[f64]) -> bool {
-    let changes = v.windows(2).filter(|w| w[1] != w[0]).count();
-    changes * 10 <= v.len()
-}
-
-/// A quantity as messages name it: `r (column 'r' (9), read in deg/s)`, or the key alone
-/// for a channel made in memory.
-fn named(rec: &Record, q: Quantity) -> String {
-    let unit = rec
-        .units
-        .get(&q)
-        .map(|u| format!(", read in {u}"))
-        .unwrap_or_default();
-    match rec.columns.get(&q) {
-        Some(c) => format!("{q} ({c}{unit})"),
-        None => q.key().to_string(),
-    }
+    crate::stages::plausible::identical_channels(rec, STAGE)
 }
 
 /// The approach: the leading samples before the manoeuvre, while the heading stays within
@@ -255,14 +119,6 @@ fn approach(rec: &Record) -> Option<std::ops::Range<usize>> {
         .min(departs(Quantity::Rudder, 2.0))
         .min(n);
     (end >= 10).then_some(0..end)
-}
-
-/// The file of a run, as messages name it (its file name).
-fn file(rec: &Record) -> String {
-    rec.source.file_name().map_or_else(
-        || rec.source.display().to_string(),
-        |f| f.to_string_lossy().into_owned(),
-    )
 }
 
 /// Samples per window of the integral checks: increments over a few samples average the

@@ -179,6 +179,17 @@ pub fn coefficients(
             } else {
                 format!("{}, q = 0.5 rho A_ref = {q:.6} kg/m", m.relation)
             };
+            // a fit with as many free constants as points has no residual to measure its
+            // noise by: the sigma is not zero but undetermined, and the note says so
+            let note = if fit.covariance.is_none() {
+                format!(
+                    "{note}; sigma undetermined: the {} fit has {} points for its free \
+                     constants (no degree of freedom)",
+                    fit.channel, fit.n_points
+                )
+            } else {
+                note
+            };
             let c = Coefficient::new(m.name, value + 0.0, sigma, Source::Polar).with_note(note);
             // no variance at all: the constants it comes from are held by constraints
             match sigma {

@@ -94,6 +94,7 @@ pub fn run(
     let directions =
         mapping::directions(&pooled.drag, &pooled.lift, &pooled.moment, q, l_ref, part);
     warnings.extend(binding_warnings(&pooled));
+    warnings.extend(undetermined_warnings(&pooled, &coefficients));
     warnings.extend(linearity_warnings(config, &used));
     let per_speed = fit_per_speed(config, vehicle, fluid, &used, &mut warnings)?;
     let spread = speed_spread(&coefficients, &per_speed);
@@ -181,6 +182,48 @@ fn binding_warnings(pooled: &PolarFit) -> Vec<Warning> {
         }
     }
     warnings
+}
+
+/// A warning for each channel of the pooled fit with no degree of freedom (as many points as
+/// free constants): its fit passes through every point, so the residuals say nothing of the
+/// noise and the sigmas of the coefficients from it are undetermined (reported without a
+/// sigma, never as exact).
+fn undetermined_warnings(pooled: &PolarFit, coefficients: &[Coefficient]) -> Vec<Warning> {
+    [&pooled.drag, &pooled.lift, &pooled.moment]
+        .into_iter()
+        .filter(|ch| ch.covariance.is_none())
+        .map(|ch| {
+            let from: Vec<&str> = coefficients
+                .iter()
+                .filter(|c| {
+                    c.sigma.is_none()
+                        && c.note
+                            .as_deref()
+                            .is_some_and(|n| n.contains(&format!("the {} fit has", ch.channel)))
+                })
+                .map(|c| c.name.as_str())
+                .collect();
+            Warning::new(
+                STAGE,
+                format!(
+                    "the {} fit ({}) has {} points for its free constants: no degree of \
+                     freedom is left, so the sigmas of {} are undetermined",
+                    ch.channel,
+                    ch.model,
+                    ch.n_points,
+                    if from.is_empty() {
+                        "its constants".to_string()
+                    } else {
+                        from.join(", ")
+                    }
+                ),
+                "the fit passes through every point and cannot tell its noise: the values are \
+                 as uncertain as the points, by an unknown amount. Add points at more distinct \
+                 angles than the fit has constants (or fix a constant, e.g. \
+                 polar.drag.symmetric) to get sigmas",
+            )
+        })
+        .collect()
 }
 
 /// A warning for each linear slope fitted over angles (beyond 15 deg) where the nonlinear

@@ -10,9 +10,7 @@
 use super::{file, median_of, named, sig, Expectation, Finding};
 use crate::base::quantity::Quantity;
 use crate::io::record::Record;
-
-/// The advance ratios a working propeller has.
-const PLAUSIBLE: (f64, f64) = (0.1, 1.5);
+use crate::stages::plausible::{propeller_unit, WORKING_ADVANCE};
 
 /// The advance ratio's check.
 pub(super) fn check(rec: &Record, expect: &Expectation) -> Option<Finding> {
@@ -42,10 +40,7 @@ pub(super) fn check(rec: &Record, expect: &Expectation) -> Option<Finding> {
         used.iter()
             .map(|&k| speed(k) * (1.0 - wake) / (rps(k).unwrap_or(f64::NAN) * diameter)),
     )?;
-    let inside = |x: f64| (PLAUSIBLE.0..=PLAUSIBLE.1).contains(&x);
-    if inside(j) {
-        return None;
-    }
+    let (blocking, meaning) = propeller_unit(j)?;
     let (u_typ, n_typ) = (
         median_of(used.iter().map(|&k| speed(k)))?,
         median_of(used.iter().map(|&k| rps(k).unwrap_or(f64::NAN)))?,
@@ -62,31 +57,8 @@ pub(super) fn check(rec: &Record, expect: &Expectation) -> Option<Finding> {
         sig(n_typ),
         sig(diameter),
         sig(wake),
-        PLAUSIBLE.0,
-        PLAUSIBLE.1
+        WORKING_ADVANCE.0,
+        WORKING_ADVANCE.1
     );
-    // n 60 times too large (rpm read as rev/s) makes J 60 times too small, and the reverse
-    let (blocking, meaning) = if inside(60.0 * j) {
-        (
-            true,
-            "the propeller speed looks like rpm read as rev/s (rps): give `unit = \"rpm\"` in \
-             the rpm column entry"
-                .to_string(),
-        )
-    } else if inside(j / 60.0) {
-        (
-            true,
-            "the propeller speed looks like rev/s (rps) read as rpm: give `unit = \"rps\"` in \
-             the rpm column entry"
-                .to_string(),
-        )
-    } else {
-        (
-            false,
-            "no factor of 60 makes it plausible: check the propeller speed's unit and the \
-             vehicle's propeller_diameter"
-                .to_string(),
-        )
-    };
-    Some(Finding::new(rec, blocking, seen, meaning))
+    Some(Finding::new(rec, blocking, seen, meaning.to_string()))
 }

@@ -51,12 +51,10 @@ const PAIRS: [Pair; 3] = [
     },
 ];
 
-/// Every angle-rate pair the run has, each with its rate quantity.
+/// Every angle-rate pair the run has, each finding with the quantity it blames (the rate,
+/// or the heading when the track says the heading column is the wrong one).
 pub(super) fn all(rec: &Record) -> Vec<(Quantity, Finding)> {
-    PAIRS
-        .iter()
-        .filter_map(|p| Some((p.rate, pair(rec, p)?)))
-        .collect()
+    PAIRS.iter().filter_map(|p| pair(rec, p)).collect()
 }
 
 /// The Euler-angle rate of `angle` at sample `k` from the body rates (eq. 2.41 above).
@@ -103,7 +101,7 @@ fn fit(rec: &Record, times: &[f64], p: &Pair, len: usize) -> Option<Fit> {
 /// One angle against its rate. A slow motion changes the angle less in a few samples than
 /// its noise: the windows grow (doubling) until the relation holds or too few windows are
 /// left, and the longest (least noisy) fit is judged.
-fn pair(rec: &Record, p: &Pair) -> Option<Finding> {
+fn pair(rec: &Record, p: &Pair) -> Option<(Quantity, Finding)> {
     let times = rec.time()?;
     let angle = rec.channel(p.angle)?;
     rec.channel(p.rate)?;
@@ -136,8 +134,8 @@ fn pair(rec: &Record, p: &Pair) -> Option<Finding> {
     Some(judge(rec, p, &f, moved >= 10.0 * noise))
 }
 
-/// What a failed relation means.
-fn judge(rec: &Record, p: &Pair, f: &Fit, clear_motion: bool) -> Finding {
+/// What a failed relation means, with the quantity it blames.
+fn judge(rec: &Record, p: &Pair, f: &Fit, clear_motion: bool) -> (Quantity, Finding) {
     let dt = rec
         .time()
         .and_then(crate::numerics::sampling::median_interval)
@@ -157,6 +155,7 @@ fn judge(rec: &Record, p: &Pair, f: &Fit, clear_motion: bool) -> Finding {
         100.0 * f.rel
     );
     let fits = f.rel < GOOD_FIT;
+    let mut blamed = p.rate;
     let (blocking, meaning) = if fits && (f.gain + 1.0).abs() < GAIN_TOLERANCE {
         (
             true,
@@ -170,7 +169,16 @@ fn judge(rec: &Record, p: &Pair, f: &Fit, clear_motion: bool) -> Finding {
     } else if let Some(fac) = fits.then(|| factor(f.gain.abs(), RATE_FACTORS)).flatten() {
         (true, fac.words.to_string())
     } else if f.rho.abs() < 0.9 && clear_motion {
-        (true, not_the_rate(rec, p))
+        match (p.angle == Quantity::Yaw)
+            .then(|| wrong_heading(rec))
+            .flatten()
+        {
+            Some(words) => {
+                blamed = Quantity::Yaw;
+                (true, words)
+            }
+            None => (true, not_the_rate(rec, p)),
+        }
     } else {
         (
             false,
@@ -182,7 +190,40 @@ fn judge(rec: &Record, p: &Pair, f: &Fit, clear_motion: bool) -> Finding {
             ),
         )
     };
-    Finding::new(rec, blocking, seen, meaning)
+    (blamed, Finding::new(rec, blocking, seen, meaning))
+}
+
+/// When the heading column disagrees with the yaw rate, the track tells which is wrong: the
+/// positions move as the body velocities rotated by the heading (Fossen 2011, eq. 2.40), so
+/// the heading that makes them do so is the right one. The meaning blaming the heading
+/// column when the yaw rate's integral (from the column's first value, the rotation left
+/// free) turns the velocities into the track and the column does not; None otherwise (or
+/// without positions and velocities).
+fn wrong_heading(rec: &Record) -> Option<String> {
+    let times = rec.time()?;
+    let yaw = rec.channel(Quantity::Yaw)?;
+    let mut integral = vec![yaw[0]; yaw.len()];
+    for k in 1..yaw.len() {
+        let rate =
+            0.5 * (euler_rate(rec, Quantity::Yaw, k - 1) + euler_rate(rec, Quantity::Yaw, k));
+        integral[k] = integral[k - 1] + rate * (times[k] - times[k - 1]);
+    }
+    let holds = |(g, rel): (f64, f64)| (g - 1.0).abs() < GAIN_TOLERANCE && rel < GOOD_FIT;
+    let by_rate = super::travel::heading_fit(rec, &integral)?;
+    let by_column = super::travel::heading_fit(rec, yaw);
+    if !holds(by_rate) || by_column.is_some_and(holds) {
+        return None;
+    }
+    Some(format!(
+        "the column mapped to yaw is not the heading: the positions move as u and v rotated by \
+         the integral of r (median relative residual {:.0} %), not as rotated by the yaw \
+         column{}. Map yaw to the column that holds the heading (r is consistent with the \
+         track)",
+        100.0 * by_rate.1,
+        by_column
+            .map(|(_, rel)| format!(" ({:.0} %)", 100.0 * rel))
+            .unwrap_or_default()
+    ))
 }
 
 /// The meaning of a rate column whose integral does not follow its angle: not that rate,

@@ -129,6 +129,10 @@ fn thousand(rec: &Record, gain: f64) -> Option<String> {
     ))
 }
 
+/// The meaning of u and v swapped.
+const SWAPPED: &str = "u and v look swapped (the column mapped to u holds the sway velocity, \
+    the one mapped to v the surge velocity): exchange the columns of the u and v entries";
+
 /// A complex number as (real, imaginary): a horizontal vector, x + i y.
 type Complex = (f64, f64);
 
@@ -146,14 +150,24 @@ struct Path<'a> {
 
 impl<'a> Path<'a> {
     fn of(rec: &'a Record) -> Option<Self> {
-        Some(Path {
+        Self::with_heading(rec, rec.channel(Quantity::Yaw)?)
+    }
+
+    /// The path of a run with the heading `psi` instead of its yaw column.
+    fn with_heading(rec: &'a Record, psi: &'a [f64]) -> Option<Self> {
+        let path = Path {
             times: rec.time()?,
             x: rec.channel(Quantity::X)?,
             y: rec.channel(Quantity::Y)?,
-            psi: rec.channel(Quantity::Yaw)?,
+            psi,
             u: rec.channel(Quantity::U)?,
             v: rec.channel(Quantity::V)?,
-        })
+        };
+        let n = path.times.len();
+        [path.x, path.y, path.psi, path.u, path.v]
+            .iter()
+            .all(|c| c.len() == n)
+            .then_some(path)
     }
 
     /// (a + i b) e^(i heading psi_k): a body vector in the earth frame (`heading` -1 for the
@@ -225,9 +239,6 @@ impl<'a> Path<'a> {
     /// The mix-ups a user may have made, each as the earth velocity it predicts and what it
     /// means.
     fn mix_ups(&self) -> [(Predict<'_>, &'static str); 6] {
-        const SWAPPED: &str = "u and v look swapped (the column mapped to u holds the sway \
-            velocity, the one mapped to v the surge velocity): exchange the columns of the u \
-            and v entries";
         let (u, v) = (self.u, self.v);
         [
             (
@@ -273,6 +284,19 @@ impl<'a> Path<'a> {
     }
 }
 
+/// The positions against the velocities rotated by the heading `psi` (the rotation left
+/// free: an offset of the heading's origin does not count), over the window length that
+/// fits best: the gain's size and the median relative residual. None without positions and
+/// velocities.
+pub(super) fn heading_fit(rec: &Record, psi: &[f64]) -> Option<(f64, f64)> {
+    let path = Path::with_heading(rec, psi)?;
+    window_lengths(path.times)
+        .into_iter()
+        .filter_map(|len| path.fit(len, &|k| path.earth_velocity(k)))
+        .map(|((gr, gi), rel)| (gr.hypot(gi), rel))
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+}
+
 /// The positions against the velocities rotated by the heading. Windows grow (doubling)
 /// until the relation holds; a misfit that the channels' noise explains is no finding;
 /// otherwise over the longest windows the mix-ups a user may have made are tried.
@@ -310,8 +334,17 @@ pub(super) fn track(rec: &Record) -> Option<Finding> {
         sig(gain),
         100.0 * rel
     );
+    // a swap of u and v makes the sway the larger of the two (a vehicle moves along its x
+    // axis); a heading offset (a rotation of the track) keeps the speed and the drift angle
+    // of the columns: with the surge the larger, the swap is no explanation
+    let swap_possible = median_of(path.v.iter().map(|v| v.abs()))
+        .zip(median_of(path.u.iter().map(|u| u.abs())))
+        .is_none_or(|(v, u)| v > u);
     // a mix-up that explains the data exactly comes first
     for (predict, words) in &path.mix_ups() {
+        if *words == SWAPPED && !swap_possible {
+            continue;
+        }
         if path.fit(len, predict.as_ref()).is_some_and(holds) {
             return Some(Finding::new(rec, true, seen, words.to_string()));
         }

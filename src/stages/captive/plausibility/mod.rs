@@ -11,12 +11,20 @@
 //! Hydrodynamics, section 7.6): a hull's linear sway force scales with its sectional added
 //! mass times U v, i.e. about (m / L) U v, its yaw damping with m L U r.
 
+pub mod diagnosis;
+pub mod table;
+pub mod words;
+
+pub(crate) use diagnosis::{Judge, Origin};
+pub(crate) use words::Names;
+
 use super::fit::Condition;
 use super::harmonic::PER_FORCE;
 use crate::base::numfmt::num;
 use crate::base::quantity::Quantity;
 use crate::base::warning::Warning;
 use crate::model::models::Model;
+use crate::stages::plausible::G;
 
 /// Where the sway velocity, yaw rate, sway force and yaw moment sit in a model's state and
 /// force vectors (None: the model has no such entry and the checks of it are skipped).
@@ -110,28 +118,33 @@ pub const SWAY_MASS_WINDOW: (f64, f64) = (0.6, 1.7);
 /// Window of a pure yaw run's apparent added inertia against the analytic one (KVLCC2 0.64).
 pub const YAW_MASS_WINDOW: (f64, f64) = (0.3, 2.5);
 /// Window of the Froude number U / sqrt(g L) of a captive run.
-pub const FROUDE_WINDOW: (f64, f64) = (0.01, 1.0);
+pub const FROUDE_WINDOW: (f64, f64) = diagnosis::FROUDE_RANGE;
 /// Smallest signal-to-noise ratio of a force's first harmonic in a harmonic run.
 pub const MIN_SNR: f64 = 3.0;
 /// Largest drift angle (deg) and non-dimensional yaw rate r L / U of a "small angle" row.
 const SMALL: (f64, f64) = (10.0, 0.3);
-/// Standard gravity, m/s^2 (the Froude number).
-const G: f64 = 9.80665;
 
 /// The checks of one run's conditions before the fit: its warnings, or an error when the
-/// run cannot be non-dimensionalised (no forward speed).
+/// run cannot be non-dimensionalised (no forward speed). With `explained` (the model's view
+/// of the table, [`diagnosis`], or the F test named its mistake already) only the forward
+/// speed and a harmonic run's signal-to-noise are checked: the slender-body windows would
+/// name a consequence of that mistake as another one (Fy and Mz swapped make the yaw
+/// moment rise with the yaw rate, a sign, where the swap is the cause).
 pub fn before(
     run: &str,
     conditions: &[Condition],
     layout: &Layout,
     reference: &Reference,
+    explained: bool,
 ) -> Result<Vec<Warning>, String> {
-    let mut out = speed(conditions, layout, reference)?;
+    let mut out = speed(conditions, layout, reference, explained)?;
     for c in conditions.iter().filter(|c| c.harmonic.is_some()) {
-        out.extend(harmonic(c, layout, reference));
+        out.extend(harmonic(c, layout, reference, explained));
     }
-    let steady: Vec<&Condition> = conditions.iter().filter(|c| c.harmonic.is_none()).collect();
-    out.extend(small_angles(&steady, layout, reference));
+    if !explained {
+        let steady: Vec<&Condition> = conditions.iter().filter(|c| c.harmonic.is_none()).collect();
+        out.extend(small_angles(&steady, layout, reference));
+    }
     Ok(out.into_iter().map(|w| w.for_run(run)).collect())
 }
 
@@ -162,6 +175,7 @@ fn speed(
     conditions: &[Condition],
     l: &Layout,
     reference: &Reference,
+    explained: bool,
 ) -> Result<Vec<Warning>, String> {
     let Some(iu) = l.u else { return Ok(Vec::new()) };
     let u: Vec<f64> = conditions.iter().map(|c| c.x[iu]).collect();
@@ -199,7 +213,7 @@ fn speed(
         .collect();
     fr.sort_by(f64::total_cmp);
     let median = fr[fr.len() / 2];
-    if median < FROUDE_WINDOW.0 || median > FROUDE_WINDOW.1 {
+    if !explained && (median < FROUDE_WINDOW.0 || median > FROUDE_WINDOW.1) {
         out.push(warning(
             format!(
                 "the towing speed gives a Froude number U / sqrt(g L) of {} (median), outside \
@@ -430,7 +444,7 @@ fn damping(
 /// A harmonic (PMM) run: the signal-to-noise of each lateral force's first harmonic, and,
 /// of a pure sway or pure yaw run, the in-phase part's sign and size and the apparent added
 /// mass from the part in phase with the acceleration.
-fn harmonic(c: &Condition, l: &Layout, reference: &Reference) -> Vec<Warning> {
+fn harmonic(c: &Condition, l: &Layout, reference: &Reference, explained: bool) -> Vec<Warning> {
     let Some(motion) = &c.harmonic else {
         return Vec::new();
     };
@@ -462,6 +476,9 @@ fn harmonic(c: &Condition, l: &Layout, reference: &Reference) -> Vec<Warning> {
             ));
             return out;
         }
+    }
+    if explained {
+        return out;
     }
     let speed = l.u.map_or(0.0, |i| motion.states[i][0]);
     let scale = Scales::new(reference, speed);
@@ -565,7 +582,9 @@ fn added_check(
                  columns' units",
                 if ratio < 0.0 {
                     "a negative added mass is not physical: the force may not respond to the \
-                     motion, or its sign is flipped; else "
+                     motion, its sign is flipped, or the stated phase is off by 90 or 180 deg \
+                     (a displacement's phase given for the velocity's: check the phase in \
+                     captive.oscillations); else "
                 } else {
                     ""
                 },
