@@ -197,6 +197,17 @@ impl AutopilotConfig {
     /// autopilot of a real vessel can have, so that a typing or unit mistake (`omega_n =
     /// 1e9`) is refused rather than tuned into nonsense gains.
     pub fn validate(&self, p: &mut Problems) {
+        self.validate_ranges(p);
+        self.validate_run(p);
+        if let Some(plant) = &self.plant {
+            plant.validate(self.duration, p);
+        }
+        self.adaptive.validate(self.dt, p);
+        super::autopilot_adaptive::validate_orders(&self.orders, self.change_at, self.duration, p);
+    }
+
+    /// Each tuning, sensor and steering value within a real vessel's range.
+    fn validate_ranges(&self, p: &mut Problems) {
         use std::f64::consts::PI;
         let deg = PI / 180.0;
         let bandwidth = "a closed heading loop of a vessel: periods from 3 s to 17 hours";
@@ -276,6 +287,11 @@ impl AutopilotConfig {
         ] {
             p.in_range(&format!("autopilot.{key}"), v, range, unit, why);
         }
+    }
+
+    /// The run's length and sampling, the loop against the sampling, the feeds, the filter
+    /// and the disturbance's unit.
+    fn validate_run(&self, p: &mut Problems) {
         p.positive("autopilot.duration", self.duration, "s");
         if self.dt > 0.0 && self.duration / self.dt > 1e6 {
             p.add(
@@ -325,11 +341,6 @@ impl AutopilotConfig {
                  for a wave yaw or a rudder angle",
             );
         }
-        if let Some(plant) = &self.plant {
-            plant.validate(self.duration, p);
-        }
-        self.adaptive.validate(self.dt, p);
-        super::autopilot_adaptive::validate_orders(&self.orders, self.change_at, self.duration, p);
         if self.feeds.is_empty() {
             p.add(
                 "autopilot.feeds",

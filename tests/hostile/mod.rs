@@ -425,8 +425,8 @@ fn the_judge_catches_every_property() {
     assert!(judge(&quiet, &o(Some(2), "ok", false), &same, &same).is_some());
 }
 
+mod captive;
 mod exports;
 mod fmu;
-mod limits;
-mod captive;
 mod freerunning;
+mod limits;

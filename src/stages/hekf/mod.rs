@@ -292,15 +292,7 @@ impl ModelVisitor for Identify<'_> {
         let defs: Vec<&crate::model::models::CoefDef> =
             plan.est.iter().map(|&i| &model.coefficients()[i]).collect();
         let bound_warnings = bounds::warnings(&defs, &id.bounds);
-        let gated: Vec<(Vec<identify::Rejection>, Vec<identify::Excursion>)> = id
-            .traces
-            .last()
-            .map(|p| {
-                p.iter()
-                    .map(|t| (t.rejected.clone(), t.excursions.clone()))
-                    .collect()
-            })
-            .unwrap_or_default();
+        let gated = gated(&id);
         let last = id.passes.last().cloned().expect("at least one pass");
         // the repeated passes keep the noise as calibrated
         let calibrated = identify::Setup {
@@ -355,17 +347,44 @@ impl ModelVisitor for Identify<'_> {
         result
             .warnings
             .extend(identifiability_warning(&result.identifiability));
-        for ((run, data), (rej, exc)) in result.runs.iter_mut().zip(&runs).zip(&gated) {
-            run.warnings
-                .extend(consistency::gate_warning(model, data, rej));
-            run.warnings
-                .extend(consistency::excursion_warning(model, data, exc, setup.gate));
-            run.warnings.extend(consistency::nis_warning(run));
-            for w in run.warnings.iter_mut().filter(|w| w.run.is_none()) {
-                w.run = Some(run.name.clone());
-            }
-        }
+        run_warnings(model, &mut result, &runs, &gated, setup.gate);
         Ok(result)
+    }
+}
+
+/// Each run's samples the last pass's gate rejected and its excursions.
+type Gated = Vec<(Vec<identify::Rejection>, Vec<identify::Excursion>)>;
+
+/// The last pass's [`Gated`] of every run.
+fn gated(id: &identify::Identification) -> Gated {
+    id.traces
+        .last()
+        .map(|p| {
+            p.iter()
+                .map(|t| (t.rejected.clone(), t.excursions.clone()))
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
+/// Each run's consistency warnings (rejected samples, excursions beyond the `gate`, NIS),
+/// named by the run.
+fn run_warnings<M: Model>(
+    model: &M,
+    result: &mut HekfResult,
+    runs: &[identify::RunData],
+    gated: &Gated,
+    gate: f64,
+) {
+    for ((run, data), (rej, exc)) in result.runs.iter_mut().zip(runs).zip(gated) {
+        run.warnings
+            .extend(consistency::gate_warning(model, data, rej));
+        run.warnings
+            .extend(consistency::excursion_warning(model, data, exc, gate));
+        run.warnings.extend(consistency::nis_warning(run));
+        for w in run.warnings.iter_mut().filter(|w| w.run.is_none()) {
+            w.run = Some(run.name.clone());
+        }
     }
 }
 

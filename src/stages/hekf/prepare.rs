@@ -59,16 +59,7 @@ pub fn plan<M: Model>(
     let names = model.coefficient_names();
     let est = coefficient_problems(model, cfg, |n| known.contains(n))
         .map_err(|p| Error::numerical("hekf", p.join("; ")))?;
-    let mut base = vec![0.0; names.len()];
-    let mut fixed = Vec::new();
-    for (i, n) in names.iter().enumerate() {
-        if est.contains(&i) || model.is_derived(n) || (model.is_optional(n) && !known.contains(n)) {
-            continue;
-        }
-        let c = known.get(n).expect("checked by coefficient_problems");
-        base[i] = c.value;
-        fixed.push(c.clone());
-    }
+    let (base, fixed) = held(model, &est, known);
     let mut notes = Vec::new();
     let mut initial = Vec::new();
     let mut prior_sigma = Vec::new();
@@ -150,6 +141,27 @@ pub fn plan<M: Model>(
         held_prior,
         notes,
     })
+}
+
+/// The model's coefficient vector with every held coefficient at its known value (the
+/// estimated, derived and absent optional ones at zero), and the held coefficients.
+fn held<M: Model>(
+    model: &M,
+    est: &[usize],
+    known: &CoefficientSet,
+) -> (Vec<f64>, Vec<crate::model::coefficients::Coefficient>) {
+    let names = model.coefficient_names();
+    let mut base = vec![0.0; names.len()];
+    let mut fixed = Vec::new();
+    for (i, n) in names.iter().enumerate() {
+        if est.contains(&i) || model.is_derived(n) || (model.is_optional(n) && !known.contains(n)) {
+            continue;
+        }
+        let c = known.get(n).expect("checked by coefficient_problems");
+        base[i] = c.value;
+        fixed.push(c.clone());
+    }
+    (base, fixed)
 }
 
 /// The prior sigma of a start the model reads from the runs, as a share of its magnitude.
