@@ -69,12 +69,20 @@ pub fn short(v: f64) -> String {
     }
 }
 
+/// `v` to four significant digits, written as [`short`] writes it: 55.56, 100, 1e6.
+pub fn short_four(v: f64) -> String {
+    short(format!("{v:.3e}").parse().unwrap_or(v))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
     fn four_significant_figures() {
+        assert_eq!(short_four(55.5555), "55.56");
+        assert_eq!(short_four(100.0), "100");
+        assert_eq!(short_four(1e6), "1e6");
         assert_eq!(num(-23.6261), "-23.63");
         assert_eq!(num(-1.16404), "-1.164");
         assert_eq!(num(0.0017), "0.001700");

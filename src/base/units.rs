@@ -95,6 +95,8 @@ const SYMBOLS: &[(&[&str], f64, Dim)] = &[
     (&["mN"], 1e-3, [1, 1, -2, 0]),
     (&["MN"], 1e6, [1, 1, -2, 0]),
     (&["kgf"], 9.80665, [1, 1, -2, 0]),
+    // pound-force: the avoirdupois pound (0.45359237 kg) under standard gravity
+    (&["lbf"], 0.453_592_37 * 9.80665, [1, 1, -2, 0]),
     (&["Pa"], 1.0, [1, -1, -2, 0]),
     (&["kPa"], 1e3, [1, -1, -2, 0]),
     (&["J"], 1.0, [1, 2, -2, 0]),
@@ -507,6 +509,8 @@ mod tests {
         assert!((u("kN").factor - 1e3).abs() < 1e-9);
         assert!((u("km/h").factor - 1.0 / 3.6).abs() < 1e-12);
         assert!((u("kn").factor - 0.514_444_444).abs() < 1e-9);
+        assert!((u("lbf").factor - 4.448_221_615).abs() < 1e-9);
+        assert!((u("lbf ft").factor - 1.355_817_948).abs() < 1e-9);
         assert!((u("rpm").factor - 2.0 * PI / 60.0).abs() < 1e-12);
         assert!((u("mm").factor - 1e-3).abs() < 1e-15);
         assert!((u("m/s^2").factor - 1.0).abs() < 1e-15);

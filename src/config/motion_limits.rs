@@ -7,7 +7,7 @@
 //! The magnitude of any one quantity is [`Quantity::plausible_bound`]'s, as for every key of
 //! a configuration.
 
-use crate::base::numfmt::{fixed_trimmed, num, short};
+use crate::base::numfmt::{fixed_trimmed, num, short, short_four};
 use crate::base::quantity::Quantity;
 use std::f64::consts::PI;
 
@@ -29,11 +29,6 @@ pub const MAX_OMEGA_PRIME: f64 = 20.0;
 /// aliasing (Nyquist asks for more than 2; 20 keep the waveform).
 pub const SAMPLES_PER_PERIOD: f64 = 20.0;
 
-/// `v` to four significant digits, written short: 55.56, 100, 1e6.
-pub fn four(v: f64) -> String {
-    short(format!("{v:.3e}").parse().unwrap_or(v))
-}
-
 /// A carriage, towing or approach speed `u` (m/s) beyond [`MAX_SPEED`], or not positive.
 pub fn speed(u: f64) -> Option<String> {
     if !(u.is_finite() && u > 0.0) {
@@ -43,8 +38,8 @@ pub fn speed(u: f64) -> Option<String> {
         format!(
             "{} m/s ({} kn) is faster than any towing carriage or vessel (at most {MAX_SPEED} \
              m/s): a speed in km/h or kn written as m/s?",
-            four(u),
-            four(u / 0.514444)
+            short_four(u),
+            short_four(u * 3600.0 / 1852.0)
         )
     })
 }

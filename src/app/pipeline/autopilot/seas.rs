@@ -176,7 +176,7 @@ fn magnitude(
         crate::base::numfmt::num(rms),
         crate::base::numfmt::num(rms.to_degrees()),
         crate::base::numfmt::num(peak),
-        crate::config::motion_limits::four(rms_limit.to_degrees()),
-        crate::config::motion_limits::four(peak_limit.to_degrees())
+        crate::base::numfmt::short_four(rms_limit.to_degrees()),
+        crate::base::numfmt::short_four(peak_limit.to_degrees())
     ))
 }

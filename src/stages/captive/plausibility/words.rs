@@ -18,12 +18,11 @@ pub(super) struct Factor {
     pub words: String,
 }
 
-/// Standard gravity, N per kgf.
-const KGF: f64 = 9.80665;
-/// N per lbf.
-const LBF: f64 = 4.448_221_615;
-/// N m per lbf ft.
-const LBF_FT: f64 = 1.355_817_948;
+/// SI per `unit`, from the unit table every input is read with (base/units.rs), so that the
+/// unit each message advises is one a configuration takes.
+fn si_per(unit: &str) -> f64 {
+    crate::base::units::Unit::parse(unit).map_or(f64::NAN, |u| u.factor)
+}
 
 /// Unit factors per force (the first [`UNITS`] of [`factors`]).
 const UNITS: usize = 5;
@@ -40,24 +39,25 @@ pub(super) fn factors(
         gain,
         words: words.to_string(),
     };
+    let (kgf, lbf, lbf_ft) = (si_per("kgf"), si_per("lbf"), si_per("lbf ft"));
     let mut out = if q == Quantity::Mz || q == Quantity::Mx || q == Quantity::My {
         vec![
-            f(1.0 / KGF, "kgf m read as N m: give `unit = \"kgf m\"`"),
-            f(KGF, "N m read as kgf m: give `unit = \"N m\"`"),
+            f(1.0 / kgf, "kgf m read as N m: give `unit = \"kgf m\"`"),
+            f(kgf, "N m read as kgf m: give `unit = \"N m\"`"),
             f(1e-3, "kN m read as N m: give `unit = \"kN m\"`"),
             f(
                 1e3,
                 "N mm read as N m (or N m read as kN m): give the moment's unit",
             ),
-            f(1.0 / LBF_FT, "lbf ft read as N m: give `unit = \"lbf ft\"`"),
+            f(1.0 / lbf_ft, "lbf ft read as N m: give `unit = \"lbf ft\"`"),
         ]
     } else {
         vec![
-            f(1.0 / KGF, "kgf read as N: give `unit = \"kgf\"`"),
-            f(KGF, "N read as kgf: give `unit = \"N\"`"),
+            f(1.0 / kgf, "kgf read as N: give `unit = \"kgf\"`"),
+            f(kgf, "N read as kgf: give `unit = \"N\"`"),
             f(1e-3, "kN read as N: give `unit = \"kN\"`"),
             f(1e3, "N read as kN: give `unit = \"N\"`"),
-            f(1.0 / LBF, "lbf read as N: give `unit = \"lbf\"`"),
+            f(1.0 / lbf, "lbf read as N: give `unit = \"lbf\"`"),
         ]
     };
     debug_assert_eq!(out.len(), UNITS);
@@ -405,4 +405,27 @@ fn motion_sign<M: Model>(judge: &Judge<M>, names: &Names, e: &Explanation) -> Op
              180 deg)"
         )
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every unit a factor's message advises is one the unit table reads, and its gain is that
+    /// unit's (lbf was advised before the table knew it).
+    #[test]
+    fn each_advised_unit_is_read_by_the_unit_table() {
+        for q in [Quantity::Fy, Quantity::Mz] {
+            for f in factors(q, &[], None) {
+                let Some(at) = f.words.find("`unit = \"") else {
+                    continue;
+                };
+                let unit = f.words[at + 9..].split('"').next().unwrap();
+                let parsed = crate::base::units::Unit::parse(unit);
+                assert!(parsed.is_ok(), "{unit}: {parsed:?}");
+            }
+        }
+        assert!((1.0 / factors(Quantity::Fy, &[], None)[4].gain - 4.448_221_615).abs() < 1e-9);
+        assert!((1.0 / factors(Quantity::Mz, &[], None)[4].gain - 1.355_817_948).abs() < 1e-9);
+    }
 }
