@@ -48,9 +48,9 @@ struct FmuArgs {
 /// The library's file name.
 const LIBRARY: &str = "libhydroid_fmu.so";
 
-/// The library given, else the one beside the running executable: its path and bytes, read
-/// and checked (`fmu::library`).
-fn library(given: Option<&Path>) -> crate::Result<(PathBuf, Vec<u8>)> {
+/// The library given, else the one beside the running executable: its bytes, read and
+/// checked (`fmu::library`).
+fn library(given: Option<&Path>) -> crate::Result<Vec<u8>> {
     let path = match given {
         Some(p) => p.to_path_buf(),
         None => std::env::current_exe()
@@ -65,8 +65,7 @@ fn library(given: Option<&Path>) -> crate::Result<(PathBuf, Vec<u8>)> {
             path.display()
         )));
     }
-    let bytes = fmu::library::read(&path)?;
-    Ok((path, bytes))
+    fmu::library::read(&path)
 }
 
 /// Runs the command.
@@ -75,7 +74,7 @@ pub fn run(args: Args, out: &mut impl Write) -> CmdResult {
     crate::io::output::clean_up_on_signals()?;
     fmu::spec::check_max_step(a.max_step).map_err(|e| Error::Usage(format!("--max-step {e}")))?;
     let exported = fmu::read_folder(&a.outdir, a.max_step)?;
-    let (_, lib) = library(a.library.as_deref())?;
+    let lib = library(a.library.as_deref())?;
     let bytes = fmu::package(&exported.spec, &lib)?;
     let export = Export {
         kind: ExportKind::Fmu,

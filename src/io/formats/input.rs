@@ -445,16 +445,36 @@ pub fn file_sha256(path: &Path) -> crate::base::error::Result<String> {
         hasher.update(chunk);
         Ok(())
     })?;
-    Ok(hasher
-        .finalize()
-        .iter()
-        .map(|b| format!("{b:02x}"))
-        .collect())
+    Ok(hex(&hasher.finalize()))
+}
+
+/// SHA-256 of bytes in memory (a file about to be written), hex, as [`file_sha256`] gives it
+/// for the same bytes in a file.
+pub fn bytes_sha256(bytes: &[u8]) -> String {
+    use sha2::{Digest, Sha256};
+    hex(&Sha256::digest(bytes))
+}
+
+/// Bytes as lower-case hex digits.
+fn hex(bytes: &[u8]) -> String {
+    bytes.iter().map(|b| format!("{b:02x}")).collect()
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_file_and_its_bytes_hash_alike() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("a.csv");
+        std::fs::write(&p, "t,u\n0,1\n").unwrap();
+        assert_eq!(file_sha256(&p).unwrap(), bytes_sha256(b"t,u\n0,1\n"));
+        assert_eq!(
+            bytes_sha256(b""),
+            "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855"
+        );
+    }
 
     #[test]
     fn sizes() {

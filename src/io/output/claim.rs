@@ -15,7 +15,7 @@
 //! moves the locked folder away, and the claim, once it has the lock, finds another folder
 //! at the name.
 
-use super::marker::{self, Marker, MARKER};
+use super::marker;
 use crate::base::error::{Error, Result};
 use std::collections::BTreeMap;
 use std::fs::File;
@@ -165,11 +165,7 @@ impl Claim {
 
 /// The files the marker of `dir` lists, with their SHA-256.
 fn listed(dir: &Path) -> Result<BTreeMap<String, String>> {
-    let path = dir.join(MARKER);
-    let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
-    let m: Marker = serde_json::from_str(&text)
-        .map_err(|e| Error::Usage(format!("{}: not a valid marker: {e}", path.display())))?;
-    Ok(m.files)
+    Ok(marker::read(dir)?.files)
 }
 
 /// How a folder is locked.

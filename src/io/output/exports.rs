@@ -14,7 +14,7 @@ use super::marker::MARKER;
 use super::paths::{read_locations, relative, resolve};
 use super::{write_atomic, Replace};
 use crate::base::error::{Error, Result};
-use crate::io::formats::input::{file_sha256, format_size, read_bytes, Limits};
+use crate::io::formats::input::{bytes_sha256, file_sha256, format_size, read_bytes, Limits};
 use std::collections::BTreeMap;
 use std::fs::File;
 use std::path::{Path, PathBuf};
@@ -151,7 +151,7 @@ pub fn write_export(
         .map_err(|why| refuse(&why))?;
     write_atomic(&target, bytes)?;
     let entry = Entry {
-        sha256: file_sha256(&target)?,
+        sha256: bytes_sha256(bytes),
         kind: export.kind,
         source: Some(source),
     };

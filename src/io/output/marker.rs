@@ -77,15 +77,21 @@ impl Marker {
     }
 }
 
+/// The marker of the hydroid output `dir`, or an error naming it (unreadable, not a marker).
+pub(super) fn read(dir: &Path) -> Result<Marker> {
+    let path = dir.join(MARKER);
+    let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
+    serde_json::from_str(&text)
+        .map_err(|e| Error::Usage(format!("{}: not a valid marker: {e}", path.display())))
+}
+
 /// Records the files `names` of the hydroid output `dir` in its marker as they are now (files
 /// hydroid has just written there, such as calibration.json), so that the folder stays
 /// hydroid's to replace. The marker is replaced atomically. Only a [`super::Claim`] calls it,
 /// under the folder's lock, once it has checked the folder is the one it read.
 pub(super) fn record(dir: &Path, names: &[&str]) -> Result<()> {
     let path = dir.join(MARKER);
-    let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
-    let mut marker: Marker = serde_json::from_str(&text)
-        .map_err(|e| Error::Usage(format!("{}: not a valid marker: {e}", path.display())))?;
+    let mut marker = read(dir)?;
     for name in names {
         marker
             .files
