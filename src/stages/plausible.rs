@@ -261,3 +261,19 @@ fn piecewise_constant(v: &[f64]) -> bool {
     let changes = v.windows(2).filter(|w| w[1] != w[0]).count();
     changes * 10 <= v.len()
 }
+
+/// The median of `v` (the upper of the two middle values of an even count; None when empty).
+pub(crate) fn median(v: &mut [f64]) -> Option<f64> {
+    if v.is_empty() {
+        return None;
+    }
+    let mid = v.len() / 2;
+    let (_, m, _) = v.select_nth_unstable_by(mid, f64::total_cmp);
+    Some(*m)
+}
+
+/// The median of the finite values of an iterator.
+pub(crate) fn median_of(v: impl IntoIterator<Item = f64>) -> Option<f64> {
+    let mut v: Vec<f64> = v.into_iter().filter(|x| x.is_finite()).collect();
+    median(&mut v)
+}

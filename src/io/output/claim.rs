@@ -225,6 +225,7 @@ fn identity(_m: &std::fs::Metadata) -> (u64, u64) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::io::output::marker::Marker;
     use crate::io::output::Staging;
 
     /// An output folder as `hydroid run` leaves it, with a results.json of `text`.

@@ -9,7 +9,7 @@ use crate::base::quantity::Quantity;
 use crate::base::warning::Warning;
 use crate::io::record::Record;
 use crate::model::models::{with_model, Model, ModelVisitor, RunVehicle, Vehicle};
-use crate::stages::plausible::{model_froude, Expectation, Finding};
+use crate::stages::plausible::{Expectation, Finding};
 use plausibility::{Judge, Names, Origin};
 
 /// Fewest steady rows the model's view of a table is judged on (a harmonic run: one
@@ -49,7 +49,7 @@ pub(super) fn judge<'a, M: Model>(
         propeller: expectation
             .propeller_diameter
             .map(|d| (d, expectation.wake)),
-        froude_model: model_froude(model),
+        froude_model: expectation.froude_model,
         areas: cfg
             .prime
             .map(|p| areas(p.length, p.area, view))

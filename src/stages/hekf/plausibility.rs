@@ -36,7 +36,7 @@ use super::STAGE;
 use crate::base::quantity::Quantity;
 use crate::io::record::Record;
 use crate::model::models::Model;
-use crate::stages::plausible::{file, named};
+use crate::stages::plausible::{file, median, median_of, named};
 pub use crate::stages::plausible::{Expectation, Finding};
 
 impl Finding {
@@ -187,21 +187,6 @@ fn integral(times: &[f64], (a, b): (usize, usize), rate: impl Fn(usize) -> f64) 
     (a..b)
         .map(|k| 0.5 * (rate(k) + rate(k + 1)) * (times[k + 1] - times[k]))
         .sum()
-}
-
-fn median(v: &mut [f64]) -> Option<f64> {
-    if v.is_empty() {
-        return None;
-    }
-    let mid = v.len() / 2;
-    let (_, m, _) = v.select_nth_unstable_by(mid, f64::total_cmp);
-    Some(*m)
-}
-
-/// The median of the finite values of an iterator.
-fn median_of(v: impl IntoIterator<Item = f64>) -> Option<f64> {
-    let mut v: Vec<f64> = v.into_iter().filter(|x| x.is_finite()).collect();
-    median(&mut v)
 }
 
 /// A robust complex gain g with measured = g * predicted, and the median relative residual,

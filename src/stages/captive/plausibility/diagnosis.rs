@@ -20,7 +20,7 @@ use crate::base::quantity::Quantity;
 use crate::model::models::Model;
 use crate::stages::captive::fit::Condition;
 use crate::stages::captive::harmonic::PER_FORCE;
-use crate::stages::plausible::{G, WORKING_ADVANCE};
+use crate::stages::plausible::{median_of, G, WORKING_ADVANCE};
 
 /// Degrees per radian.
 pub(super) const DEG: f64 = 180.0 / std::f64::consts::PI;
@@ -391,23 +391,21 @@ impl<M: Model> Judge<'_, M> {
     fn advance(&self, table: &[Condition]) -> Option<f64> {
         let (d, wake) = self.propeller?;
         let n = self.input(Quantity::Rpm)?;
-        median(
+        median_of(
             table
                 .iter()
                 .filter(|c| c.u[n] > 0.0 && self.speeds(c).0 > 0.0)
-                .map(|c| self.speeds(c).0 * (1.0 - wake) / (c.u[n] * d))
-                .collect(),
+                .map(|c| self.speeds(c).0 * (1.0 - wake) / (c.u[n] * d)),
         )
     }
 
     /// The median Froude number of the conditions moving ahead.
     fn froude(&self, table: &[Condition]) -> Option<f64> {
-        median(
+        median_of(
             table
                 .iter()
                 .filter(|c| self.speeds(c).0 > 0.0)
-                .map(|c| self.speeds(c).1 / (G * self.length).sqrt())
-                .collect(),
+                .map(|c| self.speeds(c).1 / (G * self.length).sqrt()),
         )
     }
 
@@ -607,14 +605,4 @@ fn scale_state(c: &mut Condition, i: usize, f: f64) {
     if let Some(h) = &mut c.harmonic {
         h.states[i].iter_mut().for_each(|v| *v *= f);
     }
-}
-
-/// The median of finite values (None when there is none).
-fn median(mut v: Vec<f64>) -> Option<f64> {
-    v.retain(|x| x.is_finite());
-    if v.is_empty() {
-        return None;
-    }
-    v.sort_by(f64::total_cmp);
-    Some(v[v.len() / 2])
 }
