@@ -136,6 +136,26 @@ fn gradient(m: &Map, fit: &ChannelFit, q: f64, l_ref: f64) -> Vec<f64> {
         .collect()
 }
 
+impl Channel {
+    /// The channel's name, as its fit carries it ([`ChannelFit::channel`]).
+    fn name(self) -> &'static str {
+        match self {
+            Channel::Drag => "drag",
+            Channel::Lift => "lift",
+            Channel::Moment => "moment",
+        }
+    }
+}
+
+/// The coefficients that `part`'s mapping takes from the fit of the channel named `channel`
+/// (`drag`, `lift`, `moment`).
+pub fn names_from(channel: &str, part: YawMoment) -> Vec<&'static str> {
+    maps(part)
+        .filter(|m| m.channel.name() == channel)
+        .map(|m| m.name)
+        .collect()
+}
+
 fn channel_fit<'a>(
     m: &Map,
     drag: &'a ChannelFit,

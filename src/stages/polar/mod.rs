@@ -31,7 +31,7 @@ use crate::base::quantity::Quantity;
 use crate::base::warning::Warning;
 use crate::config::{FluidConfig, VehicleConfig};
 use crate::io::record::{Needs, Record};
-use crate::model::coefficients::Coefficient;
+use crate::model::coefficients::{Coefficient, YawMoment};
 use crate::stages::spread::{spread, Spread};
 use channel::fit_all;
 
@@ -94,7 +94,7 @@ pub fn run(
     let directions =
         mapping::directions(&pooled.drag, &pooled.lift, &pooled.moment, q, l_ref, part);
     warnings.extend(binding_warnings(&pooled));
-    warnings.extend(undetermined_warnings(&pooled, &coefficients));
+    warnings.extend(undetermined_warnings(&pooled, &coefficients, part));
     warnings.extend(linearity_warnings(config, &used));
     let per_speed = fit_per_speed(config, vehicle, fluid, &used, &mut warnings)?;
     let spread = speed_spread(&coefficients, &per_speed);
@@ -188,19 +188,19 @@ fn binding_warnings(pooled: &PolarFit) -> Vec<Warning> {
 /// free constants): its fit passes through every point, so the residuals say nothing of the
 /// noise and the sigmas of the coefficients from it are undetermined (reported without a
 /// sigma, never as exact).
-fn undetermined_warnings(pooled: &PolarFit, coefficients: &[Coefficient]) -> Vec<Warning> {
+fn undetermined_warnings(
+    pooled: &PolarFit,
+    coefficients: &[Coefficient],
+    part: YawMoment,
+) -> Vec<Warning> {
     [&pooled.drag, &pooled.lift, &pooled.moment]
         .into_iter()
         .filter(|ch| ch.covariance.is_none())
         .map(|ch| {
+            let names = mapping::names_from(&ch.channel, part);
             let from: Vec<&str> = coefficients
                 .iter()
-                .filter(|c| {
-                    c.sigma.is_none()
-                        && c.note
-                            .as_deref()
-                            .is_some_and(|n| n.contains(&format!("the {} fit has", ch.channel)))
-                })
+                .filter(|c| c.sigma.is_none() && names.contains(&c.name.as_str()))
                 .map(|c| c.name.as_str())
                 .collect();
             Warning::new(
