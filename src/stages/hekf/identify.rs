@@ -488,8 +488,9 @@ fn passes<M: Model>(
         let (f, pass_traces, logs) = match outcome {
             Ok(done) => done,
             // a noise model too tight for the data: widen it and start again (not a failure
-            // at a run's first sample, before any noise has acted: the model or the priors)
-            Err(e) if !last_pass && after_first_sample(&e, runs) && cal.widen(runs) => {
+            // at a run's first sample, before any noise has acted: the model or the priors),
+            // in the last pass too (a single configured pass, whose divergence was an error)
+            Err(e) if after_first_sample(&e, runs) && cal.widen(runs) => {
                 prior = ScaledPrior::new(setup, nx);
                 cal.note_divergence(&e, pass);
                 pass += 1;
@@ -733,7 +734,7 @@ impl Calibration {
         }
     }
 
-    /// After a divergence in a pass before the last: raises the adaptable states' process
+    /// After a divergence in a pass (the last too): raises the adaptable states' process
     /// noise to what the measured velocities' sample-to-sample changes allow (the filter
     /// then follows the measurements as an equation-error fit would) and starts again; at
     /// most twice. False when there is nothing to widen.
