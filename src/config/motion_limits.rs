@@ -132,16 +132,20 @@ pub fn sampling(f: f64, dt: f64) -> Option<String> {
     })
 }
 
-/// A run of `duration` s shorter than one period of `f` Hz: its Fourier parts are taken
-/// over whole periods.
-pub fn whole_period(f: f64, duration: f64) -> Option<String> {
-    (f * duration < 1.0).then(|| {
+/// A run of `duration` s holding fewer than `min` whole periods of `f` Hz: the captive
+/// stage fits the forces' Fourier parts over whole periods and refuses fewer than `min`.
+pub fn whole_periods(f: f64, duration: f64, min: usize) -> Option<String> {
+    let held = f * duration;
+    (held + 1e-6 < min as f64).then(|| {
         format!(
-            "{} s is shorter than one period of the {} Hz oscillation ({} s): the forces' \
-             Fourier parts are taken over whole periods",
+            "{} s holds {} periods of the {} Hz oscillation ({} s each): the captive stage \
+             fits the forces over at least {min} whole periods (an incomplete period is not \
+             used); at least {} s",
             short(duration),
+            short(held),
             short(f),
-            short(1.0 / f)
+            short(1.0 / f),
+            short((min as f64 / f * 1000.0).ceil() / 1000.0)
         )
     })
 }
@@ -187,7 +191,12 @@ mod tests {
         assert!(e.contains("Nyquist") && e.contains("0.1 samples"), "{e}");
         assert!(sampling(0.5, 0.01).is_none());
         assert!(!sampling(10.0, 0.01).unwrap().contains("Nyquist"));
-        assert!(whole_period(0.01, 10.0).unwrap().contains("100 s"));
+        assert!(whole_periods(0.01, 10.0, 2).unwrap().contains("100 s each"));
+        // 1.9 periods are refused (the captive stage needs 2 whole ones), 2 are not
+        assert!(whole_periods(0.19, 10.0, 2)
+            .unwrap()
+            .contains("at least 10.53 s"));
+        assert!(whole_periods(0.2, 10.0, 2).is_none());
         assert!(sample_count(10.0, 1e-6, 2e5, "a candidate may make")
             .unwrap()
             .contains("1e7 samples"));

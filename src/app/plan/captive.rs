@@ -12,7 +12,7 @@ use crate::base::error::{Error, Result};
 use crate::base::quantity::Quantity;
 use crate::model::models::Model;
 use crate::stages::captive::fit::Condition;
-use crate::stages::captive::harmonic::{HarmonicMotion, PER_FORCE};
+use crate::stages::captive::harmonic::{HarmonicMotion, MIN_PERIODS, PER_FORCE};
 use nalgebra::DMatrix;
 
 /// Default per-sample force noise as a share of the dynamic-pressure force
@@ -100,8 +100,9 @@ pub fn condition<M: Model>(
         }
         _ => None,
     };
-    let samples = (c.duration_s.unwrap_or(DURATION) / c.dt_s.unwrap_or(DT)).max(1.0);
-    let per_sample = noise(model, c, speed, scale);
+    let fit = fitted(model, c, speed, scale);
+    let samples = fit.samples as f64;
+    let per_sample: Vec<f64> = fit.noise.iter().map(|(_, s)| *s).collect();
     let mut cond = Condition {
         x,
         u,
@@ -134,21 +135,72 @@ pub fn condition<M: Model>(
     Ok(cond)
 }
 
-/// Per-sample noise of each force component: the candidate's, else the default share of the
-/// dynamic-pressure force (times the length for a moment).
-fn noise<M: Model>(model: &M, c: &Candidate, speed: f64, s: ForceScale) -> Vec<f64> {
+/// What the captive stage fits of a candidate, as the plan assumed it (the table and
+/// plan.json print it).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Fitted {
+    /// The run's duration, s (given, or the default: [`duration`]).
+    pub duration_s: f64,
+    /// Samples the stage fits: every sample of a steady condition, those of a PMM run's whole
+    /// periods only.
+    pub samples: usize,
+    /// A PMM run's whole periods (the stage leaves an incomplete last period out).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub periods: Option<usize>,
+    /// Per-sample noise of each force component (SI), by quantity key, in the model's order.
+    pub noise: Vec<(String, f64)>,
+    /// The force components whose noise is the default share of the dynamic-pressure force
+    /// ([`FORCE_NOISE_SHARE`]), not the candidate's `noise`.
+    pub default_noise: Vec<String>,
+}
+
+/// A captive candidate's duration, s: the given one; else [`DURATION`], and for a PMM run at
+/// least [`MIN_PERIODS`] + 1 periods (a ship-scale PMM period is tens of seconds).
+pub fn duration(c: &Candidate) -> f64 {
+    c.duration_s.unwrap_or_else(|| {
+        let pmm = matches!(c.kind, Kind::PmmSway | Kind::PmmYaw);
+        if pmm && c.frequency_hz > 0.0 {
+            DURATION.max(((MIN_PERIODS + 1) as f64 / c.frequency_hz).ceil())
+        } else {
+            DURATION
+        }
+    })
+}
+
+/// The samples, periods and per-sample noise of candidate `c` at `speed`: a PMM run's whole
+/// periods only, as the stage takes them (`harmonic::reduce`); each force's noise the
+/// candidate's, else the default share of the dynamic-pressure force (times the length for a
+/// moment).
+pub fn fitted<M: Model>(model: &M, c: &Candidate, speed: f64, s: ForceScale) -> Fitted {
+    let duration_s = duration(c);
+    let dt = c.dt_s.unwrap_or(DT);
+    let pmm = matches!(c.kind, Kind::PmmSway | Kind::PmmYaw) && c.frequency_hz > 0.0;
+    // whole periods of the record of duration_s / dt samples (harmonic::reduce's count)
+    let periods = pmm.then(|| (duration_s * c.frequency_hz + 1e-6).floor() as usize);
+    let fitted_s = periods.map_or(duration_s, |n| n as f64 / c.frequency_hz);
+    let samples = ((fitted_s / dt) + 1e-6).floor().max(1.0) as usize;
     let force = FORCE_NOISE_SHARE * 0.5 * s.rho * speed * speed * s.area;
-    model
+    let mut default_noise = Vec::new();
+    let noise = model
         .force_quantities()
         .iter()
         .map(|q| {
             let moment = matches!(q, Quantity::Mx | Quantity::My | Quantity::Mz);
-            c.noise
-                .get(q.key())
-                .copied()
-                .unwrap_or(if moment { force * s.length } else { force })
+            let given = c.noise.get(q.key()).copied();
+            if given.is_none() {
+                default_noise.push(q.key().to_string());
+            }
+            let sigma = given.unwrap_or(if moment { force * s.length } else { force });
+            (q.key().to_string(), sigma)
         })
-        .collect()
+        .collect();
+    Fitted {
+        duration_s,
+        samples,
+        periods,
+        noise,
+        default_noise,
+    }
 }
 
 /// The model's values of a condition at coefficients `theta` (the parameters of `prior`) and

@@ -202,7 +202,7 @@ fn timing(c: &Candidate, add: &mut impl FnMut(&str, String)) {
     // a captive run's defaults are known; a manoeuvre's are the first fitted run's
     let (duration, dt) = match c.kind.is_captive() {
         true => (
-            Some(c.duration_s.unwrap_or(super::captive::DURATION)),
+            Some(super::captive::duration(c)),
             Some(c.dt_s.unwrap_or(super::captive::DT)),
         ),
         false => (c.duration_s, c.dt_s),
@@ -226,7 +226,9 @@ fn timing(c: &Candidate, add: &mut impl FnMut(&str, String)) {
         let f = c.frequency_hz;
         if let Some(m) = limits::sampling(f, dt) {
             add("frequency_hz", m);
-        } else if let Some(m) = limits::whole_period(f, d) {
+        } else if let Some(m) =
+            limits::whole_periods(f, d, crate::stages::captive::harmonic::MIN_PERIODS)
+        {
             add("duration_s", m);
         }
     }

@@ -60,6 +60,9 @@ pub struct Row {
     pub d_per_cost: f64,
     /// Rank by D score per unit cost, 1 first.
     pub rank_per_cost: usize,
+    /// A captive candidate's samples, whole periods and force noise as the plan assumed them.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fitted: Option<captive::Fitted>,
 }
 
 /// A candidate that could not be evaluated.
@@ -374,6 +377,9 @@ impl<'a, M: Model> Context<'a, M> {
             a_score: s.a,
             d_per_cost: s.d / c.cost,
             rank_per_cost: 0,
+            fitted: c.kind.is_captive().then(|| {
+                captive::fitted(self.model, c, c.speed.unwrap_or(self.op.speed), self.scale)
+            }),
         }
     }
 }

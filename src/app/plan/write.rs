@@ -25,7 +25,12 @@ pub const TABLE_ROWS: usize = 20;
 
 /// The ranked table in Markdown: the targets' sigmas before, then each candidate's.
 pub fn table(plan: &Plan) -> String {
-    let mut header = vec!["rank".to_string(), "candidate".into(), "parameters".into()];
+    let mut header = vec![
+        "rank".to_string(),
+        "candidate".into(),
+        "parameters".into(),
+        "fitted".into(),
+    ];
     header.extend(plan.targets.iter().map(|t| format!("sigma {t}")));
     header.extend([
         "D score".into(),
@@ -35,7 +40,7 @@ pub fn table(plan: &Plan) -> String {
         "rank by D / cost".into(),
     ]);
     let mut rows = vec![{
-        let mut r = vec!["-".to_string(), "now".into(), "-".into()];
+        let mut r = vec!["-".to_string(), "now".into(), "-".into(), "-".into()];
         r.extend(plan.sigma_before.iter().map(|s| num(*s)));
         r.extend(["-".into(), "-".into(), "-".into(), "-".into(), "-".into()]);
         r
@@ -45,6 +50,7 @@ pub fn table(plan: &Plan) -> String {
             row.rank.to_string(),
             row.candidate.name.clone(),
             row.parameters.clone(),
+            row.fitted.as_ref().map_or_else(|| "-".into(), fitted),
         ];
         r.extend(row.sigma_after.iter().map(|s| num(*s)));
         r.extend([
@@ -56,7 +62,7 @@ pub fn table(plan: &Plan) -> String {
         ]);
         rows.push(r);
     }
-    let right: Vec<bool> = (0..header.len()).map(|i| i == 0 || i > 2).collect();
+    let right: Vec<bool> = (0..header.len()).map(|i| i == 0 || i > 3).collect();
     let mut s = markdown_table(&header, &rows, &right);
     if !plan.verification.is_empty() {
         let mut head = vec!["verified candidate".to_string(), "replicas".into()];
@@ -82,6 +88,35 @@ pub fn table(plan: &Plan) -> String {
         s.push_str(&markdown_table(&head, &rows, &right));
     }
     s
+}
+
+/// A captive candidate's fitted record in words: the whole periods and samples the stage
+/// fits, and each force's per-sample noise, "(default)" when the planner assumed it.
+fn fitted(f: &super::captive::Fitted) -> String {
+    let noise: Vec<String> = f
+        .noise
+        .iter()
+        .map(|(q, s)| {
+            let default = if f.default_noise.contains(q) {
+                " (default)"
+            } else {
+                ""
+            };
+            let unit = if matches!(q.as_str(), "mx" | "my" | "mz") {
+                "N m"
+            } else {
+                "N"
+            };
+            format!("{q} {} {unit}{default}", num(*s))
+        })
+        .collect();
+    format!(
+        "{}{} samples; noise {}",
+        f.periods
+            .map_or_else(String::new, |n| format!("{n} periods, ")),
+        f.samples,
+        noise.join(", ")
+    )
 }
 
 /// Writes plan.json, plan.md and plots/plan.svg into the claimed output folder (replacing

@@ -217,8 +217,18 @@ fn pmm() -> Vec<Case> {
         ),
         s(
             "less than a period",
-            "kind = \"pmm_yaw\"\namplitude = 15.0\nfrequency_hz = 0.01",
+            "kind = \"pmm_yaw\"\namplitude = 15.0\nfrequency_hz = 0.01\nduration_s = 10.0",
             refused(&["candidate[0].duration_s", "whole periods"]),
+        ),
+        // the captive stage refuses fewer than two whole periods (issue 49, item 4)
+        s(
+            "1.9 periods",
+            "kind = \"pmm_yaw\"\namplitude = 15.0\nfrequency_hz = 0.19\nduration_s = 10.0",
+            refused(&[
+                "candidate[0].duration_s",
+                "1.9 periods",
+                "at least 2 whole periods",
+            ]),
         ),
         s(
             "no amplitude",
