@@ -145,7 +145,7 @@ pub fn whole_periods(f: f64, duration: f64, min: usize) -> Option<String> {
             short(held),
             short(f),
             short(1.0 / f),
-            short((min as f64 / f * 1000.0).ceil() / 1000.0)
+            short((min as f64 / f * 100.0).ceil() / 100.0)
         )
     })
 }

@@ -82,7 +82,8 @@ pub struct Candidate {
     /// Initial yaw rate of a free run, deg/s.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub r0_deg_s: f64,
-    /// Duration, s (default: captive 10 s, manoeuvres the first fitted run's).
+    /// Duration, s (default: captive 10 s, a PMM run at least 3 periods; manoeuvres the first
+    /// fitted run's).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub duration_s: Option<f64>,
     /// Sample interval, s (default: captive 0.01 s, manoeuvres the first fitted run's).
