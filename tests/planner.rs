@@ -44,7 +44,15 @@ fn spheroid_pmm_pure_yaw_ranks_first_for_nrd_and_verifies() {
     // samples), and the default force noise said (issue 49, items 2 and 4)
     let fitted = top.fitted.as_ref().expect("a captive candidate's record");
     assert_eq!((fitted.periods, fitted.samples), (Some(7), 879));
-    assert_eq!(fitted.default_noise, ["fx", "fy", "mz"]);
+    let assumed: Vec<(&str, &str, bool)> = fitted
+        .noise
+        .iter()
+        .map(|n| (n.quantity, n.unit, n.default))
+        .collect();
+    assert_eq!(
+        assumed,
+        [("fx", "N", true), ("fy", "N", true), ("mz", "N m", true)]
+    );
     // no free-running manoeuvre comes near a captive run for Nrd
     let best_free = p
         .ranked

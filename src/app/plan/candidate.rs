@@ -39,6 +39,12 @@ impl Kind {
     pub fn is_captive(self) -> bool {
         matches!(self, Kind::Static | Kind::PmmSway | Kind::PmmYaw)
     }
+
+    /// Whether the run is a PMM run (a harmonic motion whose forces are fitted over whole
+    /// periods).
+    pub fn is_pmm(self) -> bool {
+        matches!(self, Kind::PmmSway | Kind::PmmYaw)
+    }
 }
 
 /// One candidate run. Angles in degrees and rates in deg/s as written; SI otherwise.

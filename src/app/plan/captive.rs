@@ -12,7 +12,7 @@ use crate::base::error::{Error, Result};
 use crate::base::quantity::Quantity;
 use crate::model::models::Model;
 use crate::stages::captive::fit::Condition;
-use crate::stages::captive::harmonic::{HarmonicMotion, MIN_PERIODS, PER_FORCE};
+use crate::stages::captive::harmonic::{whole_periods, HarmonicMotion, MIN_PERIODS, PER_FORCE};
 use nalgebra::DMatrix;
 
 /// Default per-sample force noise as a share of the dynamic-pressure force
@@ -102,7 +102,7 @@ pub fn condition<M: Model>(
     };
     let fit = fitted(model, c, speed, scale);
     let samples = fit.samples as f64;
-    let per_sample: Vec<f64> = fit.noise.iter().map(|(_, s)| *s).collect();
+    let per_sample: Vec<f64> = fit.noise.iter().map(|n| n.sigma).collect();
     let mut cond = Condition {
         x,
         u,
@@ -147,19 +147,29 @@ pub struct Fitted {
     /// A PMM run's whole periods (the stage leaves an incomplete last period out).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub periods: Option<usize>,
-    /// Per-sample noise of each force component (SI), by quantity key, in the model's order.
-    pub noise: Vec<(String, f64)>,
-    /// The force components whose noise is the default share of the dynamic-pressure force
+    /// Per-sample noise of each force component, in the model's order.
+    pub noise: Vec<ForceNoise>,
+}
+
+/// One force component's per-sample noise as the plan assumed it.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct ForceNoise {
+    /// The component's quantity key (`fx`, `fy`, `mz` ...).
+    pub quantity: &'static str,
+    /// Standard deviation per sample, SI.
+    pub sigma: f64,
+    /// Its SI unit (N, N m).
+    pub unit: &'static str,
+    /// True when it is the default share of the dynamic-pressure force
     /// ([`FORCE_NOISE_SHARE`]), not the candidate's `noise`.
-    pub default_noise: Vec<String>,
+    pub default: bool,
 }
 
 /// A captive candidate's duration, s: the given one; else [`DURATION`], and for a PMM run at
 /// least [`MIN_PERIODS`] + 1 periods (a ship-scale PMM period is tens of seconds).
 pub fn duration(c: &Candidate) -> f64 {
     c.duration_s.unwrap_or_else(|| {
-        let pmm = matches!(c.kind, Kind::PmmSway | Kind::PmmYaw);
-        if pmm && c.frequency_hz > 0.0 {
+        if c.kind.is_pmm() && c.frequency_hz > 0.0 {
             DURATION.max(((MIN_PERIODS + 1) as f64 / c.frequency_hz).ceil())
         } else {
             DURATION
@@ -174,24 +184,24 @@ pub fn duration(c: &Candidate) -> f64 {
 pub fn fitted<M: Model>(model: &M, c: &Candidate, speed: f64, s: ForceScale) -> Fitted {
     let duration_s = duration(c);
     let dt = c.dt_s.unwrap_or(DT);
-    let pmm = matches!(c.kind, Kind::PmmSway | Kind::PmmYaw) && c.frequency_hz > 0.0;
-    // whole periods of the record of duration_s / dt samples (harmonic::reduce's count)
-    let periods = pmm.then(|| (duration_s * c.frequency_hz + 1e-6).floor() as usize);
+    let pmm = c.kind.is_pmm() && c.frequency_hz > 0.0;
+    // the whole periods of the record, counted as the captive stage counts them
+    let periods = pmm.then(|| whole_periods(duration_s, 1.0 / c.frequency_hz));
     let fitted_s = periods.map_or(duration_s, |n| n as f64 / c.frequency_hz);
     let samples = ((fitted_s / dt) + 1e-6).floor().max(1.0) as usize;
     let force = FORCE_NOISE_SHARE * 0.5 * s.rho * speed * speed * s.area;
-    let mut default_noise = Vec::new();
     let noise = model
         .force_quantities()
         .iter()
-        .map(|q| {
+        .map(|&q| {
             let moment = matches!(q, Quantity::Mx | Quantity::My | Quantity::Mz);
             let given = c.noise.get(q.key()).copied();
-            if given.is_none() {
-                default_noise.push(q.key().to_string());
+            ForceNoise {
+                quantity: q.key(),
+                sigma: given.unwrap_or(if moment { force * s.length } else { force }),
+                unit: q.si_symbol(),
+                default: given.is_none(),
             }
-            let sigma = given.unwrap_or(if moment { force * s.length } else { force });
-            (q.key().to_string(), sigma)
         })
         .collect();
     Fitted {
@@ -199,7 +209,6 @@ pub fn fitted<M: Model>(model: &M, c: &Candidate, speed: f64, s: ForceScale) -> 
         samples,
         periods,
         noise,
-        default_noise,
     }
 }
 

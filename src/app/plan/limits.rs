@@ -221,7 +221,7 @@ fn timing(c: &Candidate, add: &mut impl FnMut(&str, String)) {
             add("dt_s", m);
         }
     }
-    let pmm = matches!(c.kind, Kind::PmmSway | Kind::PmmYaw);
+    let pmm = c.kind.is_pmm();
     if let (true, Some(d), Some(dt)) = (pmm && c.frequency_hz > 0.0, duration, dt) {
         let f = c.frequency_hz;
         if let Some(m) = limits::sampling(f, dt) {

@@ -96,18 +96,9 @@ fn fitted(f: &super::captive::Fitted) -> String {
     let noise: Vec<String> = f
         .noise
         .iter()
-        .map(|(q, s)| {
-            let default = if f.default_noise.contains(q) {
-                " (default)"
-            } else {
-                ""
-            };
-            let unit = if matches!(q.as_str(), "mx" | "my" | "mz") {
-                "N m"
-            } else {
-                "N"
-            };
-            format!("{q} {} {unit}{default}", num(*s))
+        .map(|n| {
+            let default = if n.default { " (default)" } else { "" };
+            format!("{} {} {}{default}", n.quantity, num(n.sigma), n.unit)
         })
         .collect();
     format!(

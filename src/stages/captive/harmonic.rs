@@ -37,6 +37,12 @@ pub const MIN_PERIODS: usize = 2;
 /// rest of the signal may hold for the motion to count as harmonic.
 const HARMONIC_TOLERANCE: f64 = 0.05;
 
+/// The whole periods of `period` s a record of `duration` s holds (a record of exactly n
+/// periods, up to rounding of its time stamps, holds n).
+pub fn whole_periods(duration: f64, period: f64) -> usize {
+    (duration / period + 1e-6).floor() as usize
+}
+
 /// The prescribed motion of a harmonic run: each state's mean and first-harmonic cosine and
 /// sine parts at frequency `omega`, phase 0 at the start of the first period used.
 #[derive(Debug, Clone, PartialEq)]
@@ -203,7 +209,7 @@ pub fn reduce(
     let period = 2.0 * std::f64::consts::PI / omega;
     let t0 = t[0];
     let dt = median_step(&t);
-    let whole = ((t[t.len() - 1] - t0 + dt) / period + 1e-6).floor() as usize;
+    let whole = whole_periods(t[t.len() - 1] - t0 + dt, period);
     if whole < MIN_PERIODS {
         return Err(ReduceError::TooFewPeriods {
             period,
