@@ -227,10 +227,30 @@ pub fn values_and_jacobian<M: Model>(
     )
 }
 
-/// The posterior covariance after a captive candidate.
-pub fn posterior<M: Model>(model: &M, prior: &Prior, cond: &Condition) -> Result<DMatrix<f64>> {
+/// Zeroes the sensitivities to the parameters `unused` marks: those the HEKF estimates from
+/// its own prior in consider mode (`hekf.mode = "consider"`, docs/hekf.md), whose final
+/// values take nothing from a captive run. The run's information then reaches them only
+/// through their covariance with the coefficients the HEKF holds at the captive values (the
+/// consider analysis's share of their sigmas; Bierman 1977, ch. 7).
+pub fn drop_unused(j: &mut DMatrix<f64>, unused: &[bool]) {
+    for (col, _) in unused.iter().enumerate().filter(|(_, u)| **u) {
+        if col < j.ncols() {
+            j.column_mut(col).fill(0.0);
+        }
+    }
+}
+
+/// The posterior covariance after a captive candidate, the information on the parameters
+/// `unused` marks left out ([`drop_unused`]).
+pub fn posterior<M: Model>(
+    model: &M,
+    prior: &Prior,
+    cond: &Condition,
+    unused: &[bool],
+) -> Result<DMatrix<f64>> {
     let theta = prior.values();
-    let (_, j) = values_and_jacobian(model, prior, cond, &theta);
+    let (_, mut j) = values_and_jacobian(model, prior, cond, &theta);
+    drop_unused(&mut j, unused);
     let sigma = cond.sigma.clone().unwrap_or_default();
     let info = super::information::fisher(&j, &sigma);
     super::information::posterior(&prior.cov, &info).ok_or_else(|| {

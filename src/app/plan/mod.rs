@@ -63,6 +63,20 @@ pub struct Row {
     /// A captive candidate's samples, whole periods and force noise as the plan assumed them.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub fitted: Option<captive::Fitted>,
+    /// A captive candidate planned under consider mode whose information falls on
+    /// coefficients the HEKF estimates from its own prior: its prediction with
+    /// `hekf.mode = "joint"`, where that information is used.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub joint: Option<Joint>,
+}
+
+/// A captive candidate's prediction with `hekf.mode = "joint"`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Joint {
+    /// The targets' predicted sigmas.
+    pub sigma_after: Vec<f64>,
+    /// The D-optimal gain on the targets (nats).
+    pub d_score: f64,
 }
 
 /// A candidate that could not be evaluated.
@@ -91,6 +105,12 @@ pub struct Plan {
     pub sigma_before: Vec<f64>,
     /// Every coefficient the update acts on (the identified ones).
     pub parameters: Vec<String>,
+    /// The HEKF's mode the plan is made in, the configuration's (`consider` or `joint`).
+    pub mode: String,
+    /// In consider mode, the parameters the HEKF estimates from its own prior: a captive
+    /// run's information on them is not used (docs/planner.md, "The configuration's mode").
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub hekf_own: Vec<String>,
     /// The candidates, best first (by D score).
     pub ranked: Vec<Row>,
     /// Candidates that could not be evaluated.
@@ -115,6 +135,9 @@ pub const ASSUMPTIONS: &[&str] = &[
      noise those the filter used on the first fitted run",
     "the information of earlier runs is the current covariance (the identified coefficients; \
      coefficients given in the configuration are exact)",
+    "the plan is made in the configuration's hekf.mode: in consider mode a captive run's \
+     information on a coefficient the HEKF also estimates is not used (the HEKF estimates it \
+     from its own prior); such a candidate's sigmas with hekf.mode = \"joint\" are given beside",
     "the default costs (captive 40, PMM 80, manoeuvre 150 CPU hours) are placeholders; a \
      candidates file gives real ones",
 ];
@@ -153,6 +176,7 @@ pub fn plan_with(
             settings,
             scale,
             progress,
+            hekf,
         },
     )
     .map_err(|p| {
@@ -170,12 +194,22 @@ struct Planner<'a> {
     settings: &'a Settings,
     scale: captive::ForceScale,
     progress: VerifyProgress<'a>,
+    hekf: &'a crate::config::hekf::HekfConfig,
 }
 
 impl ModelVisitor for Planner<'_> {
     type Output = Result<Plan>;
     fn visit<M: Model>(self, model: &M) -> Result<Plan> {
-        let ctx = Context::new(model, self.output, self.settings, self.scale)?;
+        let mut ctx = Context::new(model, self.output, self.settings, self.scale)?;
+        ctx.mode = self.hekf.mode;
+        if self.hekf.mode == crate::config::hekf::Mode::Consider {
+            ctx.unused = ctx
+                .prior
+                .names
+                .iter()
+                .map(|n| self.hekf.estimate.contains(n))
+                .collect();
+        }
         let candidates = if self.settings.candidates.is_empty() {
             candidate::defaults(ctx.abilities())
         } else {
@@ -197,6 +231,11 @@ pub(crate) struct Context<'a, M: Model> {
     /// Target indices into the parameters.
     targets: Vec<usize>,
     scale: captive::ForceScale,
+    /// The configuration's HEKF mode.
+    mode: crate::config::hekf::Mode,
+    /// Per parameter: a captive run's information on it is not used (consider mode, the
+    /// HEKF estimates it from its own prior; [`captive::drop_unused`]).
+    unused: Vec<bool>,
 }
 
 impl<'a, M: Model> Context<'a, M> {
@@ -229,6 +268,7 @@ impl<'a, M: Model> Context<'a, M> {
                 })
                 .collect::<Result<_>>()?
         };
+        let unused = vec![false; prior.names.len()];
         Ok(Context {
             model,
             output,
@@ -236,6 +276,8 @@ impl<'a, M: Model> Context<'a, M> {
             op,
             targets,
             scale,
+            mode: crate::config::hekf::Mode::Consider,
+            unused,
         })
     }
 
@@ -291,25 +333,33 @@ impl<'a, M: Model> Context<'a, M> {
         )))
     }
 
-    /// The posterior covariance after candidate `c`.
-    fn posterior(&self, c: &Candidate) -> Result<DMatrix<f64>> {
-        if c.kind.is_captive() {
-            let cond = captive::condition(self.model, &self.prior, &self.op, c, self.scale)?;
-            captive::posterior(self.model, &self.prior, &cond)
-        } else {
-            manoeuvre::posterior(self.model, &self.prior, &self.op, c)
+    /// The posterior covariance after candidate `c` in the configuration's mode, and for a
+    /// captive candidate whose information that mode leaves partly unused, the one with
+    /// `hekf.mode = "joint"`.
+    fn posterior(&self, c: &Candidate) -> Result<(DMatrix<f64>, Option<DMatrix<f64>>)> {
+        if !c.kind.is_captive() {
+            return manoeuvre::posterior(self.model, &self.prior, &self.op, c).map(|p| (p, None));
         }
+        let cond = captive::condition(self.model, &self.prior, &self.op, c, self.scale)?;
+        let post = captive::posterior(self.model, &self.prior, &cond, &self.unused)?;
+        let joint = if self.unused.iter().any(|u| *u) {
+            let none = vec![false; self.unused.len()];
+            Some(captive::posterior(self.model, &self.prior, &cond, &none)?)
+        } else {
+            None
+        };
+        Ok((post, joint))
     }
 
     /// Every candidate evaluated (in parallel) and ranked by D score, ties by name.
     fn rank(&self, candidates: &[Candidate]) -> Plan {
-        let results: Vec<Result<DMatrix<f64>>> =
-            candidates.par_iter().map(|c| self.posterior(c)).collect();
+        type Posteriors = Result<(DMatrix<f64>, Option<DMatrix<f64>>)>;
+        let results: Vec<Posteriors> = candidates.par_iter().map(|c| self.posterior(c)).collect();
         let mut ranked = Vec::new();
         let mut skipped = Vec::new();
         for (c, r) in candidates.iter().zip(results) {
             match r {
-                Ok(post) => ranked.push(self.row(c, &post)),
+                Ok((post, joint)) => ranked.push(self.row(c, &post, joint.as_ref())),
                 Err(e) => skipped.push(Skipped {
                     name: c.name.clone(),
                     reason: e.to_string(),
@@ -355,6 +405,19 @@ impl<'a, M: Model> Context<'a, M> {
             sigma_before: self.targets.iter().map(|&i| sigma[i]).collect(),
             targets: names,
             parameters: self.prior.names.clone(),
+            mode: match self.mode {
+                crate::config::hekf::Mode::Consider => "consider",
+                crate::config::hekf::Mode::Joint => "joint",
+            }
+            .into(),
+            hekf_own: self
+                .prior
+                .names
+                .iter()
+                .zip(&self.unused)
+                .filter(|(_, u)| **u)
+                .map(|(n, _)| n.clone())
+                .collect(),
             ranked,
             skipped,
             assumptions: ASSUMPTIONS.iter().map(|s| s.to_string()).collect(),
@@ -362,23 +425,29 @@ impl<'a, M: Model> Context<'a, M> {
         }
     }
 
-    fn row(&self, c: &Candidate, post: &DMatrix<f64>) -> Row {
+    fn row(&self, c: &Candidate, post: &DMatrix<f64>, joint: Option<&DMatrix<f64>>) -> Row {
         let s = information::scores(&self.prior.cov, post, &self.targets);
+        let sigmas = |p: &DMatrix<f64>| -> Vec<f64> {
+            self.targets
+                .iter()
+                .map(|&i| p[(i, i)].max(0.0).sqrt())
+                .collect()
+        };
         Row {
             rank: 0,
             candidate: c.clone(),
             parameters: c.parameters(),
-            sigma_after: self
-                .targets
-                .iter()
-                .map(|&i| post[(i, i)].max(0.0).sqrt())
-                .collect(),
+            sigma_after: sigmas(post),
             d_score: s.d,
             a_score: s.a,
             d_per_cost: s.d / c.cost,
             rank_per_cost: 0,
             fitted: c.kind.is_captive().then(|| {
                 captive::fitted(self.model, c, c.speed.unwrap_or(self.op.speed), self.scale)
+            }),
+            joint: joint.map(|p| Joint {
+                sigma_after: sigmas(p),
+                d_score: information::scores(&self.prior.cov, p, &self.targets).d,
             }),
         }
     }

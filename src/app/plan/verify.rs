@@ -183,7 +183,9 @@ fn captive_update<M: Model>(
         sigma.iter().map(|s| s * s),
     ));
     for _ in 0..ITERATIONS {
-        let (h, j) = captive::values_and_jacobian(ctx.model, &ctx.prior, cond, theta.as_slice());
+        let (h, mut j) =
+            captive::values_and_jacobian(ctx.model, &ctx.prior, cond, theta.as_slice());
+        captive::drop_unused(&mut j, &ctx.unused);
         let pjt = &ctx.prior.cov * j.transpose();
         let s = &j * &pjt + &r;
         let innovation = DVector::from_column_slice(y) - DVector::from_vec(h) - &j * (&p0 - &theta);

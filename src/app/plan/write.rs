@@ -64,6 +64,7 @@ pub fn table(plan: &Plan) -> String {
     }
     let right: Vec<bool> = (0..header.len()).map(|i| i == 0 || i > 3).collect();
     let mut s = markdown_table(&header, &rows, &right);
+    s.push_str(&joint_note(plan));
     if !plan.verification.is_empty() {
         let mut head = vec!["verified candidate".to_string(), "replicas".into()];
         for t in &plan.targets {
@@ -88,6 +89,66 @@ pub fn table(plan: &Plan) -> String {
         s.push_str(&markdown_table(&head, &rows, &right));
     }
     s
+}
+
+/// A predicted sigma this much below the configured mode's counts as paying off in joint
+/// mode only.
+const JOINT_GAIN: f64 = 0.01;
+
+/// Rows of the joint-mode table at most (best by their D score in joint mode).
+const JOINT_ROWS: usize = 5;
+
+/// Under consider mode: the captive candidates whose information on the HEKF's own
+/// coefficients is not used, with their targets' sigmas under `hekf.mode = "joint"`; empty
+/// when there are none.
+fn joint_note(plan: &Plan) -> String {
+    let mut paying: Vec<&super::Row> = plan
+        .ranked
+        .iter()
+        .filter(|row| {
+            row.joint.as_ref().is_some_and(|j| {
+                j.sigma_after
+                    .iter()
+                    .zip(&row.sigma_after)
+                    .any(|(j, c)| *j < (1.0 - JOINT_GAIN) * c)
+            })
+        })
+        .collect();
+    paying.sort_by(|a, b| {
+        let d = |r: &super::Row| r.joint.as_ref().map_or(0.0, |j| j.d_score);
+        d(b).total_cmp(&d(a))
+            .then_with(|| a.candidate.name.cmp(&b.candidate.name))
+    });
+    let rows: Vec<Vec<String>> = paying
+        .iter()
+        .take(JOINT_ROWS)
+        .map(|row| {
+            let joint = row.joint.as_ref().expect("filtered");
+            let mut r = vec![row.candidate.name.clone(), row.rank.to_string()];
+            r.extend(joint.sigma_after.iter().map(|s| num(*s)));
+            r.push(format!("{:.3}", joint.d_score));
+            r
+        })
+        .collect();
+    if rows.is_empty() {
+        return String::new();
+    }
+    let mut head = vec![
+        "with hekf.mode = \"joint\"".to_string(),
+        "rank as configured".into(),
+    ];
+    head.extend(plan.targets.iter().map(|t| format!("sigma {t}")));
+    head.push("D score".into());
+    let right: Vec<bool> = (0..head.len()).map(|i| i > 0).collect();
+    format!(
+        "\nPlanned in the configuration's mode, hekf.mode = \"{}\": the HEKF estimates {} from \
+         its own prior, so a captive run's information on them is not used. The captive \
+         candidates that would pay off most with hekf.mode = \"joint\" in [hekf] (an earlier stage's \
+         estimate is then the HEKF's prior):\n\n{}",
+        plan.mode,
+        plan.hekf_own.join(", "),
+        markdown_table(&head, &rows, &right)
+    )
 }
 
 /// A captive candidate's fitted record in words: the whole periods and samples the stage
