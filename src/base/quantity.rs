@@ -342,6 +342,19 @@ impl fmt::Display for Quantity {
     }
 }
 
+/// Unwraps `values` (radians, one per row) when they are an attitude history: the roll, pitch
+/// or yaw (heading) of a record with a time axis, which a solver writes wrapped to
+/// (-180, 180] deg. Nothing else is unwrapped: the rows of a polar sweep's angle of attack,
+/// a drift angle or a rudder angle are settings, not a continuous history (a sweep from -120
+/// to 120 deg repeated at a second speed must stay as written). Returns true when unwrapped.
+pub fn unwrap_attitude(q: Quantity, time_history: bool, values: &mut [f64]) -> bool {
+    let attitude = time_history && q.is_euler_angle();
+    if attitude {
+        crate::base::units::unwrap_angles(values);
+    }
+    attitude
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -7,7 +7,6 @@
 //! Accepted spellings include everything listed in docs/formats.md: `m s^-1`, `m/s`, `m.s-1`,
 //! `degree s^-1`, `deg/s`, `N-m`, `N m`, `kg m^2`, `kg.m2`, `1/s`, `rpm`, `kn`, `-` and `1`.
 
-use crate::base::quantity::Quantity;
 use std::f64::consts::PI;
 use std::fmt;
 
@@ -424,19 +423,6 @@ pub fn check_dim(unit: &Unit, expected: Dim) -> Result<(), String> {
         dim_words(expected),
         dim_example(expected)
     ))
-}
-
-/// Unwraps `values` (radians, one per row) when they are an attitude history: the roll, pitch
-/// or yaw (heading) of a record with a time axis, which a solver writes wrapped to
-/// (-180, 180] deg. Nothing else is unwrapped: the rows of a polar sweep's angle of attack,
-/// a drift angle or a rudder angle are settings, not a continuous history (a sweep from -120
-/// to 120 deg repeated at a second speed must stay as written). Returns true when unwrapped.
-pub fn unwrap_attitude(q: Quantity, time_history: bool, values: &mut [f64]) -> bool {
-    let attitude = time_history && q.is_euler_angle();
-    if attitude {
-        unwrap_angles(values);
-    }
-    attitude
 }
 
 /// Removes 2 pi jumps from a sampled angle (radians) in place, so that a heading that

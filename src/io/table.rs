@@ -114,7 +114,7 @@ impl Table {
     /// Converts the columns whose unit is known to SI and, when the time column is known,
     /// checks it and tidies repeated time stamps ([`Table::drop_repeated_times`] with the
     /// sampling interval `dt` in s when the configuration gives one). Angles stay as written (in radians): only the record knows
-    /// which column is an attitude history to unwrap ([`crate::base::units::unwrap_attitude`]).
+    /// which column is an attitude history to unwrap ([`crate::base::quantity::unwrap_attitude`]).
     pub fn finish(&mut self, dt: Option<f64>) -> Result<(), InputError> {
         for c in &mut self.columns {
             if let Some(u) = &c.unit {

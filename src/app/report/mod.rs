@@ -66,6 +66,9 @@ pub fn write(staging: &Staging, loaded: &LoadedConfig, out: &RunOutput) -> Resul
     staging.write(INPUTS_JSON, &to_json(&out.result.inputs)?)?;
     staging.write(COEFFICIENTS_CSV, &coefficients_csv(&out.result)?)?;
     states::write(staging, out)?;
+    if let Some(a) = out.result.autopilot.as_ref() {
+        autopilot_series::write(staging, a)?;
+    }
     staging.write(CONFIG_TOML, effective_config(loaded).as_bytes())?;
     let base_dir = std::fs::canonicalize(if loaded.base_dir.as_os_str().is_empty() {
         std::path::Path::new(".")

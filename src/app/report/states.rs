@@ -10,12 +10,8 @@ use crate::stages::hekf::states::Table;
 use std::fmt::Write as _;
 use std::io::Write;
 
-/// Writes every HEKF run's state series and every autopilot run's series into the staging
-/// folder.
+/// Writes every HEKF run's state series into the staging folder.
 pub fn write(staging: &Staging, out: &RunOutput) -> Result<()> {
-    if let Some(a) = out.result.autopilot.as_ref() {
-        super::autopilot_series::write(staging, a)?;
-    }
     let Some(h) = out.result.stages.hekf.as_ref() else {
         return Ok(());
     };

@@ -47,7 +47,7 @@ impl RunMeasures {
     }
 
     /// The side of the (first) turn.
-    pub fn side(&self) -> Option<super::Side> {
+    pub fn side(&self) -> Option<super::measure::Side> {
         match (&self.turning_circle, &self.zigzag) {
             (_, Some(z)) => Some(z.side),
             (Some(t), None) => Some(t.side),
@@ -64,7 +64,7 @@ impl RunMeasures {
         }
     }
 
-    /// The notes a table of these measures carries ([`super::ComparisonTable::with_notes`]):
+    /// The notes a table of these measures carries ([`super::table::ComparisonTable::with_notes`]):
     /// where the nominal angles come from and why IMO criteria are not judged, for `who`
     /// ("measured", "identified model").
     pub fn notes(&self, who: &str) -> Vec<String> {

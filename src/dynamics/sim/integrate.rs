@@ -1,7 +1,7 @@
 //! Fixed-step classical RK4 integration of a model (Butcher 2008, section 32; the stepper is
 //! [`crate::numerics::ode::Rk4`], shared with the hybrid EKF).
 
-use super::InputSeries;
+use super::inputs::InputSeries;
 use crate::model::coefficients::CoefficientSet;
 use crate::model::models::Model;
 use crate::numerics::ode::{self, Rk4};

@@ -8,6 +8,9 @@
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, MutexGuard, Once};
 
+/// The staging marker's file name.
+pub const STAGING_MARKER: &str = ".hydroid-staging";
+
 /// Paths being written, to remove if a signal ends the process.
 static ACTIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 static INSTALL: Once = Once::new();
@@ -75,7 +78,7 @@ pub(crate) fn remove(p: &Path) {
         Ok(m) if m.is_dir() => {
             if let Ok(entries) = std::fs::read_dir(p) {
                 for e in entries.flatten() {
-                    if e.file_name() != super::sweep::STAGING_MARKER {
+                    if e.file_name() != STAGING_MARKER {
                         remove(&e.path());
                     }
                 }

@@ -13,7 +13,6 @@
 //! input's place on the same equation, and one that explains the misfit within
 //! [`EXPLAINS`] of that stage's own sigmas is named beside the input.
 
-use super::{Finding, STAGE};
 use crate::base::warning::Warning;
 use crate::dynamics::model_system::ModelSystem;
 use crate::dynamics::sim::inputs::{Input, InputSeries};
@@ -22,6 +21,8 @@ use crate::model::models::Model;
 use crate::numerics::estimation::System;
 use crate::numerics::ode::StageTime;
 use crate::stages::hekf::identify::RunData;
+use crate::stages::hekf::STAGE;
+use crate::stages::plausible::Finding;
 use nalgebra::{DMatrix, DVector};
 
 /// Samples used at most (evenly spread): enough for a precise fit, bounded for long runs.
