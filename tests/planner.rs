@@ -218,7 +218,7 @@ fn plan_writes_into_an_output_folder_and_refuses_a_bad_candidates_file() {
         &cands,
         "[[candidate]]\nname = \"yaw\"\nkind = \"pmm_yaw\"\namplitude = 15.0\n\
          frequency_hz = 0.5\ncost = 2\n\n[[candidate]]\nname = \"drift\"\nkind = \"static\"\n\
-         drift_deg = 8.0\n",
+         drift_deg = 8.0\nnoise = { fy = \"0.0002 kN\" }\n",
     )
     .unwrap();
     for _ in 0..2 {
@@ -243,6 +243,21 @@ fn plan_writes_into_an_output_folder_and_refuses_a_bad_candidates_file() {
         serde_json::from_str(&std::fs::read_to_string(out.join("plan.json")).unwrap()).unwrap();
     assert_eq!(json["schema"], "hydroid-plan/1");
     assert_eq!(json["ranked"].as_array().unwrap().len(), 2);
+    // a noise given with its unit (issue 49, item 2): 0.0002 kN is 0.2 N per sample, the
+    // candidate's own, as written in the candidate
+    let drift = &json["ranked"][0];
+    assert_eq!(drift["candidate"]["noise"]["fy"], "0.0002 kN");
+    let fy = drift["fitted"]["noise"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|n| n["quantity"] == "fy")
+        .unwrap();
+    assert!((fy["sigma"].as_f64().unwrap() - 0.2).abs() < 1e-12, "{fy}");
+    assert_eq!(
+        (fy["unit"].as_str(), fy["default"].as_bool()),
+        (Some("N"), Some(false))
+    );
     assert!(out.join("plan.md").is_file() && out.join("plots/plan.svg").is_file());
     let marker = std::fs::read_to_string(out.join(".hydroid-output.json")).unwrap();
     assert!(marker.contains("plan.json") && marker.contains("plots/plan.svg"));

@@ -95,11 +95,12 @@ pub struct Candidate {
     /// Sample interval, s (default: captive 0.01 s, manoeuvres the first fitted run's).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub dt_s: Option<f64>,
-    /// Expected noise standard deviation of each measured channel per sample, SI, by
-    /// quantity key (`fx`, `fy`, `mz`; `u`, `v`, `r`, `yaw` ...); missing ones take the
-    /// planner's defaults (docs/planner.md).
+    /// Expected noise standard deviation of each measured channel per sample, by quantity
+    /// key (`fx`, `fy`, `mz`; `u`, `v`, `r`, `yaw` ...): a number in SI or a string with its
+    /// unit (`"0.2 N"`, `"0.05 deg"`); missing ones take the planner's defaults
+    /// (docs/planner.md).
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
-    pub noise: BTreeMap<String, f64>,
+    pub noise: BTreeMap<String, crate::base::si::Constant>,
     /// Cost, CPU hours (or any unit, the same for all candidates).
     #[serde(default = "one")]
     pub cost: f64,

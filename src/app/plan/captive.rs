@@ -195,7 +195,7 @@ pub fn fitted<M: Model>(model: &M, c: &Candidate, speed: f64, s: ForceScale) -> 
         .iter()
         .map(|&q| {
             let moment = matches!(q, Quantity::Mx | Quantity::My | Quantity::Mz);
-            let given = c.noise.get(q.key()).copied();
+            let given = c.noise.get(q.key()).map(|n| n.si);
             ForceNoise {
                 quantity: q.key(),
                 sigma: given.unwrap_or(if moment { force * s.length } else { force }),

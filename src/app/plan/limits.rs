@@ -352,10 +352,16 @@ fn noise(c: &Candidate, add: &mut impl FnMut(&str, String)) {
             );
             continue;
         };
-        if !(v.is_finite() && *v > 0.0) {
-            add(&key, format!("noise.{k} must be positive, not {v}"));
+        // a unit that does not measure the channel's quantity ("0.2 m/s" for a force)
+        if let Err(m) = v.expect_dim(q.dim()) {
+            add(&key, format!("noise.{k} = {m}"));
+            continue;
+        }
+        let si = v.si;
+        if !(si.is_finite() && si > 0.0) {
+            add(&key, format!("noise.{k} must be positive, not {}", v.text));
         } else if let Some(m) =
-            limits::magnitude(q, *v, &format!("{} {}", short(*v), q.si_symbol()))
+            limits::magnitude(q, si, &format!("{} {}", short(si), q.si_symbol()))
         {
             add(&key, m);
         }

@@ -105,7 +105,7 @@ pub fn simulate_run<M: Model>(
     for (q, s) in &op.measured {
         if let Some(i) = model.output_index(*q) {
             measured.push(i);
-            sigma.push(c.noise.get(q.key()).copied().unwrap_or(*s));
+            sigma.push(c.noise.get(q.key()).map_or(*s, |n| n.si));
         }
     }
     Ok(Run {

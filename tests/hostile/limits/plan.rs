@@ -473,9 +473,14 @@ fn noise() -> Vec<Case> {
             refused(&["candidate[0].noise.yaw", "rad"]),
         ),
         s(
-            "noise as text",
-            "kind = \"static\"\ndrift_deg = 5.0\nnoise = { fx = \"0.02 N\" }",
-            refused(&["candidate[0].noise.fx"]),
+            "noise with units",
+            "kind = \"static\"\ndrift_deg = 5.0\nnoise = { fx = \"0.02 N\", mz = \"0.05 N m\" }",
+            Expect::Fine,
+        ),
+        s(
+            "noise in another quantity's unit",
+            "kind = \"static\"\ndrift_deg = 5.0\nnoise = { fx = \"0.02 m/s\" }",
+            refused(&["candidate[0].noise.fx", "0.02 m/s", "expected a force"]),
         ),
         // measured or not: after the identification
         s(
