@@ -49,6 +49,14 @@ impl Mode {
     fn is_default(&self) -> bool {
         *self == Mode::default()
     }
+
+    /// The name a configuration writes (`hekf.mode`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Mode::Consider => "consider",
+            Mode::Joint => "joint",
+        }
+    }
 }
 
 /// The innovation gate when `hekf.gate` is not given, in standard deviations: far beyond

@@ -2,8 +2,7 @@
 //! configuration's column map, with the checks every stage relies on.
 
 use crate::base::error::{InputError, Place};
-use crate::base::quantity::unwrap_attitude;
-use crate::base::quantity::Quantity;
+use crate::base::quantity::{unwrap_attitude, Quantity};
 use crate::base::units::{dim_to_string, Unit};
 use crate::io::formats::{self, Format};
 use crate::io::input_spec::{ColumnSpec, InputSpec, VelocityFrame};

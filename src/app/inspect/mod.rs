@@ -7,8 +7,7 @@
 mod guess;
 
 use crate::base::error::InputError;
-use crate::base::quantity::unwrap_attitude;
-use crate::base::quantity::Quantity;
+use crate::base::quantity::{unwrap_attitude, Quantity};
 use crate::base::units::{dim_to_string, Unit};
 use crate::io::formats::{self, FormatChoice, ReadOptions};
 use crate::io::table::Table;

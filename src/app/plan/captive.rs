@@ -241,7 +241,7 @@ pub fn drop_unused(j: &mut DMatrix<f64>, unused: &[bool]) {
 }
 
 /// The posterior covariance after a captive candidate, the information on the parameters
-/// `unused` marks left out ([`drop_unused`]).
+/// `unused` marks left out ([`drop_unused`]; none when empty).
 pub fn posterior<M: Model>(
     model: &M,
     prior: &Prior,

@@ -200,16 +200,7 @@ struct Planner<'a> {
 impl ModelVisitor for Planner<'_> {
     type Output = Result<Plan>;
     fn visit<M: Model>(self, model: &M) -> Result<Plan> {
-        let mut ctx = Context::new(model, self.output, self.settings, self.scale)?;
-        ctx.mode = self.hekf.mode;
-        if self.hekf.mode == crate::config::hekf::Mode::Consider {
-            ctx.unused = ctx
-                .prior
-                .names
-                .iter()
-                .map(|n| self.hekf.estimate.contains(n))
-                .collect();
-        }
+        let ctx = Context::new(model, self.output, self.settings, (self.scale, self.hekf))?;
         let candidates = if self.settings.candidates.is_empty() {
             candidate::defaults(ctx.abilities())
         } else {
@@ -243,7 +234,7 @@ impl<'a, M: Model> Context<'a, M> {
         model: &'a M,
         output: &'a RunOutput,
         settings: &Settings,
-        scale: captive::ForceScale,
+        (scale, hekf): (captive::ForceScale, &crate::config::hekf::HekfConfig),
     ) -> Result<Self> {
         let prior = prior::prior(model, output)?;
         let op = prior::operating(model, output)?;
@@ -268,7 +259,12 @@ impl<'a, M: Model> Context<'a, M> {
                 })
                 .collect::<Result<_>>()?
         };
-        let unused = vec![false; prior.names.len()];
+        let consider = hekf.mode == crate::config::hekf::Mode::Consider;
+        let unused = prior
+            .names
+            .iter()
+            .map(|n| consider && hekf.estimate.contains(n))
+            .collect();
         Ok(Context {
             model,
             output,
@@ -276,7 +272,7 @@ impl<'a, M: Model> Context<'a, M> {
             op,
             targets,
             scale,
-            mode: crate::config::hekf::Mode::Consider,
+            mode: hekf.mode,
             unused,
         })
     }
@@ -343,8 +339,7 @@ impl<'a, M: Model> Context<'a, M> {
         let cond = captive::condition(self.model, &self.prior, &self.op, c, self.scale)?;
         let post = captive::posterior(self.model, &self.prior, &cond, &self.unused)?;
         let joint = if self.unused.iter().any(|u| *u) {
-            let none = vec![false; self.unused.len()];
-            Some(captive::posterior(self.model, &self.prior, &cond, &none)?)
+            Some(captive::posterior(self.model, &self.prior, &cond, &[])?)
         } else {
             None
         };
@@ -405,11 +400,7 @@ impl<'a, M: Model> Context<'a, M> {
             sigma_before: self.targets.iter().map(|&i| sigma[i]).collect(),
             targets: names,
             parameters: self.prior.names.clone(),
-            mode: match self.mode {
-                crate::config::hekf::Mode::Consider => "consider",
-                crate::config::hekf::Mode::Joint => "joint",
-            }
-            .into(),
+            mode: self.mode.name().into(),
             hekf_own: self
                 .prior
                 .names

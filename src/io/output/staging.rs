@@ -14,7 +14,8 @@
 use super::marker::{inspect, Found, Marker, MARKER};
 use super::protect::Protected;
 use super::signals;
-use super::sweep::{staging_path, sweep, StagingMarker, ASIDE, STAGING_FORMAT, STAGING_MARKER};
+use super::signals::STAGING_MARKER;
+use super::sweep::{staging_path, sweep, StagingMarker, ASIDE, STAGING_FORMAT};
 use crate::base::error::{Error, Result};
 use std::fs::File;
 use std::io::Write;

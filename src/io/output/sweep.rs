@@ -12,7 +12,7 @@
 use std::fs::{File, TryLockError};
 use std::path::{Path, PathBuf};
 
-pub use super::signals::STAGING_MARKER;
+use super::signals::STAGING_MARKER;
 /// The staging marker's format tag.
 pub(crate) const STAGING_FORMAT: &str = "hydroid-staging/1";
 /// The sub-folder of a staging folder holding the old output during a replacement.
