@@ -1,8 +1,9 @@
 //! `hydroid calibrate OUTDIR` (docs/calibrate.md): the parametric bootstrap of the bundled
 //! spheroid joint twin agrees with the coverage study (tests/coverage.rs: 100 seeds
 //! re-simulated from the truth, 96.2 % within 2 sigma and 73.2 % within 1 sigma), a noise
-//! model set 10 times too small is flagged, a folder that is not an untouched output is
-//! refused naming what is wrong, and the same seed gives the same bytes.
+//! model set 10 times too small is flagged, and the same seed gives the same bytes. A module
+//! of the studies target (tests/studies.rs); calibrate as a writer of outputs is tested in
+//! tests/calibrate_output.rs.
 
 use crate::common;
 
@@ -20,21 +21,6 @@ fn joint_run(example: &Path, set: &[&str]) -> std::path::PathBuf {
     out
 }
 
-/// `hydroid calibrate OUT --replicas N --json -q` plus `extra`.
-fn calibrate(out: &Path, replicas: usize, extra: &[&str]) -> std::process::Output {
-    let n = replicas.to_string();
-    let mut args = vec![
-        "calibrate",
-        out.to_str().unwrap(),
-        "--replicas",
-        &n,
-        "--json",
-        "-q",
-    ];
-    args.extend(extra);
-    common::hydroid(&args)
-}
-
 fn parsed(o: &std::process::Output) -> serde_json::Value {
     serde_json::from_slice(&o.stdout).unwrap_or_else(|e| {
         panic!(
@@ -49,7 +35,7 @@ fn parsed(o: &std::process::Output) -> serde_json::Value {
 fn the_spheroid_replicas_agree_with_the_coverage_study() {
     let example = common::example_copy();
     let out = joint_run(example.path(), &[]);
-    let o = calibrate(&out, REPLICAS, &[]);
+    let o = common::calibrate(&out, REPLICAS, &[]);
     assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
     let c = parsed(&o);
     assert_eq!(c["converged"], REPLICAS, "{c}");
@@ -114,9 +100,9 @@ fn the_spheroid_replicas_agree_with_the_coverage_study() {
     assert!(out.join("calibration.md").is_file());
     // the folder stays hydroid's (calibrate records its files in the marker): a rerun
     // would replace it, and calibrate runs on it again; the same seed gives the same bytes
-    let a = calibrate(&out, 3, &[]);
+    let a = common::calibrate(&out, 3, &[]);
     let first = std::fs::read(out.join("calibration.json")).unwrap();
-    let b = calibrate(&out, 3, &[]);
+    let b = common::calibrate(&out, 3, &[]);
     let second = std::fs::read(out.join("calibration.json")).unwrap();
     assert_eq!(a.status.code(), Some(0), "{}", common::text(&a.stderr));
     assert_eq!(b.status.code(), Some(0), "{}", common::text(&b.stderr));
@@ -134,7 +120,7 @@ fn the_default_example_calibrates_its_surge_run_and_names_what_the_manoeuvre_lea
     let out = example.path().join("out");
     let o = common::run_config(&example.path().join("configs/spheroid.toml"), &out, &[]);
     assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
-    let o = calibrate(&out, REPLICAS, &[]);
+    let o = common::calibrate(&out, REPLICAS, &[]);
     assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
     let c = parsed(&o);
     assert_eq!(c["converged"], REPLICAS, "{c}");
@@ -180,7 +166,7 @@ fn the_nomoto_replicas_carry_the_waves() {
     let out = example.path().join("out");
     let o = common::run_config(&example.path().join("configs/nomoto.toml"), &out, &[]);
     assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
-    let o = calibrate(&out, 8, &[]);
+    let o = common::calibrate(&out, 8, &[]);
     assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
     let c = parsed(&o);
     assert_eq!(c["converged"], 8, "{c}");
@@ -216,7 +202,7 @@ fn a_noise_model_ten_times_too_small_is_flagged() {
         .collect();
     let set: Vec<&str> = set.iter().map(String::as_str).collect();
     let out = joint_run(example.path(), &set);
-    let o = calibrate(&out, 12, &["--strict"]);
+    let o = common::calibrate(&out, 12, &["--strict"]);
     let stderr = common::text(&o.stderr);
     assert_eq!(o.status.code(), Some(3), "{stderr}");
     assert!(
@@ -227,97 +213,6 @@ fn a_noise_model_ten_times_too_small_is_flagged() {
     let xuu = common::named(&c["coefficients"], "Xuu");
     assert!(xuu["spread_ratio"].as_f64().unwrap() > 1.5, "{xuu}");
     assert!(c["overall"]["within_2"].as_f64().unwrap() < 0.9, "{c}");
-}
-
-#[test]
-fn calibrate_refuses_what_is_not_an_untouched_output() {
-    let example = common::example_copy();
-    // a folder hydroid did not write
-    let configs = example.path().join("configs");
-    let o = calibrate(&configs, 2, &[]);
-    let stderr = common::text(&o.stderr);
-    assert_ne!(o.status.code(), Some(0));
-    assert!(
-        stderr.contains(&format!(
-            "{} is not an output folder of `hydroid run`",
-            configs.display()
-        )),
-        "{stderr}"
-    );
-    assert!(!configs.join("calibration.json").exists());
-    // no folder at all
-    let o = calibrate(&example.path().join("nowhere"), 2, &[]);
-    assert!(common::text(&o.stderr).contains("no such output folder"));
-    // an output whose recorded configuration was edited
-    let out = joint_run(example.path(), &[]);
-    let config = out.join("config.toml");
-    let mut text = std::fs::read_to_string(&config).unwrap();
-    text.push_str("\n# edited\n");
-    std::fs::write(&config, text).unwrap();
-    let o = calibrate(&out, 2, &[]);
-    let stderr = common::text(&o.stderr);
-    assert_ne!(o.status.code(), Some(0));
-    assert!(stderr.contains("refusing to calibrate"), "{stderr}");
-    assert!(stderr.contains("config.toml"), "{stderr}");
-    assert!(!out.join("calibration.json").exists());
-}
-
-/// A folder another run replaced while `calibrate` or `plan` ran is not written into (issue
-/// 48). Before writing, each waits for the lock on the folder it read (docs/outputs.md,
-/// "Adding to an output"), which this test holds as a reader; once the command has read the
-/// folder (its first note), the test puts another output in its place and lets go: the
-/// command then finds another folder at the name, refuses and writes nothing in either.
-/// The order is set by the lock, not by timing.
-#[test]
-fn a_folder_replaced_while_calibrate_or_plan_runs_is_not_written() {
-    use crate::hostile::{copy_run_output, snapshot};
-    use std::io::{BufRead, Read};
-    use std::process::{Command, Stdio};
-    for (verb, extra) in [("calibrate", &["--replicas", "2"][..]), ("plan", &[][..])] {
-        let example = common::example_copy();
-        let d = example.path();
-        copy_run_output(d, "configs/spheroid.toml", &[], "a");
-        copy_run_output(d, "configs/spheroid.toml", &[], "b");
-        let (a, b, old) = (d.join("out/a"), d.join("out/b"), d.join("out/old"));
-        let held = std::fs::File::open(&a).unwrap();
-        held.lock_shared().unwrap();
-        let mut child = Command::new(env!("CARGO_BIN_EXE_hydroid"))
-            .arg(verb)
-            .arg("out/a")
-            .args(extra)
-            .current_dir(d)
-            .stdout(Stdio::null())
-            .stderr(Stdio::piped())
-            .spawn()
-            .unwrap();
-        let mut err = std::io::BufReader::new(child.stderr.take().unwrap());
-        let mut said = String::new();
-        loop {
-            let mut line = String::new();
-            let n = err.read_line(&mut line).unwrap();
-            assert!(n > 0, "{verb} ended before reading the folder: {said}");
-            said.push_str(&line);
-            if line.starts_with(&format!("{verb}:")) {
-                break;
-            }
-        }
-        // another run's output in place of the one read (the same run: the same files)
-        std::fs::rename(&a, &old).unwrap();
-        std::fs::rename(&b, &a).unwrap();
-        let before = (snapshot(&a), snapshot(&old));
-        drop(held);
-        err.read_to_string(&mut said).unwrap();
-        let status = child.wait().unwrap();
-        assert_eq!(status.code(), Some(2), "{verb}: {said}");
-        let expected =
-            format!("out/a was replaced by another run while {verb} ran; nothing written");
-        assert!(said.contains(&expected), "{verb}: {said}");
-        assert_eq!(
-            (snapshot(&a), snapshot(&old)),
-            before,
-            "{verb} wrote something"
-        );
-    }
 }
 
 /// Coefficients by name: (value, sigma).
@@ -351,7 +246,7 @@ fn the_settings_row_is_what_runs_with_those_settings_give() {
     assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
     let original = common::json(&out.join("results.json"));
     let base = values(&original);
-    let o = calibrate(&out, 2, &[]);
+    let o = common::calibrate(&out, 2, &[]);
     assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
     let c = parsed(&o);
     let variants = c["settings"]["variants"].as_array().unwrap();

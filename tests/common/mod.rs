@@ -120,6 +120,21 @@ pub fn hydroid(args: &[&str]) -> Output {
     hydroid_in(&root(), args)
 }
 
+/// `hydroid calibrate OUT --replicas N --json -q` plus `extra`.
+pub fn calibrate(out: &Path, replicas: usize, extra: &[&str]) -> std::process::Output {
+    let n = replicas.to_string();
+    let mut args = vec![
+        "calibrate",
+        out.to_str().unwrap(),
+        "--replicas",
+        &n,
+        "--json",
+        "-q",
+    ];
+    args.extend(extra);
+    hydroid(&args)
+}
+
 /// `hydroid run CONFIG --out OUT` with each of `set` as a `--set` override.
 pub fn run_config(config: &Path, out: &Path, set: &[&str]) -> Output {
     let mut args = vec![
