@@ -12,15 +12,6 @@ use std::path::Path;
 /// Replicas of the agreement test.
 const REPLICAS: usize = 24;
 
-/// The run whose output is checked: configs/spheroid_joint.toml of an example copy, with
-/// `set` overrides.
-fn joint_run(example: &Path, set: &[&str]) -> std::path::PathBuf {
-    let out = example.join("out");
-    let o = common::run_config(&example.join("configs/spheroid_joint.toml"), &out, set);
-    assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
-    out
-}
-
 fn parsed(o: &std::process::Output) -> serde_json::Value {
     serde_json::from_slice(&o.stdout).unwrap_or_else(|e| {
         panic!(
@@ -34,7 +25,7 @@ fn parsed(o: &std::process::Output) -> serde_json::Value {
 #[test]
 fn the_spheroid_replicas_agree_with_the_coverage_study() {
     let example = common::example_copy();
-    let out = joint_run(example.path(), &[]);
+    let out = common::joint_run(example.path(), &[]);
     let o = common::calibrate(&out, REPLICAS, &[]);
     assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
     let c = parsed(&o);
@@ -201,7 +192,7 @@ fn a_noise_model_ten_times_too_small_is_flagged() {
         .map(|q| format!("hekf.noise.{q}=0.0001"))
         .collect();
     let set: Vec<&str> = set.iter().map(String::as_str).collect();
-    let out = joint_run(example.path(), &set);
+    let out = common::joint_run(example.path(), &set);
     let o = common::calibrate(&out, 12, &["--strict"]);
     let stderr = common::text(&o.stderr);
     assert_eq!(o.status.code(), Some(3), "{stderr}");

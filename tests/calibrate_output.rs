@@ -25,10 +25,7 @@ fn calibrate_refuses_what_is_not_an_untouched_output() {
     let o = common::calibrate(&example.path().join("nowhere"), 2, &[]);
     assert!(common::text(&o.stderr).contains("no such output folder"));
     // an output whose recorded configuration was edited
-    let out = example.path().join("out");
-    let config = example.path().join("configs/spheroid_joint.toml");
-    let o = common::run_config(&config, &out, &[]);
-    assert_eq!(o.status.code(), Some(0), "{}", common::text(&o.stderr));
+    let out = common::joint_run(example.path(), &[]);
     let config = out.join("config.toml");
     let mut text = std::fs::read_to_string(&config).unwrap();
     text.push_str("\n# edited\n");

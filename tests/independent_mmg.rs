@@ -172,7 +172,7 @@ const SEEDS: u64 = 20;
 /// `case` over [`SEEDS`] noise seeds (2801 + 10 k), two at a time.
 fn study(case: Case) -> Study {
     let outcomes: Vec<(u64, Outcome)> =
-        independent::parallel::on_two_threads(SEEDS as usize, |_, k| {
+        crate::common::parallel::on_two_threads(SEEDS as usize, |_, k| {
             let seed = 2801 + 10 * k as u64;
             (seed, run(&Case { seed, ..case }))
         });

@@ -352,7 +352,7 @@ fn k_and_t_within_2_sigma_and(o: &Outcome, percent: f64) {
 /// sample holds 2.6 deg of wave yaw), 5069 -4.7 %, 5099 -4.5 %.
 #[test]
 fn over_100_seeds_in_8_s_waves_no_confident_miss() {
-    let outcomes = independent::parallel::on_two_threads(100, |_, k| {
+    let outcomes = crate::common::parallel::on_two_threads(100, |_, k| {
         run_case(8.0, W0::Known, true, 5001 + k as u64)
     });
     let study = Study { outcomes };

@@ -27,8 +27,8 @@ mod independent_npsauv;
 mod nomoto_crosscheck;
 #[path = "npsauv_example.rs"]
 mod npsauv_example;
-#[path = "planner.rs"]
-mod planner;
+#[path = "planner_kvlcc2.rs"]
+mod planner_kvlcc2;
 #[path = "report_chromium.rs"]
 mod report_chromium;
 #[path = "ship_identification.rs"]

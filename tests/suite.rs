@@ -81,6 +81,8 @@ mod nomoto;
 mod npsauv;
 #[path = "output_safety.rs"]
 mod output_safety;
+#[path = "planner.rs"]
+mod planner;
 #[path = "plausibility.rs"]
 mod plausibility;
 #[path = "pmm.rs"]

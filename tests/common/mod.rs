@@ -7,6 +7,8 @@ pub mod accuracy;
 pub mod parallel;
 pub mod ship150_loop;
 
+use hydroid::app::plan::{Plan, Settings};
+use hydroid::base::progress::Silent;
 use hydroid::base::quantity::Quantity;
 use hydroid::config::{FluidConfig, VehicleConfig};
 use hydroid::io::formats::Format;
@@ -121,7 +123,7 @@ pub fn hydroid(args: &[&str]) -> Output {
 }
 
 /// `hydroid calibrate OUT --replicas N --json -q` plus `extra`.
-pub fn calibrate(out: &Path, replicas: usize, extra: &[&str]) -> std::process::Output {
+pub fn calibrate(out: &Path, replicas: usize, extra: &[&str]) -> Output {
     let n = replicas.to_string();
     let mut args = vec![
         "calibrate",
@@ -133,6 +135,35 @@ pub fn calibrate(out: &Path, replicas: usize, extra: &[&str]) -> std::process::O
     ];
     args.extend(extra);
     hydroid(&args)
+}
+
+/// The run calibrate's tests check: configs/spheroid_joint.toml of an example copy, with
+/// `set` overrides, into its out/.
+pub fn joint_run(example: &Path, set: &[&str]) -> PathBuf {
+    let out = example.join("out");
+    let o = run_config(&example.join("configs/spheroid_joint.toml"), &out, set);
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o.stderr));
+    out
+}
+
+/// `hydroid plan` of `config` (run first) for `targets`, verified with `verify` candidates.
+pub fn plan_for(config: &str, targets: &[&str], verify: usize) -> Plan {
+    plan_with(config, targets, verify, &[])
+}
+
+/// [`plan_for`] with each of `set` as a `--set` override of the configuration.
+pub fn plan_with(config: &str, targets: &[&str], verify: usize, set: &[&str]) -> Plan {
+    let set: Vec<String> = set.iter().map(|s| s.to_string()).collect();
+    let loaded = hydroid::config::load(Path::new(config), &set).unwrap();
+    let output = hydroid::app::pipeline::run(&loaded, &mut Silent).unwrap();
+    let settings = Settings {
+        targets: targets.iter().map(|t| t.to_string()).collect(),
+        verify,
+        replicas: 40,
+        seed: 2026,
+        ..Settings::default()
+    };
+    hydroid::app::plan::plan(&loaded, &output, &settings).unwrap()
 }
 
 /// `hydroid run CONFIG --out OUT` with each of `set` as a `--set` override.

@@ -25,9 +25,6 @@ pub mod accuracy;
 pub mod mmg;
 pub mod nomoto;
 pub mod npsauv;
-// used by the seed studies of tests/studies.rs, not by every target that includes this module
-#[allow(unused_imports)]
-pub use crate::common::parallel;
 pub mod spheroid;
 
 use rand::rngs::StdRng;
